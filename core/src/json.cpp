@@ -1,0 +1,185 @@
+#include "mapnav/core/json.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace mapnav {
+
+namespace {
+
+// nlohmann reports a byte offset; people want line and column.
+void lineColumn(std::string_view text, std::size_t byte, int& line, int& column) {
+  line = 1;
+  column = 1;
+  const std::size_t end = std::min(byte, text.size());
+  for (std::size_t i = 0; i < end; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+}
+
+// The part of nlohmann's message after "syntax error while parsing value - ".
+std::string syntaxReason(const std::string& what) {
+  std::string reason = what;
+  const auto dash = reason.find(" - ");
+  if (dash != std::string::npos) reason = reason.substr(dash + 3);
+  return reason;
+}
+
+void findNonFinite(const Json& value, const std::string& pointer, Issues& issues) {
+  if (value.is_number_float()) {
+    if (!std::isfinite(value.get<double>())) {
+      addIssue(issues, Severity::Error, "json.not_finite", pointer,
+               "number is out of the range of a double (overflows to infinity)");
+    }
+  } else if (value.is_object()) {
+    for (auto it = value.begin(); it != value.end(); ++it) findNonFinite(*it, pointerJoin(pointer, it.key()), issues);
+  } else if (value.is_array()) {
+    for (std::size_t i = 0; i < value.size(); ++i) findNonFinite(value[i], pointerJoin(pointer, i), issues);
+  }
+}
+
+}  // namespace
+
+std::optional<Json> parseJson(std::string_view text, Issues& issues) {
+  if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
+    issues.push_back(Issue{Severity::Error, "json.syntax", "", "the file is empty", 1, 1});
+    return std::nullopt;
+  }
+  try {
+    Json value = Json::parse(text.begin(), text.end());
+    const std::size_t before = issues.size();
+    findNonFinite(value, "", issues);
+    if (issues.size() != before) return std::nullopt;
+    return value;
+  } catch (const Json::parse_error& e) {
+    Issue issue{Severity::Error, "json.syntax", "", syntaxReason(e.what())};
+    // nlohmann's byte is 1-based and points just past the offending character.
+    lineColumn(text, e.byte > 0 ? e.byte - 1 : 0, issue.line, issue.column);
+    issues.push_back(std::move(issue));
+    return std::nullopt;
+  }
+}
+
+std::string pointerJoin(std::string_view base, std::string_view key) {
+  std::string out(base);
+  out += '/';
+  for (char c : key) {
+    if (c == '~') {
+      out += "~0";
+    } else if (c == '/') {
+      out += "~1";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string pointerJoin(std::string_view base, std::size_t index) {
+  return std::string(base) + "/" + std::to_string(index);
+}
+
+std::string_view jsonTypeName(const Json& value) {
+  switch (value.type()) {
+    case Json::value_t::object: return "object";
+    case Json::value_t::array: return "array";
+    case Json::value_t::string: return "string";
+    case Json::value_t::boolean: return "boolean";
+    case Json::value_t::null: return "null";
+    case Json::value_t::number_integer:
+    case Json::value_t::number_unsigned:
+    case Json::value_t::number_float: return "number";
+    default: return "binary";
+  }
+}
+
+std::string dumpJson(const Json& value) { return value.dump(2) + "\n"; }
+
+JsonObject::JsonObject(const Json& value, std::string pointer, Issues& issues)
+    : pointer_(std::move(pointer)), issues_(issues) {
+  if (value.is_object()) {
+    object_ = &value;
+  } else {
+    addIssue(issues_, Severity::Error, "schema.type", pointer_,
+             "expected an object, got " + std::string(jsonTypeName(value)));
+  }
+}
+
+bool JsonObject::has(std::string_view key) const {
+  return object_ != nullptr && object_->contains(key);
+}
+
+const Json* JsonObject::member(std::string_view key, bool required) {
+  if (object_ == nullptr) return nullptr;
+  known_.emplace_back(key);
+  auto it = object_->find(key);
+  if (it == object_->end()) {
+    if (required) addIssue(issues_, Severity::Error, "schema.required", pointer_, "missing required member \"" + std::string(key) + "\"");
+    return nullptr;
+  }
+  return &*it;
+}
+
+std::optional<std::string> JsonObject::string(std::string_view key, bool required) {
+  const Json* value = member(key, required);
+  if (value == nullptr) return std::nullopt;
+  if (!value->is_string()) {
+    addIssue(issues_, Severity::Error, "schema.type", pointer(key),
+             "expected a string, got " + std::string(jsonTypeName(*value)));
+    return std::nullopt;
+  }
+  return value->get<std::string>();
+}
+
+std::optional<double> readNumber(const Json& value, const std::string& pointer, Issues& issues, double min, double max) {
+  if (!value.is_number()) {
+    addIssue(issues, Severity::Error, "schema.type", pointer, "expected a number, got " + std::string(jsonTypeName(value)));
+    return std::nullopt;
+  }
+  const double x = value.get<double>();
+  if (!std::isfinite(x) || x < min || x > max) {
+    std::ostringstream text;
+    text.precision(17);
+    text << "number " << x << " is outside [" << min << ", " << max << "]";
+    addIssue(issues, Severity::Error, "schema.range", pointer, text.str());
+    return std::nullopt;
+  }
+  return x;
+}
+
+std::optional<double> JsonObject::number(std::string_view key, bool required, double min, double max) {
+  const Json* value = member(key, required);
+  if (value == nullptr) return std::nullopt;
+  return readNumber(*value, pointer(key), issues_, min, max);
+}
+
+std::optional<bool> JsonObject::boolean(std::string_view key, bool required) {
+  const Json* value = member(key, required);
+  if (value == nullptr) return std::nullopt;
+  if (!value->is_boolean()) {
+    addIssue(issues_, Severity::Error, "schema.type", pointer(key),
+             "expected true or false, got " + std::string(jsonTypeName(*value)));
+    return std::nullopt;
+  }
+  return value->get<bool>();
+}
+
+void JsonObject::rejectUnknownMembers() {
+  if (object_ == nullptr) return;
+  for (auto it = object_->begin(); it != object_->end(); ++it) {
+    const std::string& key = it.key();
+    if (key.rfind("x-", 0) == 0 || key == "$schema") continue;
+    if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+      addIssue(issues_, Severity::Error, "schema.unknown_field", pointer(key),
+               "unknown member \"" + key + "\" (misspelt? extensions must start with \"x-\")");
+    }
+  }
+}
+
+}  // namespace mapnav

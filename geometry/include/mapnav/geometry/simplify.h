@@ -1,0 +1,14 @@
+#pragma once
+#include <vector>
+
+#include "mapnav/geometry/types.h"
+
+namespace mapnav {
+
+/// Polyline simplification with CGAL's Polyline_simplification_2 (Douglas–Peucker-style stop at a
+/// squared-distance cost): removes vertices while every removed vertex stays within `tolerance`
+/// metres of the simplified line. End points are kept. Used to turn curves into the few straight
+/// interest segments the papers match against.
+std::vector<Vec2> simplifyPolyline(const std::vector<Vec2>& points, double tolerance);
+
+}  // namespace mapnav

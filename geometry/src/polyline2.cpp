@@ -1,0 +1,1 @@
+#include "mapnav/geometry/types.h"

@@ -1,0 +1,1 @@
+#include "mapnav/render/canvas.h"

@@ -1,0 +1,38 @@
+#pragma once
+// Helpers shared by every test program.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/geometry/types.h"
+
+namespace mapnav::testing {
+
+/// The source tree's root (fixtures, maps/).
+std::filesystem::path sourceDir();
+/// `maps/NAME` in the source tree.
+std::filesystem::path mapPath(const std::string& name);
+/// `tests/data/NAME` in the source tree.
+std::filesystem::path fixturePath(const std::string& name);
+/// A fresh empty folder under the system temp dir, unique to the running test.
+std::filesystem::path freshTempDir();
+
+::testing::AssertionResult vecNear(const Vec2& actual, const Vec2& expected, double tolerance);
+::testing::AssertionResult poseNear(const Pose2& actual, const Pose2& expected, double tolerance);
+#define EXPECT_VEC2_NEAR(a, b, tol) EXPECT_TRUE(::mapnav::testing::vecNear((a), (b), (tol)))
+#define EXPECT_POSE_NEAR(a, b, tol) EXPECT_TRUE(::mapnav::testing::poseNear((a), (b), (tol)))
+
+/// What running the built `mapnav` CLI gave.
+struct CommandResult {
+  int exit_code = -1;     ///< the exit status, or 128 + signal when it was killed by one
+  bool signaled = false;  ///< true when the process died of a signal (a crash)
+  std::string out;
+  std::string err;
+};
+/// Runs the built `mapnav` with `args` (no shell), capturing stdout and stderr.
+CommandResult runCli(const std::vector<std::string>& args);
+
+}  // namespace mapnav::testing

@@ -1,0 +1,99 @@
+#include "mapnav/testing/support.h"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace mapnav::testing {
+namespace fs = std::filesystem;
+
+fs::path sourceDir() { return fs::path(MAPNAV_SOURCE_DIR); }
+fs::path mapPath(const std::string& name) { return sourceDir() / "maps" / name; }
+fs::path fixturePath(const std::string& name) { return sourceDir() / "tests" / "data" / name; }
+
+fs::path freshTempDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = "mapnav-test-" + std::to_string(::getpid());
+  if (info != nullptr) name += std::string("-") + info->test_suite_name() + "-" + info->name();
+  for (char& c : name) {
+    if (c == '/') c = '_';
+  }
+  const fs::path dir = fs::temp_directory_path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+::testing::AssertionResult vecNear(const Vec2& actual, const Vec2& expected, double tolerance) {
+  const double d = (actual - expected).norm();
+  if (d <= tolerance) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "(" << actual.x() << ", " << actual.y() << ") is " << d << " from ("
+                                       << expected.x() << ", " << expected.y() << "), tolerance " << tolerance;
+}
+
+::testing::AssertionResult poseNear(const Pose2& actual, const Pose2& expected, double tolerance) {
+  const double dt = (actual.translation() - expected.translation()).norm();
+  const double dh = std::abs(normalizeAngle(actual.heading() - expected.heading()));
+  if (dt <= tolerance && dh <= tolerance) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "pose (" << actual.x() << ", " << actual.y() << ", " << actual.heading()
+                                       << ") vs (" << expected.x() << ", " << expected.y() << ", "
+                                       << expected.heading() << "): translation off by " << dt << ", heading by "
+                                       << dh << ", tolerance " << tolerance;
+}
+
+namespace {
+std::string slurp(int fd) {
+  std::string data;
+  char buffer[65536];
+  ssize_t n;
+  while ((n = ::read(fd, buffer, sizeof buffer)) > 0) data.append(buffer, static_cast<std::size_t>(n));
+  return data;
+}
+}  // namespace
+
+CommandResult runCli(const std::vector<std::string>& args) {
+  // Output goes to temporary files rather than pipes, so a chatty child cannot dead-lock us.
+  const fs::path dir = fs::temp_directory_path();
+  const std::string stem = "mapnav-cli-" + std::to_string(::getpid());
+  const fs::path outPath = dir / (stem + ".out"), errPath = dir / (stem + ".err");
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int out = ::open(outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    const int err = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    const int in = ::open("/dev/null", O_RDONLY);
+    ::dup2(in, 0);
+    ::dup2(out, 1);
+    ::dup2(err, 2);
+    std::vector<char*> argv;
+    std::string program = MAPNAV_CLI;
+    argv.push_back(program.data());
+    std::vector<std::string> copy = args;
+    for (std::string& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(program.c_str(), argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  CommandResult result;
+  if (WIFSIGNALED(status)) {
+    result.signaled = true;
+    result.exit_code = 128 + WTERMSIG(status);
+  } else {
+    result.exit_code = WEXITSTATUS(status);
+  }
+  for (auto [path, target] : {std::pair{outPath, &result.out}, std::pair{errPath, &result.err}}) {
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    if (fd >= 0) {
+      *target = slurp(fd);
+      ::close(fd);
+    }
+    fs::remove(path);
+  }
+  return result;
+}
+
+}  // namespace mapnav::testing
