@@ -35,6 +35,10 @@ class Polyline2 {
   double length() const { return cumulative_.empty() ? 0.0 : cumulative_.back(); }
   /// Arc length at vertex i.
   double arcLengthAt(std::size_t vertex) const { return cumulative_[vertex]; }
+  /// Index of the segment holding arc length s (clamped): the non-zero-length segment i with
+  /// arcLengthAt(i) <= s < arcLengthAt(i + 1); at length() the last non-zero-length segment.
+  /// 0 when the polyline has no segment of non-zero length.
+  std::size_t segmentIndexAt(double s) const;
   /// The point at arc length s, clamped to [0, length()].
   Vec2 pointAt(double s) const;
   /// Unit tangent at arc length s (of the segment holding s; at a vertex, of the next segment).

@@ -8,7 +8,8 @@ namespace mapnav {
 /// Polyline simplification with CGAL's Polyline_simplification_2 (Douglas–Peucker-style stop at a
 /// squared-distance cost): removes vertices while every removed vertex stays within `tolerance`
 /// metres of the simplified line. End points are kept. Used to turn curves into the few straight
-/// interest segments the papers match against.
+/// interest segments the papers match against. Consecutive repeated points are merged; where the
+/// polyline crosses or touches itself, the meeting point becomes a vertex that is never removed.
 std::vector<Vec2> simplifyPolyline(const std::vector<Vec2>& points, double tolerance);
 
 }  // namespace mapnav
