@@ -31,16 +31,22 @@ std::string syntaxReason(const std::string& what) {
   return reason;
 }
 
-void findNonFinite(const Json& value, const std::string& pointer, Issues& issues) {
-  if (value.is_number_float()) {
-    if (!std::isfinite(value.get<double>())) {
-      addIssue(issues, Severity::Error, "json.not_finite", pointer,
-               "number is out of the range of a double (overflows to infinity)");
+// Iterative, so that a hostile document nested 100 000 deep cannot overflow the stack.
+void findNonFinite(const Json& root, Issues& issues) {
+  std::vector<std::pair<const Json*, std::string>> stack{{&root, ""}};
+  while (!stack.empty()) {
+    auto [value, pointer] = std::move(stack.back());
+    stack.pop_back();
+    if (value->is_number_float()) {
+      if (!std::isfinite(value->get<double>())) {
+        addIssue(issues, Severity::Error, "json.not_finite", pointer,
+                 "number is out of the range of a double (overflows to infinity)");
+      }
+    } else if (value->is_object()) {
+      for (auto it = value->begin(); it != value->end(); ++it) stack.emplace_back(&*it, pointerJoin(pointer, it.key()));
+    } else if (value->is_array()) {
+      for (std::size_t i = value->size(); i-- > 0;) stack.emplace_back(&(*value)[i], pointerJoin(pointer, i));
     }
-  } else if (value.is_object()) {
-    for (auto it = value.begin(); it != value.end(); ++it) findNonFinite(*it, pointerJoin(pointer, it.key()), issues);
-  } else if (value.is_array()) {
-    for (std::size_t i = 0; i < value.size(); ++i) findNonFinite(value[i], pointerJoin(pointer, i), issues);
   }
 }
 
@@ -54,13 +60,25 @@ std::optional<Json> parseJson(std::string_view text, Issues& issues) {
   try {
     Json value = Json::parse(text.begin(), text.end());
     const std::size_t before = issues.size();
-    findNonFinite(value, "", issues);
+    findNonFinite(value, issues);
     if (issues.size() != before) return std::nullopt;
     return value;
   } catch (const Json::parse_error& e) {
     Issue issue{Severity::Error, "json.syntax", "", syntaxReason(e.what())};
     // nlohmann's byte is 1-based and points just past the offending character.
     lineColumn(text, e.byte > 0 ? e.byte - 1 : 0, issue.line, issue.column);
+    issues.push_back(std::move(issue));
+    return std::nullopt;
+  } catch (const Json::out_of_range& e) {
+    // "number overflow parsing '1e999'": nlohmann gives no position, so find the token.
+    std::string token;
+    const std::string what = e.what();
+    const auto open = what.find('\''), close = what.rfind('\'');
+    if (open != std::string::npos && close > open) token = what.substr(open + 1, close - open - 1);
+    Issue issue{Severity::Error, "json.not_finite", "",
+                token.empty() ? "a number overflows a double" : "number " + token + " overflows a double"};
+    const auto at = token.empty() ? std::string_view::npos : text.find(token);
+    lineColumn(text, at == std::string_view::npos ? 0 : at, issue.line, issue.column);
     issues.push_back(std::move(issue));
     return std::nullopt;
   }
@@ -99,7 +117,58 @@ std::string_view jsonTypeName(const Json& value) {
   }
 }
 
-std::string dumpJson(const Json& value) { return value.dump(2) + "\n"; }
+namespace {
+
+bool isScalar(const Json& v) { return !v.is_object() && !v.is_array(); }
+
+// Short arrays of scalars, and arrays of those ([[x, y], ...]) when short, go on one line, so a
+// point or a colour reads as one thing.
+bool inlineable(const Json& v, std::size_t depth) {
+  if (isScalar(v)) return true;
+  if (v.empty()) return true;
+  if (!v.is_array() || depth > 1) return false;
+  return std::all_of(v.begin(), v.end(), [&](const Json& e) { return isScalar(e) || (e.is_array() && inlineable(e, depth + 1)); });
+}
+
+void write(const Json& v, int indent, std::string& out) {
+  const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
+  if (inlineable(v, 0)) {
+    std::string flat = v.dump();
+    // nlohmann writes [1,2]; people read [1, 2].
+    std::string spaced;
+    bool in_string = false;
+    for (std::size_t i = 0; i < flat.size(); ++i) {
+      const char c = flat[i];
+      if (c == '"' && (i == 0 || flat[i - 1] != '\\')) in_string = !in_string;
+      spaced += c;
+      if (!in_string && c == ',') spaced += ' ';
+    }
+    if (!v.is_array() || spaced.size() <= 100 || std::all_of(v.begin(), v.end(), [](const Json& e) { return isScalar(e); })) {
+      out += spaced;
+      return;
+    }
+  }
+  const bool object = v.is_object();
+  out += object ? "{\n" : "[\n";
+  std::size_t i = 0;
+  for (auto it = v.begin(); it != v.end(); ++it, ++i) {
+    out += pad + "  ";
+    if (object) out += Json(it.key()).dump() + ": ";
+    write(*it, indent + 1, out);
+    if (i + 1 < v.size()) out += ',';
+    out += '\n';
+  }
+  out += pad + (object ? "}" : "]");
+}
+
+}  // namespace
+
+std::string dumpJson(const Json& value) {
+  std::string out;
+  write(value, 0, out);
+  out += '\n';
+  return out;
+}
 
 JsonObject::JsonObject(const Json& value, std::string pointer, Issues& issues)
     : pointer_(std::move(pointer)), issues_(issues) {

@@ -28,7 +28,8 @@ std::string pointerJoin(std::string_view base, std::size_t index);
 /// "object", "array", "string", "number", "boolean", "null".
 std::string_view jsonTypeName(const Json& value);
 
-/// Writes `value` indented by 2, with a final newline. Doubles round-trip exactly.
+/// Writes `value` indented by 2 with a final newline; points and other short arrays of numbers on
+/// one line. Doubles round-trip exactly.
 std::string dumpJson(const Json& value);
 
 /// A cursor over one JSON object that records what is wrong with it as issues (check names

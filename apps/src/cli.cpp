@@ -1,0 +1,133 @@
+#include "cli.h"
+
+#include <CLI/CLI.hpp>
+#include <cctype>
+#include <filesystem>
+#include <functional>
+#include <ostream>
+
+#include "map_commands.h"
+#include "mapnav/core/error.h"
+
+namespace mapnav::cli {
+
+namespace {
+
+constexpr const char* kMapFooter = R"(Map files are mapnav-map/1 JSON (docs/map-format.md) or, where a command says so,
+GeoJSON from QGIS or geojson.io. Exit codes: 0 success, 1 the input is wrong (an invalid map),
+2 usage or I/O error.)";
+
+void addOrigin(CLI::App* command, std::string& text) {
+  command->add_option("--origin", text,
+                      "Geodetic origin of the local frame as LAT,LON or LAT,LON,ALT (degrees, metres)");
+}
+
+}  // namespace
+
+int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
+  CLI::App app{"mapnav: map-based navigation of small vehicles on sidewalks and park paths with one camera.\n"
+               "Author and check sidewalk maps, predict views, plan routes and run missions."};
+  app.name("mapnav");
+  const std::string version = std::string("mapnav ") + MAPNAV_VERSION;
+  app.set_version_flag("--version", version);
+  app.require_subcommand(1);
+  app.footer("Run `mapnav COMMAND --help` for a command's options.");
+
+  std::function<int()> command;  // set by the chosen command's callback
+
+  CLI::App* map = app.add_subcommand("map", "Validate, inspect, draw and convert sidewalk maps");
+  map->require_subcommand(1);
+  map->footer(kMapFooter);
+
+  ValidateConfig validate;
+  CLI::App* v = map->add_subcommand("validate", "Check map files and report every problem as FILE:/pointer: severity: check: message");
+  v->add_option("files", validate.files, "Map files (.json, or .geojson)")->required()->check(CLI::ExistingFile);
+  v->add_flag("-q,--quiet", validate.quiet, "Print only the problems, not a summary line per file");
+  v->footer("Exit code 0 when every file is valid (warnings allowed), 1 when any has an error, 2 when a file cannot be read.");
+  v->callback([&] { command = [&] { return runValidate(validate, out, err); }; });
+
+  InfoConfig info;
+  CLI::App* i = map->add_subcommand("info", "Summarise a map: counts by kind, total length, bounds, components");
+  i->add_option("file", info.file, "Map file")->required()->check(CLI::ExistingFile);
+  i->add_flag("--json", info.json, "Print one JSON object instead of text");
+  i->callback([&] { command = [&] { return runInfo(info, out, err); }; });
+
+  RenderConfig render;
+  CLI::App* r = map->add_subcommand("render", "Draw a map as PNG or SVG: roads in their surface colours, ids, scale bar, north arrow");
+  r->add_option("file", render.file, "Map file")->required()->check(CLI::ExistingFile);
+  r->add_option("-o,--output", render.output, "Picture to write: OUT.png or OUT.svg")
+      ->required()
+      ->check(CLI::Validator(
+          [](std::string& path) {
+            std::string ext = std::filesystem::path(path).extension().string();
+            for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            return ext == ".png" || ext == ".svg" ? std::string() : "\"" + path + "\": the picture must be .png or .svg";
+          },
+          "OUT.png|OUT.svg"));
+  r->add_option("--width", render.width_px, "Picture width in pixels; the height follows the map")
+      ->default_val(1600)
+      ->check(CLI::Range(64, 20000));
+  bool no_labels = false;
+  r->add_flag("--no-labels", no_labels, "Leave out road and intersection ids");
+  r->callback([&] {
+    render.labels = !no_labels;
+    command = [&] { return runRender(render, out, err); };
+  });
+
+  ImportGeoJsonConfig import;
+  std::string import_origin;
+  CLI::App* im = map->add_subcommand("import-geojson", "Convert GeoJSON (LineString roads, Point/Polygon intersections) to a mapnav map");
+  im->add_option("input", import.input, "GeoJSON FeatureCollection in lon/lat")->required()->check(CLI::ExistingFile);
+  im->add_option("-o,--output", import.output, "mapnav-map/1 JSON to write (only when the import is valid)")->required();
+  addOrigin(im, import_origin);
+  im->add_option("--snap", import.snap_tolerance_m, "Road ends this close (m) to an intersection or to each other share it")
+      ->default_val(1.0)
+      ->check(CLI::Range(0.0, 100.0));
+  im->add_option("--name", import.name, "The map's name (default: the file's, or \"imported from GeoJSON\")");
+  im->footer("Without --origin, the origin is the file's mapnav.origin, else the centroid of its coordinates.");
+  im->callback([&] {
+    command = [&] {
+      if (!import_origin.empty()) import.origin = parseOrigin(import_origin);
+      return runImportGeoJson(import, out, err);
+    };
+  });
+
+  ExportGeoJsonConfig exp;
+  std::string export_origin;
+  CLI::App* ex = map->add_subcommand("export-geojson", "Write a map as GeoJSON in lon/lat, for QGIS");
+  ex->add_option("input", exp.input, "Map file")->required()->check(CLI::ExistingFile);
+  ex->add_option("-o,--output", exp.output, "GeoJSON file to write")->required();
+  addOrigin(ex, export_origin);
+  ex->footer("The map's own origin is used unless --origin is given; a map without one needs --origin.");
+  ex->callback([&] {
+    command = [&] {
+      if (!export_origin.empty()) exp.origin = parseOrigin(export_origin);
+      return runExportGeoJson(exp, out, err);
+    };
+  });
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    out << app.help();
+    return kOk;
+  } catch (const CLI::CallForAllHelp&) {
+    out << app.help("", CLI::AppFormatMode::All);
+    return kOk;
+  } catch (const CLI::CallForVersion&) {
+    out << version << "\n";
+    return kOk;
+  } catch (const CLI::ParseError& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    err << "Run with --help for more information.\n";
+    return kUsage;
+  }
+  try {
+    return command ? command() : static_cast<int>(kUsage);
+  } catch (const InvalidInput& e) {  // bad option values found after parsing (--origin)
+    err << "mapnav: error: " << e.what() << "\n";
+    return kUsage;
+  }
+}
+
+}  // namespace mapnav::cli

@@ -1,0 +1,200 @@
+#include "map_commands.h"
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <sstream>
+
+#include "cli.h"
+#include "mapnav/core/error.h"
+#include "mapnav/core/io.h"
+#include "mapnav/map/geojson.h"
+#include "mapnav/map/info.h"
+#include "mapnav/map/map_io.h"
+#include "mapnav/map/map_render.h"
+#include "mapnav/map/validation.h"
+
+namespace mapnav::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+bool isGeoJson(const std::string& file) {
+  const std::string ext = fs::path(file).extension().string();
+  return ext == ".geojson" || ext == ".GEOJSON";
+}
+
+void printIssues(const Issues& issues, const std::string& file, std::ostream& out) {
+  for (const Issue& issue : issues) out << formatIssue(issue, file) << "\n";
+}
+
+// Reads a map file (native or GeoJSON, by extension) through both passes. Every issue found is
+// appended, with pointers into `file` itself.
+std::optional<MapData> readAndValidate(const std::string& file, Issues& issues, const GeoJsonImportOptions& geo = {}) {
+  const std::string text = readFile(file);
+  std::optional<MapData> data;
+  std::optional<GeoJsonImport> imported;
+  if (isGeoJson(file)) {
+    imported = importGeoJson(text, issues, geo);
+    if (imported) data = imported->map;
+  } else {
+    data = parseMap(text, issues);
+  }
+  if (!data) return std::nullopt;
+  Issues found = validateMap(*data);
+  if (imported) {
+    for (Issue& issue : found) issue.where = imported->toFeaturePointer(issue.where);
+  }
+  const bool ok = !hasErrors(found);
+  issues.insert(issues.end(), found.begin(), found.end());
+  if (!ok) return std::nullopt;
+  return data;
+}
+
+// Runs a command body, turning every exception into the message and exit code the CLI promises.
+int guarded(std::ostream& err, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const ValidationError& e) {
+    printIssues(e.issues(), e.file(), err);
+    err << "mapnav: error: " << e.file() << ": invalid (" << countSeverity(e.issues(), Severity::Error) << " errors)\n";
+    return kInvalid;
+  } catch (const InvalidInput& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return kInvalid;
+  } catch (const IoError& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return kUsage;
+  } catch (const Error& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return kInvalid;
+  } catch (const std::bad_alloc&) {
+    err << "mapnav: error: out of memory\n";
+    return kUsage;
+  } catch (const std::exception& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return kUsage;
+  }
+}
+
+// Loads a valid map or explains why not: issues on `err`, then the exit code.
+int withMap(const std::string& file, std::ostream& err, const std::function<int(const Map&)>& body) {
+  return guarded(err, [&] {
+    Issues issues;
+    auto data = readAndValidate(file, issues);
+    if (!data) {
+      printIssues(issues, file, err);
+      err << "mapnav: error: " << file << ": not a valid map (" << countSeverity(issues, Severity::Error)
+          << " errors); see `mapnav map validate " << file << "`\n";
+      return static_cast<int>(kInvalid);
+    }
+    return body(Map(std::move(*data), file));
+  });
+}
+
+}  // namespace
+
+GeoOrigin parseOrigin(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != part.size() || !std::isfinite(v)) {
+      throw InvalidInput("--origin \"" + text + "\": \"" + part + "\" is not a number; expected LAT,LON or LAT,LON,ALT");
+    }
+    values.push_back(v);
+  }
+  if (values.size() < 2 || values.size() > 3) {
+    throw InvalidInput("--origin \"" + text + "\": expected LAT,LON or LAT,LON,ALT (degrees, metres)");
+  }
+  if (std::abs(values[0]) > 90 || std::abs(values[1]) > 180) {
+    throw InvalidInput("--origin \"" + text + "\": latitude must be in [-90, 90] and longitude in [-180, 180]");
+  }
+  return GeoOrigin{values[0], values[1], values.size() == 3 ? values[2] : 0.0};
+}
+
+int runValidate(const ValidateConfig& config, std::ostream& out, std::ostream& err) {
+  int worst = kOk;
+  for (const std::string& file : config.files) {
+    const int code = guarded(err, [&] {
+      Issues issues;
+      const bool valid = readAndValidate(file, issues).has_value();
+      printIssues(issues, file, out);
+      if (!config.quiet) {
+        const auto errors = countSeverity(issues, Severity::Error), warnings = countSeverity(issues, Severity::Warning);
+        out << file << ": " << (valid ? "valid" : "invalid") << " (" << errors << " errors, " << warnings
+            << " warnings)\n";
+      }
+      return static_cast<int>(valid ? kOk : kInvalid);
+    });
+    worst = std::max(worst, code);
+  }
+  return worst;
+}
+
+int runInfo(const InfoConfig& config, std::ostream& out, std::ostream& err) {
+  return withMap(config.file, err, [&](const Map& map) {
+    const MapInfo info = describeMap(map);
+    out << (config.json ? toJson(info) : toText(info));
+    return static_cast<int>(kOk);
+  });
+}
+
+int runRender(const RenderConfig& config, std::ostream& out, std::ostream& err) {
+  return withMap(config.file, err, [&](const Map& map) {
+    MapRenderOptions options;
+    options.width_px = config.width_px;
+    options.labels = config.labels;
+    const MapPicture picture = renderMap(map, options);
+    picture.canvas.save(config.output);
+    out << "wrote " << config.output << " (" << picture.canvas.width() << "×" << picture.canvas.height() << " px, "
+        << picture.view.pixelsPerMetre() << " px/m)\n";
+    return static_cast<int>(kOk);
+  });
+}
+
+int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::ostream& err) {
+  return guarded(err, [&] {
+    GeoJsonImportOptions options;
+    options.origin = config.origin;
+    options.snap_tolerance_m = config.snap_tolerance_m;
+    Issues issues;
+    const std::string text = readFile(config.input);
+    auto imported = importGeoJson(text, issues, options);
+    if (imported) {
+      if (config.name) imported->map.name = *config.name;
+      for (Issue issue : validateMap(imported->map)) {
+        issue.where = imported->toFeaturePointer(issue.where);
+        issues.push_back(std::move(issue));
+      }
+    }
+    printIssues(issues, config.input, err);
+    if (!imported || hasErrors(issues)) {
+      err << "mapnav: error: " << config.input << ": cannot import (" << countSeverity(issues, Severity::Error)
+          << " errors); nothing written\n";
+      return static_cast<int>(kInvalid);
+    }
+    saveMap(imported->map, config.output);
+    out << "wrote " << config.output << " (" << imported->map.intersections.size() << " intersections, "
+        << imported->map.roads.size() << " roads)\n";
+    return static_cast<int>(kOk);
+  });
+}
+
+int runExportGeoJson(const ExportGeoJsonConfig& config, std::ostream& out, std::ostream& err) {
+  return withMap(config.input, err, [&](const Map& map) {
+    writeFileAtomic(config.output, exportGeoJson(map.data(), config.origin));
+    out << "wrote " << config.output << " (" << map.intersections().size() + map.roads().size() << " features)\n";
+    return static_cast<int>(kOk);
+  });
+}
+
+}  // namespace mapnav::cli

@@ -1,0 +1,51 @@
+#pragma once
+// `mapnav map ...`: each command is a config struct and a function, so tests can call them.
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapnav/map/map.h"
+
+namespace mapnav::cli {
+
+struct ValidateConfig {
+  std::vector<std::string> files;  ///< mapnav-map/1 JSON, or GeoJSON (.geojson)
+  bool quiet = false;              ///< print only errors and warnings, no per-file summary
+};
+int runValidate(const ValidateConfig& config, std::ostream& out, std::ostream& err);
+
+struct InfoConfig {
+  std::string file;
+  bool json = false;
+};
+int runInfo(const InfoConfig& config, std::ostream& out, std::ostream& err);
+
+struct RenderConfig {
+  std::string file;
+  std::string output;  ///< .png or .svg
+  int width_px = 1600;
+  bool labels = true;
+};
+int runRender(const RenderConfig& config, std::ostream& out, std::ostream& err);
+
+struct ImportGeoJsonConfig {
+  std::string input;
+  std::string output;
+  std::optional<GeoOrigin> origin;
+  double snap_tolerance_m = 1.0;
+  std::optional<std::string> name;
+};
+int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::ostream& err);
+
+struct ExportGeoJsonConfig {
+  std::string input;
+  std::string output;
+  std::optional<GeoOrigin> origin;
+};
+int runExportGeoJson(const ExportGeoJsonConfig& config, std::ostream& out, std::ostream& err);
+
+/// "LAT,LON" or "LAT,LON,ALT" (degrees, metres). Throws InvalidInput saying what is wrong.
+GeoOrigin parseOrigin(const std::string& text);
+
+}  // namespace mapnav::cli

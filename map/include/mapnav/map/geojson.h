@@ -1,0 +1,51 @@
+#pragma once
+// GeoJSON (RFC 7946) import and export, for maps drawn in QGIS or geojson.io (docs/map-format.md).
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mapnav/core/issue.h"
+#include "mapnav/map/map.h"
+
+namespace mapnav {
+
+struct GeoJsonImportOptions {
+  /// The local frame's origin. Default: the file's `mapnav.origin`, else the data's centroid.
+  std::optional<GeoOrigin> origin;
+  /// Road ends closer than this (m) to an intersection point, or to each other, share a node.
+  double snap_tolerance_m = 1.0;
+  /// Defaults for LineString properties that are absent.
+  double default_width_m = 2.0;
+  std::string default_surface = "concrete";
+  std::string default_shoulder = "grass";
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+};
+
+/// What an import gives: the map, and for each road and intersection the JSON Pointer of the
+/// feature it came from, so that validation issues point into the GeoJSON file.
+struct GeoJsonImport {
+  MapData map;
+  std::vector<std::string> road_features;          ///< "/features/7" for roads[i]
+  std::vector<std::string> intersection_features;  ///< "" for an intersection made at shared ends
+
+  /// A pointer into the map ("/roads/3/width") as a pointer into the GeoJSON file
+  /// ("/features/7/properties/width"); the input when it cannot be translated.
+  std::string toFeaturePointer(const std::string& map_pointer) const;
+};
+
+/// The structure pass on GeoJSON text: nothing (and issues) when it is not a FeatureCollection
+/// mapnav can read. Validate the result with validateMap().
+std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues,
+                                           const GeoJsonImportOptions& options = {});
+
+/// The map as a FeatureCollection in lon/lat (9 decimals), with a `mapnav` foreign member holding
+/// name, origin and surfaces. Throws InvalidInput when neither `origin` nor the map has an origin.
+std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& origin = std::nullopt);
+
+/// The surfaces used when a GeoJSON file carries none (concrete, asphalt, brick, gravel, grass, dirt).
+std::vector<std::pair<std::string, Appearance>> standardSurfaces();
+
+}  // namespace mapnav

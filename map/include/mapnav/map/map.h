@@ -1,0 +1,130 @@
+#pragma once
+// The papers' two maps in one model (Wallace 1985, 2.1.2): the topological map (intersections are
+// nodes, roads are edges) and the geometric map (their shapes). `MapData` is the map as authored,
+// plain data that may be invalid; `Map` is a validated map with lookups and a spatial index.
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "mapnav/geometry/polyline2.h"
+#include "mapnav/geometry/types.h"
+
+namespace mapnav {
+
+enum class IntersectionKind { Cross, T, Y, L, End, Plaza, Other };
+std::string_view toString(IntersectionKind kind);
+std::optional<IntersectionKind> intersectionKindFromString(std::string_view text);
+/// Every kind, in declaration order (for help texts and enumerations).
+const std::vector<IntersectionKind>& allIntersectionKinds();
+
+/// How a surface looks to the camera: mean colour and its standard deviation, 0–255 RGB.
+struct Appearance {
+  Vec3 rgb = Vec3::Zero();
+  Vec3 spread = Vec3::Zero();
+  bool operator==(const Appearance&) const = default;
+};
+
+/// The geodetic point at the local frame's origin (WGS84, degrees, metres).
+struct GeoOrigin {
+  double lat = 0, lon = 0, alt = 0;
+  bool operator==(const GeoOrigin&) const = default;
+};
+
+struct Intersection {
+  std::string id;
+  IntersectionKind kind = IntersectionKind::Other;
+  Vec2 position = Vec2::Zero();    ///< where the centre lines meet
+  std::optional<Polygon2> shape;   ///< the paved outline as authored; derived by Map when absent
+  bool operator==(const Intersection&) const = default;
+};
+
+struct Road {
+  std::string id;
+  std::string from, to;            ///< intersection ids; the centre line runs from → to
+  Polyline2 centerline;
+  double width = 2.0;              ///< paved width, metres
+  std::string surface;             ///< key of MapData::surfaces
+  std::string left, right;         ///< shoulder surfaces seen walking from → to
+  bool oneway = false;             ///< drivable only from → to
+  double cost_factor = 1.0;        ///< multiplies the length in route costs
+  bool operator==(const Road&) const = default;
+};
+
+/// The map as authored (the file's content). May be invalid: see validateMap().
+struct MapData {
+  std::string name;
+  std::string schema;              ///< the file's "$schema", written back as it was ("" = none)
+  std::optional<GeoOrigin> origin;
+  std::vector<std::pair<std::string, Appearance>> surfaces;  ///< in the file's order
+  std::vector<Intersection> intersections;
+  std::vector<Road> roads;
+  bool operator==(const MapData&) const = default;
+};
+
+/// A validated map. Invariant: validateMap(data()) reports no error. Lookups are O(1); spatial
+/// queries use an R-tree, so their cost grows with what is found, not with the map.
+class Map {
+ public:
+  /// Validates `data` (default options) and throws ValidationError, naming `source`, when it has errors.
+  explicit Map(MapData data, std::string source = "<map>");
+  ~Map();
+  Map(Map&&) noexcept;
+  Map& operator=(Map&&) noexcept;
+
+  const MapData& data() const;
+  const std::string& name() const { return data().name; }
+  const std::vector<Intersection>& intersections() const { return data().intersections; }
+  const std::vector<Road>& roads() const { return data().roads; }
+
+  /// nullptr when there is no such id.
+  const Intersection* findIntersection(std::string_view id) const;
+  const Road* findRoad(std::string_view id) const;
+  const Appearance* findSurface(std::string_view name) const;
+  /// Throw NotFound naming the id.
+  const Intersection& intersection(std::string_view id) const;
+  const Road& road(std::string_view id) const;
+
+  /// One end of a road at an intersection.
+  struct RoadEnd {
+    const Road* road = nullptr;
+    bool at_from = true;     ///< the road's `from` end (else its `to` end) is at the intersection
+    double heading_out = 0;  ///< heading leaving the intersection along the road, radians
+  };
+  /// The road ends at an intersection, sorted by heading_out (counter-clockwise from +x). A loop
+  /// road appears twice.
+  std::vector<RoadEnd> roadsAt(std::string_view intersection_id) const;
+  /// The intersections one road away, without repeats, in id order.
+  std::vector<const Intersection*> neighbours(std::string_view intersection_id) const;
+
+  /// The road's edges, offset ±width/2 from the centre line (left seen walking from → to).
+  const Polyline2& leftEdge(const Road& road) const;
+  const Polyline2& rightEdge(const Road& road) const;
+  /// The paved area: the left edge then the right edge reversed.
+  Polygon2 roadPolygon(const Road& road) const;
+  /// The authored shape, or one derived from the meeting roads' edges (the convex hull of the
+  /// edge points where they enter the intersection, half the widest road deep), counter-clockwise.
+  const Polygon2& intersectionShape(const Intersection& intersection) const;
+
+  /// Roads whose paved area comes within `radius` metres of p, nearest first (ties by id).
+  std::vector<const Road*> roadsNear(const Vec2& p, double radius) const;
+  /// Roads whose paved area meets the polygon, in id order.
+  std::vector<const Road*> roadsMeeting(const Polygon2& polygon) const;
+  /// Intersections whose shape meets the polygon, in id order.
+  std::vector<const Intersection*> intersectionsMeeting(const Polygon2& polygon) const;
+
+  /// Everything paved, with road widths and intersection shapes.
+  Box2 bounds() const;
+  /// The connected pieces of the network: each a list of intersection indices, ascending; the
+  /// piece holding intersections[0] first.
+  const std::vector<std::vector<std::size_t>>& components() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mapnav

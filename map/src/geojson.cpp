@@ -1,0 +1,442 @@
+#include "mapnav/map/geojson.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "map_json_internal.h"
+#include "mapnav/core/error.h"
+#include "mapnav/geometry/polygon.h"
+#include "mapnav/map/geodesy.h"
+#include "mapnav/map/map_io.h"
+
+namespace mapnav {
+
+void GeoJsonImportOptions::validate() const {
+  auto fail = [](const std::string& what) { throw InvalidInput("GeoJsonImportOptions::" + what); };
+  if (!std::isfinite(snap_tolerance_m) || snap_tolerance_m < 0) fail("snap_tolerance_m must be finite and >= 0");
+  if (!std::isfinite(default_width_m) || default_width_m <= 0) fail("default_width_m must be finite and > 0");
+  if (default_surface.empty()) fail("default_surface must not be empty");
+  if (default_shoulder.empty()) fail("default_shoulder must not be empty");
+  if (origin && (!(std::abs(origin->lat) <= 90) || !(std::abs(origin->lon) <= 180) || !std::isfinite(origin->alt))) {
+    fail("origin must have lat in [-90, 90], lon in [-180, 180] and a finite alt");
+  }
+}
+
+std::vector<std::pair<std::string, Appearance>> standardSurfaces() {
+  auto a = [](double r, double g, double b, double s) { return Appearance{Vec3(r, g, b), Vec3(s, s, s)}; };
+  return {{"concrete", a(178, 176, 168, 10)}, {"asphalt", a(88, 90, 96, 10)}, {"brick", a(150, 84, 62, 14)},
+          {"gravel", a(140, 132, 118, 18)},   {"grass", a(72, 122, 52, 16)},   {"dirt", a(122, 96, 66, 16)}};
+}
+
+namespace {
+
+// A feature as read, before projection: its lon/lat geometry and its properties.
+struct RawFeature {
+  std::string pointer;  // "/features/k"
+  enum class Kind { Road, Point, Polygon } kind = Kind::Road;
+  std::vector<LatLon> coordinates;  // the line, the point, or the outer ring without its closing point
+  std::optional<std::string> id, kind_name, from, to, surface, left, right;
+  std::optional<double> width, cost_factor;
+  std::optional<bool> oneway;
+  std::optional<LatLon> center;
+};
+
+std::optional<LatLon> readPosition(const Json& value, const std::string& pointer, Issues& issues) {
+  if (!value.is_array() || value.size() < 2 || value.size() > 3) {
+    addIssue(issues, Severity::Error, "geojson.position", pointer, "expected a position [lon, lat] or [lon, lat, alt]");
+    return std::nullopt;
+  }
+  const auto lon = readNumber(value[0], pointerJoin(pointer, std::size_t{0}), issues, -180, 180);
+  const auto lat = readNumber(value[1], pointerJoin(pointer, std::size_t{1}), issues, -90, 90);
+  if (value.size() == 3) readNumber(value[2], pointerJoin(pointer, std::size_t{2}), issues);
+  if (!lon || !lat) return std::nullopt;
+  return LatLon{*lat, *lon};
+}
+
+std::optional<std::vector<LatLon>> readPositions(const Json& value, const std::string& pointer, Issues& issues,
+                                                 std::size_t min_count) {
+  if (!value.is_array() || value.size() < min_count) {
+    addIssue(issues, Severity::Error, "geojson.position", pointer,
+             "expected an array of at least " + std::to_string(min_count) + " positions");
+    return std::nullopt;
+  }
+  std::vector<LatLon> out;
+  bool ok = true;
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const auto p = readPosition(value[i], pointerJoin(pointer, i), issues);
+    if (p) out.push_back(*p);
+    ok = ok && p.has_value();
+  }
+  if (!ok) return std::nullopt;
+  return out;
+}
+
+// Property values: strings, or numbers for ids (QGIS writes integer ids).
+std::optional<std::string> stringProperty(const Json& properties, const std::string& pointer, const char* key,
+                                          Issues& issues, bool allow_number = false) {
+  const auto it = properties.find(key);
+  if (it == properties.end() || it->is_null()) return std::nullopt;
+  if (it->is_string()) return it->get<std::string>();
+  if (allow_number && it->is_number_integer()) return std::to_string(it->get<long long>());
+  addIssue(issues, Severity::Error, "schema.type", pointerJoin(pointer, key),
+           "expected a string, got " + std::string(jsonTypeName(*it)));
+  return std::nullopt;
+}
+
+std::optional<double> numberProperty(const Json& properties, const std::string& pointer, const char* key, Issues& issues) {
+  const auto it = properties.find(key);
+  if (it == properties.end() || it->is_null()) return std::nullopt;
+  return readNumber(*it, pointerJoin(pointer, key), issues);
+}
+
+std::optional<RawFeature> readFeature(const Json& value, const std::string& pointer, Issues& issues) {
+  JsonObject feature(value, pointer, issues);
+  if (!feature.isObject()) return std::nullopt;
+  const auto type = feature.string("type");
+  if (type && *type != "Feature") {
+    addIssue(issues, Severity::Error, "geojson.type", feature.pointer("type"), "expected \"Feature\", got \"" + *type + "\"");
+    return std::nullopt;
+  }
+  const Json* geometry = feature.member("geometry", true);
+  if (geometry == nullptr) return std::nullopt;
+  const std::string gptr = feature.pointer("geometry");
+  JsonObject g(*geometry, gptr, issues);
+  const auto gtype = g.string("type");
+  const Json* coordinates = g.member("coordinates", true);
+  if (!gtype || coordinates == nullptr) return std::nullopt;
+  const std::string cptr = g.pointer("coordinates");
+
+  RawFeature raw;
+  raw.pointer = pointer;
+  if (*gtype == "LineString") {
+    raw.kind = RawFeature::Kind::Road;
+    auto line = readPositions(*coordinates, cptr, issues, 2);
+    if (!line) return std::nullopt;
+    raw.coordinates = std::move(*line);
+  } else if (*gtype == "Point") {
+    raw.kind = RawFeature::Kind::Point;
+    auto p = readPosition(*coordinates, cptr, issues);
+    if (!p) return std::nullopt;
+    raw.coordinates = {*p};
+  } else if (*gtype == "Polygon") {
+    raw.kind = RawFeature::Kind::Polygon;
+    if (!coordinates->is_array() || coordinates->empty()) {
+      addIssue(issues, Severity::Error, "geojson.position", cptr, "expected an array of linear rings");
+      return std::nullopt;
+    }
+    auto ring = readPositions((*coordinates)[0], pointerJoin(cptr, std::size_t{0}), issues, 4);
+    if (!ring) return std::nullopt;
+    if (ring->front().lat != ring->back().lat || ring->front().lon != ring->back().lon) {
+      addIssue(issues, Severity::Error, "geojson.position", pointerJoin(cptr, std::size_t{0}),
+               "a linear ring must end at its first position (RFC 7946, 3.1.6)");
+      return std::nullopt;
+    }
+    ring->pop_back();
+    raw.coordinates = std::move(*ring);
+  } else {
+    addIssue(issues, Severity::Error, "geojson.unsupported_geometry", g.pointer("type"),
+             "geometry \"" + *gtype + "\" is not supported: roads are LineString, intersections Point or Polygon");
+    return std::nullopt;
+  }
+
+  const Json* properties = feature.member("properties", false);
+  const std::string pptr = feature.pointer("properties");
+  if (properties != nullptr && !properties->is_null()) {
+    if (!properties->is_object()) {
+      addIssue(issues, Severity::Error, "schema.type", pptr, "expected an object or null");
+      return std::nullopt;
+    }
+    const Json& p = *properties;
+    const std::size_t before = issues.size();
+    raw.id = stringProperty(p, pptr, "id", issues, true);
+    raw.kind_name = stringProperty(p, pptr, "kind", issues);
+    raw.from = stringProperty(p, pptr, "from", issues, true);
+    raw.to = stringProperty(p, pptr, "to", issues, true);
+    raw.surface = stringProperty(p, pptr, "surface", issues);
+    raw.left = stringProperty(p, pptr, "left", issues);
+    raw.right = stringProperty(p, pptr, "right", issues);
+    raw.width = numberProperty(p, pptr, "width", issues);
+    raw.cost_factor = numberProperty(p, pptr, "cost_factor", issues);
+    if (const auto it = p.find("oneway"); it != p.end() && !it->is_null()) {
+      if (it->is_boolean()) {
+        raw.oneway = it->get<bool>();
+      } else {
+        addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, "oneway"), "expected true or false");
+      }
+    }
+    if (const auto it = p.find("center"); it != p.end() && !it->is_null()) {
+      raw.center = readPosition(*it, pointerJoin(pptr, "center"), issues);
+    }
+    if (issues.size() != before) return std::nullopt;
+  }
+  return raw;
+}
+
+// The kind a node's roads suggest: by how many meet and at what angles.
+IntersectionKind inferKind(std::vector<double> headings) {
+  const std::size_t n = headings.size();
+  if (n <= 1) return IntersectionKind::End;
+  if (n >= 5) return IntersectionKind::Plaza;
+  if (n == 4) return IntersectionKind::Cross;
+  std::sort(headings.begin(), headings.end());
+  double smallest = 2 * kPi;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double next = i + 1 < n ? headings[i + 1] : headings[0] + 2 * kPi;
+    smallest = std::min(smallest, next - headings[i]);
+  }
+  if (n == 2) return smallest < degToRad(150) ? IntersectionKind::L : IntersectionKind::Other;
+  return smallest < degToRad(75) ? IntersectionKind::Y : IntersectionKind::T;
+}
+
+std::string freshId(const std::string& prefix, std::size_t& counter, const std::set<std::string>& taken) {
+  std::string id;
+  do {
+    id = prefix + std::to_string(++counter);
+  } while (taken.contains(id));
+  return id;
+}
+
+}  // namespace
+
+std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues, const GeoJsonImportOptions& options) {
+  options.validate();
+  const std::size_t errors_before = countSeverity(issues, Severity::Error);
+  const auto json = parseJson(text, issues);
+  if (!json) return std::nullopt;
+  if (!json->is_object()) {
+    addIssue(issues, Severity::Error, "schema.type", "", "expected a GeoJSON FeatureCollection object");
+    return std::nullopt;
+  }
+  const Json& doc = *json;
+  if (!doc.contains("type") || doc["type"] != "FeatureCollection") {
+    addIssue(issues, Severity::Error, "geojson.type", "/type", "expected \"type\": \"FeatureCollection\"");
+    return std::nullopt;
+  }
+  GeoJsonImport result;
+  MapData& map = result.map;
+  map.name = "imported from GeoJSON";
+  map.surfaces = standardSurfaces();
+  std::optional<GeoOrigin> file_origin;
+  if (const auto it = doc.find("mapnav"); it != doc.end()) {
+    JsonObject meta(*it, "/mapnav", issues);
+    if (const auto format = meta.string("format", false); format && *format != kMapFormat) {
+      addIssue(issues, Severity::Error, "schema.format", "/mapnav/format", "unknown format \"" + *format + "\"");
+    }
+    if (const auto name = meta.string("name", false)) map.name = *name;
+    if (const Json* o = meta.member("origin", false)) file_origin = readOrigin(*o, "/mapnav/origin", issues);
+    if (auto s = readSurfaces(meta.member("surfaces", false), "/mapnav/surfaces", issues)) map.surfaces = std::move(*s);
+    meta.rejectUnknownMembers();
+  }
+  const auto features_it = doc.find("features");
+  if (features_it == doc.end() || !features_it->is_array()) {
+    addIssue(issues, Severity::Error, "schema.required", "", "a FeatureCollection needs a \"features\" array");
+    return std::nullopt;
+  }
+  std::vector<RawFeature> raws;
+  for (std::size_t k = 0; k < features_it->size(); ++k) {
+    if (auto raw = readFeature((*features_it)[k], pointerJoin("/features", k), issues)) raws.push_back(std::move(*raw));
+  }
+  if (countSeverity(issues, Severity::Error) != errors_before) return std::nullopt;
+
+  // The local frame: as asked, as the file says, or about the data's centroid.
+  GeoOrigin origin;
+  if (options.origin) {
+    origin = *options.origin;
+  } else if (file_origin) {
+    origin = *file_origin;
+  } else {
+    double lat = 0, lon = 0;
+    std::size_t n = 0;
+    for (const RawFeature& raw : raws) {
+      for (const LatLon& p : raw.coordinates) {
+        lat += p.lat;
+        lon += p.lon;
+        ++n;
+      }
+    }
+    if (n > 0) origin = GeoOrigin{lat / static_cast<double>(n), lon / static_cast<double>(n), 0.0};
+  }
+  map.origin = origin;
+  const LocalFrame frame(origin);
+  auto project = [&](const std::vector<LatLon>& points) {
+    std::vector<Vec2> out;
+    for (const LatLon& p : points) out.push_back(frame.toLocal(p));
+    return out;
+  };
+
+  std::set<std::string> taken;
+  for (const RawFeature& raw : raws) {
+    if (raw.id) taken.insert(*raw.id);
+  }
+  std::size_t next_road = 0, next_node = 0;
+  std::vector<std::optional<std::string>> kind_names;  // as given, per intersection
+  for (const RawFeature& raw : raws) {
+    if (raw.kind == RawFeature::Kind::Road) continue;
+    Intersection x;
+    x.id = raw.id ? *raw.id : freshId("J", next_node, taken);
+    if (raw.kind == RawFeature::Kind::Point) {
+      x.position = frame.toLocal(raw.coordinates[0]);
+    } else {
+      x.shape = project(raw.coordinates);
+      x.position = raw.center ? frame.toLocal(*raw.center) : centroid(*x.shape);
+    }
+    map.intersections.push_back(std::move(x));
+    result.intersection_features.push_back(raw.pointer);
+    kind_names.push_back(raw.kind_name);
+  }
+
+  // Roads, attaching each end to an intersection: as named, or the one at the end, or one made
+  // where road ends meet.
+  auto nodeAt = [&](const Vec2& p) -> std::optional<std::size_t> {
+    std::optional<std::size_t> best;
+    double best_d = options.snap_tolerance_m;
+    for (std::size_t i = 0; i < map.intersections.size(); ++i) {
+      const Intersection& x = map.intersections[i];
+      const double d = (x.shape && contains(*x.shape, p)) ? 0.0 : (x.position - p).norm();
+      if (d <= best_d) {
+        best_d = d;
+        best = i;
+      }
+    }
+    return best;
+  };
+  for (const RawFeature& raw : raws) {
+    if (raw.kind != RawFeature::Kind::Road) continue;
+    Road road;
+    road.id = raw.id ? *raw.id : freshId("R", next_road, taken);
+    std::vector<Vec2> line = project(raw.coordinates);
+    for (int end = 0; end < 2; ++end) {
+      Vec2& p = end == 0 ? line.front() : line.back();
+      const std::optional<std::string>& named = end == 0 ? raw.from : raw.to;
+      std::string& target = end == 0 ? road.from : road.to;
+      if (named) {
+        target = *named;
+        continue;
+      }
+      std::optional<std::size_t> node = nodeAt(p);
+      if (!node) {
+        Intersection x;
+        x.id = freshId("J", next_node, taken);
+        x.position = p;
+        map.intersections.push_back(std::move(x));
+        result.intersection_features.emplace_back();
+        kind_names.emplace_back();
+        node = map.intersections.size() - 1;
+      }
+      const Intersection& x = map.intersections[*node];
+      if (!x.shape || !contains(*x.shape, p)) p = x.position;  // snap the end onto the node
+      target = x.id;
+    }
+    road.centerline = Polyline2(std::move(line));
+    road.width = raw.width.value_or(options.default_width_m);
+    road.surface = raw.surface.value_or(options.default_surface);
+    road.left = raw.left.value_or(options.default_shoulder);
+    road.right = raw.right.value_or(options.default_shoulder);
+    road.oneway = raw.oneway.value_or(false);
+    road.cost_factor = raw.cost_factor.value_or(1.0);
+    map.roads.push_back(std::move(road));
+    result.road_features.push_back(raw.pointer);
+  }
+
+  // Kinds: as given, or inferred from the roads that meet.
+  for (std::size_t i = 0; i < map.intersections.size(); ++i) {
+    Intersection& x = map.intersections[i];
+    if (kind_names[i]) {
+      const auto kind = intersectionKindFromString(*kind_names[i]);
+      if (!kind) {
+        addIssue(issues, Severity::Error, "schema.enum", result.intersection_features[i] + "/properties/kind",
+                 "unknown intersection kind \"" + *kind_names[i] + "\"");
+        continue;
+      }
+      x.kind = *kind;
+      continue;
+    }
+    std::vector<double> headings;
+    for (const Road& r : map.roads) {
+      const double len = r.centerline.length();
+      if (r.from == x.id) headings.push_back(r.centerline.headingAt(0));
+      if (r.to == x.id) headings.push_back(normalizeAngle(r.centerline.headingAt(len) + kPi));
+    }
+    x.kind = inferKind(headings);
+  }
+  if (countSeverity(issues, Severity::Error) != errors_before) return std::nullopt;
+  return result;
+}
+
+std::string GeoJsonImport::toFeaturePointer(const std::string& map_pointer) const {
+  // "/roads/3/centerline/2" → ["roads", "3", "centerline", "2"]
+  std::vector<std::string> parts;
+  std::stringstream in(map_pointer.size() > 1 ? map_pointer.substr(1) : "");
+  for (std::string part; std::getline(in, part, '/');) parts.push_back(part);
+  if (parts.size() < 2 || (parts[0] != "roads" && parts[0] != "intersections")) return map_pointer;
+  std::size_t index = 0;
+  try {
+    index = std::stoul(parts[1]);
+  } catch (...) {
+    return map_pointer;
+  }
+  const auto& features = parts[0] == "roads" ? road_features : intersection_features;
+  if (index >= features.size() || features[index].empty()) return map_pointer;
+  std::string out = features[index];
+  if (parts.size() == 2) return out;
+  const std::string& member = parts[2];
+  if (member == "centerline") {
+    out += "/geometry/coordinates";
+  } else if (member == "shape") {
+    out += "/geometry/coordinates/0";
+  } else if (member == "position") {
+    out += "/geometry/coordinates";
+  } else {
+    out += "/properties/" + member;
+  }
+  for (std::size_t i = 3; i < parts.size(); ++i) out += "/" + parts[i];
+  return out;
+}
+
+std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& origin_override) {
+  const std::optional<GeoOrigin> origin = origin_override ? origin_override : map.origin;
+  if (!origin) {
+    throw InvalidInput("map \"" + map.name + "\" has no geodetic origin; give one (--origin LAT,LON) to export GeoJSON");
+  }
+  const LocalFrame frame(*origin);
+  auto position = [&](const Vec2& p) {
+    const LatLon g = frame.toGeodetic(p);
+    // 9 decimals: 0.1 mm, so that export → import is exact to well under a millimetre.
+    return Json::array({std::round(g.lon * 1e9) / 1e9, std::round(g.lat * 1e9) / 1e9});
+  };
+  auto positions = [&](const std::vector<Vec2>& points) {
+    Json out = Json::array();
+    for (const Vec2& p : points) out.push_back(position(p));
+    return out;
+  };
+  Json features = Json::array();
+  for (const Intersection& x : map.intersections) {
+    Json properties = {{"id", x.id}, {"kind", toString(x.kind)}};
+    Json geometry;
+    if (x.shape) {
+      Json ring = positions(*x.shape);
+      ring.push_back(ring.front());
+      geometry = {{"type", "Polygon"}, {"coordinates", Json::array({ring})}};
+      properties["center"] = position(x.position);
+    } else {
+      geometry = {{"type", "Point"}, {"coordinates", position(x.position)}};
+    }
+    features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
+  }
+  for (const Road& r : map.roads) {
+    Json properties = {{"id", r.id}, {"from", r.from}, {"to", r.to}, {"width", r.width},
+                       {"surface", r.surface}, {"left", r.left}, {"right", r.right}};
+    if (r.oneway) properties["oneway"] = true;
+    if (r.cost_factor != 1.0) properties["cost_factor"] = r.cost_factor;
+    Json geometry = {{"type", "LineString"}, {"coordinates", positions(r.centerline.points())}};
+    features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
+  }
+  Json meta = {{"format", kMapFormat}, {"name", map.name}, {"origin", originToJson(*origin)},
+               {"surfaces", surfacesToJson(map.surfaces)}};
+  Json doc = {{"type", "FeatureCollection"}, {"mapnav", meta}, {"features", features}};
+  return dumpJson(doc);
+}
+
+}  // namespace mapnav

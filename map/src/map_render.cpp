@@ -1,0 +1,153 @@
+#include "mapnav/map/map_render.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "mapnav/core/error.h"
+
+namespace mapnav {
+
+using render::Anchor;
+using render::Rgb;
+using render::Style;
+using render::TextStyle;
+
+void MapRenderOptions::validate() const {
+  if (width_px < 64 || width_px > 20000) {
+    throw InvalidInput("MapRenderOptions::width_px = " + std::to_string(width_px) + ": must be in [64, 20000]");
+  }
+  if (!std::isfinite(margin_px) || margin_px < 0 || margin_px * 2 >= width_px) {
+    throw InvalidInput("MapRenderOptions::margin_px = " + std::to_string(margin_px) +
+                       ": must be >= 0 and less than half the width");
+  }
+}
+
+namespace {
+
+Rgb toRgb(const Vec3& c) {
+  auto byte = [](double v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L)); };
+  return {byte(c.x()), byte(c.y()), byte(c.z())};
+}
+
+Rgb shade(Rgb c, double factor) {
+  auto f = [&](std::uint8_t v) { return static_cast<std::uint8_t>(std::clamp(v * factor, 0.0, 255.0)); };
+  return {f(c.r), f(c.g), f(c.b)};
+}
+
+std::vector<Vec2> toPixels(const render::View& view, const std::vector<Vec2>& world) {
+  std::vector<Vec2> out;
+  out.reserve(world.size());
+  for (const Vec2& p : world) out.push_back(view.toPixel(p));
+  return out;
+}
+
+// The shoulder colour most roads have: the picture's ground.
+Rgb groundColor(const Map& map) {
+  std::map<std::string, std::size_t> votes;
+  for (const Road& r : map.roads()) {
+    ++votes[r.left];
+    ++votes[r.right];
+  }
+  const auto best = std::max_element(votes.begin(), votes.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  if (best != votes.end()) {
+    if (const Appearance* a = map.findSurface(best->first)) {
+      // Lighter than the real thing, so that roads and labels stand out.
+      const Rgb c = toRgb(a->rgb);
+      auto lighten = [](std::uint8_t v) { return static_cast<std::uint8_t>(v + (255 - v) * 0.55); };
+      return {lighten(c.r), lighten(c.g), lighten(c.b)};
+    }
+  }
+  return {236, 240, 228};
+}
+
+}  // namespace
+
+MapPicture renderMap(const Map& map, const MapRenderOptions& options) {
+  options.validate();
+  Box2 world = map.bounds();
+  if (world.isEmpty()) world = Box2(Vec2(-10, -10), Vec2(10, 10));
+  const double top_band = options.title ? 40.0 : 0.0;
+  render::View fit = render::View::fitWidth(world, options.width_px, options.margin_px);
+  render::View view(world, options.width_px, fit.height() + static_cast<int>(top_band), options.margin_px + top_band / 2);
+  render::Canvas canvas(view.width(), view.height(), groundColor(map));
+  const double ppm = view.pixelsPerMetre();
+
+  // Shoulders: a band of each shoulder's colour along each side, so that a dirt or brick edge shows.
+  for (const Road& road : map.roads()) {
+    for (const bool left : {true, false}) {
+      const Appearance* a = map.findSurface(left ? road.left : road.right);
+      if (a == nullptr) continue;
+      const Polyline2 outer = road.centerline.offset((left ? 1 : -1) * (road.width / 2 + 1.0));
+      const Polyline2& inner = left ? map.leftEdge(road) : map.rightEdge(road);
+      std::vector<Vec2> ring = inner.points();
+      ring.insert(ring.end(), outer.points().rbegin(), outer.points().rend());
+      Style style;
+      style.fill = toRgb(a->rgb);
+      style.opacity = 0.55;
+      canvas.polygon(toPixels(view, ring), style);
+    }
+  }
+  // Paved areas: roads then intersections, in their surface colours with a dark outline.
+  for (const Road& road : map.roads()) {
+    const Appearance* a = map.findSurface(road.surface);
+    Style style;
+    style.fill = a ? toRgb(a->rgb) : Rgb{180, 180, 180};
+    style.stroke = shade(*style.fill, 0.45);
+    style.stroke_width_px = 1.2;
+    canvas.polygon(toPixels(view, map.roadPolygon(road)), style);
+  }
+  for (const Intersection& x : map.intersections()) {
+    const auto ends = map.roadsAt(x.id);
+    const Appearance* a = ends.empty() ? nullptr : map.findSurface(ends.front().road->surface);
+    Style style;
+    style.fill = a ? toRgb(a->rgb) : Rgb{180, 180, 180};
+    if (x.shape) {
+      style.stroke = shade(*style.fill, 0.45);
+      style.stroke_width_px = 1.2;
+    }
+    canvas.polygon(toPixels(view, map.intersectionShape(x)), style);
+  }
+  // Centre lines, dashed, so that direction and curvature read at a glance.
+  for (const Road& road : map.roads()) {
+    Style style;
+    style.stroke = Rgb{255, 255, 255};
+    style.stroke_width_px = 1.0;
+    style.dashed = true;
+    canvas.polyline(toPixels(view, road.centerline.points()), style);
+  }
+  if (options.labels) {
+    const double size = std::clamp(ppm * 1.6, 10.0, 15.0);
+    for (const Road& road : map.roads()) {
+      const double s = road.centerline.length() / 2;
+      TextStyle text;
+      text.size_px = size;
+      text.color = Rgb{20, 40, 120};
+      text.halo = Rgb{255, 255, 255};
+      canvas.text(view.toPixel(road.centerline.pointAt(s)), road.id, text);
+    }
+    for (const Intersection& x : map.intersections()) {
+      Style dot;
+      dot.fill = Rgb{200, 30, 30};
+      canvas.circle(view.toPixel(x.position), 3.0, dot);
+      TextStyle text;
+      text.size_px = size;
+      text.color = Rgb{150, 20, 20};
+      text.bold = true;
+      text.halo = Rgb{255, 255, 255};
+      text.anchor = Anchor::Start;
+      canvas.text(view.toPixel(x.position) + Vec2(6, -6), x.id + " " + std::string(toString(x.kind)), text);
+    }
+  }
+  if (options.title) {
+    TextStyle title;
+    title.size_px = 18;
+    title.bold = true;
+    title.anchor = Anchor::Start;
+    canvas.text(Vec2(options.margin_px, 30), map.name(), title);
+  }
+  render::drawScaleBarAndNorthArrow(canvas, view);
+  return MapPicture{std::move(canvas), view};
+}
+
+}  // namespace mapnav

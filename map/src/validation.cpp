@@ -1,0 +1,350 @@
+#include "mapnav/map/validation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+#include <set>
+#include <unordered_set>
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/json.h"
+#include "mapnav/geometry/polygon.h"
+
+namespace mapnav {
+
+namespace bg = boost::geometry;
+namespace bgi = boost::geometry::index;
+
+void ValidationOptions::validate() const {
+  auto require = [](bool ok, const char* field, double value, const char* rule) {
+    if (!ok) {
+      std::ostringstream text;
+      text << "ValidationOptions::" << field << " = " << value << ": must be " << rule;
+      throw InvalidInput(text.str());
+    }
+  };
+  require(std::isfinite(end_tolerance_m) && end_tolerance_m >= 0, "end_tolerance_m", end_tolerance_m, "finite and >= 0");
+  require(std::isfinite(repeated_point_tolerance_m) && repeated_point_tolerance_m >= 0, "repeated_point_tolerance_m",
+          repeated_point_tolerance_m, "finite and >= 0");
+  require(std::isfinite(min_road_length_m) && min_road_length_m >= 0, "min_road_length_m", min_road_length_m,
+          "finite and >= 0");
+  require(std::isfinite(max_coordinate_m) && max_coordinate_m > 0, "max_coordinate_m", max_coordinate_m, "finite and > 0");
+  require(std::isfinite(max_width_m) && max_width_m > 0, "max_width_m", max_width_m, "finite and > 0");
+}
+
+namespace {
+
+std::string fmt(double x) {
+  std::ostringstream text;
+  text.precision(6);
+  text << x;
+  return text.str();
+}
+
+std::string fmt(const Vec2& p) { return "(" + fmt(p.x()) + ", " + fmt(p.y()) + ")"; }
+
+bool validId(const std::string& id) {
+  if (id.empty() || id.size() > 64 || !std::isalpha(static_cast<unsigned char>(id[0]))) return false;
+  return std::all_of(id.begin(), id.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+// The degrees of freedom a kind allows: minimum and maximum number of road ends.
+std::pair<std::size_t, std::size_t> degreeRange(IntersectionKind kind) {
+  switch (kind) {
+    case IntersectionKind::End: return {1, 1};
+    case IntersectionKind::L: return {2, 2};
+    case IntersectionKind::T:
+    case IntersectionKind::Y: return {3, 3};
+    case IntersectionKind::Cross: return {4, 4};
+    case IntersectionKind::Plaza: return {3, SIZE_MAX};
+    case IntersectionKind::Other: return {0, SIZE_MAX};
+  }
+  return {0, SIZE_MAX};
+}
+
+class Validator {
+ public:
+  Validator(const MapData& map, const ValidationOptions& options) : map_(map), options_(options) {}
+
+  Issues run() {
+    checkIds();
+    checkCoordinates();
+    checkIntersections();
+    checkRoads();
+    checkCrossings();
+    checkTopology();
+    return std::move(issues_);
+  }
+
+ private:
+  const MapData& map_;
+  const ValidationOptions& options_;
+  Issues issues_;
+  std::unordered_map<std::string, std::size_t> intersection_index_;
+  std::vector<bool> road_geometry_ok_;          // finite coordinates, >= 2 points
+  std::vector<bool> intersection_geometry_ok_;  // finite position and shape
+
+  void error(std::string check, std::string where, std::string message) {
+    addIssue(issues_, Severity::Error, std::move(check), std::move(where), std::move(message));
+  }
+  void warning(std::string check, std::string where, std::string message) {
+    addIssue(issues_, Severity::Warning, std::move(check), std::move(where), std::move(message));
+  }
+  static std::string roadPtr(std::size_t i) { return pointerJoin("/roads", i); }
+  static std::string xPtr(std::size_t i) { return pointerJoin("/intersections", i); }
+
+  void checkIds() {
+    std::unordered_map<std::string, std::string> seen;  // id → pointer of its first use
+    auto check = [&](const std::string& id, const std::string& ptr) {
+      if (!validId(id)) {
+        error("schema.id", ptr, "id \"" + id + "\" must be a letter followed by letters, digits, '_' or '-' (at most 64)");
+        return;
+      }
+      const auto [it, inserted] = seen.emplace(id, ptr);
+      if (!inserted) error("ids.duplicate", ptr, "id \"" + id + "\" is already used at " + it->second);
+    };
+    for (std::size_t i = 0; i < map_.intersections.size(); ++i) {
+      check(map_.intersections[i].id, xPtr(i) + "/id");
+      intersection_index_.emplace(map_.intersections[i].id, i);
+    }
+    for (std::size_t i = 0; i < map_.roads.size(); ++i) check(map_.roads[i].id, roadPtr(i) + "/id");
+  }
+
+  bool pointOk(const Vec2& p, const std::string& ptr) {
+    if (std::isfinite(p.x()) && std::isfinite(p.y()) && std::abs(p.x()) <= options_.max_coordinate_m &&
+        std::abs(p.y()) <= options_.max_coordinate_m) {
+      return true;
+    }
+    error("geometry.invalid_coordinate", ptr,
+          "point " + fmt(p) + " is not finite or beyond ±" + fmt(options_.max_coordinate_m) + " m");
+    return false;
+  }
+
+  void checkCoordinates() {
+    intersection_geometry_ok_.assign(map_.intersections.size(), true);
+    for (std::size_t i = 0; i < map_.intersections.size(); ++i) {
+      const Intersection& x = map_.intersections[i];
+      bool ok = pointOk(x.position, xPtr(i) + "/position");
+      if (x.shape) {
+        for (std::size_t k = 0; k < x.shape->size(); ++k) ok = pointOk((*x.shape)[k], pointerJoin(xPtr(i) + "/shape", k)) && ok;
+      }
+      intersection_geometry_ok_[i] = ok;
+    }
+    road_geometry_ok_.assign(map_.roads.size(), true);
+    for (std::size_t i = 0; i < map_.roads.size(); ++i) {
+      const auto& points = map_.roads[i].centerline.points();
+      bool ok = true;
+      for (std::size_t k = 0; k < points.size(); ++k) ok = pointOk(points[k], pointerJoin(roadPtr(i) + "/centerline", k)) && ok;
+      road_geometry_ok_[i] = ok;
+    }
+  }
+
+  void checkIntersections() {
+    for (std::size_t i = 0; i < map_.intersections.size(); ++i) {
+      const Intersection& x = map_.intersections[i];
+      if (!x.shape || !intersection_geometry_ok_[i]) continue;
+      const std::string ptr = xPtr(i) + "/shape";
+      if (x.shape->size() < 3) {
+        error("intersections.too_few_points", ptr, "a shape needs at least 3 points, it has " + std::to_string(x.shape->size()));
+        intersection_geometry_ok_[i] = false;
+      } else if (!isSimple(*x.shape)) {
+        error("intersections.self_intersecting_shape", ptr, "the outline of intersection \"" + x.id + "\" crosses itself");
+        intersection_geometry_ok_[i] = false;
+      }
+    }
+  }
+
+  std::optional<std::size_t> intersectionOf(const std::string& id) const {
+    const auto it = intersection_index_.find(id);
+    if (it == intersection_index_.end()) return std::nullopt;
+    return it->second;
+  }
+
+  // Is p at intersection x: within the tolerance of its position, or inside (or near) its shape?
+  bool atIntersection(std::size_t x, const Vec2& p) const {
+    const Intersection& node = map_.intersections[x];
+    if ((p - node.position).norm() <= options_.end_tolerance_m) return true;
+    return node.shape && intersection_geometry_ok_[x] &&
+           (contains(*node.shape, p) || boundaryDistance(*node.shape, p) <= options_.end_tolerance_m);
+  }
+
+  void checkRoads() {
+    std::unordered_set<std::string> surfaces;
+    for (const auto& [name, appearance] : map_.surfaces) surfaces.insert(name);
+    for (std::size_t i = 0; i < map_.roads.size(); ++i) {
+      const Road& road = map_.roads[i];
+      const std::string ptr = roadPtr(i);
+      for (const auto& [member, value] : {std::pair{"from", &road.from}, std::pair{"to", &road.to}}) {
+        if (!intersectionOf(*value)) {
+          error("roads.unknown_intersection", ptr + "/" + member,
+                "road \"" + road.id + "\" " + member + " \"" + *value + "\": no intersection has this id");
+        }
+      }
+      if (!std::isfinite(road.width) || road.width <= 0 || road.width > options_.max_width_m) {
+        error("roads.invalid_width", ptr + "/width",
+              "width " + fmt(road.width) + " m must be > 0 and <= " + fmt(options_.max_width_m) + " m");
+      }
+      if (!std::isfinite(road.cost_factor) || road.cost_factor <= 0) {
+        error("schema.range", ptr + "/cost_factor", "cost_factor " + fmt(road.cost_factor) + " must be > 0");
+      }
+      for (const auto& [member, value] :
+           {std::pair{"surface", &road.surface}, std::pair{"left", &road.left}, std::pair{"right", &road.right}}) {
+        if (!surfaces.contains(*value)) {
+          error("surfaces.unknown", ptr + "/" + member, "surface \"" + *value + "\" is not in \"surfaces\"");
+        }
+      }
+      checkRoadGeometry(i);
+    }
+  }
+
+  void checkRoadGeometry(std::size_t i) {
+    const Road& road = map_.roads[i];
+    const std::string ptr = roadPtr(i) + "/centerline";
+    const auto& points = road.centerline.points();
+    if (points.size() < 2) {
+      error("roads.too_few_points", ptr, "a centerline needs at least 2 points, it has " + std::to_string(points.size()));
+      road_geometry_ok_[i] = false;
+    }
+    if (!road_geometry_ok_[i]) return;
+    bool repeated = false;
+    for (std::size_t k = 1; k < points.size(); ++k) {
+      if ((points[k] - points[k - 1]).norm() < options_.repeated_point_tolerance_m) {
+        error("roads.repeated_point", pointerJoin(ptr, k), "point " + std::to_string(k) + " " + fmt(points[k]) + " repeats point " + std::to_string(k - 1));
+        repeated = true;
+      }
+    }
+    for (const auto& [member, end] : {std::pair{std::string("from"), std::size_t{0}}, std::pair{std::string("to"), points.size() - 1}}) {
+      const auto x = intersectionOf(member == "from" ? road.from : road.to);
+      if (!x || !intersection_geometry_ok_[*x]) continue;
+      if (!atIntersection(*x, points[end])) {
+        const Intersection& node = map_.intersections[*x];
+        error("roads.end_far_from_intersection", pointerJoin(ptr, end),
+              "road \"" + road.id + "\" " + (end == 0 ? "starts" : "ends") + " at " + fmt(points[end]) + ", " +
+                  fmt((points[end] - node.position).norm()) + " m from intersection \"" + node.id + "\" at " +
+                  fmt(node.position) + " (tolerance " + fmt(options_.end_tolerance_m) + " m)");
+      }
+    }
+    if (!repeated) {
+      for (const SegmentHit& hit : selfIntersections(points, false)) {
+        error("roads.self_intersection", pointerJoin(ptr, std::min(hit.i, hit.j)),
+              "segment " + std::to_string(std::min(hit.i, hit.j)) + " of road \"" + road.id + "\" meets its segment " +
+                  std::to_string(std::max(hit.i, hit.j)) + " at " + fmt(hit.point));
+      }
+    }
+    if (road.centerline.length() < options_.min_road_length_m) {
+      warning("roads.very_short", ptr, "road \"" + road.id + "\" is " + fmt(road.centerline.length()) + " m long (< " + fmt(options_.min_road_length_m) + " m)");
+    }
+  }
+
+  // Roads crossing each other away from every intersection they share. One R-tree over all
+  // segments, so the cost grows with the segments that are close, not with the square of the map.
+  void checkCrossings() {
+    using BPoint = bg::model::point<double, 2, bg::cs::cartesian>;
+    using BBox = bg::model::box<BPoint>;
+    using Value = std::pair<BBox, std::pair<std::size_t, std::size_t>>;  // (road, segment)
+    std::vector<Value> values;
+    for (std::size_t r = 0; r < map_.roads.size(); ++r) {
+      if (!road_geometry_ok_[r]) continue;
+      const Polyline2& c = map_.roads[r].centerline;
+      for (std::size_t s = 0; s < c.segmentCount(); ++s) {
+        if (c.segment(s).length() < options_.repeated_point_tolerance_m) continue;  // reported as repeated
+        const Box2 b = c.segment(s).bounds();
+        values.emplace_back(BBox(BPoint(b.min().x(), b.min().y()), BPoint(b.max().x(), b.max().y())), std::pair{r, s});
+      }
+    }
+    const bgi::rtree<Value, bgi::rstar<16>> tree(values.begin(), values.end());
+    std::set<std::pair<std::size_t, std::size_t>> reported;  // road pairs
+    std::vector<Value> found;
+    for (const Value& v : values) {
+      const auto [r, s] = v.second;
+      found.clear();
+      tree.query(bgi::intersects(v.first), std::back_inserter(found));
+      std::sort(found.begin(), found.end(), [](const Value& a, const Value& b) { return a.second < b.second; });
+      for (const Value& w : found) {
+        const auto [q, t] = w.second;
+        if (q <= r || reported.contains({r, q})) continue;
+        const Segment2 a = map_.roads[r].centerline.segment(s), b = map_.roads[q].centerline.segment(t);
+        if (!segmentsIntersect(a, b)) continue;
+        const Vec2 p = meetingPoint(a, b);
+        if (atSharedIntersection(r, q, p)) continue;
+        reported.insert({r, q});
+        error("roads.crossing_without_intersection", pointerJoin(roadPtr(r) + "/centerline", s),
+              "road \"" + map_.roads[r].id + "\" crosses road \"" + map_.roads[q].id + "\" at " + fmt(p) +
+                  " where there is no intersection they share");
+      }
+    }
+  }
+
+  static Vec2 meetingPoint(const Segment2& a, const Segment2& b) {
+    if (const auto p = segmentIntersection(a, b)) return *p;
+    // Collinear overlap: one of the end points lies on the other segment.
+    for (const Vec2& p : {a.a, a.b}) {
+      if (b.distanceTo(p) < 1e-9) return p;
+    }
+    return b.a;
+  }
+
+  bool atSharedIntersection(std::size_t r, std::size_t q, const Vec2& p) const {
+    const Road& a = map_.roads[r];
+    const Road& b = map_.roads[q];
+    for (const std::string* x : {&a.from, &a.to}) {
+      if (*x != b.from && *x != b.to) continue;
+      const auto index = intersectionOf(*x);
+      if (index && atIntersection(*index, p)) return true;
+    }
+    return false;
+  }
+
+  void checkTopology() {
+    const std::size_t n = map_.intersections.size();
+    std::vector<std::size_t> degree(n, 0), parent(n);
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](std::size_t a) {
+      while (parent[a] != a) a = parent[a] = parent[parent[a]];
+      return a;
+    };
+    for (const Road& road : map_.roads) {
+      const auto a = intersectionOf(road.from), b = intersectionOf(road.to);
+      if (a) ++degree[*a];
+      if (b) ++degree[*b];
+      if (a && b) {
+        const std::size_t ra = find(*a), rb = find(*b);
+        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const Intersection& x = map_.intersections[i];
+      const auto [lo, hi] = degreeRange(x.kind);
+      if (degree[i] < lo || degree[i] > hi) {
+        warning("intersections.kind_mismatch", xPtr(i) + "/kind",
+                "intersection \"" + x.id + "\" is a \"" + std::string(toString(x.kind)) + "\" but " +
+                    std::to_string(degree[i]) + " road ends meet there");
+      }
+    }
+    std::vector<bool> reported(n, false);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t root = find(i);
+      if (root == find(0) || reported[root]) continue;
+      reported[root] = true;
+      warning("topology.disconnected", xPtr(i),
+              "intersection \"" + map_.intersections[i].id + "\" cannot be reached from \"" +
+                  map_.intersections[0].id + "\": the network falls apart");
+    }
+  }
+};
+
+}  // namespace
+
+Issues validateMap(const MapData& map, const ValidationOptions& options) {
+  options.validate();
+  return Validator(map, options).run();
+}
+
+}  // namespace mapnav

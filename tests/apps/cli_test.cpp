@@ -1,0 +1,174 @@
+// The `mapnav` command run end to end: exit codes, messages, files written or not.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <random>
+
+#include "mapnav/core/io.h"
+#include "mapnav/map/map_io.h"
+#include "mapnav/testing/support.h"
+
+namespace mapnav {
+namespace {
+namespace fs = std::filesystem;
+using testing::runCli;
+
+std::string str(const fs::path& p) { return p.string(); }
+
+TEST(Cli, VersionAndHelp) {
+  const auto version = runCli({"--version"});
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_EQ(version.out, "mapnav 0.1.0\n");
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"--help"}, {"map", "--help"}, {"map", "validate", "--help"},
+                                             {"map", "info", "--help"}, {"map", "render", "--help"},
+                                             {"map", "import-geojson", "--help"}, {"map", "export-geojson", "--help"}}) {
+    const auto r = runCli(args);
+    EXPECT_EQ(r.exit_code, 0) << args.size();
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << r.out;
+  }
+  EXPECT_NE(runCli({"map", "render", "--help"}).out.find("OUT.png or OUT.svg"), std::string::npos);
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {}, {"frobnicate"}, {"map"}, {"map", "validate"}, {"map", "render", str(testing::mapPath("cmu_campus.json"))},
+           {"map", "validate", "/no/such/file.json"}, {"map", "render", "--width", "3", "x.json", "-o", "x.png"}}) {
+    const auto r = runCli(args);
+    EXPECT_EQ(r.exit_code, 2) << (args.empty() ? "" : args.back());
+    EXPECT_NE(r.err.find("mapnav: error: "), std::string::npos) << r.err;
+  }
+}
+
+TEST(Cli, ValidateExampleMapsExitsZero) {
+  const auto r = runCli({"map", "validate", str(testing::mapPath("cmu_campus.json")), str(testing::mapPath("park_path.json")),
+                         str(testing::mapPath("cmu_campus.geojson"))});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("cmu_campus.json: valid (0 errors, 0 warnings)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("cmu_campus.geojson: valid (0 errors, 0 warnings)"), std::string::npos) << r.out;
+}
+
+TEST(Cli, ValidatePrintsFilePointerSeverityCheckMessage) {
+  const std::string file = str(testing::fixturePath("maps/invalid/roads.unknown_intersection.json"));
+  const auto r = runCli({"map", "validate", file});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find(file + ":/roads/1/to: error: roads.unknown_intersection: road \"R2\" to \"I4\": no intersection has this id\n"),
+            std::string::npos)
+      << r.out;
+  // Warnings alone do not make a map invalid; the worst file decides the exit code.
+  const std::string warned = str(testing::fixturePath("maps/invalid/roads.very_short.json"));
+  EXPECT_EQ(runCli({"map", "validate", warned}).exit_code, 0);
+  EXPECT_EQ(runCli({"map", "validate", warned, file}).exit_code, 1);
+}
+
+TEST(Cli, ValidateGeoJsonPointsIntoTheGeoJsonFile) {
+  const fs::path dir = testing::freshTempDir();
+  std::string text = readFile(testing::mapPath("cmu_campus.geojson"));
+  const std::string width = "\"width\": 2.0";
+  const auto at = text.find(width);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, width.size(), "\"width\": -2.0");
+  writeFileAtomic(dir / "bad.geojson", text);
+  const auto r = runCli({"map", "validate", str(dir / "bad.geojson")});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("/properties/width: error: roads.invalid_width"), std::string::npos) << r.out;
+}
+
+// At least 20 malformed inputs: each is refused with a message naming the file, never a crash.
+TEST(Cli, MalformedInputsExitOneOrTwoWithAMessageAndNeverCrash) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(testing::fixturePath("malformed"))) files.push_back(entry.path());
+  const fs::path dir = testing::freshTempDir();
+  {  // the big ones are made here rather than kept in the repository
+    std::ofstream(dir / "deeply_nested.json") << std::string(100000, '[') << std::string(100000, ']');
+    std::ofstream huge(dir / "huge_array.json");
+    huge << R"({"format": "mapnav-map/1", "name": "m", "surfaces": {}, "intersections": [], "roads": [{"id": "R1", "from": "a",)"
+         << R"( "to": "b", "width": 1, "surface": "s", "left": "s", "right": "s", "centerline": [)";
+    for (int i = 0; i < 500000; ++i) huge << (i ? ",[0,1e400]" : "[0,1]");
+    huge << "]}]}";
+    files.push_back(dir / "deeply_nested.json");
+    files.push_back(dir / "huge_array.json");
+  }
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 25u);
+  for (const fs::path& file : files) {
+    SCOPED_TRACE(file.filename().string());
+    for (const std::string command : {"validate", "info"}) {
+      const auto r = runCli({"map", command, str(file)});
+      EXPECT_FALSE(r.signaled) << "crashed";
+      EXPECT_TRUE(r.exit_code == 1 || r.exit_code == 2) << command << " exit " << r.exit_code;
+      EXPECT_NE((r.out + r.err).find(str(file)), std::string::npos) << command << ": " << r.out << r.err;
+      EXPECT_LT(r.out.size() + r.err.size(), 20000u) << "a bad file gets a few lines, not a flood";
+    }
+    const fs::path png = dir / (file.filename().string() + ".png");
+    const auto r = runCli({"map", "render", str(file), "-o", str(png)});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_FALSE(fs::exists(png)) << "no output for a bad map";
+  }
+}
+
+TEST(Cli, InfoPrintsCountsAndJson) {
+  const auto text = runCli({"map", "info", str(testing::mapPath("cmu_campus.json"))});
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.out.find("components:    1 (connected)"), std::string::npos) << text.out;
+  const auto json = runCli({"map", "info", "--json", str(testing::mapPath("cmu_campus.json"))});
+  EXPECT_EQ(json.exit_code, 0);
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  EXPECT_NE(json.out.find("\"roads\": " + std::to_string(map.roads().size())), std::string::npos) << json.out;
+  EXPECT_NE(json.out.find("\"plaza\": 1"), std::string::npos) << json.out;
+}
+
+TEST(Cli, RenderWritesPngOrSvgAndRefusesOtherExtensions) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string map = str(testing::mapPath("cmu_campus.json"));
+  EXPECT_EQ(runCli({"map", "render", map, "-o", str(dir / "campus.png")}).exit_code, 0);
+  EXPECT_EQ(readFile(dir / "campus.png").substr(1, 3), "PNG");
+  EXPECT_EQ(runCli({"map", "render", map, "-o", str(dir / "campus.svg"), "--width", "800"}).exit_code, 0);
+  EXPECT_NE(readFile(dir / "campus.svg").find("<svg"), std::string::npos);
+  const auto bad = runCli({"map", "render", map, "-o", str(dir / "campus.txt")});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find(".png or .svg"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "campus.txt"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 2) << "no temporary files left";
+}
+
+TEST(Cli, GeoJsonExportThenImportGivesTheSameMap) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string map = str(testing::mapPath("park_path.json"));
+  const auto exported = runCli({"map", "export-geojson", map, "-o", str(dir / "park.geojson")});
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  const auto imported = runCli({"map", "import-geojson", str(dir / "park.geojson"), "-o", str(dir / "park.json")});
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  const MapData a = loadMap(testing::mapPath("park_path.json")).data();
+  const MapData b = loadMap(dir / "park.json").data();
+  ASSERT_EQ(a.roads.size(), b.roads.size());
+  for (std::size_t i = 0; i < a.roads.size(); ++i) {
+    ASSERT_EQ(a.roads[i].centerline.size(), b.roads[i].centerline.size());
+    for (std::size_t k = 0; k < a.roads[i].centerline.size(); ++k) {
+      EXPECT_LT((a.roads[i].centerline.points()[k] - b.roads[i].centerline.points()[k]).norm(), 1e-3);
+    }
+  }
+}
+
+TEST(Cli, ImportOfAnInvalidGeoJsonWritesNothing) {
+  const fs::path dir = testing::freshTempDir();
+  const auto r = runCli({"map", "import-geojson", str(testing::fixturePath("malformed/polygon_not_closed.geojson")), "-o",
+                         str(dir / "out.json")});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("/features/0/geometry/coordinates/0: error: geojson.position"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.json"));
+}
+
+TEST(Cli, BadOriginIsAUsageError) {
+  const fs::path dir = testing::freshTempDir();
+  for (const std::string origin : {"40.4", "91,0", "40.4,abc", "40,-80,1,2"}) {
+    const auto r = runCli({"map", "export-geojson", str(testing::mapPath("cmu_campus.json")), "-o", str(dir / "x.geojson"),
+                           "--origin", origin});
+    EXPECT_EQ(r.exit_code, 2) << origin;
+    EXPECT_NE(r.err.find("--origin"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.geojson"));
+}
+
+}  // namespace
+}  // namespace mapnav
