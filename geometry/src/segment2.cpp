@@ -1,20 +1,19 @@
 #include "mapnav/geometry/segment2.h"
+#include "cgal_kernel.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/intersections.h>
 
 namespace mapnav {
 
 namespace {
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = K::Point_2;
-using CgalSegment = K::Segment_2;
-
-Point toCgal(const Vec2& p) { return {p.x(), p.y()}; }
-Vec2 fromCgal(const Point& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y())}; }
+using cgal::K;
+using cgal::Point;
+using CgalSegment = cgal::Segment;
+using cgal::fromCgal;
+using cgal::toCgal;
 bool degenerate(const Segment2& s) { return s.a == s.b; }
 }  // namespace
 

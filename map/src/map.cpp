@@ -2,20 +2,18 @@
 
 #include <algorithm>
 #include <array>
-#include <numeric>
 #include <unordered_map>
-
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
 
 #include "mapnav/core/error.h"
 #include "mapnav/geometry/polygon.h"
 #include "mapnav/map/validation.h"
+#include "spatial_internal.h"
 
 namespace mapnav {
 
-namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
+using spatial::BBox;
+using spatial::toBBox;
 
 namespace {
 
@@ -29,8 +27,6 @@ constexpr std::array<std::pair<IntersectionKind, std::string_view>, 7> kKindName
     {IntersectionKind::Other, "other"},
 }};
 
-using BPoint = bg::model::point<double, 2, bg::cs::cartesian>;
-using BBox = bg::model::box<BPoint>;
 // What an R-tree entry stands for: a road segment or an intersection shape.
 struct Entry {
   bool is_road;
@@ -39,8 +35,6 @@ struct Entry {
 };
 using Value = std::pair<BBox, Entry>;
 using RTree = bgi::rtree<Value, bgi::rstar<16>>;
-
-BBox toBBox(const Box2& b) { return BBox(BPoint(b.min().x(), b.min().y()), BPoint(b.max().x(), b.max().y())); }
 
 Box2 expanded(Box2 b, double margin) {
   b.min().array() -= margin;
@@ -113,6 +107,12 @@ struct Map::Impl {
 
   void build();
   Polygon2 deriveShape(std::size_t i) const;
+  /// The R-tree entries whose boxes meet `box`.
+  std::vector<Value> candidates(const Box2& box) const {
+    std::vector<Value> found;
+    tree.query(bgi::intersects(toBBox(box)), std::back_inserter(found));
+    return found;
+  }
 };
 
 void Map::Impl::build() {
@@ -141,20 +141,12 @@ void Map::Impl::build() {
     shapes.push_back(x.shape ? counterClockwise(*x.shape) : deriveShape(i));
   }
 
-  // Components by union–find over intersections.
-  std::vector<std::size_t> parent(data.intersections.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](std::size_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  };
-  for (const Road& road : data.roads) {
-    const std::size_t a = find(intersection_index.at(road.from)), b = find(intersection_index.at(road.to));
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-  std::unordered_map<std::size_t, std::size_t> component_of_root;
-  for (std::size_t i = 0; i < parent.size(); ++i) {
-    const auto [it, inserted] = component_of_root.emplace(find(i), components.size());
+  std::vector<std::pair<std::size_t, std::size_t>> edges;
+  for (const Road& road : data.roads) edges.emplace_back(intersection_index.at(road.from), intersection_index.at(road.to));
+  const std::vector<std::size_t> label = spatial::componentLabels(data.intersections.size(), edges);
+  std::unordered_map<std::size_t, std::size_t> component_of_label;
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    const auto [it, inserted] = component_of_label.emplace(label[i], components.size());
     if (inserted) components.emplace_back();
     components[it->second].push_back(i);
   }
@@ -273,9 +265,7 @@ const Polygon2& Map::intersectionShape(const Intersection& x) const {
 }
 
 std::vector<const Road*> Map::roadsNear(const Vec2& p, double radius) const {
-  const Box2 query(p - Vec2::Constant(radius), p + Vec2::Constant(radius));
-  std::vector<Value> found;
-  impl_->tree.query(bgi::intersects(toBBox(query)), std::back_inserter(found));
+  const auto found = impl_->candidates(Box2(p - Vec2::Constant(radius), p + Vec2::Constant(radius)));
   std::unordered_map<std::size_t, double> best;  // road → distance of its paved area from p
   for (const auto& [box, entry] : found) {
     if (!entry.is_road) continue;
@@ -296,8 +286,7 @@ std::vector<const Road*> Map::roadsNear(const Vec2& p, double radius) const {
 }
 
 std::vector<const Road*> Map::roadsMeeting(const Polygon2& polygon) const {
-  std::vector<Value> found;
-  impl_->tree.query(bgi::intersects(toBBox(polygonBounds(polygon))), std::back_inserter(found));
+  const auto found = impl_->candidates(polygonBounds(polygon));
   std::vector<const Road*> out;
   for (const auto& [box, entry] : found) {
     if (!entry.is_road) continue;
@@ -310,8 +299,7 @@ std::vector<const Road*> Map::roadsMeeting(const Polygon2& polygon) const {
 }
 
 std::vector<const Intersection*> Map::intersectionsMeeting(const Polygon2& polygon) const {
-  std::vector<Value> found;
-  impl_->tree.query(bgi::intersects(toBBox(polygonBounds(polygon))), std::back_inserter(found));
+  const auto found = impl_->candidates(polygonBounds(polygon));
   std::vector<const Intersection*> out;
   for (const auto& [box, entry] : found) {
     if (entry.is_road) continue;

@@ -2,22 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <sstream>
 #include <unordered_map>
 #include <set>
 #include <unordered_set>
 
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
-
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/geometry/polygon.h"
+#include "spatial_internal.h"
 
 namespace mapnav {
 
-namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
 
 void ValidationOptions::validate() const {
@@ -246,17 +242,14 @@ class Validator {
   // Roads crossing each other away from every intersection they share. One R-tree over all
   // segments, so the cost grows with the segments that are close, not with the square of the map.
   void checkCrossings() {
-    using BPoint = bg::model::point<double, 2, bg::cs::cartesian>;
-    using BBox = bg::model::box<BPoint>;
-    using Value = std::pair<BBox, std::pair<std::size_t, std::size_t>>;  // (road, segment)
+    using Value = std::pair<spatial::BBox, std::pair<std::size_t, std::size_t>>;  // (road, segment)
     std::vector<Value> values;
     for (std::size_t r = 0; r < map_.roads.size(); ++r) {
       if (!road_geometry_ok_[r]) continue;
       const Polyline2& c = map_.roads[r].centerline;
       for (std::size_t s = 0; s < c.segmentCount(); ++s) {
         if (c.segment(s).length() < options_.repeated_point_tolerance_m) continue;  // reported as repeated
-        const Box2 b = c.segment(s).bounds();
-        values.emplace_back(BBox(BPoint(b.min().x(), b.min().y()), BPoint(b.max().x(), b.max().y())), std::pair{r, s});
+        values.emplace_back(spatial::toBBox(c.segment(s).bounds()), std::pair{r, s});
       }
     }
     const bgi::rtree<Value, bgi::rstar<16>> tree(values.begin(), values.end());
@@ -304,20 +297,13 @@ class Validator {
 
   void checkTopology() {
     const std::size_t n = map_.intersections.size();
-    std::vector<std::size_t> degree(n, 0), parent(n);
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](std::size_t a) {
-      while (parent[a] != a) a = parent[a] = parent[parent[a]];
-      return a;
-    };
+    std::vector<std::size_t> degree(n, 0);
+    std::vector<std::pair<std::size_t, std::size_t>> edges;
     for (const Road& road : map_.roads) {
       const auto a = intersectionOf(road.from), b = intersectionOf(road.to);
       if (a) ++degree[*a];
       if (b) ++degree[*b];
-      if (a && b) {
-        const std::size_t ra = find(*a), rb = find(*b);
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-      }
+      if (a && b) edges.emplace_back(*a, *b);
     }
     for (std::size_t i = 0; i < n; ++i) {
       const Intersection& x = map_.intersections[i];
@@ -328,11 +314,10 @@ class Validator {
                     std::to_string(degree[i]) + " road ends meet there");
       }
     }
-    std::vector<bool> reported(n, false);
+    // The first intersection (in file order) of every piece but intersections[0]'s is reported.
+    const std::vector<std::size_t> label = spatial::componentLabels(n, edges);
     for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t root = find(i);
-      if (root == find(0) || reported[root]) continue;
-      reported[root] = true;
+      if (label[i] != i || label[i] == 0) continue;
       warning("topology.disconnected", xPtr(i),
               "intersection \"" + map_.intersections[i].id + "\" cannot be reached from \"" +
                   map_.intersections[0].id + "\": the network falls apart");
