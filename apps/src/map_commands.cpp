@@ -32,25 +32,19 @@ void printIssues(const Issues& issues, const std::string& file, std::ostream& ou
 
 // Reads a map file (native or GeoJSON, by extension) through both passes. Every issue found is
 // appended, with pointers into `file` itself.
-std::optional<MapData> readAndValidate(const std::string& file, Issues& issues, const GeoJsonImportOptions& geo = {}) {
+std::optional<Map> readAndValidate(const std::string& file, Issues& issues) {
   const std::string text = readFile(file);
-  std::optional<MapData> data;
-  std::optional<GeoJsonImport> imported;
-  if (isGeoJson(file)) {
-    imported = importGeoJson(text, issues, geo);
-    if (imported) data = imported->map;
-  } else {
-    data = parseMap(text, issues);
+  if (!isGeoJson(file)) {
+    auto data = parseMap(text, issues);
+    return data ? buildMap(std::move(*data), file, issues) : std::nullopt;
   }
-  if (!data) return std::nullopt;
-  Issues found = validateMap(*data);
-  if (imported) {
-    for (Issue& issue : found) issue.where = imported->toFeaturePointer(issue.where);
-  }
-  const bool ok = !hasErrors(found);
+  auto imported = importGeoJson(text, issues);
+  if (!imported) return std::nullopt;
+  Issues found;
+  auto map = buildMap(imported->map, file, found);
+  for (Issue& issue : found) issue.where = imported->toFeaturePointer(issue.where);
   issues.insert(issues.end(), found.begin(), found.end());
-  if (!ok) return std::nullopt;
-  return data;
+  return map;
 }
 
 // Runs a command body, turning every exception into the message and exit code the CLI promises.
@@ -83,14 +77,14 @@ int guarded(std::ostream& err, const std::function<int()>& body) {
 int withMap(const std::string& file, std::ostream& err, const std::function<int(const Map&)>& body) {
   return guarded(err, [&] {
     Issues issues;
-    auto data = readAndValidate(file, issues);
-    if (!data) {
+    auto map = readAndValidate(file, issues);
+    if (!map) {
       printIssues(issues, file, err);
       err << "mapnav: error: " << file << ": not a valid map (" << countSeverity(issues, Severity::Error)
           << " errors); see `mapnav map validate " << file << "`\n";
       return static_cast<int>(kInvalid);
     }
-    return body(Map(std::move(*data), file));
+    return body(*map);
   });
 }
 

@@ -90,6 +90,7 @@ const std::vector<IntersectionKind>& allIntersectionKinds() {
 
 struct Map::Impl {
   MapData data;
+  Issues warnings;
   std::unordered_map<std::string, std::size_t> road_index, intersection_index, surface_index;
   std::vector<std::vector<RoadEnd>> ends;  // per intersection
   std::vector<Polyline2> left, right;      // per road
@@ -197,9 +198,12 @@ Polygon2 Map::Impl::deriveShape(std::size_t i) const {
   return hull;
 }
 
-Map::Map(MapData data, std::string source) : impl_(std::make_unique<Impl>()) {
-  Issues issues = validateMap(data);
+Map::Map(MapData data, std::string source) : Map(std::move(data), std::move(source), ValidationOptions{}) {}
+
+Map::Map(MapData data, std::string source, const ValidationOptions& options) : impl_(std::make_unique<Impl>()) {
+  Issues issues = validateMap(data, options);
   if (hasErrors(issues)) throw ValidationError(std::move(source), std::move(issues));
+  impl_->warnings = std::move(issues);
   impl_->data = std::move(data);
   impl_->build();
 }
@@ -209,6 +213,7 @@ Map::Map(Map&&) noexcept = default;
 Map& Map::operator=(Map&&) noexcept = default;
 
 const MapData& Map::data() const { return impl_->data; }
+const Issues& Map::warnings() const { return impl_->warnings; }
 
 const Intersection* Map::findIntersection(std::string_view id) const {
   const auto it = impl_->intersection_index.find(std::string(id));

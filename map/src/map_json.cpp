@@ -225,11 +225,18 @@ std::optional<Map> loadMap(const std::filesystem::path& path, Issues& issues, co
   const std::string text = readFile(path);
   auto data = parseMap(text, issues);
   if (!data) return std::nullopt;
-  Issues found = validateMap(*data, options);
-  const bool ok = !hasErrors(found);
-  issues.insert(issues.end(), found.begin(), found.end());
-  if (!ok) return std::nullopt;
-  return Map(std::move(*data), path.string());
+  return buildMap(std::move(*data), path.string(), issues, options);
+}
+
+std::optional<Map> buildMap(MapData data, const std::string& source, Issues& issues, const ValidationOptions& options) {
+  try {
+    Map map(std::move(data), source, options);
+    issues.insert(issues.end(), map.warnings().begin(), map.warnings().end());
+    return map;
+  } catch (const ValidationError& e) {
+    issues.insert(issues.end(), e.issues().begin(), e.issues().end());
+    return std::nullopt;
+  }
 }
 
 Map loadMap(const std::filesystem::path& path, const ValidationOptions& options) {

@@ -139,3 +139,32 @@ TEST(ValidationOptions, DefaultsAreValidAndBadFieldsAreNamed) {
 
 }  // namespace
 }  // namespace mapnav
+
+namespace mapnav {
+namespace {
+
+// The options a caller loads with are the ones the Map is held to (no second, stricter pass).
+TEST(LoadMap, UsesTheCallersValidationOptionsOnce) {
+  const auto file = testing::fixturePath("maps/invalid/roads.end_far_from_intersection.json");  // an end 2 m off
+  Issues strict;
+  EXPECT_FALSE(loadMap(file, strict));
+  ValidationOptions loose;
+  loose.end_tolerance_m = 2.5;
+  Issues issues;
+  const auto map = loadMap(file, issues, loose);
+  ASSERT_TRUE(map);
+  EXPECT_TRUE(issues.empty());
+  EXPECT_TRUE(map->warnings().empty());
+}
+
+TEST(LoadMap, KeepsWarningsOnTheMap) {
+  Issues issues;
+  const auto map = loadMap(testing::fixturePath("maps/invalid/roads.very_short.json"), issues);
+  ASSERT_TRUE(map);
+  ASSERT_EQ(map->warnings().size(), 1u);
+  EXPECT_EQ(map->warnings()[0].check, "roads.very_short");
+  EXPECT_EQ(issues, map->warnings());
+}
+
+}  // namespace
+}  // namespace mapnav

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "mapnav/core/issue.h"
 #include "mapnav/geometry/polyline2.h"
 #include "mapnav/geometry/types.h"
 
@@ -67,15 +68,20 @@ struct MapData {
 
 /// A validated map. Invariant: validateMap(data()) reports no error. Lookups are O(1); spatial
 /// queries use an R-tree, so their cost grows with what is found, not with the map.
+struct ValidationOptions;
+
 class Map {
  public:
-  /// Validates `data` (default options) and throws ValidationError, naming `source`, when it has errors.
+  /// Validates `data` and throws ValidationError (every issue, naming `source`) when it has errors.
   explicit Map(MapData data, std::string source = "<map>");
+  Map(MapData data, std::string source, const ValidationOptions& options);
   ~Map();
   Map(Map&&) noexcept;
   Map& operator=(Map&&) noexcept;
 
   const MapData& data() const;
+  /// The warnings validation found (a valid map has no errors, but may have warnings).
+  const Issues& warnings() const;
   const std::string& name() const { return data().name; }
   const std::vector<Intersection>& intersections() const { return data().intersections; }
   const std::vector<Road>& roads() const { return data().roads; }

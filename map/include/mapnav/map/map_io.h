@@ -21,6 +21,11 @@ inline constexpr std::string_view kMapFormat = "mapnav-map/1";
 /// issues) otherwise. Does not validate meaning.
 std::optional<MapData> parseMap(std::string_view text, Issues& issues);
 
+/// The meaning pass: the Map built from `data` (validated with `options`), appending every issue,
+/// warnings too, to `issues`; nothing when there is an error. `source` names the data in messages.
+std::optional<Map> buildMap(MapData data, const std::string& source, Issues& issues,
+                            const ValidationOptions& options = {});
+
 /// Both passes on a file. Appends every problem to `issues` (warnings too) and returns the map when
 /// there is no error. Throws IoError when the file cannot be read.
 std::optional<Map> loadMap(const std::filesystem::path& path, Issues& issues,
