@@ -1,6 +1,6 @@
 # ctest driver: install the build tree into a fresh prefix, build tests/consumer against it with
 # find_package(mapnav), run it on the campus map and check what it prints.
-# Inputs: -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=...
+# Inputs: -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... [-DSANITIZERS=address,undefined]
 file(REMOVE_RECURSE "${WORK_DIR}")
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -10,8 +10,13 @@ function(run)
   set(last_output "${out}" PARENT_SCOPE)
 endfunction()
 run(${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${WORK_DIR}/prefix")
+# A sanitized mapnav needs a sanitized program: the sanitizer runtime must be loaded first.
+set(flags "")
+if(SANITIZERS)
+  set(flags "-fsanitize=${SANITIZERS}")
+endif()
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/consumer" -B "${WORK_DIR}/build" -G Ninja
-    "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix")
+    "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix" "-DCMAKE_CXX_FLAGS=${flags}")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 run("${WORK_DIR}/build/consumer" "${WORK_DIR}/prefix/share/mapnav/maps/cmu_campus.json")
 if(NOT last_output MATCHES "^25 roads")
