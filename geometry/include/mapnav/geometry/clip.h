@@ -1,0 +1,27 @@
+#pragma once
+// Clipping shapes to a region: what part of a road lies inside the camera's view footprint.
+#include <utility>
+#include <vector>
+
+#include "mapnav/geometry/segment2.h"
+#include "mapnav/geometry/types.h"
+
+namespace mapnav {
+
+/// The intersection of two simple polygons with CGAL's Boolean set operations (exact kernel), as
+/// the counter-clockwise outer rings of its pieces (holes are dropped: a clipped road has none).
+/// Empty when either polygon is not simple or not finite (the Boolean operations require simple
+/// input; split such a shape into simple pieces first).
+std::vector<Polygon2> intersectPolygons(const Polygon2& a, const Polygon2& b);
+
+/// A piece of a segment: parameters t0 < t1 in [0, 1] along a → b.
+using Interval = std::pair<double, double>;
+
+/// The pieces of `s` inside the closed region `ring` (boundary included), in order along s.
+std::vector<Interval> intervalsInside(const Segment2& s, const Polygon2& ring);
+
+/// The pieces of `s` that are not strictly inside any of `rings` (points on a boundary are kept),
+/// in order, merged where they touch.
+std::vector<Interval> intervalsOutside(const Segment2& s, const std::vector<const Polygon2*>& rings);
+
+}  // namespace mapnav
