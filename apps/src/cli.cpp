@@ -7,6 +7,7 @@
 #include <ostream>
 
 #include "map_commands.h"
+#include "predict_command.h"
 #include "mapnav/core/error.h"
 
 namespace mapnav::cli {
@@ -20,6 +21,17 @@ GeoJSON from QGIS or geojson.io. Exit codes: 0 success, 1 the input is wrong (an
 void addOrigin(CLI::App* command, std::string& text) {
   command->add_option("--origin", text,
                       "Geodetic origin of the local frame as LAT,LON or LAT,LON,ALT (degrees, metres)");
+}
+
+// Pictures are written as PNG or SVG, chosen by the extension.
+CLI::Validator pictureFile() {
+  return CLI::Validator(
+      [](std::string& path) {
+        std::string ext = std::filesystem::path(path).extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        return ext == ".png" || ext == ".svg" ? std::string() : "\"" + path + "\": the picture must be .png or .svg";
+      },
+      "OUT.png|OUT.svg");
 }
 
 }  // namespace
@@ -57,13 +69,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   r->add_option("file", render.file, "Map file")->required()->check(CLI::ExistingFile);
   r->add_option("-o,--output", render.output, "Picture to write: OUT.png or OUT.svg")
       ->required()
-      ->check(CLI::Validator(
-          [](std::string& path) {
-            std::string ext = std::filesystem::path(path).extension().string();
-            for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-            return ext == ".png" || ext == ".svg" ? std::string() : "\"" + path + "\": the picture must be .png or .svg";
-          },
-          "OUT.png|OUT.svg"));
+      ->check(pictureFile());
   r->add_option("--width", render.width_px, "Picture width in pixels; the height follows the map")
       ->default_val(1600)
       ->check(CLI::Range(64, 20000));
@@ -103,6 +109,35 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     command = [&] {
       if (!export_origin.empty()) exp.origin = parseOrigin(export_origin);
       return runExportGeoJson(exp, out, err);
+    };
+  });
+
+  PredictConfig predict;
+  std::string predict_pose, predict_at;
+  CLI::App* p = app.add_subcommand("predict", "What the camera should see from a pose: objects, interest segments, relations");
+  p->add_option("--map", predict.map, "Map file")->required()->check(CLI::ExistingFile);
+  p->add_option("--camera", predict.camera, "Camera file (mapnav-camera/1, docs/camera-format.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  auto* pose = p->add_option("--pose", predict_pose, "Vehicle pose X,Y,HEADING_DEG in the map's frame (metres, degrees CCW from east)");
+  auto* at = p->add_option("--at", predict_at, "Vehicle on a road: ROAD@NODE+METERS[/LATERAL], e.g. R1@I1+3 (facing away from NODE)");
+  pose->excludes(at);
+  at->excludes(pose);
+  p->add_flag("--json", predict.json, "Print the prediction as JSON instead of sentences");
+  p->add_option("-o,--output", predict.output, "Also draw the map with the footprint beside the predicted image: OUT.png or OUT.svg")
+      ->check(pictureFile());
+  p->add_option("--near", predict.near_m, "Nearest ground distance ahead of the camera to predict, m")->default_val(1.0)->check(CLI::Range(0.0, 1000.0));
+  p->add_option("--far", predict.far_m, "Farthest ground distance ahead of the camera to predict, m")->default_val(15.0)->check(CLI::Range(0.0, 1000.0));
+  p->footer("Exactly one of --pose and --at. Exit codes: 0 success (an empty view too), 1 invalid map, camera or\n"
+            "position, 2 usage or I/O error.");
+  p->callback([&] {
+    command = [&] {
+      if (predict_pose.empty() && predict_at.empty()) {
+        throw InvalidInput("predict needs the vehicle's pose: --pose X,Y,HEADING_DEG or --at ROAD@NODE+METERS");
+      }
+      if (!predict_pose.empty()) predict.pose = parsePose(predict_pose);
+      if (!predict_at.empty()) predict.at = parseRoadPosition(predict_at);
+      return runPredict(predict, out, err);
     };
   });
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "mapnav/core/error.h"
+#include "mapnav/core/options.h"
 
 namespace mapnav {
 
@@ -14,13 +14,9 @@ using render::Style;
 using render::TextStyle;
 
 void MapRenderOptions::validate() const {
-  if (width_px < 64 || width_px > 20000) {
-    throw InvalidInput("MapRenderOptions::width_px = " + std::to_string(width_px) + ": must be in [64, 20000]");
-  }
-  if (!std::isfinite(margin_px) || margin_px < 0 || margin_px * 2 >= width_px) {
-    throw InvalidInput("MapRenderOptions::margin_px = " + std::to_string(margin_px) +
-                       ": must be >= 0 and less than half the width");
-  }
+  requireOption(width_px >= 64 && width_px <= 20000, "MapRenderOptions", "width_px", width_px, "in [64, 20000]");
+  requireOption(std::isfinite(margin_px) && margin_px >= 0 && margin_px * 2 < width_px, "MapRenderOptions", "margin_px",
+                margin_px, ">= 0 and less than half the width");
 }
 
 namespace {
@@ -42,8 +38,8 @@ std::vector<Vec2> toPixels(const render::View& view, const std::vector<Vec2>& wo
   return out;
 }
 
-// The shoulder colour most roads have: the picture's ground.
-Rgb groundColor(const Map& map) {
+// The shoulder colour most roads have, lightened: the picture's ground.
+Rgb lightGround(const Map& map) {
   std::map<std::string, std::size_t> votes;
   for (const Road& r : map.roads()) {
     ++votes[r.left];
@@ -63,23 +59,17 @@ Rgb groundColor(const Map& map) {
 
 }  // namespace
 
-MapPicture renderMap(const Map& map, const MapRenderOptions& options) {
-  options.validate();
-  Box2 world = map.bounds();
-  if (world.isEmpty()) world = Box2(Vec2(-10, -10), Vec2(10, 10));
-  const double top_band = options.title ? 40.0 : 0.0;
-  render::View fit = render::View::fitWidth(world, options.width_px, options.margin_px);
-  render::View view(world, options.width_px, fit.height() + static_cast<int>(top_band), options.margin_px + top_band / 2);
-  render::Canvas canvas(view.width(), view.height(), groundColor(map));
+void drawMapLayers(render::Canvas& canvas, const render::View& view, const Map& map,
+                   const std::vector<const Road*>& roads, const std::vector<const Intersection*>& intersections,
+                   bool labels) {
   const double ppm = view.pixelsPerMetre();
-
   // Shoulders: a band of each shoulder's colour along each side, so that a dirt or brick edge shows.
-  for (const Road& road : map.roads()) {
+  for (const Road* road : roads) {
     for (const bool left : {true, false}) {
-      const Appearance* a = map.findSurface(left ? road.left : road.right);
+      const Appearance* a = map.findSurface(left ? road->left : road->right);
       if (a == nullptr) continue;
-      const Polyline2 outer = road.centerline.offset((left ? 1 : -1) * (road.width / 2 + 1.0));
-      const Polyline2& inner = left ? map.leftEdge(road) : map.rightEdge(road);
+      const Polyline2 outer = road->centerline.offset((left ? 1 : -1) * (road->width / 2 + 1.0));
+      const Polyline2& inner = left ? map.leftEdge(*road) : map.rightEdge(*road);
       std::vector<Vec2> ring = inner.points();
       ring.insert(ring.end(), outer.points().rbegin(), outer.points().rend());
       Style style;
@@ -89,56 +79,71 @@ MapPicture renderMap(const Map& map, const MapRenderOptions& options) {
     }
   }
   // Paved areas: roads then intersections, in their surface colours with a dark outline.
-  for (const Road& road : map.roads()) {
-    const Appearance* a = map.findSurface(road.surface);
+  for (const Road* road : roads) {
+    const Appearance* a = map.findSurface(road->surface);
     Style style;
     style.fill = a ? toRgb(a->rgb) : Rgb{180, 180, 180};
     style.stroke = shade(*style.fill, 0.45);
     style.stroke_width_px = 1.2;
-    canvas.polygon(toPixels(view, map.roadPolygon(road)), style);
+    canvas.polygon(toPixels(view, map.roadPolygon(*road)), style);
   }
-  for (const Intersection& x : map.intersections()) {
-    const auto ends = map.roadsAt(x.id);
+  for (const Intersection* x : intersections) {
+    const auto ends = map.roadsAt(x->id);
     const Appearance* a = ends.empty() ? nullptr : map.findSurface(ends.front().road->surface);
     Style style;
     style.fill = a ? toRgb(a->rgb) : Rgb{180, 180, 180};
-    if (x.shape) {
+    if (x->shape) {
       style.stroke = shade(*style.fill, 0.45);
       style.stroke_width_px = 1.2;
     }
-    canvas.polygon(toPixels(view, map.intersectionShape(x)), style);
+    canvas.polygon(toPixels(view, map.intersectionShape(*x)), style);
   }
   // Centre lines, dashed, so that direction and curvature read at a glance.
-  for (const Road& road : map.roads()) {
+  for (const Road* road : roads) {
     Style style;
     style.stroke = Rgb{255, 255, 255};
     style.stroke_width_px = 1.0;
     style.dashed = true;
-    canvas.polyline(toPixels(view, road.centerline.points()), style);
+    canvas.polyline(toPixels(view, road->centerline.points()), style);
   }
-  if (options.labels) {
-    const double size = std::clamp(ppm * 1.6, 10.0, 15.0);
-    for (const Road& road : map.roads()) {
-      const double s = road.centerline.length() / 2;
-      TextStyle text;
-      text.size_px = size;
-      text.color = Rgb{20, 40, 120};
-      text.halo = Rgb{255, 255, 255};
-      canvas.text(view.toPixel(road.centerline.pointAt(s)), road.id, text);
-    }
-    for (const Intersection& x : map.intersections()) {
-      Style dot;
-      dot.fill = Rgb{200, 30, 30};
-      canvas.circle(view.toPixel(x.position), 3.0, dot);
-      TextStyle text;
-      text.size_px = size;
-      text.color = Rgb{150, 20, 20};
-      text.bold = true;
-      text.halo = Rgb{255, 255, 255};
-      text.anchor = Anchor::Start;
-      canvas.text(view.toPixel(x.position) + Vec2(6, -6), x.id + " " + std::string(toString(x.kind)), text);
-    }
+  if (!labels) return;
+  const double size = std::clamp(ppm * 1.6, 10.0, 15.0);
+  for (const Road* road : roads) {
+    TextStyle text;
+    text.size_px = size;
+    text.color = Rgb{20, 40, 120};
+    text.halo = Rgb{255, 255, 255};
+    canvas.text(view.toPixel(road->centerline.pointAt(road->centerline.length() / 2)), road->id, text);
   }
+  for (const Intersection* x : intersections) {
+    Style dot;
+    dot.fill = Rgb{200, 30, 30};
+    canvas.circle(view.toPixel(x->position), 3.0, dot);
+    TextStyle text;
+    text.size_px = size;
+    text.color = Rgb{150, 20, 20};
+    text.bold = true;
+    text.halo = Rgb{255, 255, 255};
+    text.anchor = Anchor::Start;
+    canvas.text(view.toPixel(x->position) + Vec2(6, -6), x->id + " " + std::string(toString(x->kind)), text);
+  }
+}
+
+render::Rgb groundColor(const Map& map) { return lightGround(map); }
+
+MapPicture renderMap(const Map& map, const MapRenderOptions& options) {
+  options.validate();
+  Box2 world = map.bounds();
+  if (world.isEmpty()) world = Box2(Vec2(-10, -10), Vec2(10, 10));
+  const double top_band = options.title ? 40.0 : 0.0;
+  render::View fit = render::View::fitWidth(world, options.width_px, options.margin_px);
+  render::View view(world, options.width_px, fit.height() + static_cast<int>(top_band), options.margin_px + top_band / 2);
+  render::Canvas canvas(view.width(), view.height(), groundColor(map));
+  std::vector<const Road*> roads;
+  for (const Road& r : map.roads()) roads.push_back(&r);
+  std::vector<const Intersection*> intersections;
+  for (const Intersection& x : map.intersections()) intersections.push_back(&x);
+  drawMapLayers(canvas, view, map, roads, intersections, options.labels);
   if (options.title) {
     TextStyle title;
     title.size_px = 18;

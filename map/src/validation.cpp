@@ -8,6 +8,7 @@
 #include <unordered_set>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/options.h"
 #include "mapnav/core/json.h"
 #include "mapnav/geometry/polygon.h"
 #include "spatial_internal.h"
@@ -18,11 +19,7 @@ namespace bgi = boost::geometry::index;
 
 void ValidationOptions::validate() const {
   auto require = [](bool ok, const char* field, double value, const char* rule) {
-    if (!ok) {
-      std::ostringstream text;
-      text << "ValidationOptions::" << field << " = " << value << ": must be " << rule;
-      throw InvalidInput(text.str());
-    }
+    requireOption(ok, "ValidationOptions", field, value, rule);
   };
   require(std::isfinite(end_tolerance_m) && end_tolerance_m >= 0, "end_tolerance_m", end_tolerance_m, "finite and >= 0");
   require(std::isfinite(repeated_point_tolerance_m) && repeated_point_tolerance_m >= 0, "repeated_point_tolerance_m",

@@ -169,11 +169,13 @@ std::string scaleLengthLabel(double metres) {
   return shortestNumber(metres) + " m";
 }
 
-void drawScaleBarAndNorthArrow(Canvas& canvas, const View& view, double target_px) {
+void drawScaleBarAndNorthArrow(Canvas& canvas, const View& view, double target_px, const std::optional<Box2>& panel) {
   if (!std::isfinite(target_px) || target_px <= 0.0) {
     throw InvalidInput("render: scale bar length " + std::to_string(target_px) + " px must be positive and finite");
   }
-  const double w = canvas.width(), h = canvas.height();
+  const Box2 area = panel.value_or(Box2(Vec2(0, 0), Vec2(canvas.width(), canvas.height())));
+  const double w = area.sizes().x(), h = area.sizes().y();
+  const double left = area.min().x(), top_edge = area.min().y();
   const double ppm = view.pixelsPerMetre();
   const Rgb black{0, 0, 0}, white{255, 255, 255};
 
@@ -185,8 +187,8 @@ void drawScaleBarAndNorthArrow(Canvas& canvas, const View& view, double target_p
   const double bar_px = length * ppm;
   const double bar_h = 6.0;
   // On half pixels, so that the 1 px frame falls on whole pixels and looks crisp.
-  const double x0 = margin + 0.5, x1 = x0 + bar_px, xm = 0.5 * (x0 + x1);
-  const double y1 = h - margin - 0.5, y0 = y1 - bar_h;
+  const double x0 = left + margin + 0.5, x1 = x0 + bar_px, xm = 0.5 * (x0 + x1);
+  const double y1 = top_edge + h - margin - 0.5, y0 = y1 - bar_h;
   Style black_fill{black, std::nullopt, 1.0, 1.0, false};
   Style white_fill{white, std::nullopt, 1.0, 1.0, false};
   Style frame{std::nullopt, black, 1.0, 1.0, false};
@@ -201,7 +203,7 @@ void drawScaleBarAndNorthArrow(Canvas& canvas, const View& view, double target_p
   canvas.text({x0, y0 - 5.0}, scaleLengthLabel(length), label);
 
   // North arrow, top-right: a black triangle pointing up, "N" under it.
-  const double cx = w - 22.0, top = 10.0, half = 8.0, tri_h = 20.0;
+  const double cx = left + w - 22.0, top = top_edge + 10.0, half = 8.0, tri_h = 20.0;
   canvas.polygon({{cx, top}, {cx + half, top + tri_h}, {cx - half, top + tri_h}},
                  Style{black, white, 1.5, 1.0, false});
   TextStyle n;

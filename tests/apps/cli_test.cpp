@@ -3,6 +3,9 @@
 
 #include <fstream>
 #include <random>
+#include <set>
+
+#include <nlohmann/json.hpp>
 
 #include "mapnav/core/io.h"
 #include "mapnav/map/map_io.h"
@@ -168,6 +171,67 @@ TEST(Cli, BadOriginIsAUsageError) {
     EXPECT_NE(r.err.find("--origin"), std::string::npos) << r.err;
   }
   EXPECT_FALSE(fs::exists(dir / "x.geojson"));
+}
+
+TEST(Cli, PredictAtTheDialoguesStartSeesR1WithParallelEdgesOneWidthApart) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string map = str(testing::mapPath("cmu_campus.json"));
+  const std::string camera = str(testing::mapPath("cameras/terregator_pinhole.json"));
+  const auto r = runCli({"predict", "--map", map, "--camera", camera, "--at", "R1@I1+3", "--json", "-o", str(dir / "view.png")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["objects"].size(), 1u);
+  EXPECT_EQ(j["objects"][0]["id"], "R1");
+  EXPECT_EQ(j["objects"][0]["kind"], "straight road");
+  std::set<std::string> ids;
+  for (const auto& s : j["objects"][0]["interest_segments"]) ids.insert(s["id"]);
+  EXPECT_EQ(ids, (std::set<std::string>{"R1.left.0", "R1.right.0"}));
+  const double width = loadMap(testing::mapPath("cmu_campus.json")).road("R1").width;
+  ASSERT_EQ(j["relations"].size(), 1u);
+  EXPECT_EQ(j["relations"][0]["type"], "parallel");
+  EXPECT_NEAR(j["relations"][0]["separation_m"].get<double>(), width, 1e-3);
+  // The pose is 3 m from I1 along R1, facing away from it.
+  const Vec2 i1 = loadMap(testing::mapPath("cmu_campus.json")).intersection("I1").position;
+  EXPECT_NEAR(std::hypot(j["pose"]["x"].get<double>() - i1.x(), j["pose"]["y"].get<double>() - i1.y()), 3.0, 1e-3);
+  EXPECT_EQ(readFile(dir / "view.png").substr(1, 3), "PNG");
+}
+
+TEST(Cli, PredictSpeaksTheDialogueWithoutJson) {
+  const auto r = runCli({"predict", "--map", str(testing::mapPath("cmu_campus.json")), "--camera",
+                         str(testing::mapPath("cameras/terregator_fisheye.json")), "--pose", "50,30,90"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Vision will see"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("cross intersection I1"), std::string::npos) << r.out;
+}
+
+TEST(Cli, PredictRefusesBadPositionsAndCameras) {
+  const std::string map = str(testing::mapPath("cmu_campus.json"));
+  const std::string camera = str(testing::mapPath("cameras/terregator_pinhole.json"));
+  struct Case {
+    std::vector<std::string> args;
+    int exit_code;
+    std::string message;
+  };
+  const fs::path dir = testing::freshTempDir();
+  writeFileAtomic(dir / "bad_camera.json", std::string_view(R"({"format": "mapnav-camera/1", "model": "pinhole"})"));
+  const std::vector<Case> cases{
+      {{"--at", "R1@I1"}, 2, "expected ROAD@NODE+METERS"},
+      {{"--pose", "1,2"}, 2, "expected X,Y,HEADING_DEG"},
+      {{}, 2, "needs the vehicle's pose"},
+      {{"--at", "R99@I1+3"}, 1, "no road \"R99\""},
+      {{"--at", "R1@I3+3"}, 1, "I3 is not an end of R1"},
+      {{"--at", "R1@I1+3000"}, 1, "beyond the road's"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args{"predict", "--map", map, "--camera", camera};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const auto r = runCli(args);
+    EXPECT_EQ(r.exit_code, c.exit_code) << c.message;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+  }
+  const auto bad = runCli({"predict", "--map", map, "--camera", str(dir / "bad_camera.json"), "--at", "R1@I1+3"});
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("bad_camera.json: error: schema.required"), std::string::npos) << bad.err;
 }
 
 }  // namespace

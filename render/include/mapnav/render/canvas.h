@@ -111,7 +111,9 @@ class Canvas {
 /// north arrow, top-right. Every map picture carries both.
 /// The bar is shortened (to the next smaller round length) when it would not fit the canvas.
 /// Throws InvalidInput when `target_px` is not positive and finite.
-void drawScaleBarAndNorthArrow(Canvas& canvas, const View& view, double target_px = 120.0);
+/// `panel` (pixels) confines both to one panel of a picture made of several; default: the canvas.
+void drawScaleBarAndNorthArrow(Canvas& canvas, const View& view, double target_px = 120.0,
+                               const std::optional<Box2>& panel = std::nullopt);
 
 /// The round length (1, 2 or 5 x 10^k m) nearest to `metres` (by absolute difference; on a tie the
 /// shorter one): 50 for 50, 100 for 120, 50 for 75, 2 for 3.4. Throws InvalidInput when `metres` is

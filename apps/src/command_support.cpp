@@ -1,0 +1,110 @@
+#include "command_support.h"
+
+#include <filesystem>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include "cli.h"
+#include "mapnav/core/error.h"
+#include "mapnav/core/io.h"
+#include "mapnav/map/geojson.h"
+#include "mapnav/map/map_io.h"
+
+namespace mapnav::cli {
+
+namespace {
+namespace fs = std::filesystem;
+}  // namespace
+
+static bool isGeoJson(const std::string& file) {
+  const std::string ext = fs::path(file).extension().string();
+  return ext == ".geojson" || ext == ".GEOJSON";
+}
+
+void printIssues(const Issues& issues, const std::string& file, std::ostream& out) {
+  for (const Issue& issue : issues) out << formatIssue(issue, file) << "\n";
+}
+
+// Reads a map file (native or GeoJSON, by extension) through both passes. Every issue found is
+// appended, with pointers into `file` itself.
+std::optional<Map> readAndValidate(const std::string& file, Issues& issues) {
+  const std::string text = readFile(file);
+  if (!isGeoJson(file)) {
+    auto data = parseMap(text, issues);
+    return data ? buildMap(std::move(*data), file, issues) : std::nullopt;
+  }
+  auto imported = importGeoJson(text, issues);
+  if (!imported) return std::nullopt;
+  Issues found;
+  auto map = buildMap(imported->map, file, found);
+  for (Issue& issue : found) issue.where = imported->toFeaturePointer(issue.where);
+  issues.insert(issues.end(), found.begin(), found.end());
+  return map;
+}
+
+// Runs a command body, turning every exception into the message and exit code the CLI promises.
+int guarded(std::ostream& err, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const ValidationError& e) {
+    printIssues(e.issues(), e.file(), err);
+    err << "mapnav: error: " << e.file() << ": invalid (" << countSeverity(e.issues(), Severity::Error) << " errors)\n";
+    return kInvalid;
+  } catch (const InvalidInput& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return kInvalid;
+  } catch (const IoError& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return kUsage;
+  } catch (const Error& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return kInvalid;
+  } catch (const std::bad_alloc&) {
+    err << "mapnav: error: out of memory\n";
+    return kUsage;
+  } catch (const std::exception& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return kUsage;
+  }
+}
+
+// Loads a valid map or explains why not: issues on `err`, then the exit code.
+int withMap(const std::string& file, std::ostream& err, const std::function<int(const Map&)>& body) {
+  return guarded(err, [&] {
+    Issues issues;
+    auto map = readAndValidate(file, issues);
+    if (!map) {
+      printIssues(issues, file, err);
+      err << "mapnav: error: " << file << ": not a valid map (" << countSeverity(issues, Severity::Error)
+          << " errors); see `mapnav map validate " << file << "`\n";
+      return static_cast<int>(kInvalid);
+    }
+    return body(*map);
+  });
+}
+
+std::vector<double> parseNumbers(const std::string& option, const std::string& text, std::size_t min_count,
+                                 std::size_t max_count, const std::string& expected) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != part.size() || !std::isfinite(v)) {
+      throw InvalidInput(option + " \"" + text + "\": \"" + part + "\" is not a number; expected " + expected);
+    }
+    values.push_back(v);
+  }
+  if (values.size() < min_count || values.size() > max_count) {
+    throw InvalidInput(option + " \"" + text + "\": expected " + expected);
+  }
+  return values;
+}
+
+}  // namespace mapnav::cli

@@ -1,0 +1,34 @@
+#pragma once
+// What every command shares: reading a map through both passes, and turning exceptions into the
+// messages and exit codes the CLI promises.
+#include <functional>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapnav/core/issue.h"
+#include "mapnav/map/map.h"
+
+namespace mapnav::cli {
+
+/// The numbers of a comma-separated option value ("40.44,-79.94"), between `min_count` and
+/// `max_count` of them. Throws InvalidInput naming the option and what it expects.
+std::vector<double> parseNumbers(const std::string& option, const std::string& text, std::size_t min_count,
+                                 std::size_t max_count, const std::string& expected);
+
+/// `FILE:/pointer: severity: check: message`, one per line.
+void printIssues(const Issues& issues, const std::string& file, std::ostream& out);
+
+/// Reads a map file (native JSON, or GeoJSON by its .geojson extension) through both passes,
+/// appending every issue with pointers into `file` itself. Nothing when it has errors.
+std::optional<Map> readAndValidate(const std::string& file, Issues& issues);
+
+/// Runs a command body, turning every exception into a message on `err` and an exit code:
+/// invalid input 1, I/O and anything unexpected 2.
+int guarded(std::ostream& err, const std::function<int()>& body);
+
+/// Loads a valid map and runs `body` on it, or explains on `err` why the map is not valid (exit 1).
+int withMap(const std::string& file, std::ostream& err, const std::function<int(const Map&)>& body);
+
+}  // namespace mapnav::cli

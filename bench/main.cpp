@@ -1,0 +1,53 @@
+// Google Benchmark's main, plus what the project reports: for every benchmark family run at several
+// sizes (BM_X/1000, BM_X/100000), the ratio of its largest to its smallest size's time, measured in
+// the same run, so the machine's speed cancels out.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+class RatioReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& run : runs) {
+      // With --benchmark_repetitions the median stands for the size; without, the one run does.
+      const bool median = run.run_type == Run::RT_Aggregate && run.aggregate_name == "median";
+      if (run.error_occurred || !(median || run.run_type == Run::RT_Iteration) || run.run_name.args.empty()) continue;
+      if (run.run_type == Run::RT_Iteration && run.repetitions > 1) continue;
+      try {
+        const long size = std::stol(run.run_name.args);
+        families_[run.run_name.function_name][size] = run.GetAdjustedRealTime();
+      } catch (const std::exception&) {
+      }
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+
+  void PrintRatios() const {
+    for (const auto& [family, times] : families_) {
+      if (times.size() < 2) continue;
+      const auto& [small, t_small] = *times.begin();
+      const auto& [large, t_large] = *times.rbegin();
+      std::printf("ratio %s: time(%ld) / time(%ld) = %.2f\n", family.c_str(), large, small, t_large / t_small);
+    }
+  }
+
+ private:
+  std::map<std::string, std::map<long, double>> families_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.PrintRatios();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,69 @@
+#pragma once
+// Predicted views (Wallace 1985, 2.1.2 and 2.2): for a pose and a camera, what should be seen —
+// the roads and intersections in view, their kinds and shapes, and the interest segments, "the
+// primary edge line segments of roads and intersections", with what lies on each side.
+//
+// Interest segments come from the map, not from the view, so their ids are the same from frame to
+// frame: each road edge is simplified into straight pieces, the parts inside other paved areas
+// (a crossing road, a plaza) are cut away, and the parts left are numbered along the edge
+// (`R1.left.0`, `R1.left.1`, ...). An intersection's outline, less what roads cover, gives its
+// corner segments (`I5.corner.0`, ...). A view then clips these to its footprint.
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/camera.h"
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/map/map.h"
+#include "mapnav/vision_iface/predicted_object.h"
+
+namespace mapnav {
+
+struct PredictOptions {
+  /// The footprint: ground in view at least `near_m` ahead of the camera and at most `far_m` from
+  /// it (a distance, so that a fish-eye's 180° field does not reach far out to the sides), m.
+  double near_m = 1.0;
+  double far_m = 15.0;
+  /// Curved edges become straight pieces that stay within this of the curve, m.
+  double simplify_tolerance_m = 0.10;
+  /// Segments shorter than this on the ground (m) or in the image (px) are dropped.
+  double min_segment_length_m = 0.5;
+  double min_segment_length_px = 8.0;
+  /// Segments with less than this fraction of their length inside the image are dropped.
+  double min_in_image_fraction = 0.5;
+  /// Segments within this angle (degrees) of each other and at most this far apart (m) are a
+  /// parallel pair, like a road's two edges...
+  double parallel_tolerance_deg = 5.0;
+  double max_parallel_separation_m = 10.0;
+  /// ... and those at least this far apart in angle cross, where their lines meet within
+  /// `crossing_reach_m` of both.
+  double crossing_min_angle_deg = 20.0;
+  double crossing_reach_m = 1.0;
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+};
+
+/// The Map module's prediction: the token for Vision plus what only the Map may know (the pose and
+/// world coordinates, index-aligned with the token's regions and segments).
+struct Prediction {
+  Pose2 pose;
+  Polygon2 footprint_world;
+  PredictedObject view;                            ///< what Vision is given
+  std::vector<Segment2> segments_world;            ///< view.segments[i] in the world frame
+  std::vector<std::vector<Polygon2>> regions_world;  ///< view.regions[i] in the world frame
+
+  bool empty() const { return view.empty(); }
+};
+
+/// What `camera` on a vehicle at `pose` (world frame) should see of `map`. A pose off every road,
+/// or a camera that sees no ground, gives an empty prediction. The cost grows with what is in
+/// view, not with the map (R-tree queries).
+Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, const PredictOptions& options = {});
+
+/// The prediction as `mapnav predict --json` prints it.
+std::string predictionToJson(const Prediction& prediction);
+
+/// "cross intersection", "T intersection", "Y intersection", "L turn", "dead end", "plaza", "junction".
+std::string regionKind(IntersectionKind kind);
+
+}  // namespace mapnav

@@ -1,0 +1,372 @@
+#include "mapnav/map/predict.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/options.h"
+#include "mapnav/core/json.h"
+#include "mapnav/geometry/clip.h"
+#include "mapnav/geometry/polygon.h"
+#include "mapnav/geometry/simplify.h"
+
+namespace mapnav {
+
+void PredictOptions::validate() const {
+  auto require = [](bool ok, const char* field, double value, const char* rule) {
+    requireOption(ok, "PredictOptions", field, value, rule);
+  };
+  require(std::isfinite(near_m) && near_m >= 0, "near_m", near_m, "finite and >= 0");
+  require(std::isfinite(far_m) && far_m > near_m, "far_m", far_m, "finite and > near_m");
+  require(std::isfinite(simplify_tolerance_m) && simplify_tolerance_m > 0, "simplify_tolerance_m", simplify_tolerance_m,
+          "finite and > 0");
+  require(std::isfinite(min_segment_length_m) && min_segment_length_m >= 0, "min_segment_length_m",
+          min_segment_length_m, "finite and >= 0");
+  require(std::isfinite(min_segment_length_px) && min_segment_length_px >= 0, "min_segment_length_px",
+          min_segment_length_px, "finite and >= 0");
+  require(min_in_image_fraction >= 0 && min_in_image_fraction <= 1, "min_in_image_fraction", min_in_image_fraction,
+          "in [0, 1]");
+  require(parallel_tolerance_deg >= 0 && parallel_tolerance_deg < 45, "parallel_tolerance_deg", parallel_tolerance_deg,
+          "in [0, 45)");
+  require(std::isfinite(max_parallel_separation_m) && max_parallel_separation_m > 0, "max_parallel_separation_m",
+          max_parallel_separation_m, "finite and > 0");
+  require(crossing_min_angle_deg > parallel_tolerance_deg && crossing_min_angle_deg <= 90, "crossing_min_angle_deg",
+          crossing_min_angle_deg, "in (parallel_tolerance_deg, 90]");
+  require(std::isfinite(crossing_reach_m) && crossing_reach_m >= 0, "crossing_reach_m", crossing_reach_m,
+          "finite and >= 0");
+}
+
+std::string regionKind(IntersectionKind kind) {
+  switch (kind) {
+    case IntersectionKind::Cross: return "cross intersection";
+    case IntersectionKind::T: return "T intersection";
+    case IntersectionKind::Y: return "Y intersection";
+    case IntersectionKind::L: return "L turn";
+    case IntersectionKind::End: return "dead end";
+    case IntersectionKind::Plaza: return "plaza";
+    case IntersectionKind::Other: return "junction";
+  }
+  return "junction";
+}
+
+namespace {
+
+// An interest segment in the world, before the view clips it.
+struct MapSegment {
+  std::string id, owner, side;
+  Segment2 world;
+  std::string left_surface, right_surface;
+};
+
+class Predictor {
+ public:
+  Predictor(const Map& map, const PredictOptions& options) : map_(map), options_(options) {}
+
+  // Paved areas near `area` other than `self` (a road or intersection), which cover edges.
+  std::vector<Polygon2> pavedNear(const Polygon2& area, const std::string& self) const {
+    std::vector<Polygon2> out;
+    for (const Road* road : map_.roadsMeeting(area)) {
+      if (road->id != self) out.push_back(map_.roadPolygon(*road));
+    }
+    for (const Intersection* x : map_.intersectionsMeeting(area)) {
+      if (x->id != self) out.push_back(map_.intersectionShape(*x));
+    }
+    return out;
+  }
+
+  // A road side, simplified into straight pieces, less what other paved areas cover, numbered.
+  std::vector<MapSegment> roadSegments(const Road& road) const {
+    const std::vector<Polygon2> covers = pavedNear(map_.roadPolygon(road), road.id);
+    std::vector<const Polygon2*> rings;
+    for (const Polygon2& p : covers) rings.push_back(&p);
+    std::vector<MapSegment> out;
+    for (const bool left : {true, false}) {
+      const Polyline2& edge = left ? map_.leftEdge(road) : map_.rightEdge(road);
+      const std::vector<Vec2> points = simplifyPolyline(edge.points(), options_.simplify_tolerance_m);
+      const std::string side = left ? "left" : "right";
+      std::size_t index = 0;
+      for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+        const Segment2 piece{points[k], points[k + 1]};
+        for (const Interval& part : intervalsOutside(piece, rings)) {
+          MapSegment s;
+          s.id = road.id + "." + side + "." + std::to_string(index++);
+          s.owner = road.id;
+          s.side = side;
+          s.world = Segment2{piece.pointAt(part.first), piece.pointAt(part.second)};
+          s.left_surface = left ? road.left : road.surface;
+          s.right_surface = left ? road.surface : road.right;
+          out.push_back(std::move(s));
+        }
+      }
+    }
+    return out;
+  }
+
+  // An intersection's outline less what its roads cover or run along: the corners between roads.
+  std::vector<MapSegment> cornerSegments(const Intersection& x) const {
+    const Polygon2& shape = map_.intersectionShape(x);
+    std::vector<Polygon2> covers;
+    std::vector<const Road*> roads = map_.roadsMeeting(shape);
+    for (const Road* road : roads) covers.push_back(map_.roadPolygon(*road));
+    std::vector<const Polygon2*> rings;
+    for (const Polygon2& p : covers) rings.push_back(&p);
+    auto onRoadEdge = [&](const Segment2& part) {
+      for (const Road* road : roads) {
+        for (const Polyline2* edge : {&map_.leftEdge(*road), &map_.rightEdge(*road)}) {
+          if (edge->project(part.a).distance < 1e-3 && edge->project(part.b).distance < 1e-3 &&
+              edge->project(part.pointAt(0.5)).distance < 1e-3) {
+            return true;
+          }
+        }
+      }
+      return false;
+    };
+    // What is paved here, and the shoulder most of its roads have.
+    const auto ends = map_.roadsAt(x.id);
+    const std::string paved = ends.empty() ? std::string() : ends.front().road->surface;
+    std::map<std::string, int> votes;
+    for (const auto& e : ends) {
+      ++votes[e.road->left];
+      ++votes[e.road->right];
+    }
+    const auto best = std::max_element(votes.begin(), votes.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    const std::string shoulder = best == votes.end() ? std::string() : best->first;
+
+    std::vector<MapSegment> out;
+    std::size_t index = 0;
+    for (std::size_t k = 0; k < shape.size(); ++k) {
+      const Segment2 edge{shape[k], shape[(k + 1) % shape.size()]};
+      for (const Interval& part : intervalsOutside(edge, rings)) {
+        const Segment2 piece{edge.pointAt(part.first), edge.pointAt(part.second)};
+        if (piece.length() < 1e-6 || onRoadEdge(piece)) continue;
+        // The shape is counter-clockwise, so the paved inside is on the left.
+        out.push_back(MapSegment{x.id + ".corner." + std::to_string(index++), x.id, "corner", piece, paved, shoulder});
+      }
+    }
+    return out;
+  }
+
+ private:
+  const Map& map_;
+  const PredictOptions& options_;
+};
+
+// A road's paved area as simple polygons for clipping: the road polygon itself, or, for a road bent
+// tighter than its half width (whose outline then crosses itself), the quadrilaterals between its
+// consecutive cross-sections (the polygon is the left edge, then the right edge reversed).
+std::vector<Polygon2> simplePieces(const Polygon2& ring) {
+  if (isSimple(ring)) return {ring};
+  std::vector<Polygon2> quads;
+  const std::size_t n = ring.size() / 2;
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    Polygon2 quad{ring[k], ring[k + 1], ring[ring.size() - 2 - k], ring[ring.size() - 1 - k]};
+    if (isSimple(quad)) quads.push_back(std::move(quad));
+  }
+  return quads;
+}
+
+Vec3 colourOf(const Map& map, const std::string& surface) {
+  const Appearance* a = map.findSurface(surface);
+  return a ? a->rgb : Vec3::Zero();
+}
+
+void addRelations(PredictedObject& view, const PredictOptions& options) {
+  const double parallel = degToRad(options.parallel_tolerance_deg);
+  const double crossing = degToRad(options.crossing_min_angle_deg);
+  const auto& segs = view.segments;
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    for (std::size_t j = i + 1; j < segs.size(); ++j) {
+      const Segment2 &a = segs[i].vehicle, &b = segs[j].vehicle;
+      const double angle = angleBetweenLines(a, b);
+      if (angle <= parallel) {
+        // Parallel when they run side by side (their extents along a overlap) on different lines.
+        const double len = a.length();
+        const Vec2 d = a.direction();
+        const double t0 = (b.a - a.a).dot(d), t1 = (b.b - a.a).dot(d);
+        const double overlap = std::min(len, std::max(t0, t1)) - std::max(0.0, std::min(t0, t1));
+        const double separation = std::abs(a.signedDistance(b.pointAt(0.5)));
+        if (overlap > 0 && separation > 1e-3 && separation <= options.max_parallel_separation_m) {
+          view.relations.push_back({SegmentRelation::Type::Parallel, segs[i].id, segs[j].id, separation, angle, Vec2::Zero()});
+        }
+      } else if (angle >= crossing) {
+        // Where the lines meet (a.a + s (a.b − a.a) = b.a + t (b.b − b.a)).
+        const Vec2 r = a.vector(), q = b.vector();
+        const double denom = cross2(r, q);
+        if (std::abs(denom) < 1e-12) continue;
+        const Vec2 p = a.a + (cross2(b.a - a.a, q) / denom) * r;
+        if (a.distanceTo(p) <= options.crossing_reach_m && b.distanceTo(p) <= options.crossing_reach_m) {
+          view.relations.push_back({SegmentRelation::Type::Crossing, segs[i].id, segs[j].id, 0.0, angle, p});
+        }
+      }
+    }
+  }
+}
+
+// The fraction of a ground segment (vehicle frame) whose points fall inside the image.
+double inImageFraction(const Camera& camera, const Segment2& s) {
+  constexpr int kSamples = 11;
+  int inside = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    const auto px = camera.projectGround(s.pointAt(i / double(kSamples - 1)));
+    inside += px && camera.inImage(*px) ? 1 : 0;
+  }
+  return inside / double(kSamples);
+}
+
+// The footprint within `far` metres of the camera: the largest piece of its intersection with a
+// 96-gon around the optical centre (the polygon lies inside the circle, so nothing beyond is kept).
+Polygon2 withinRange(const Polygon2& footprint, const Vec2& camera, double far) {
+  Polygon2 disc;
+  for (int i = 0; i < 96; ++i) disc.push_back(camera + far * unitVector(2 * kPi * i / 96));
+  std::vector<Polygon2> pieces = intersectPolygons(footprint, disc);
+  if (pieces.empty()) return {};
+  return *std::max_element(pieces.begin(), pieces.end(), [](const Polygon2& a, const Polygon2& b) {
+    return std::abs(signedArea(a)) < std::abs(signedArea(b));
+  });
+}
+
+}  // namespace
+
+Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, const PredictOptions& options) {
+  options.validate();
+  Prediction out;
+  out.pose = pose;
+  out.view.footprint = viewFootprint(camera, options.near_m, options.far_m);
+  if (out.view.footprint.size() >= 3) {
+    out.view.footprint = withinRange(out.view.footprint, camera.center().head<2>(), options.far_m);
+  }
+  if (out.view.footprint.size() < 3) {
+    out.view.footprint.clear();
+    return out;
+  }
+  for (const Vec2& p : out.view.footprint) out.footprint_world.push_back(pose.transform(p));
+  const Polygon2& footprint = out.footprint_world;
+  const Predictor predictor(map, options);
+
+  std::vector<MapSegment> candidates;
+  auto addRegion = [&](const std::string& id, const std::string& kind, const std::string& surface,
+                       const Polygon2& area, std::vector<MapSegment> segments) {
+    std::vector<Polygon2> world;
+    for (const Polygon2& piece : simplePieces(area)) {
+      for (Polygon2& clipped : intersectPolygons(piece, footprint)) world.push_back(std::move(clipped));
+    }
+    if (world.empty()) return;
+    PredictedRegion region;
+    region.id = id;
+    region.kind = kind;
+    region.surface = surface;
+    region.rgb = colourOf(map, surface);
+    for (const Polygon2& ring : world) {
+      Polygon2 local;
+      for (const Vec2& p : ring) local.push_back(pose.inverseTransform(p));
+      region.vehicle.push_back(std::move(local));
+    }
+    // Clip the region's segments to the footprint; keep the long, mostly-in-image parts.
+    for (MapSegment& s : segments) {
+      std::vector<Interval> inside = intervalsInside(s.world, footprint);
+      if (inside.empty()) continue;
+      // A footprint that cuts a segment in two keeps its longest part under the segment's id.
+      const Interval best = *std::max_element(inside.begin(), inside.end(), [](const Interval& a, const Interval& b) {
+        return a.second - a.first < b.second - b.first;
+      });
+      const Segment2 world_part{s.world.pointAt(best.first), s.world.pointAt(best.second)};
+      if (world_part.length() < options.min_segment_length_m) continue;
+      const Segment2 vehicle{pose.inverseTransform(world_part.a), pose.inverseTransform(world_part.b)};
+      const auto ua = camera.projectGround(vehicle.a), ub = camera.projectGround(vehicle.b);
+      if (!ua || !ub || (*ua - *ub).norm() < options.min_segment_length_px) continue;
+      if (inImageFraction(camera, vehicle) < options.min_in_image_fraction) continue;
+      InterestSegment seg;
+      seg.id = s.id;
+      seg.owner = s.owner;
+      seg.side = s.side;
+      seg.vehicle = vehicle;
+      seg.image = Segment2{*ua, *ub};
+      seg.left_surface = s.left_surface;
+      seg.right_surface = s.right_surface;
+      seg.left_rgb = colourOf(map, s.left_surface);
+      seg.right_rgb = colourOf(map, s.right_surface);
+      region.segments.push_back(seg.id);
+      out.view.segments.push_back(std::move(seg));
+      out.segments_world.push_back(world_part);
+    }
+    out.view.regions.push_back(std::move(region));
+    out.regions_world.push_back(std::move(world));
+  };
+
+  for (const Road* road : map.roadsMeeting(footprint)) {
+    // A road is a curve in view when its centre line inside the footprint is more than one straight piece.
+    const auto pieces = simplifyPolyline(road->centerline.points(), options.simplify_tolerance_m);
+    int visible_pieces = 0;
+    for (std::size_t k = 0; k + 1 < pieces.size(); ++k) {
+      visible_pieces += intervalsInside(Segment2{pieces[k], pieces[k + 1]}, footprint).empty() ? 0 : 1;
+    }
+    addRegion(road->id, visible_pieces > 1 ? "curve" : "straight road", road->surface, map.roadPolygon(*road),
+              predictor.roadSegments(*road));
+  }
+  for (const Intersection* x : map.intersectionsMeeting(footprint)) {
+    const auto ends = map.roadsAt(x->id);
+    addRegion(x->id, regionKind(x->kind), ends.empty() ? std::string() : ends.front().road->surface,
+              map.intersectionShape(*x), predictor.cornerSegments(*x));
+  }
+  addRelations(out.view, options);
+  return out;
+}
+
+namespace {
+
+Json pointJson(const Vec2& p) {
+  // Millimetres and tenths of a pixel are plenty, and keep the output readable.
+  return Json::array({std::round(p.x() * 1000) / 1000, std::round(p.y() * 1000) / 1000});
+}
+Json segmentJson(const Segment2& s) { return Json::array({pointJson(s.a), pointJson(s.b)}); }
+Json ringJson(const Polygon2& ring) {
+  Json out = Json::array();
+  for (const Vec2& p : ring) out.push_back(pointJson(p));
+  return out;
+}
+double round3(double x) { return std::round(x * 1000) / 1000; }
+
+}  // namespace
+
+std::string predictionToJson(const Prediction& p) {
+  Json doc = Json::object();
+  doc["pose"] = {{"x", round3(p.pose.x())}, {"y", round3(p.pose.y())}, {"heading_deg", round3(radToDeg(p.pose.heading()))}};
+  doc["footprint"] = ringJson(p.footprint_world);
+  doc["footprint_vehicle"] = ringJson(p.view.footprint);
+  Json objects = Json::array();
+  for (std::size_t r = 0; r < p.view.regions.size(); ++r) {
+    const PredictedRegion& region = p.view.regions[r];
+    Json segments = Json::array();
+    for (std::size_t i = 0; i < p.view.segments.size(); ++i) {
+      const InterestSegment& s = p.view.segments[i];
+      if (s.owner != region.id) continue;
+      segments.push_back({{"id", s.id},
+                          {"side", s.side},
+                          {"world", segmentJson(p.segments_world[i])},
+                          {"vehicle", segmentJson(s.vehicle)},
+                          {"image", segmentJson(s.image)},
+                          {"left_surface", s.left_surface},
+                          {"right_surface", s.right_surface}});
+    }
+    Json area = Json::array();
+    for (const Polygon2& ring : p.regions_world[r]) area.push_back(ringJson(ring));
+    objects.push_back({{"kind", region.kind}, {"id", region.id}, {"surface", region.surface}, {"area", area},
+                       {"interest_segments", segments}});
+  }
+  doc["objects"] = objects;
+  Json relations = Json::array();
+  for (const SegmentRelation& rel : p.view.relations) {
+    if (rel.type == SegmentRelation::Type::Parallel) {
+      relations.push_back({{"type", "parallel"}, {"a", rel.a}, {"b", rel.b}, {"separation_m", round3(rel.separation_m)}});
+    } else {
+      relations.push_back({{"type", "crossing"}, {"a", rel.a}, {"b", rel.b}, {"angle_deg", round3(radToDeg(rel.angle_rad))},
+                           {"point", pointJson(p.pose.transform(rel.point))}});
+    }
+  }
+  doc["relations"] = relations;
+  return dumpJson(doc);
+}
+
+}  // namespace mapnav

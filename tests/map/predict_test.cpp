@@ -1,0 +1,267 @@
+#include "mapnav/map/predict.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "map_fixtures.h"
+#include "mapnav/core/error.h"
+#include "mapnav/map/generate.h"
+#include "mapnav/testing/support.h"
+
+namespace mapnav {
+namespace {
+
+constexpr double kHeight = 1.5;
+constexpr double kTilt = 0.35;  // rad, about 20 degrees down
+constexpr double kF = 500.0, kCx = 319.5, kCy = 239.5;
+
+std::unique_ptr<Camera> pinhole(double tilt = kTilt) {
+  CameraIntrinsics in;
+  in.width = 640;
+  in.height = 480;
+  in.fx = in.fy = kF;
+  in.cx = kCx;
+  in.cy = kCy;
+  CameraMount mount;
+  mount.height_m = kHeight;
+  mount.tilt_rad = tilt;
+  return createCamera(LensModel::Pinhole, in, mount);
+}
+
+// The pin-hole formulas, written out independently of the camera code: a ground point (x, y) in
+// the vehicle frame seen by a camera at height h pitched down by β.
+Vec2 pinholePixel(const Vec2& g) {
+  const double Z = g.x() * std::cos(kTilt) + kHeight * std::sin(kTilt);
+  const double X = -g.y();
+  const double Y = kHeight * std::cos(kTilt) - g.x() * std::sin(kTilt);
+  return {kCx + kF * X / Z, kCy + kF * Y / Z};
+}
+
+Intersection node(const std::string& id, IntersectionKind kind, Vec2 p) { return {id, kind, p, std::nullopt}; }
+
+Road road(const std::string& id, const std::string& from, const std::string& to, std::vector<Vec2> line, double width = 2.0) {
+  Road r;
+  r.id = id;
+  r.from = from;
+  r.to = to;
+  r.centerline = Polyline2(std::move(line));
+  r.width = width;
+  r.surface = "concrete";
+  r.left = "grass";
+  r.right = "dirt";
+  return r;
+}
+
+MapData withSurfaces(MapData m) {
+  m.name = "test";
+  m.surfaces = {{"concrete", {Vec3(178, 176, 168), Vec3(10, 10, 10)}},
+                {"grass", {Vec3(70, 120, 50), Vec3(10, 10, 10)}},
+                {"dirt", {Vec3(122, 96, 66), Vec3(10, 10, 10)}}};
+  return m;
+}
+
+// A 100 m straight road along x, the vehicle at its middle looking along it.
+MapData straightRoad() {
+  MapData m;
+  m.intersections = {node("A", IntersectionKind::End, {-50, 0}), node("B", IntersectionKind::End, {50, 0})};
+  m.roads = {road("R1", "A", "B", {{-50, 0}, {50, 0}})};
+  return withSurfaces(m);
+}
+
+const InterestSegment* segment(const Prediction& p, const std::string& id) {
+  for (const InterestSegment& s : p.view.segments) {
+    if (s.id == id) return &s;
+  }
+  return nullptr;
+}
+
+TEST(StraightRoadAhead, GivesTwoParallelSegmentsOneWidthApartAtThePinholePixels) {
+  const Map map(straightRoad());
+  const auto camera = pinhole();
+  const Prediction p = predictView(map, Pose2(0, 0, 0), *camera);
+  ASSERT_EQ(p.view.regions.size(), 1u);
+  EXPECT_EQ(p.view.regions[0].kind, "straight road");
+  ASSERT_EQ(p.view.segments.size(), 2u);
+  const InterestSegment* left = segment(p, "R1.left.0");
+  const InterestSegment* right = segment(p, "R1.right.0");
+  ASSERT_TRUE(left && right);
+  for (const Vec2& q : {left->vehicle.a, left->vehicle.b}) EXPECT_NEAR(q.y(), 1.0, 1e-9);
+  for (const Vec2& q : {right->vehicle.a, right->vehicle.b}) EXPECT_NEAR(q.y(), -1.0, 1e-9);
+  for (const InterestSegment* s : {left, right}) {
+    EXPECT_VEC2_NEAR(s->image.a, pinholePixel(s->vehicle.a), 1e-6);
+    EXPECT_VEC2_NEAR(s->image.b, pinholePixel(s->vehicle.b), 1e-6);
+    EXPECT_LE(s->vehicle.b.x(), 15.0 + 1e-9);  // clipped to the far range
+  }
+  // Walking from A to B the grass is on the left of the left edge, the dirt right of the right edge.
+  EXPECT_EQ(left->left_surface, "grass");
+  EXPECT_EQ(left->right_surface, "concrete");
+  EXPECT_EQ(right->right_surface, "dirt");
+  EXPECT_EQ(left->left_rgb, Vec3(70, 120, 50));
+  ASSERT_EQ(p.view.relations.size(), 1u);
+  EXPECT_EQ(p.view.relations[0].type, SegmentRelation::Type::Parallel);
+  EXPECT_NEAR(p.view.relations[0].separation_m, 2.0, 1e-9);
+}
+
+TEST(StraightRoadAhead, SegmentIdsStayTheSameAsTheVehicleMoves) {
+  const Map map(straightRoad());
+  const auto camera = pinhole();
+  for (double x : {-20.0, 0.0, 17.5}) {
+    const Prediction p = predictView(map, Pose2(x, 0.3, 0.05), *camera);
+    EXPECT_TRUE(segment(p, "R1.left.0")) << x;
+    EXPECT_TRUE(segment(p, "R1.right.0")) << x;
+  }
+}
+
+// Vision gets vehicle- and image-frame geometry only: moving the whole world (map and pose) by a
+// rigid motion leaves the token unchanged.
+TEST(StraightRoadAhead, TheVisionTokenDependsOnlyOnWhereTheVehicleIsRelativeToTheRoads) {
+  const auto camera = pinhole();
+  const Prediction here = predictView(Map(straightRoad()), Pose2(3, 0.2, 0.1), *camera);
+  const Pose2 motion(120, -45, 0.8);
+  MapData moved = straightRoad();
+  for (Intersection& x : moved.intersections) x.position = motion.transform(x.position);
+  for (Road& r : moved.roads) {
+    std::vector<Vec2> line;
+    for (const Vec2& q : r.centerline.points()) line.push_back(motion.transform(q));
+    r.centerline = Polyline2(line);
+  }
+  const Prediction there = predictView(Map(moved), motion * Pose2(3, 0.2, 0.1), *camera);
+  ASSERT_EQ(here.view.segments.size(), there.view.segments.size());
+  for (std::size_t i = 0; i < here.view.segments.size(); ++i) {
+    EXPECT_EQ(here.view.segments[i].id, there.view.segments[i].id);
+    EXPECT_VEC2_NEAR(here.view.segments[i].vehicle.a, there.view.segments[i].vehicle.a, 1e-9);
+    EXPECT_VEC2_NEAR(here.view.segments[i].image.b, there.view.segments[i].image.b, 1e-6);
+  }
+}
+
+// Roads of 20 m from a centre at (10, 0) in the given directions (degrees), the vehicle on the
+// road coming from the west at the origin, looking east.
+MapData junction(IntersectionKind kind, const std::vector<double>& branch_deg) {
+  MapData m;
+  m.intersections = {node("X", kind, {10, 0}), node("W", IntersectionKind::End, {-10, 0})};
+  m.roads = {road("RW", "W", "X", {{-10, 0}, {10, 0}})};
+  int i = 0;
+  for (double deg : branch_deg) {
+    const std::string id = "B" + std::to_string(i++);
+    const Vec2 end = Vec2(10, 0) + 20 * unitVector(degToRad(deg));
+    m.intersections.push_back(node("E" + id, IntersectionKind::End, end));
+    m.roads.push_back(road(id, "X", "E" + id, {{10, 0}, end}));
+  }
+  return withSurfaces(m);
+}
+
+std::vector<double> crossingAngles(const Prediction& p) {
+  std::vector<double> out;
+  for (const SegmentRelation& r : p.view.relations) {
+    if (r.type == SegmentRelation::Type::Crossing) out.push_back(radToDeg(r.angle_rad));
+  }
+  return out;
+}
+
+bool hasAngle(const std::vector<double>& angles, double deg) {
+  return std::any_of(angles.begin(), angles.end(), [&](double a) { return std::abs(a - deg) < 1e-6; });
+}
+
+TEST(CrossIntersectionAhead, CornersCrossAtNinetyDegrees) {
+  const Map map(junction(IntersectionKind::Cross, {0, 90, -90}));
+  const Prediction p = predictView(map, Pose2(0, 0, 0), *pinhole());
+  ASSERT_FALSE(p.empty());
+  EXPECT_TRUE(std::any_of(p.view.regions.begin(), p.view.regions.end(),
+                          [](const PredictedRegion& r) { return r.kind == "cross intersection"; }));
+  // The near-left corner: RW's left edge (y = 1) meets the north road B1's left edge (x = 9) at (9, 1).
+  bool corner = false;
+  for (const SegmentRelation& r : p.view.relations) {
+    const std::set<std::string> pair{r.a, r.b};
+    if (r.type == SegmentRelation::Type::Crossing && pair == std::set<std::string>{"RW.left.0", "B1.left.0"}) {
+      corner = true;
+      EXPECT_NEAR(radToDeg(r.angle_rad), 90.0, 1e-9);
+      EXPECT_VEC2_NEAR(r.point, Vec2(9, 1), 1e-9);
+    }
+  }
+  EXPECT_TRUE(corner);
+  // The edges stop where the crossing road begins: RW.left ends at x = 9, not at the centre.
+  const InterestSegment* rw_left = segment(p, "RW.left.0");
+  ASSERT_TRUE(rw_left);
+  EXPECT_NEAR(std::max(rw_left->vehicle.a.x(), rw_left->vehicle.b.x()), 9.0, 1e-9);
+}
+
+TEST(TIntersectionAhead, StemAndTopCrossAtNinetyDegrees) {
+  const Map map(junction(IntersectionKind::T, {90, -90}));  // the road ends at a road across it
+  const Prediction p = predictView(map, Pose2(0, 0, 0), *pinhole());
+  EXPECT_TRUE(std::any_of(p.view.regions.begin(), p.view.regions.end(),
+                          [](const PredictedRegion& r) { return r.kind == "T intersection"; }));
+  const auto angles = crossingAngles(p);
+  EXPECT_TRUE(hasAngle(angles, 90.0));
+  for (double a : angles) EXPECT_NEAR(a, 90.0, 1e-6);
+}
+
+TEST(YIntersectionAhead, BranchesSixtyDegreesApartCrossAtSixtyAndThirtyDegrees) {
+  const Map map(junction(IntersectionKind::Y, {30, -30}));
+  const Prediction p = predictView(map, Pose2(0, 0, 0), *pinhole());
+  EXPECT_TRUE(std::any_of(p.view.regions.begin(), p.view.regions.end(),
+                          [](const PredictedRegion& r) { return r.kind == "Y intersection"; }));
+  const auto angles = crossingAngles(p);
+  // The branches' inner edges meet at 60 degrees, 1 / sin(30°) = 2 m beyond the centre.
+  EXPECT_TRUE(hasAngle(angles, 60.0));
+  for (const SegmentRelation& r : p.view.relations) {
+    if (r.type == SegmentRelation::Type::Crossing && std::abs(radToDeg(r.angle_rad) - 60.0) < 1e-6) {
+      EXPECT_VEC2_NEAR(r.point, Vec2(12, 0), 1e-9);
+    }
+  }
+  // The stem's edges meet the outer branch edges at 30 degrees.
+  EXPECT_TRUE(hasAngle(angles, 30.0));
+}
+
+TEST(PredictView, APoseOffEveryRoadGivesAnEmptyPrediction) {
+  const Map map(straightRoad());
+  const Prediction p = predictView(map, Pose2(0, 200, kPi / 2), *pinhole());
+  EXPECT_TRUE(p.empty());
+  EXPECT_FALSE(p.view.footprint.empty());
+}
+
+TEST(PredictView, ACameraLookingAboveTheHorizonGivesAnEmptyPrediction) {
+  const Map map(straightRoad());
+  const Prediction p = predictView(map, Pose2(0, 0, 0), *pinhole(-0.8));  // 46 degrees up
+  EXPECT_TRUE(p.empty());
+  EXPECT_TRUE(p.view.footprint.empty());
+  EXPECT_TRUE(p.footprint_world.empty());
+}
+
+TEST(PredictView, OnAGridLookingAlongARoadSeesItsEdges) {
+  const Map map = [] {
+    GridMapOptions o;
+    o.columns = o.rows = 3;
+    return Map(makeGridMap(o));
+  }();
+  const Prediction p = predictView(map, Pose2(3, 0, 0), *pinhole());
+  EXPECT_TRUE(segment(p, "H0_0.left.0") || segment(p, "H0_0.right.0"));
+}
+
+TEST(PredictOptions, DefaultsAreValidAndBadFieldsAreNamed) {
+  EXPECT_NO_THROW(PredictOptions{}.validate());
+  PredictOptions o;
+  o.far_m = 0.5;
+  try {
+    o.validate();
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("far_m = 0.5"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MakeGridMap, HasTheRoadCountItPromisesAndIsValid) {
+  GridMapOptions o;
+  o.columns = 4;
+  o.rows = 3;
+  const MapData data = makeGridMap(o);
+  EXPECT_EQ(data.roads.size(), 4u * 2 + 3u * 3);
+  const Map map(data);  // throws if invalid
+  EXPECT_TRUE(map.warnings().empty());
+  EXPECT_EQ(map.intersection("I1_1").kind, IntersectionKind::Cross);
+  EXPECT_EQ(map.intersection("I0_1").kind, IntersectionKind::T);
+  EXPECT_EQ(map.intersection("I3_2").kind, IntersectionKind::L);
+}
+
+}  // namespace
+}  // namespace mapnav

@@ -1,0 +1,55 @@
+#pragma once
+// PredictedObject: Map → Vision, "what the camera should see" (Wallace 1985, 2.1.2). Information
+// hiding: it carries only vehicle- and image-frame geometry and appearance. No world coordinates,
+// no pose, no route, nothing of the map beyond what is in view: Vision "does not know where the
+// vehicle is" (2.1.1).
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/segment2.h"
+#include "mapnav/geometry/types.h"
+
+namespace mapnav {
+
+/// A primary straight edge the camera should see: a road edge or an intersection's outline.
+struct InterestSegment {
+  std::string id;          ///< stable across views: "R1.left.0", "I14.corner.2"
+  std::string owner;       ///< the road or intersection it belongs to
+  std::string side;        ///< "left", "right" (of a road, walking from → to) or "corner"
+  Segment2 vehicle;        ///< metres on the ground, vehicle frame (x forward, y left)
+  Segment2 image;          ///< pixels (u right, v down); the end points' projections
+  std::string left_surface, right_surface;  ///< what lies on each side, walking a → b
+  Vec3 left_rgb = Vec3::Zero(), right_rgb = Vec3::Zero();  ///< their mean colours
+};
+
+/// A road or intersection in view.
+struct PredictedRegion {
+  std::string id;
+  std::string kind;   ///< "straight road", "curve", "cross intersection", "T intersection", ...
+  std::string surface;
+  Vec3 rgb = Vec3::Zero();
+  std::vector<Polygon2> vehicle;  ///< its paved area inside the view footprint, vehicle frame
+  std::vector<std::string> segments;  ///< ids of its interest segments
+};
+
+/// How two interest segments relate.
+struct SegmentRelation {
+  enum class Type { Parallel, Crossing };
+  Type type = Type::Parallel;
+  std::string a, b;           ///< segment ids
+  double separation_m = 0;    ///< parallel: distance between the lines
+  double angle_rad = 0;       ///< crossing: angle between the lines, (0, pi/2]
+  Vec2 point = Vec2::Zero();  ///< crossing: where the lines meet, vehicle frame
+};
+
+struct PredictedObject {
+  double timestamp = 0;           ///< seconds, of the frame this prediction is for
+  Polygon2 footprint;             ///< the ground the camera sees, vehicle frame
+  std::vector<PredictedRegion> regions;
+  std::vector<InterestSegment> segments;
+  std::vector<SegmentRelation> relations;
+
+  bool empty() const { return regions.empty() && segments.empty(); }
+};
+
+}  // namespace mapnav
