@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <sstream>
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"

@@ -175,9 +175,9 @@ render::Canvas renderPrediction(const Map& map, const Prediction& prediction, co
   std::snprintf(text, sizeof text, "map: pose (%.1f, %.1f), heading %.0f deg; footprint yellow", pose.x(), pose.y(),
                 radToDeg(pose.heading()));
   canvas.text(Vec2(4, height + 24), text, caption);
-  std::snprintf(text, sizeof text, "view: %s %dx%d, %zu objects, %zu segments",
-                std::string(toString(camera.model())).c_str(), camera.width(), camera.height(),
-                prediction.view.regions.size(), prediction.view.segments.size());
+  const std::size_t objects = prediction.view.regions.size(), segments = prediction.view.segments.size();
+  std::snprintf(text, sizeof text, "view: %s %dx%d, %zu object%s, %zu segment%s", std::string(toString(camera.model())).c_str(),
+                camera.width(), camera.height(), objects, objects == 1 ? "" : "s", segments, segments == 1 ? "" : "s");
   canvas.text(Vec2(x0, height + 24), text, caption);
   return canvas;
 }
