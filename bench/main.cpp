@@ -18,9 +18,12 @@ class RatioReporter : public benchmark::ConsoleReporter {
       const bool median = run.run_type == Run::RT_Aggregate && run.aggregate_name == "median";
       if (run.error_occurred || !(median || run.run_type == Run::RT_Iteration) || run.run_name.args.empty()) continue;
       if (run.run_type == Run::RT_Iteration && run.repetitions > 1) continue;
+      // "10000/1": the first argument is the size; the others name a variant of the family.
+      const std::string& args = run.run_name.args;
+      const auto slash = args.find('/');
+      const std::string family = run.run_name.function_name + (slash == std::string::npos ? "" : args.substr(slash));
       try {
-        const long size = std::stol(run.run_name.args);
-        families_[run.run_name.function_name][size] = run.GetAdjustedRealTime();
+        families_[family][std::stol(args.substr(0, slash))] = run.GetAdjustedRealTime();
       } catch (const std::exception&) {
       }
     }

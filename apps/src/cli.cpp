@@ -4,10 +4,12 @@
 #include <cctype>
 #include <filesystem>
 #include <functional>
+#include <sstream>
 #include <ostream>
 
 #include "map_commands.h"
 #include "predict_command.h"
+#include "route_command.h"
 #include "mapnav/core/error.h"
 
 namespace mapnav::cli {
@@ -23,15 +25,17 @@ void addOrigin(CLI::App* command, std::string& text) {
                       "Geodetic origin of the local frame as LAT,LON or LAT,LON,ALT (degrees, metres)");
 }
 
-// Pictures are written as PNG or SVG, chosen by the extension.
-CLI::Validator pictureFile() {
+// Outputs whose format is chosen by the extension: pictures (.png, .svg), and where a command
+// can write GeoJSON, .geojson too.
+CLI::Validator outputFile(bool geojson) {
   return CLI::Validator(
-      [](std::string& path) {
+      [geojson](std::string& path) {
         std::string ext = std::filesystem::path(path).extension().string();
         for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        return ext == ".png" || ext == ".svg" ? std::string() : "\"" + path + "\": the picture must be .png or .svg";
+        if (ext == ".png" || ext == ".svg" || (geojson && ext == ".geojson")) return std::string();
+        return "\"" + path + "\": the output must be .png or .svg" + std::string(geojson ? " or .geojson" : "");
       },
-      "OUT.png|OUT.svg");
+      geojson ? "OUT.png|OUT.svg|OUT.geojson" : "OUT.png|OUT.svg");
 }
 
 }  // namespace
@@ -69,7 +73,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   r->add_option("file", render.file, "Map file")->required()->check(CLI::ExistingFile);
   r->add_option("-o,--output", render.output, "Picture to write: OUT.png or OUT.svg")
       ->required()
-      ->check(pictureFile());
+      ->check(outputFile(false));
   r->add_option("--width", render.width_px, "Picture width in pixels; the height follows the map")
       ->default_val(1600)
       ->check(CLI::Range(64, 20000));
@@ -125,7 +129,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   at->excludes(pose);
   p->add_flag("--json", predict.json, "Print the prediction as JSON instead of sentences");
   p->add_option("-o,--output", predict.output, "Also draw the map with the footprint beside the predicted image: OUT.png or OUT.svg")
-      ->check(pictureFile());
+      ->check(outputFile(false));
   p->add_option("--near", predict.near_m, "Nearest ground distance ahead of the camera to predict, m")->default_val(1.0)->check(CLI::Range(0.0, 1000.0));
   p->add_option("--far", predict.far_m, "Farthest ground distance ahead of the camera to predict, m")->default_val(15.0)->check(CLI::Range(0.0, 1000.0));
   p->footer("Exactly one of --pose and --at. Exit codes: 0 success (an empty view too), 1 invalid map, camera or\n"
@@ -138,6 +142,30 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
       if (!predict_pose.empty()) predict.pose = parsePose(predict_pose);
       if (!predict_at.empty()) predict.at = parseRoadPosition(predict_at);
       return runPredict(predict, out, err);
+    };
+  });
+
+  RouteConfig route;
+  std::string route_from, route_to, route_block;
+  CLI::App* rt = app.add_subcommand("route", "Plan a route between two road positions and say it as motion commands");
+  rt->add_option("--map", route.map, "Map file")->required()->check(CLI::ExistingFile);
+  rt->add_option("--from", route_from, "Start: ROAD@NODE+METERS, e.g. R1@I1+3")->required();
+  rt->add_option("--to", route_to, "Goal: ROAD@NODE+METERS, e.g. R3@I3+2")->required();
+  rt->add_option("--block", route_block, "Roads and intersections not to use, comma-separated: R2,I5");
+  rt->add_flag("--json", route.json, "Print the route as JSON instead of the dialogue");
+  rt->add_option("-o,--output", route.output, "Also draw the route on the map (OUT.png, OUT.svg) or write it as OUT.geojson")
+      ->check(outputFile(true));
+  rt->footer("Cost = length x the road's cost_factor + a turn penalty by angle. Exit codes: 0 a route, 1 no route\n"
+             "(the reason is printed) or an invalid map or position, 2 usage or I/O error.");
+  rt->callback([&] {
+    command = [&] {
+      route.from = parseRoadPosition(route_from);
+      route.to = parseRoadPosition(route_to);
+      std::stringstream ids(route_block);
+      for (std::string id; std::getline(ids, id, ',');) {
+        if (!id.empty()) route.blocked.push_back(id);
+      }
+      return runRoute(route, out, err);
     };
   });
 

@@ -121,18 +121,23 @@ namespace {
 
 bool isScalar(const Json& v) { return !v.is_object() && !v.is_array(); }
 
-// Short arrays of scalars, and arrays of those ([[x, y], ...]) when short, go on one line, so a
-// point or a colour reads as one thing.
+// Arrays of scalars, arrays of those ([[x, y], ...]) and objects of scalars or scalar arrays go on
+// one line when short, so a point, a colour or a leg {"action": "drive", ...} reads as one thing.
 bool inlineable(const Json& v, std::size_t depth) {
   if (isScalar(v)) return true;
   if (v.empty()) return true;
-  if (!v.is_array() || depth > 1) return false;
+  if (depth > 1) return false;
+  if (v.is_object()) {
+    return depth == 0 && std::all_of(v.begin(), v.end(), [&](const Json& e) {
+             return isScalar(e) || (e.is_array() && std::all_of(e.begin(), e.end(), isScalar));
+           });
+  }
   return std::all_of(v.begin(), v.end(), [&](const Json& e) { return isScalar(e) || (e.is_array() && inlineable(e, depth + 1)); });
 }
 
 void write(const Json& v, int indent, std::string& out) {
   const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
-  if (inlineable(v, 0)) {
+  if (inlineable(v, 0) && !(v.is_object() && indent == 0 && !v.empty())) {  // a document opens on its own line
     std::string flat = v.dump();
     // nlohmann writes [1,2]; people read [1, 2].
     std::string spaced;
@@ -141,9 +146,10 @@ void write(const Json& v, int indent, std::string& out) {
       const char c = flat[i];
       if (c == '"' && (i == 0 || flat[i - 1] != '\\')) in_string = !in_string;
       spaced += c;
-      if (!in_string && c == ',') spaced += ' ';
+      if (!in_string && (c == ',' || c == ':')) spaced += ' ';
     }
-    if (!v.is_array() || spaced.size() <= 100 || std::all_of(v.begin(), v.end(), [](const Json& e) { return isScalar(e); })) {
+    const bool scalars_only = v.is_array() && std::all_of(v.begin(), v.end(), [](const Json& e) { return isScalar(e); });
+    if (!v.is_structured() || spaced.size() <= 100 || scalars_only) {
       out += spaced;
       return;
     }

@@ -234,5 +234,46 @@ TEST(Cli, PredictRefusesBadPositionsAndCameras) {
   EXPECT_NE(bad.err.find("bad_camera.json: error: schema.required"), std::string::npos) << bad.err;
 }
 
+TEST(Cli, RouteSpeaksTheDialogueAndPrintsJsonLegs) {
+  const std::string map = str(testing::mapPath("cmu_campus.json"));
+  const auto text = runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2"});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_EQ(text.out.substr(0, 59), "Drive on R1 3.0 m and turn right 90 degrees at I1 onto R2.\n");
+  const auto json = runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "--json"});
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const auto j = nlohmann::json::parse(json.out);
+  EXPECT_EQ(j["legs"][0], nlohmann::json::parse(R"({"action": "drive", "road": "R1", "meters": 3.0})"));
+  EXPECT_EQ(j["legs"][1], nlohmann::json::parse(R"({"action": "turn", "at": "I1", "direction": "right", "degrees": 90.0, "onto": "R2"})"));
+  EXPECT_EQ(j["legs"].back()["road"], "R3");
+}
+
+TEST(Cli, RouteWritesAPictureOrGeoJsonAndBlocksWhatItIsTold) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string map = str(testing::mapPath("cmu_campus.json"));
+  ASSERT_EQ(runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "-o", str(dir / "r.png")}).exit_code, 0);
+  EXPECT_EQ(readFile(dir / "r.png").substr(1, 3), "PNG");
+  ASSERT_EQ(runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "-o", str(dir / "r.geojson")}).exit_code, 0);
+  const auto geo = nlohmann::json::parse(readFile(dir / "r.geojson"));
+  EXPECT_EQ(geo["features"][0]["geometry"]["type"], "LineString");
+  const auto detour = runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "--block", "I2,R5", "--json"});
+  ASSERT_EQ(detour.exit_code, 0) << detour.err;
+  for (const auto& leg : nlohmann::json::parse(detour.out)["legs"]) {
+    EXPECT_NE(leg.value("road", ""), "R5");
+    EXPECT_NE(leg.value("at", ""), "I2");
+  }
+}
+
+TEST(Cli, RouteThatCannotBeFoundExitsOneWithTheReason) {
+  const std::string map = str(testing::mapPath("cmu_campus.json"));
+  const auto blocked = runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "--block", "R3"});
+  EXPECT_EQ(blocked.exit_code, 1);
+  EXPECT_EQ(blocked.err, "mapnav: error: no route: the goal road R3 is blocked\n");
+  const auto unknown = runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "--block", "R404"});
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.err.find("R404"), std::string::npos) << unknown.err;
+  EXPECT_EQ(runCli({"route", "--map", map, "--from", "R1", "--to", "R3@I3+2"}).exit_code, 2);
+  EXPECT_EQ(runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "-o", "x.txt"}).exit_code, 2);
+}
+
 }  // namespace
 }  // namespace mapnav

@@ -83,6 +83,10 @@ TEST(DumpJson, PutsPointsOnOneLineAndRoundTripsDoublesExactly) {
   const std::string text = dumpJson(j);
   EXPECT_EQ(text, "{\n  \"p\": [0.1, 0.3333333333333333]\n}\n");
   EXPECT_EQ(Json::parse(text)["p"][1].get<double>(), 1.0 / 3.0);
+  // Short flat objects inside a document go on one line too; the document itself does not.
+  Json legs = Json::object();
+  legs["legs"] = Json::array({Json{{"action", "drive"}, {"meters", 2.5}}});
+  EXPECT_EQ(dumpJson(legs), "{\n  \"legs\": [\n    {\"action\": \"drive\", \"meters\": 2.5}\n  ]\n}\n");
 }
 
 TEST(FormatIssue, PrintsFilePointerSeverityCheckAndMessage) {

@@ -1,0 +1,67 @@
+#pragma once
+// Where the vehicle is on its route, and when the Navigator should plan again.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/map/map.h"
+#include "mapnav/navigator/road_position.h"
+#include "mapnav/navigator/route.h"
+
+namespace mapnav {
+
+/// A pose seen from the nearest road.
+struct RoadProjection {
+  RoadPosition position;      ///< on the road, measured from its `from` end (lateral: left positive)
+  double heading_error = 0;   ///< pose heading − the road's heading (from → to) there, (-pi, pi]
+  double distance = 0;        ///< from the centre line, m
+};
+
+/// The nearest road's centre line within `max_distance_m` of the pose, or nothing (off the map).
+/// Ties go to the road with the smaller id.
+std::optional<RoadProjection> projectToRoad(const Map& map, const Pose2& pose, double max_distance_m = 5.0);
+
+struct ProgressOptions {
+  /// Farther than this (m) from the route's centre line is off the route.
+  double off_route_tolerance_m = 2.0;
+  /// How far ahead (m) of the last position the next one is looked for, so that a route passing
+  /// near itself does not make progress jump.
+  double search_ahead_m = 15.0;
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+};
+
+struct ProgressStatus {
+  std::size_t leg = 0;      ///< index into Route::legs of the drive leg under way
+  double along_m = 0;       ///< driven along the route
+  double to_go_m = 0;       ///< left to the goal
+  double off_route_m = 0;   ///< distance from the route's centre line
+  bool off_route = false;
+  bool finished = false;    ///< within 0.5 m of the goal
+};
+
+class RouteProgress {
+ public:
+  explicit RouteProgress(Route route, const ProgressOptions& options = {});
+  /// The first pose is found anywhere along the route; after that progress only moves forward,
+  /// looked for from the last position onwards.
+  ProgressStatus update(const Pose2& pose);
+  const Route& route() const { return route_; }
+
+ private:
+  Route route_;
+  ProgressOptions options_;
+  double along_ = 0;
+  bool started_ = false;
+};
+
+/// Plan again when off the route, or when a road or intersection still ahead has become blocked.
+bool needsReplan(const ProgressStatus& status, const Route& route, const std::vector<std::string>& blocked);
+
+/// A new route to `goal` from where the pose is (its nearest road, within 5 m). A pose off every
+/// road gives no route and says so.
+RouteResult replan(RoadGraph& graph, const Pose2& pose, const RoadPosition& goal, const RouteOptions& options = {});
+
+}  // namespace mapnav

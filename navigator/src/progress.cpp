@@ -1,0 +1,88 @@
+#include "mapnav/navigator/progress.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mapnav/core/options.h"
+
+namespace mapnav {
+
+std::optional<RoadProjection> projectToRoad(const Map& map, const Pose2& pose, double max_distance_m) {
+  std::optional<RoadProjection> best;
+  // roadsNear measures from the paved edge; ask wide enough to catch every centre line in range.
+  for (const Road* road : map.roadsNear(pose.translation(), max_distance_m)) {
+    const Polyline2::Projection p = road->centerline.project(pose.translation());
+    if (p.distance > max_distance_m) continue;
+    if (best && (p.distance > best->distance || (p.distance == best->distance && road->id > best->position.road))) continue;
+    RoadProjection r;
+    r.position = RoadPosition{road->id, road->from, p.arc_length, p.lateral};
+    r.heading_error = normalizeAngle(pose.heading() - road->centerline.headingAt(p.arc_length));
+    r.distance = p.distance;
+    best = r;
+  }
+  return best;
+}
+
+void ProgressOptions::validate() const {
+  requireOption(std::isfinite(off_route_tolerance_m) && off_route_tolerance_m > 0, "ProgressOptions",
+                "off_route_tolerance_m", off_route_tolerance_m, "finite and > 0");
+  requireOption(std::isfinite(search_ahead_m) && search_ahead_m > 0, "ProgressOptions", "search_ahead_m", search_ahead_m,
+                "finite and > 0");
+}
+
+RouteProgress::RouteProgress(Route route, const ProgressOptions& options) : route_(std::move(route)), options_(options) {
+  options_.validate();
+}
+
+ProgressStatus RouteProgress::update(const Pose2& pose) {
+  const Polyline2& line = route_.line;
+  const double length = line.length();
+  // The first pose is looked for along the whole route; later ones from a little behind the last
+  // position to the search window ahead.
+  const double s0 = started_ ? std::max(0.0, along_ - 1.0) : 0.0;
+  const double s1 = started_ ? std::min(length, along_ + options_.search_ahead_m) : length;
+  started_ = true;
+  const Polyline2::Projection p = line.slice(s0, s1).project(pose.translation());
+  along_ = std::max(along_, s0 + p.arc_length);
+  ProgressStatus status;
+  status.along_m = along_;
+  status.to_go_m = length - along_;
+  status.off_route_m = p.distance;
+  status.off_route = p.distance > options_.off_route_tolerance_m;
+  status.finished = status.to_go_m <= 0.5;
+  // The drive leg under way: legs in order, each drive leg covering its metres of the line.
+  double start = 0;
+  for (std::size_t i = 0; i < route_.legs.size(); ++i) {
+    if (route_.legs[i].action != LegAction::Drive) continue;
+    status.leg = i;
+    start += route_.legs[i].meters;
+    if (along_ < start) break;
+  }
+  return status;
+}
+
+bool needsReplan(const ProgressStatus& status, const Route& route, const std::vector<std::string>& blocked) {
+  if (status.off_route) return true;
+  // Roads and intersections still ahead: the legs from the current one on.
+  for (std::size_t i = status.leg; i < route.legs.size(); ++i) {
+    const Leg& leg = route.legs[i];
+    for (const std::string& id : blocked) {
+      if (leg.road == id || (leg.action == LegAction::Turn && leg.at == id)) return true;
+    }
+  }
+  return false;
+}
+
+RouteResult replan(RoadGraph& graph, const Pose2& pose, const RoadPosition& goal, const RouteOptions& options) {
+  const auto here = projectToRoad(graph.map(), pose);
+  if (!here) {
+    RouteResult none;
+    none.reason = "the vehicle is more than 5 m from every road";
+    return none;
+  }
+  RoadPosition from = here->position;
+  from.lateral = 0;
+  return graph.route(from, goal, options);
+}
+
+}  // namespace mapnav

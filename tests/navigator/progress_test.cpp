@@ -1,0 +1,83 @@
+#include "mapnav/navigator/progress.h"
+
+#include <gtest/gtest.h>
+
+#include "mapnav/core/error.h"
+#include "mapnav/map/map_io.h"
+#include "mapnav/testing/support.h"
+
+namespace mapnav {
+namespace {
+
+class CampusDialogueRoute : public ::testing::Test {
+ protected:
+  Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  RoadGraph graph{map};
+  Route route = *graph.route(parseRoadPosition("R1@I1+3"), parseRoadPosition("R3@I3+2")).route;
+};
+
+TEST_F(CampusDialogueRoute, ProjectingAPoseNearR1GivesItsRoadPosition) {
+  // 3 m east of I1 (50, 40) on R1 (which runs east), 0.5 m north of it, heading 170 degrees.
+  const auto p = projectToRoad(map, Pose2(53, 40.5, degToRad(170)));
+  ASSERT_TRUE(p);
+  EXPECT_EQ(p->position.road, "R1");
+  EXPECT_EQ(p->position.node, "I1");
+  EXPECT_NEAR(p->position.meters, 3.0, 1e-9);
+  EXPECT_NEAR(p->position.lateral, 0.5, 1e-9);
+  EXPECT_NEAR(p->distance, 0.5, 1e-9);
+  EXPECT_NEAR(radToDeg(p->heading_error), 170, 1e-9);
+  EXPECT_FALSE(projectToRoad(map, Pose2(75, 60, 0)));  // in the middle of a lawn, 20 m from every road
+}
+
+TEST_F(CampusDialogueRoute, ProgressMovesThroughTheLegsToTheGoal) {
+  RouteProgress progress(route);
+  const double length = route.line.length();
+  double last_to_go = length;
+  std::vector<std::size_t> legs;
+  for (double s = 0; s <= length; s += 0.5) {
+    const Vec2 p = route.line.pointAt(s);
+    const ProgressStatus st = progress.update(Pose2(p, route.line.headingAt(s)));
+    EXPECT_NEAR(st.along_m, s, 1e-6);
+    EXPECT_LE(st.to_go_m, last_to_go + 1e-9);
+    EXPECT_FALSE(st.off_route);
+    last_to_go = st.to_go_m;
+    if (legs.empty() || legs.back() != st.leg) legs.push_back(st.leg);
+  }
+  // Drive legs are 0, 2, 4, 6, 8 (turns between them).
+  EXPECT_EQ(legs, (std::vector<std::size_t>{0, 2, 4, 6, 8}));
+  EXPECT_TRUE(progress.update(Pose2(route.line.back(), 0)).finished);
+}
+
+TEST_F(CampusDialogueRoute, OffTheRouteOrABlockedRoadAheadCallsForANewRoute) {
+  RouteProgress progress(route);
+  ProgressStatus st = progress.update(Pose2(50, 60, kPi / 2));  // on R2, halfway to I2
+  EXPECT_EQ(route.legs[st.leg].road, "R2");
+  EXPECT_FALSE(needsReplan(st, route, {}));
+  EXPECT_TRUE(needsReplan(st, route, {"R5"}));   // ahead
+  EXPECT_TRUE(needsReplan(st, route, {"I4"}));   // an intersection ahead
+  EXPECT_FALSE(needsReplan(st, route, {"R1"}));  // behind
+  st = progress.update(Pose2(54, 62, kPi / 2));  // 4 m east of R2
+  EXPECT_TRUE(st.off_route);
+  EXPECT_NEAR(st.off_route_m, 4.0, 1e-6);
+  EXPECT_TRUE(needsReplan(st, route, {}));
+}
+
+TEST_F(CampusDialogueRoute, ReplanningFromWhereTheVehicleIsAvoidsTheBlockedRoad) {
+  RouteOptions options;
+  options.blocked = {"R5"};
+  const RouteResult again = replan(graph, Pose2(50, 60, kPi / 2), route.to, options);
+  ASSERT_TRUE(again.route) << again.reason;
+  for (const std::string& road : again.route->roads) EXPECT_NE(road, "R5");
+  EXPECT_EQ(again.route->roads.back(), "R3");
+  EXPECT_FALSE(replan(graph, Pose2(75, 60, 0), route.to).route);
+}
+
+TEST(ProgressOptions, DefaultsAreValid) {
+  EXPECT_NO_THROW(ProgressOptions{}.validate());
+  ProgressOptions o;
+  o.off_route_tolerance_m = 0;
+  EXPECT_THROW(o.validate(), InvalidInput);
+}
+
+}  // namespace
+}  // namespace mapnav
