@@ -1,0 +1,34 @@
+#pragma once
+// A plain 8-bit image, so that camera frames and masks cross module boundaries without OpenCV in
+// any public header.
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace mapnav {
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  int channels = 3;                 ///< 3: RGB, 1: grey (masks)
+  std::vector<std::uint8_t> data;   ///< row-major, channels interleaved, no padding
+
+  Image() = default;
+  Image(int w, int h, int c) : width(w), height(h), channels(c), data(static_cast<std::size_t>(w) * h * c, 0) {}
+  bool empty() const { return data.empty(); }
+  std::uint8_t* pixel(int x, int y) { return data.data() + (static_cast<std::size_t>(y) * width + x) * channels; }
+  const std::uint8_t* pixel(int x, int y) const {
+    return data.data() + (static_cast<std::size_t>(y) * width + x) * channels;
+  }
+  bool operator==(const Image&) const = default;
+};
+
+/// Reads a PNG (8-bit grey or RGB; RGBA loses its alpha). Throws IoError when the file cannot be
+/// read, InvalidInput naming the file when it is not a decodable PNG.
+Image readPng(const std::filesystem::path& path);
+/// Writes a PNG atomically (deterministic bytes for the same image). Throws IoError.
+void writePng(const Image& image, const std::filesystem::path& path);
+/// PNG bytes in memory.
+std::vector<std::uint8_t> encodePng(const Image& image);
+
+}  // namespace mapnav
