@@ -1,6 +1,9 @@
 #include "mapnav/geometry/pose2.h"
 
+#include <array>
+#include <charconv>
 #include <cmath>
+#include <limits>
 
 #include "mapnav/geometry/types.h"
 
@@ -32,6 +35,27 @@ void vCoefficients(double theta, double& sinByTheta, double& oneMinusCosByTheta)
 }
 
 }  // namespace
+
+double degreesFor(double radians) {
+  if (radians == 0.0 || !std::isfinite(radians)) return radians;  // keeps 0 (and -0) as it is
+  const double nearest = radToDeg(radians);
+  auto length = [](double value) {  // characters of the shortest round-trip text
+    std::array<char, 64> buffer{};
+    return static_cast<std::size_t>(std::to_chars(buffer.data(), buffer.data() + buffer.size(), value).ptr - buffer.data());
+  };
+  double best = nearest;
+  std::size_t best_length = std::numeric_limits<std::size_t>::max();
+  double candidate = nearest;
+  for (int k = 0; k < 8; ++k) candidate = std::nextafter(candidate, -std::numeric_limits<double>::infinity());
+  for (int k = 0; k <= 16; ++k, candidate = std::nextafter(candidate, std::numeric_limits<double>::infinity())) {
+    if (degToRad(candidate) != radians) continue;
+    if (length(candidate) < best_length) {
+      best = candidate;
+      best_length = length(candidate);
+    }
+  }
+  return best;
+}
 
 Pose2::Pose2(double x, double y, double heading) : t_(x, y), heading_(normalizeAngle(heading)) {}
 

@@ -139,25 +139,6 @@ std::optional<CameraMount> readMount(const Json& value, const std::string& point
   return mount;
 }
 
-/// Degrees for `radians` that degToRad turns back into exactly `radians` when there are such (the
-/// shortest one), else the nearest.
-double degreesFor(double radians) {
-  if (radians == 0.0) return radians;  // keeps 0 (and −0) as it is
-  const double nearest = radToDeg(radians);
-  double best = nearest;
-  std::size_t best_length = std::numeric_limits<std::size_t>::max();
-  double candidate = nearest;
-  for (int k = 0; k < 8; ++k) candidate = std::nextafter(candidate, -std::numeric_limits<double>::infinity());
-  for (int k = 0; k <= 16; ++k, candidate = std::nextafter(candidate, std::numeric_limits<double>::infinity())) {
-    if (degToRad(candidate) != radians) continue;
-    const std::size_t length = numberText(candidate).size();
-    if (length < best_length) {
-      best = candidate;
-      best_length = length;
-    }
-  }
-  return best;
-}
 
 }  // namespace
 

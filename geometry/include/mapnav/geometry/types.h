@@ -21,6 +21,11 @@ inline constexpr double kPi = 3.14159265358979323846;
 inline double degToRad(double deg) { return deg * kPi / 180.0; }
 inline double radToDeg(double rad) { return rad * 180.0 / kPi; }
 
+/// Degrees for `radians` that degToRad turns back into exactly `radians`, the shortest such decimal
+/// when there is one, else the nearest: what files written in degrees (cameras, logs) store, so
+/// that they read back to the same radians.
+double degreesFor(double radians);
+
 /// The angle wrapped into (-pi, pi].
 double normalizeAngle(double radians);
 

@@ -1,0 +1,31 @@
+#pragma once
+// `mapnav log info` and `mapnav log frame`: looking into a replay log (docs/replay-log-format.md).
+#include <cstddef>
+#include <iosfwd>
+#include <string>
+
+namespace mapnav::cli {
+
+struct LogInfoConfig {
+  std::string dir;    ///< the log folder
+  bool json = false;  ///< print the summary as one JSON object instead of text
+};
+
+/// `mapnav log info DIR`: frames, duration, mean frame rate, odometry distance, which of truth /
+/// GNSS / masks the frames carry, the camera and the map. Exit 0; 1 when the log is invalid (the
+/// issues on `err`); 2 when it cannot be read.
+int runLogInfo(const LogInfoConfig& config, std::ostream& out, std::ostream& err);
+
+struct LogFrameConfig {
+  std::string dir;         ///< the log folder
+  std::size_t index = 0;   ///< 0-based frame number
+  std::string output;      ///< the PNG to write (required)
+};
+
+/// `mapnav log frame DIR N -o OUT.png`: frame N with its ground-truth road mask overlaid (road
+/// pixels blended 40 % towards magenta (255, 0, 255), the road's outline drawn in magenta). A frame
+/// without a mask is written as it is, with a note on `err` (exit 0). Exit 1 when N is out of range
+/// or the log is invalid, 2 on I/O errors or without an output.
+int runLogFrame(const LogFrameConfig& config, std::ostream& out, std::ostream& err);
+
+}  // namespace mapnav::cli
