@@ -1,0 +1,151 @@
+#pragma once
+// The synthetic world: realistic camera frames, with a ground-truth road mask, rendered from a map
+// (Wallace et al. 1985, 3 and 3.4: concrete sidewalks between lawns with cracks, dust and gaps
+// between slabs; an asphalt park path partly shaded by trees, shadows C1 = k·C2 tinted toward the
+// skylight, fallen leaves, a TV camera of small dynamic range whose colour drifts in transmission).
+//
+// The world is flat (the local ground plane): every pixel whose ray meets the ground shows the
+// ground point's procedural texture, every other pixel the sky. Texture is a seeded function of the
+// world point (continuous in world coordinates, so consecutive frames agree as the vehicle moves);
+// nothing is stored per texel. Rendering is deterministic: the same map, options, camera, pose and
+// time give byte-identical frames.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "mapnav/geometry/camera.h"
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/map/map.h"
+#include "mapnav/sim/image.h"
+
+namespace mapnav {
+
+struct WorldOptions {
+  /// Seeds every random effect (texture, cracks, trees, leaves, sensor noise).
+  std::uint64_t seed = 1;
+
+  // --- Pavement --------------------------------------------------------------------------------
+  /// Scales the texture noise of concrete and asphalt (mottling and grain; 1 = the surface's
+  /// `spread` from the map, 0 = flat colour). ≥ 0.
+  double pavement_noise = 1.0;
+  /// Distance between the gaps of concrete slabs along a road (and the slab grid of concrete
+  /// intersections), m; 0 = no gaps. ≥ 0.
+  double slab_spacing_m = 1.5;
+  /// Width of a gap between slabs, m. > 0.
+  double slab_gap_width_m = 0.02;
+  /// A gap's colour is (1 − this) × the concrete's: 0 = invisible, 1 = black. In [0, 1].
+  double slab_gap_darkness = 0.55;
+  /// Fraction of concrete slabs (and of asphalt area) that is cracked. In [0, 1].
+  double crack_density = 0.3;
+  /// Brownish dust and stains on pavement, 0 = clean, 1 = strong. In [0, 1].
+  double dust = 0.4;
+
+  // --- Shoulders ---------------------------------------------------------------------------------
+  /// Scales the texture of grass, dirt, gravel and brick (1 = the map's `spread`). ≥ 0.
+  double ground_noise = 1.0;
+  /// How far from a road's edge its `left`/`right` shoulder surface reaches before the lawn
+  /// ("grass", when the map has it) takes over, m. ≥ 0.
+  double shoulder_width_m = 2.5;
+
+  // --- Illumination ------------------------------------------------------------------------------
+  /// Fraction of the ground near roads in tree shadow (seeded canopies: clusters of discs beside
+  /// roads). 0 = no trees; ≥ 0.999 = every ground point is in full shadow (a test hook). In [0, 1].
+  double shadow_density = 0.2;
+  /// Shadowed colour = k × sunlit colour (the paper's C1 = k·C2), before the blue shift. In (0, 1].
+  double shadow_k = 0.45;
+  /// Skylight tint of shadows: the shadowed colour is multiplied per channel by
+  /// (1 − b, 1, 1 + b). 0 = pure k·C. In [0, 1).
+  double shadow_blue_shift = 0.12;
+  /// Fraction of the ground covered by fallen leaves (more under trees). In [0, 1].
+  double leaf_density = 0.02;
+  /// Relative amplitude of the slow brightness drift along a mission: brightness gain
+  /// 1 + a·sin(2π t / period). In [0, 1).
+  double illumination_drift = 0.08;
+  /// Relative amplitude of the white-balance drift: channel gains (1 + w·s, 1, 1 − w·s) with
+  /// s = sin(2π t / (1.618 · period)). In [0, 1).
+  double white_balance_drift = 0.04;
+  /// Period of both drifts, s. > 0.
+  double illumination_period_s = 120.0;
+  /// Aerial perspective: ground at range d blends toward the horizon haze by 1 − exp(−d / this),
+  /// m; 0 = no haze. ≥ 0.
+  double haze_distance_m = 700.0;
+
+  // --- Camera --------------------------------------------------------------------------------------
+  /// Standard deviation of the sensor noise, 8-bit levels (0 = none). ≥ 0.
+  double noise_sigma = 2.0;
+  /// The paper's TV transmission (3.4.2): chroma turned by tv_hue_shift_rad (plus a slow wobble of
+  /// ±0.05 rad), scaled by tv_chroma_gain and blurred horizontally over ±tv_chroma_blur_px pixels.
+  bool tv_color_shift = false;
+  double tv_hue_shift_rad = 0.15;  ///< finite
+  double tv_chroma_gain = 0.85;    ///< in [0, 2]
+  int tv_chroma_blur_px = 2;       ///< in [0, 16]
+  /// The paper's TV camera of 7:1 dynamic range (3.4.3): every channel is clipped to [37, 255], so
+  /// shadows on dark surfaces become flat splotches of black level and max/min ≤ 255/37 < 7.
+  bool low_dynamic_range = false;
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+};
+
+/// One rendered camera frame.
+struct Frame {
+  Image rgb;   ///< 3 channels
+  Image mask;  ///< 1 channel: 255 where the pixel's ground point is on a road or intersection's
+               ///< paved area, 0 elsewhere (shoulders, sky, outside the lens' field)
+};
+
+/// For each pixel of a camera, the ground point (vehicle frame) its centre's ray meets, or the sky.
+/// Build once per camera and keep: a frame is then a transform plus lookups.
+class RayTable {
+ public:
+  enum class Kind : std::uint8_t { None, Ground, Sky };
+  struct Ray {
+    float x = 0, y = 0;      ///< Ground: the vehicle-frame ground point, m
+    float footprint = 0;     ///< Ground: the pixel's size on the ground (its longer side), m
+    float range = 0;         ///< Ground: distance from the optical centre, m
+    float elevation = 0;     ///< Sky: the ray's angle above the horizon, rad
+    Kind kind = Kind::None;  ///< None: outside the lens' field (black)
+  };
+
+  explicit RayTable(const Camera& camera);
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const std::vector<Ray>& rays() const { return rays_; }
+  const Ray& at(int u, int v) const { return rays_[static_cast<std::size_t>(v) * width_ + u]; }
+  /// True when built for a camera with this model, intrinsics and mount.
+  bool matches(const Camera& camera) const;
+
+ private:
+  LensModel model_;
+  CameraIntrinsics intrinsics_;
+  CameraMount mount_;
+  int width_ = 0, height_ = 0;
+  std::vector<Ray> rays_;
+};
+
+class World {
+ public:
+  /// Copies what it needs from the map (the map need not outlive the world). Validates options.
+  World(const Map& map, const WorldOptions& options = {});
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+
+  /// The frame a camera on a vehicle at `pose` (world frame) sees at mission time t (s). The ray
+  /// table is cached per camera (model, intrinsics, mount; the last few cameras). Thread-safe.
+  Frame render(const Camera& camera, const Pose2& pose, double t) const;
+  /// Same, with a ray table the caller keeps.
+  Frame render(const RayTable& rays, const Pose2& pose, double t) const;
+
+  /// Ground truth at a world point: on a road's or an intersection's paved area.
+  bool isPaved(const Vec2& world_point) const;
+  /// How much a world point is in tree shadow: 0 sunlit … 1 full shadow.
+  double shadowAt(const Vec2& world_point) const;
+  const WorldOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mapnav
