@@ -10,6 +10,8 @@
 #include "map_commands.h"
 #include "predict_command.h"
 #include "route_command.h"
+#include "simulate_command.h"
+#include "log_command.h"
 #include "mapnav/core/error.h"
 
 namespace mapnav::cli {
@@ -168,6 +170,37 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
       return runRoute(route, out, err);
     };
   });
+
+  SimulateConfig simulate;
+  std::int64_t simulate_seed = -1;
+  CLI::App* sim = app.add_subcommand("simulate", "Drive a mission in the synthetic world and write its replay log");
+  sim->add_option("--mission", simulate.mission, "Mission file (mapnav-mission/1, docs/mission-format.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sim->add_option("-o,--output", simulate.output, "Log folder to write (must not exist, or be empty)")->required();
+  sim->add_option("--seed", simulate_seed, "Seed for the world and the odometry noise (default: the mission's)")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{9007199254740991}));
+  sim->add_option("--max-frames", simulate.max_frames, "Stop after this many frames (default: drive to the goal)");
+  sim->footer("The same mission and seed give the same bytes. Exit codes: 0 written, 1 invalid mission or no route,\n"
+              "2 usage or I/O error (nothing is left in the output folder on failure).");
+  sim->callback([&] {
+    if (simulate_seed >= 0) simulate.seed = static_cast<std::uint64_t>(simulate_seed);
+    command = [&] { return runSimulate(simulate, out, err); };
+  });
+
+  CLI::App* log = app.add_subcommand("log", "Inspect replay logs (docs/replay-log-format.md)");
+  log->require_subcommand(1);
+  LogInfoConfig log_info;
+  CLI::App* li = log->add_subcommand("info", "Summarise a log: frames, duration, distance, camera, ground truth");
+  li->add_option("dir", log_info.dir, "Log folder")->required()->check(CLI::ExistingDirectory);
+  li->add_flag("--json", log_info.json, "Print one JSON object");
+  li->callback([&] { command = [&] { return runLogInfo(log_info, out, err); }; });
+  LogFrameConfig log_frame;
+  CLI::App* lf = log->add_subcommand("frame", "Write frame N with its ground-truth road mask overlaid");
+  lf->add_option("dir", log_frame.dir, "Log folder")->required()->check(CLI::ExistingDirectory);
+  lf->add_option("index", log_frame.index, "Frame number, from 0")->required();
+  lf->add_option("-o,--output", log_frame.output, "PNG to write")->required();
+  lf->callback([&] { command = [&] { return runLogFrame(log_frame, out, err); }; });
 
   try {
     app.parse(argc, argv);

@@ -275,5 +275,34 @@ TEST(Cli, RouteThatCannotBeFoundExitsOneWithTheReason) {
   EXPECT_EQ(runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "-o", "x.txt"}).exit_code, 2);
 }
 
+TEST(Cli, SimulateThenInspectTheLog) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string mission = str(testing::mapPath("missions/campus_dialogue.json"));
+  const auto sim = runCli({"simulate", "--mission", mission, "-o", str(dir / "log"), "--max-frames", "4", "--seed", "3"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_NE(sim.out.find("4 frames"), std::string::npos) << sim.out;
+  const auto info = runCli({"log", "info", str(dir / "log"), "--json"});
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_EQ(nlohmann::json::parse(info.out)["frames"], 4);
+  const auto frame = runCli({"log", "frame", str(dir / "log"), "2", "-o", str(dir / "f2.png")});
+  ASSERT_EQ(frame.exit_code, 0) << frame.err;
+  EXPECT_EQ(readFile(dir / "f2.png").substr(1, 3), "PNG");
+  EXPECT_EQ(runCli({"log", "frame", str(dir / "log"), "9", "-o", str(dir / "f9.png")}).exit_code, 1);
+  EXPECT_FALSE(fs::exists(dir / "f9.png"));
+  // Writing over a log that is there is refused, and leaves it as it was.
+  const auto again = runCli({"simulate", "--mission", mission, "-o", str(dir / "log"), "--max-frames", "1"});
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_EQ(nlohmann::json::parse(runCli({"log", "info", str(dir / "log"), "--json"}).out)["frames"], 4);
+}
+
+TEST(Cli, ABadMissionExitsOneNamingTheProblem) {
+  const fs::path dir = testing::freshTempDir();
+  writeFileAtomic(dir / "m.json", std::string_view(R"({"format": "mapnav-mission/1", "map": "x.json", "camera": "y.json", "start": "R1@I1+3", "goal": "R3@I3+2"})"));
+  const auto r = runCli({"simulate", "--mission", str(dir / "m.json"), "-o", str(dir / "log")});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("m.json:/map: error: mission.missing_file"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "log"));
+}
+
 }  // namespace
 }  // namespace mapnav

@@ -1,0 +1,80 @@
+#include "mapnav/mission/mission_file.h"
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/io.h"
+#include "mapnav/core/json.h"
+
+namespace mapnav {
+
+MissionFile loadMission(const std::filesystem::path& path) {
+  const std::string text = readFile(path);
+  Issues issues;
+  const auto json = parseJson(text, issues);
+  MissionFile m;
+  if (json) {
+    JsonObject top(*json, "", issues);
+    if (const auto format = top.string("format"); format && *format != kMissionFormat) {
+      addIssue(issues, Severity::Error, "schema.format", "/format",
+               "unknown format \"" + *format + "\"; expected \"" + std::string(kMissionFormat) + "\"");
+    }
+    m.name = top.string("name", false).value_or(path.stem().string());
+    const std::filesystem::path folder = path.parent_path();
+    for (const auto& [key, target] : {std::pair{"map", &m.map}, std::pair{"camera", &m.camera}}) {
+      if (const auto file = top.string(key)) {
+        *target = folder / *file;
+        if (!std::filesystem::is_regular_file(*target)) {
+          addIssue(issues, Severity::Error, "mission.missing_file", top.pointer(key),
+                   "\"" + *file + "\" (" + target->string() + ") does not exist");
+        }
+      }
+    }
+    for (const auto& [key, target] : {std::pair{"start", &m.start}, std::pair{"goal", &m.goal}}) {
+      if (const auto position = top.string(key)) {
+        try {
+          *target = parseRoadPosition(*position);
+        } catch (const InvalidInput& e) {
+          addIssue(issues, Severity::Error, "mission.road_position", top.pointer(key), e.what());
+        }
+      }
+    }
+    if (const Json* via = top.member("via", false)) {
+      if (!via->is_array()) {
+        addIssue(issues, Severity::Error, "schema.type", top.pointer("via"), "expected an array of road positions");
+      } else {
+        for (std::size_t i = 0; i < via->size(); ++i) {
+          const std::string where = pointerJoin(top.pointer("via"), i);
+          try {
+            if (!(*via)[i].is_string()) throw InvalidInput("expected a road position like R1@I1+3");
+            m.via.push_back(parseRoadPosition((*via)[i].get<std::string>()));
+          } catch (const InvalidInput& e) {
+            addIssue(issues, Severity::Error, "mission.road_position", where, e.what());
+          }
+        }
+      }
+    }
+    m.speed_mps = top.number("speed_mps", false, 0.01, 5.0).value_or(m.speed_mps);
+    m.frame_rate_hz = top.number("frame_rate_hz", false, 0.01, 100.0).value_or(m.frame_rate_hz);
+    m.wander_m = top.number("wander_m", false, 0.0, 5.0).value_or(m.wander_m);
+    // Blocks read by the modules that own them; here only their shape is checked.
+    for (const auto& [key, target] : {std::pair{"world", &m.world_json}, std::pair{"odometry", &m.odometry_json}}) {
+      if (const Json* block = top.member(key, false)) {
+        if (block->is_object()) {
+          *target = block->dump();
+        } else {
+          addIssue(issues, Severity::Error, "schema.type", top.pointer(key), "expected an object");
+        }
+      }
+    }
+    if (const Json* vision = top.member("vision", false)) {
+      JsonObject v(*vision, top.pointer("vision"), issues);
+      m.vision_pipeline = v.string("pipeline", false).value_or("");
+      if (const Json* options = v.member("options", false)) m.vision_options_json = options->dump();
+      v.rejectUnknownMembers();
+    }
+    top.rejectUnknownMembers();
+  }
+  if (hasErrors(issues)) throw ValidationError(path.string(), std::move(issues));
+  return m;
+}
+
+}  // namespace mapnav

@@ -1,0 +1,38 @@
+#pragma once
+// Odometry as a real vehicle's wheel encoders and gyro report it: a scale error on distance, a
+// constant gyro bias, and white noise on both, so that dead reckoning drifts.
+#include <cstdint>
+#include <random>
+#include <string>
+
+#include "mapnav/sim/replay_log.h"
+
+namespace mapnav {
+
+struct OdometryNoiseOptions {
+  std::uint64_t seed = 1;          ///< the same seed gives the same noise
+  double scale_error = 0.0;        ///< relative distance error of the encoders (0.01: 1 % long)
+  double gyro_bias_deg_s = 0.0;    ///< constant heading-rate bias, degrees per second
+  double distance_sigma_m = 0.0;   ///< white noise on each interval's distance, m
+  double heading_sigma_deg = 0.0;  ///< white noise on each interval's heading change, degrees
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+};
+
+/// Reads an `odometry` block of a mission ({"seed": 7, "scale_error": 0.01, ...}); unknown
+/// members and bad values are issues with pointers under `pointer`.
+OdometryNoiseOptions parseOdometryNoise(const std::string& json, const std::string& pointer, Issues& issues);
+
+class OdometrySensor {
+ public:
+  explicit OdometrySensor(const OdometryNoiseOptions& options);
+  /// What the sensors report for a true motion of `distance_m` and `dheading_rad` over `dt` s.
+  Odometry measure(double distance_m, double dheading_rad, double dt);
+
+ private:
+  OdometryNoiseOptions options_;
+  std::mt19937_64 rng_;
+};
+
+}  // namespace mapnav

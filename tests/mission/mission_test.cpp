@@ -1,0 +1,113 @@
+#include "mapnav/mission/simulate.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/io.h"
+#include "mapnav/sim/replay_log.h"
+#include "mapnav/testing/support.h"
+
+namespace mapnav {
+namespace {
+namespace fs = std::filesystem;
+
+MissionFile mission(const std::string& name) { return loadMission(testing::mapPath("missions/" + name)); }
+
+TEST(ExampleMissions, CampusDialogueIsThePapersDialogue) {
+  const MissionFile m = mission("campus_dialogue.json");
+  EXPECT_EQ(toString(m.start), "R1@I1+3");
+  EXPECT_EQ(toString(m.goal), "R3@I3+2");
+  EXPECT_TRUE(fs::is_regular_file(m.map));
+  EXPECT_TRUE(fs::is_regular_file(m.camera));
+}
+
+TEST(ExampleMissions, TheTourPassesEightIntersectionsAndTheParkLoopCoversEightHundredMetres) {
+  const fs::path dir = testing::freshTempDir();
+  SimulateOptions one_frame;
+  one_frame.max_frames = 1;
+  const SimulateResult tour = simulate(mission("campus_tour.json"), dir / "tour", one_frame);
+  EXPECT_GE(std::set<std::string>(tour.intersections.begin(), tour.intersections.end()).size(), 8u);
+  const SimulateResult park = simulate(mission("park_loop.json"), dir / "park", one_frame);
+  EXPECT_GE(park.route_length_m, 800.0);
+  EXPECT_EQ(park.frames, 1u);
+}
+
+TEST(Simulate, WritesALogWithTruthOdometryAndMasksThatReadsBack) {
+  const fs::path dir = testing::freshTempDir();
+  SimulateOptions options;
+  options.max_frames = 6;
+  const SimulateResult r = simulate(mission("campus_dialogue.json"), dir / "log", options);
+  EXPECT_EQ(r.frames, 6u);
+  const ReplayLog log = ReplayLog::open(dir / "log", ReadOptions{false, true});
+  ASSERT_EQ(log.frames().size(), 6u);
+  EXPECT_NEAR(log.frames()[1].t - log.frames()[0].t, 0.5, 1e-9);  // 2 Hz
+  double odometry = 0;
+  for (const LogFrame& f : log.frames()) {
+    ASSERT_TRUE(f.truth);
+    ASSERT_TRUE(f.mask);
+    odometry += f.odometry.distance_m;
+  }
+  // 0.6 m/s for 2.5 s from a standstill (0.5 m/s^2): about 1.2 m, with a 1 % scale error.
+  const double truth = (log.frames().back().truth->translation() - log.frames().front().truth->translation()).norm();
+  EXPECT_NEAR(odometry, truth * 1.01, 0.05);
+  EXPECT_GT(truth, 0.8);
+  // The first frame's truth is the mission's start: 3 m from I1 along R1.
+  EXPECT_VEC2_NEAR(log.frames()[0].truth->translation(), Vec2(53, 40), 0.2);
+}
+
+TEST(Simulate, TheSameSeedGivesTheSameBytesAndAnotherSeedOtherTextures) {
+  const fs::path dir = testing::freshTempDir();
+  SimulateOptions options;
+  options.max_frames = 2;
+  options.seed = 5;
+  simulate(mission("campus_dialogue.json"), dir / "a", options);
+  simulate(mission("campus_dialogue.json"), dir / "b", options);
+  options.seed = 6;
+  simulate(mission("campus_dialogue.json"), dir / "c", options);
+  for (const char* file : {"frames.jsonl", "images/000001.png", "masks/000001.png"}) {
+    EXPECT_EQ(readFile(dir / "a" / file), readFile(dir / "b" / file)) << file;
+  }
+  EXPECT_NE(readFile(dir / "a/images/000001.png"), readFile(dir / "c/images/000001.png"));
+  EXPECT_EQ(readFile(dir / "a/masks/000001.png"), readFile(dir / "c/masks/000001.png"));  // the road is the road
+}
+
+TEST(LoadMission, ReportsEveryProblemWithItsPointer) {
+  const fs::path dir = testing::freshTempDir();
+  writeFileAtomic(dir / "m.json", std::string_view(R"({"format": "mapnav-mission/1", "map": "nowhere.json",
+    "camera": "../x.json", "start": "R1@I1", "goal": "R3@I3+2", "via": ["R1@I1+1", 7], "speed_mps": 0,
+    "world": [], "colour": "blue"})"));
+  try {
+    loadMission(dir / "m.json");
+    FAIL();
+  } catch (const ValidationError& e) {
+    std::vector<std::pair<std::string, std::string>> got;
+    for (const Issue& issue : e.issues()) got.emplace_back(issue.check, issue.where);
+    const std::vector<std::pair<std::string, std::string>> expected{
+        {"mission.missing_file", "/map"},          {"mission.missing_file", "/camera"},
+        {"mission.road_position", "/start"},       {"mission.road_position", "/via/1"},
+        {"schema.range", "/speed_mps"},            {"schema.type", "/world"},
+        {"schema.unknown_field", "/colour"},
+    };
+    EXPECT_EQ(got, expected);
+  }
+}
+
+TEST(Simulate, ABadWorldBlockOrAnExistingLogLeavesNothingBehind) {
+  const fs::path dir = testing::freshTempDir();
+  MissionFile m = mission("campus_dialogue.json");
+  m.world_json = R"({"shadow_k": 3, "sunshine": 1})";
+  EXPECT_THROW(simulate(m, dir / "log"), ValidationError);
+  EXPECT_FALSE(fs::exists(dir / "log"));
+  fs::create_directories(dir / "full");
+  writeFileAtomic(dir / "full" / "keep.txt", std::string_view("x"));
+  SimulateOptions one;
+  one.max_frames = 1;
+  EXPECT_THROW(simulate(mission("campus_dialogue.json"), dir / "full", one), IoError);
+  EXPECT_EQ(readFile(dir / "full" / "keep.txt"), "x");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1) << "no partial folders left";
+}
+
+}  // namespace
+}  // namespace mapnav
