@@ -1,0 +1,41 @@
+#pragma once
+// DetectedObject: Vision → Map (Wallace 1985, 2.1.1): what Vision found in one frame — the road
+// region, the edge lines with the predicted interest segment each one matches, the centre line —
+// in image and vehicle (ground-plane) coordinates.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/segment2.h"
+#include "mapnav/geometry/types.h"
+
+namespace mapnav {
+
+struct DetectedLine {
+  std::optional<std::string> label;  ///< the predicted segment id it matches ("R1.left.0"), or none
+  double score = 0;                  ///< how well it matches, 0..1 (0 when unlabelled)
+  Segment2 image;                    ///< pixels
+  Segment2 vehicle;                  ///< metres on the ground, vehicle frame
+  bool frame_edge = false;           ///< part of the image border, never a road edge
+};
+
+struct DetectedObject {
+  double timestamp = 0;
+  enum class Status { Ok, Failed };
+  Status status = Status::Ok;
+  std::string reason;                ///< why it failed ("no road-coloured pixels", "frame over-exposed")
+  double confidence = 0;             ///< 0..1
+  Polygon2 region_image;             ///< the road region, pixels
+  Polygon2 region_vehicle;           ///< the same on the ground, vehicle frame (empty where above the horizon)
+  std::vector<DetectedLine> lines;
+  std::optional<Segment2> centerline_vehicle;  ///< when the pipeline finds one
+
+  static DetectedObject failed(std::string why) {
+    DetectedObject d;
+    d.status = Status::Failed;
+    d.reason = std::move(why);
+    return d;
+  }
+};
+
+}  // namespace mapnav

@@ -1,0 +1,64 @@
+#pragma once
+// The Vision module behind an interface (OpenCV's Algorithm + create...() style): a pipeline is
+// configured from JSON options, then turns a camera frame and the Map's prediction into a
+// DetectedObject. Pipelines register by name; more come from shared-library plug-ins.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/camera.h"
+#include "mapnav/vision_iface/detected_object.h"
+#include "mapnav/vision_iface/predicted_object.h"
+
+namespace mapnav {
+
+/// A camera frame as Vision sees it: 8-bit RGB, row-major, no padding, and the camera that took it.
+struct VisionFrame {
+  int width = 0, height = 0;
+  const std::uint8_t* rgb = nullptr;  ///< width × height × 3 bytes, owned by the caller
+  const Camera* camera = nullptr;     ///< for ground-plane coordinates
+  double timestamp = 0;
+};
+
+/// One documented option of a pipeline, for `mapnav pipelines` and validation messages.
+struct OptionInfo {
+  std::string name;
+  std::string default_json;  ///< the default, as JSON text
+  std::string description;
+};
+
+class VisionPipeline {
+ public:
+  virtual ~VisionPipeline() = default;
+  /// The registered name ("color-classifier", "blue-band", ...).
+  virtual std::string name() const = 0;
+  /// Sets options from a JSON object (members absent keep their defaults). Throws InvalidInput
+  /// naming the option and its bad value.
+  virtual void configure(const std::string& options_json) = 0;
+  /// The frame and the prediction for it → what was found. Never throws for bad image content:
+  /// an unusable frame is a DetectedObject with status Failed and a reason.
+  virtual DetectedObject detect(const VisionFrame& frame, const PredictedObject& prediction) = 0;
+  /// Forgets what was learnt from earlier frames (adaptive colour models).
+  virtual void reset() = 0;
+};
+
+struct PipelineInfo {
+  std::string name;
+  std::string description;
+  std::vector<OptionInfo> options;
+  std::function<std::unique_ptr<VisionPipeline>()> create;
+};
+
+/// Adds a pipeline to the registry (replacing one of the same name).
+void registerPipeline(PipelineInfo info);
+/// Everything registered, built-in pipelines first, sorted by name within each origin.
+std::vector<PipelineInfo> listPipelines();
+/// A new pipeline by name, configured with `options_json`. Throws NotFound listing the names.
+std::unique_ptr<VisionPipeline> createPipeline(const std::string& name, const std::string& options_json = "{}");
+/// Loads a plug-in: a shared library exporting `extern "C" int mapnav_register_pipelines(void)`
+/// (see examples/); returns how many pipelines it registered. Throws IoError / InvalidInput naming
+/// the file.
+int loadPlugin(const std::string& path);
+
+}  // namespace mapnav
