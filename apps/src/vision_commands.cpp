@@ -1,0 +1,100 @@
+#include "vision_commands.h"
+
+#include <cctype>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "command_support.h"
+#include "mapnav/core/error.h"
+#include "mapnav/core/io.h"
+#include "mapnav/map/camera_io.h"
+#include "mapnav/sim/image.h"
+#include "mapnav/vision/calibrate.h"
+
+namespace mapnav::cli {
+
+namespace {
+
+// PNGs through the project's reader; anything else (JPEG, ...) through OpenCV's.
+Image readAnyImage(const std::string& file) {
+  const std::filesystem::path path(file);
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png" ? readPng(path) : readImageFile(path);
+}
+
+void requireOutput(const std::string& output, const char* option) {
+  if (output.empty()) throw InvalidInput(std::string("missing ") + option + ": where to write the result");
+}
+
+}  // namespace
+
+int runRectify(const RectifyConfig& config, std::ostream& out, std::ostream& err) {
+  return guarded(err, [&] {
+    requireOutput(config.output, "--output");
+    config.options.validate();
+    const std::unique_ptr<Camera> camera = loadCamera(config.camera);
+    const Image frame = readAnyImage(config.image);
+    if (frame.width != camera->width() || frame.height != camera->height()) {
+      throw InvalidInput(config.image + ": the image is " + std::to_string(frame.width) + "x" +
+                         std::to_string(frame.height) + ", the camera (" + config.camera + ") expects " +
+                         std::to_string(camera->width()) + "x" + std::to_string(camera->height()));
+    }
+    const Rectifier rectifier(*camera, config.options);
+    const Image rectified = rectifier.apply(frame);
+    writePng(rectified, config.output);
+    const RectifyOptions& o = config.options;
+    out << "wrote " << config.output << ": " << rectified.width << "x" << rectified.height << " px, "
+        << o.metres_per_pixel << " m/px, x " << o.x_max_m << " (top) to " << o.x_min_m << " m (bottom), y "
+        << o.y_max_m << " (left) to " << o.y_min_m << " m (right); " << std::fixed << std::setprecision(1)
+        << 100.0 * rectifier.coverage() << "% of the grid in view\n";
+    return 0;
+  });
+}
+
+int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream& out, std::ostream& err) {
+  return guarded(err, [&] {
+    requireOutput(config.output, "--output");
+    if (config.images.empty()) throw InvalidInput("no images given");
+    std::vector<Image> images;
+    images.reserve(config.images.size());
+    for (const std::string& file : config.images) images.push_back(readAnyImage(file));
+    const ChessboardResult result =
+        calibrateChessboard(images, config.cols, config.rows, config.square_m, config.images);
+
+    if (!config.corners_dir.empty()) {
+      std::filesystem::create_directories(config.corners_dir);
+      for (std::size_t i = 0; i < images.size(); ++i) {
+        const auto corners = findChessboard(images[i], config.cols, config.rows);
+        const Image drawn =
+            drawChessboardCorners(images[i], config.cols, config.rows, corners.value_or(std::vector<Vec2>{}), corners.has_value());
+        const std::filesystem::path name =
+            std::filesystem::path(config.corners_dir) /
+            (std::filesystem::path(config.images[i]).stem().string() + "_corners.png");
+        writePng(drawn, name);
+      }
+    }
+
+    const std::unique_ptr<Camera> camera = createCamera(LensModel::Pinhole, result.intrinsics, CameraMount{});
+    writeFileAtomic(config.output, cameraToJson(*camera, "chessboard calibration"));
+
+    const CameraIntrinsics& in = result.intrinsics;
+    out << std::fixed << std::setprecision(3);
+    out << "calibrated from " << result.images_used << " of " << images.size() << " images (" << in.width << "x"
+        << in.height << ")\n";
+    for (const std::string& r : result.rejected) out << "  skipped " << r << "\n";
+    out << "focal " << in.fx << ", " << in.fy << " px; principal point " << in.cx << ", " << in.cy << " px\n";
+    out << std::setprecision(6) << "distortion k1 k2 p1 p2 k3: " << in.distortion[0] << " " << in.distortion[1] << " "
+        << in.distortion[2] << " " << in.distortion[3] << " " << in.distortion[4] << "\n";
+    out << std::setprecision(4) << "RMS reprojection error " << result.rms_reprojection_px << " px\n";
+    out << "wrote " << config.output
+        << ": the mount (x, y, height_m, tilt_deg, roll_deg, yaw_deg) is a default, not measured: fill it in "
+           "(the tilt can be found from two ground-parallel lines, Wallace 1985, 3.5.2)\n";
+    if (!config.corners_dir.empty()) out << "corners drawn in " << config.corners_dir << "\n";
+    return 0;
+  });
+}
+
+}  // namespace mapnav::cli

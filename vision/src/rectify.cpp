@@ -1,0 +1,121 @@
+#include "mapnav/vision/rectify.h"
+
+#include <cmath>
+#include <string>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/options.h"
+
+namespace mapnav {
+
+namespace {
+constexpr int kMaxSide = 16384;
+
+int cells(double min, double max, double step) {
+  const double n = std::ceil((max - min) / step - 1e-9);
+  return static_cast<int>(n);
+}
+}  // namespace
+
+void RectifyOptions::validate() const {
+  constexpr std::string_view owner = "RectifyOptions";
+  requireOption(std::isfinite(x_min_m), owner, "x_min_m", x_min_m, "finite");
+  requireOption(std::isfinite(x_max_m) && x_max_m > x_min_m, owner, "x_max_m", x_max_m, "finite and > x_min_m");
+  requireOption(std::isfinite(y_min_m), owner, "y_min_m", y_min_m, "finite");
+  requireOption(std::isfinite(y_max_m) && y_max_m > y_min_m, owner, "y_max_m", y_max_m, "finite and > y_min_m");
+  requireOption(std::isfinite(metres_per_pixel) && metres_per_pixel > 0, owner, "metres_per_pixel", metres_per_pixel,
+                "finite and > 0");
+  const double w = (y_max_m - y_min_m) / metres_per_pixel;
+  const double h = (x_max_m - x_min_m) / metres_per_pixel;
+  requireOption(w <= kMaxSide, owner, "metres_per_pixel", metres_per_pixel,
+                "such that (y_max_m - y_min_m) / metres_per_pixel <= 16384");
+  requireOption(h <= kMaxSide, owner, "metres_per_pixel", metres_per_pixel,
+                "such that (x_max_m - x_min_m) / metres_per_pixel <= 16384");
+}
+
+int RectifyOptions::width() const { return cells(y_min_m, y_max_m, metres_per_pixel); }
+int RectifyOptions::height() const { return cells(x_min_m, x_max_m, metres_per_pixel); }
+
+struct Rectifier::Impl {
+  RectifyOptions options;
+  int camera_width = 0, camera_height = 0;
+  cv::Mat map_u, map_v;  // CV_32FC1, rectified size: the source pixel of each grid point (−1 = none)
+  long covered = 0;
+};
+
+Rectifier::Rectifier(const Camera& camera, RectifyOptions options) : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  impl_->options = options;
+  impl_->camera_width = camera.width();
+  impl_->camera_height = camera.height();
+  const int w = options.width(), h = options.height();
+  impl_->map_u.create(h, w, CV_32FC1);
+  impl_->map_v.create(h, w, CV_32FC1);
+  long covered = 0;
+  for (int r = 0; r < h; ++r) {
+    auto* mu = impl_->map_u.ptr<float>(r);
+    auto* mv = impl_->map_v.ptr<float>(r);
+    for (int c = 0; c < w; ++c) {
+      const std::optional<Vec2> px = camera.projectGround(groundAt(c, r));
+      if (px && camera.inImage(*px)) {
+        mu[c] = static_cast<float>(px->x());
+        mv[c] = static_cast<float>(px->y());
+        ++covered;
+      } else {
+        // Far outside any image: remap's constant border gives black.
+        mu[c] = -10.0f;
+        mv[c] = -10.0f;
+      }
+    }
+  }
+  impl_->covered = covered;
+}
+
+Rectifier::~Rectifier() = default;
+Rectifier::Rectifier(Rectifier&&) noexcept = default;
+Rectifier& Rectifier::operator=(Rectifier&&) noexcept = default;
+
+const RectifyOptions& Rectifier::options() const { return impl_->options; }
+int Rectifier::width() const { return impl_->map_u.cols; }
+int Rectifier::height() const { return impl_->map_u.rows; }
+
+Vec2 Rectifier::groundAt(double col, double row) const {
+  const RectifyOptions& o = impl_->options;
+  return {o.x_max_m - (row + 0.5) * o.metres_per_pixel, o.y_max_m - (col + 0.5) * o.metres_per_pixel};
+}
+
+Vec2 Rectifier::pixelAt(const Vec2& ground) const {
+  const RectifyOptions& o = impl_->options;
+  return {(o.y_max_m - ground.y()) / o.metres_per_pixel - 0.5, (o.x_max_m - ground.x()) / o.metres_per_pixel - 0.5};
+}
+
+double Rectifier::coverage() const {
+  const double total = static_cast<double>(width()) * height();
+  return total > 0 ? static_cast<double>(impl_->covered) / total : 0.0;
+}
+
+Image Rectifier::apply(const Image& frame) const {
+  if (frame.width != impl_->camera_width || frame.height != impl_->camera_height) {
+    throw InvalidInput("rectify: the frame is " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+                       ", the camera's image " + std::to_string(impl_->camera_width) + "x" +
+                       std::to_string(impl_->camera_height));
+  }
+  if (frame.channels != 1 && frame.channels != 3) {
+    throw InvalidInput("rectify: the frame has " + std::to_string(frame.channels) + " channels (1 or 3 expected)");
+  }
+  if (frame.data.size() != static_cast<std::size_t>(frame.width) * frame.height * frame.channels) {
+    throw InvalidInput("rectify: the frame's data does not match its size");
+  }
+  const int type = frame.channels == 1 ? CV_8UC1 : CV_8UC3;
+  // remap only reads the source.
+  const cv::Mat src(frame.height, frame.width, type, const_cast<std::uint8_t*>(frame.data.data()));
+  Image out(width(), height(), frame.channels);
+  cv::Mat dst(out.height, out.width, type, out.data.data());
+  cv::remap(src, dst, impl_->map_u, impl_->map_v, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+  return out;
+}
+
+}  // namespace mapnav
