@@ -1,0 +1,136 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "mapnav/core/error.h"
+#include "mapnav/vision/color_classifier.h"
+#include "mapnav/vision/region.h"
+
+namespace mapnav {
+namespace {
+
+// An image: left half grey "concrete", right half green "grass", each with noise; half the
+// concrete darkened as a shadow (k = 0.45) in the top rows.
+std::vector<std::uint8_t> twoTone(int w, int h, bool shadow, std::uint32_t seed = 3) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0, 5);
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      double c[3];
+      if (u < w / 2) c[0] = 178, c[1] = 176, c[2] = 168;
+      else c[0] = 70, c[1] = 120, c[2] = 50;
+      if (shadow && v < h / 2) c[0] *= 0.45, c[1] *= 0.45, c[2] *= 0.45;
+      for (int k = 0; k < 3; ++k)
+        rgb[(static_cast<std::size_t>(v) * w + u) * 3 + k] = static_cast<std::uint8_t>(std::clamp(c[k] + n(rng), 0.0, 255.0));
+    }
+  }
+  return rgb;
+}
+
+TEST(ColorClassifier, SeparatesRoadFromGrassInBothSpaces) {
+  const int w = 64, h = 64;
+  const auto rgb = twoTone(w, h, false);
+  std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) (u < w / 2 - 4 ? road : non)[v * w + u] = (u < w / 2 - 4 || u > w / 2 + 4) ? 1 : 0;
+  for (ColorSpace space : {ColorSpace::RGB, ColorSpace::NormalizedRG}) {
+    ColorClassifierOptions o;
+    o.space = space;
+    o.min_pixels = 50;
+    ColorClassifier c(o);
+    const auto r = c.update(rgb.data(), w, h, road.data(), non.data());
+    EXPECT_TRUE(r.road_accepted && r.nonroad_accepted) << r.note;
+    ASSERT_TRUE(c.trained());
+    EXPECT_GT(c.separation(), 2.0);
+    const auto llr = c.logOdds(rgb.data(), w, h);
+    int errors = 0;
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) errors += (llr[v * w + u] > 0) != (u < w / 2);
+    EXPECT_EQ(errors, 0);
+  }
+}
+
+TEST(ColorClassifier, NormalizedRgIgnoresShadowsWhereRgbDoesNot) {
+  const int w = 64, h = 64;
+  const auto train = twoTone(w, h, false);
+  const auto test = twoTone(w, h, true, 9);
+  std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) (u < w / 2 ? road : non)[v * w + u] = 1;
+  int errs[2] = {0, 0};
+  int idx = 0;
+  for (ColorSpace space : {ColorSpace::RGB, ColorSpace::NormalizedRG}) {
+    ColorClassifierOptions o;
+    o.space = space;
+    o.min_pixels = 50;
+    ColorClassifier c(o);
+    c.update(train.data(), w, h, road.data(), non.data());
+    const auto llr = c.logOdds(test.data(), w, h);
+    for (int v = 0; v < h / 2; ++v)
+      for (int u = 0; u < w / 2; ++u) errs[idx] += llr[v * w + u] <= 0;
+    ++idx;
+  }
+  EXPECT_GT(errs[0], 0.9 * (w / 2) * (h / 2));  // RGB: shadowed concrete is not road
+  EXPECT_LT(errs[1], 0.01 * (w / 2) * (h / 2));  // rg: it is (noise aside)
+}
+
+TEST(ColorClassifier, DriftGuardRefusesAJumpAndTooFewPixels) {
+  const int w = 64, h = 64;
+  const auto rgb = twoTone(w, h, false);
+  std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0), swapped_road(w * h, 0);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      (u < w / 2 ? road : non)[v * w + u] = 1;
+      if (u >= w / 2) swapped_road[v * w + u] = 1;
+    }
+  ColorClassifierOptions o;
+  o.min_pixels = 50;
+  ColorClassifier c(o);
+  c.update(rgb.data(), w, h, road.data(), non.data());
+  const Vec3 before = c.road().mean;
+  // Road labels on grass: the road mean would jump many sigma — refused.
+  auto r = c.update(rgb.data(), w, h, swapped_road.data(), non.data());
+  EXPECT_FALSE(r.road_accepted);
+  EXPECT_NE(r.note.find("sigma"), std::string::npos);
+  EXPECT_EQ(c.road().mean, before);
+  // Too few pixels: refused.
+  std::vector<std::uint8_t> few(w * h, 0);
+  few[0] = 1;
+  r = c.update(rgb.data(), w, h, few.data(), non.data());
+  EXPECT_FALSE(r.road_accepted);
+  EXPECT_NE(r.note.find("too few"), std::string::npos);
+  // A consistent update is accepted.
+  r = c.update(rgb.data(), w, h, road.data(), non.data());
+  EXPECT_TRUE(r.road_accepted);
+  EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.space = ColorSpace::RGB, .blend = 0}), InvalidInput);
+}
+
+TEST(Region, BlockReductionKeepsTheRoadAndDropsSpeckle) {
+  const int w = 128, h = 96;
+  Image road(w, h, 1), valid(w, h, 1), pred(w, h, 1);
+  std::fill(valid.data.begin(), valid.data.end(), 255);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const bool in = u >= 40 && u < 90;
+      pred.pixel(u, v)[0] = in ? 255 : 0;
+      road.pixel(u, v)[0] = in ? 255 : 0;
+    }
+  // Speckle outside, holes inside.
+  for (int k = 0; k < 40; ++k) {
+    road.pixel((k * 37) % 30, (k * 53) % h)[0] = 255;
+    road.pixel(45 + (k * 7) % 40, (k * 29) % h)[0] = 0;
+  }
+  // A separate blob on the right.
+  for (int v = 10; v < 40; ++v)
+    for (int u = 105; u < 125; ++u) road.pixel(u, v)[0] = 255;
+  const RegionResult r = reproduceRegion(road, valid, pred);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.area_px, 50.0 * h);
+  EXPECT_EQ(r.mask.pixel(110, 20)[0], 0);
+  EXPECT_EQ(r.mask.pixel(60, 50)[0], 255);
+  EXPECT_GE(r.contour.size(), 4u);
+}
+
+}  // namespace
+}  // namespace mapnav

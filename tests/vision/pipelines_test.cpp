@@ -1,0 +1,154 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "eval_common.h"
+#include "mapnav/core/error.h"
+#include "mapnav/map/predict.h"
+#include "mapnav/sim/world.h"
+#include "mapnav/vision/pipelines.h"
+#include "mapnav/vision_iface/pipeline.h"
+
+namespace mapnav {
+namespace {
+
+using visiontest::campus;
+using visiontest::pinhole;
+
+const Pose2 kOnRoad(60, 40, 0);  // on R1, looking along it
+
+DetectedObject run(const std::string& name, const Image& rgb, const PredictedObject& view) {
+  registerBuiltinPipelines();
+  auto p = createPipeline(name);
+  VisionFrame f{rgb.width, rgb.height, rgb.data.data(), &pinhole(), 0.0};
+  return p->detect(f, view);
+}
+
+TEST(Pipeline, BuiltinsRegisteredIdempotentlyWithDocumentedOptions) {
+  registerBuiltinPipelines();
+  registerBuiltinPipelines();
+  std::set<std::string> names;
+  for (const PipelineInfo& info : listPipelines()) {
+    names.insert(info.name);
+    if (info.name == "sidewalk" || info.name == "color-rgb" || info.name == "blue-band") {
+      EXPECT_FALSE(info.options.empty());
+      for (const OptionInfo& o : info.options) EXPECT_FALSE(o.default_json.empty()) << o.name;
+    }
+  }
+  EXPECT_TRUE(names.contains("sidewalk"));
+  EXPECT_TRUE(names.contains("color-rgb"));
+  EXPECT_TRUE(names.contains("blue-band"));
+  EXPECT_EQ(std::string(kDefaultPipeline), "sidewalk");
+}
+
+TEST(Pipeline, ConfigureRejectsBadOptions) {
+  registerBuiltinPipelines();
+  EXPECT_NO_THROW(createPipeline("sidewalk", R"({"blend": 0.3, "adaptive": false})"));
+  EXPECT_THROW(createPipeline("sidewalk", R"({"blend": 2})"), InvalidInput);
+  EXPECT_THROW(createPipeline("sidewalk", R"({"no_such": 1})"), InvalidInput);
+  EXPECT_THROW(createPipeline("sidewalk", R"({"adaptive": 1})"), InvalidInput);
+  EXPECT_THROW(createPipeline("blue-band", R"([1])"), InvalidInput);
+  try {
+    createPipeline("sidewalk", R"({"block_size": 0})");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("block_size"), std::string::npos);
+  }
+}
+
+TEST(Pipeline, AllThreeFindTheRoadOnASunnyFrame) {
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  const Frame frame = World(campus(), wo).render(pinhole(), kOnRoad, 0.0);
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  for (const std::string name : {"sidewalk", "color-rgb", "blue-band"}) {
+    const DetectedObject d = run(name, frame.rgb, pred.view);
+    ASSERT_EQ(d.status, DetectedObject::Status::Ok) << name << ": " << d.reason;
+    EXPECT_GT(d.confidence, 0.9) << name;
+    EXPECT_GE(d.region_image.size(), 3u);
+    int labelled = 0;
+    for (const DetectedLine& l : d.lines) {
+      if (l.frame_edge) {
+        EXPECT_FALSE(l.label.has_value());
+      }
+      labelled += l.label.has_value();
+    }
+    EXPECT_GE(labelled, 2) << name;  // both edges of R1
+  }
+}
+
+TEST(BlueBand, FixedThresholdOption) {
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  const Frame frame = World(campus(), wo).render(pinhole(), kOnRoad, 0.0);
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  registerBuiltinPipelines();
+  auto p = createPipeline("blue-band", R"({"threshold": 110})");
+  VisionFrame f{frame.rgb.width, frame.rgb.height, frame.rgb.data.data(), &pinhole(), 0.0};
+  EXPECT_EQ(p->detect(f, pred.view).status, DetectedObject::Status::Ok);
+}
+
+class FailedFrames : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FailedFrames, AllGrassFrame) {
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  const World world(campus(), wo);
+  // The camera at (25, 20), far from any road, sees only lawn; the prediction is for the road.
+  const Frame grass = world.render(pinhole(), Pose2(25, 20, 0), 0.0);
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  const DetectedObject d = run(GetParam(), grass.rgb, pred.view);
+  EXPECT_EQ(d.status, DetectedObject::Status::Failed);
+  EXPECT_EQ(d.reason, "no road-coloured region");
+}
+
+TEST_P(FailedFrames, AllGrassFrameAfterGoodFrames) {
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  const World world(campus(), wo);
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  registerBuiltinPipelines();
+  auto p = createPipeline(GetParam());
+  const Frame good = world.render(pinhole(), kOnRoad, 0.0);
+  VisionFrame f{good.rgb.width, good.rgb.height, good.rgb.data.data(), &pinhole(), 0.0};
+  ASSERT_EQ(p->detect(f, pred.view).status, DetectedObject::Status::Ok);
+  const Frame grass = world.render(pinhole(), Pose2(25, 20, 0), 0.0);
+  f.rgb = grass.rgb.data.data();
+  const DetectedObject d = p->detect(f, pred.view);
+  EXPECT_EQ(d.status, DetectedObject::Status::Failed);
+  EXPECT_EQ(d.reason, "no road-coloured region");
+}
+
+TEST_P(FailedFrames, BlackFrame) {
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  Image black(pinhole().width(), pinhole().height(), 3);
+  const DetectedObject d = run(GetParam(), black, pred.view);
+  EXPECT_EQ(d.status, DetectedObject::Status::Failed);
+  EXPECT_EQ(d.reason, "frame too dark");
+}
+
+TEST_P(FailedFrames, OverExposedFrame) {
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  Frame frame = World(campus(), wo).render(pinhole(), kOnRoad, 0.0);
+  for (std::uint8_t& c : frame.rgb.data) c = static_cast<std::uint8_t>(std::min(255, c * 6));
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  const DetectedObject d = run(GetParam(), frame.rgb, pred.view);
+  EXPECT_EQ(d.status, DetectedObject::Status::Failed);
+  EXPECT_EQ(d.reason, "frame over-exposed");
+}
+
+TEST_P(FailedFrames, NothingPredictedInView) {
+  WorldOptions wo;
+  const Frame frame = World(campus(), wo).render(pinhole(), kOnRoad, 0.0);
+  const DetectedObject d = run(GetParam(), frame.rgb, PredictedObject{});
+  EXPECT_EQ(d.status, DetectedObject::Status::Failed);
+  EXPECT_EQ(d.reason, "nothing predicted in view");
+}
+
+INSTANTIATE_TEST_SUITE_P(Pipelines, FailedFrames, ::testing::Values("sidewalk", "color-rgb"),
+                         [](const auto& info) { return info.param == "sidewalk" ? "sidewalk" : "color_rgb"; });
+
+}  // namespace
+}  // namespace mapnav

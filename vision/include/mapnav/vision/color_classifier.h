@@ -1,0 +1,83 @@
+#pragma once
+// Road / non-road colour classification (Wallace 1985, 3.4): one Gaussian per class, trivariate in
+// RGB or bivariate in normalised colour rg (r = R/(R+G+B), g = G/(R+G+B), 3.4.3: robust to
+// shadows, which scale a colour), and a Bayes decision with quadratic boundaries (the log-likelihood
+// ratio plus the log prior ratio). The models adapt frame to frame (3.4.2: the colours drift) with a
+// guard against drifting away: an update is a blend, and a class estimate that moves the mean by
+// more than N sigma, or rests on too few pixels, is refused (the class keeps its old model).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/types.h"
+
+namespace mapnav {
+
+enum class ColorSpace { RGB, NormalizedRG };
+
+/// A Gaussian in 2 (rg) or 3 (RGB) dimensions; in 2-D only the upper-left block is used.
+struct GaussianClass {
+  Vec3 mean = Vec3::Zero();
+  Mat3 cov = Mat3::Identity();
+  double count = 0;    ///< pixels of the last accepted estimate
+  bool valid = false;
+};
+
+struct ColorClassifierOptions {
+  ColorSpace space = ColorSpace::NormalizedRG;
+  /// Weight of a frame's estimate when blended into a trained model (1 = replace). In (0, 1].
+  double blend = 0.5;
+  /// Refuse a class estimate whose mean is more than this many sigma (Mahalanobis, under the old
+  /// model) from the old mean. > 0.
+  double max_mean_shift_sigma = 4.0;
+  /// Refuse a class estimate from fewer labelled pixels than this. ≥ 1.
+  int min_pixels = 400;
+  /// Use every n-th pixel of each n-th row for training (speed). ≥ 1.
+  int stride = 2;
+
+  void validate() const;
+};
+
+/// Feature dimensions of a space: 2 (rg) or 3 (RGB).
+int featureDims(ColorSpace space);
+/// The feature of one pixel (rg in [0, 1]; RGB in 0..255), in the first featureDims() entries.
+Vec3 colorFeature(ColorSpace space, const std::uint8_t* rgb);
+
+class ColorClassifier {
+ public:
+  explicit ColorClassifier(ColorClassifierOptions options = {});
+
+  struct UpdateResult {
+    bool road_accepted = false;
+    bool nonroad_accepted = false;
+    std::string note;  ///< why an estimate was refused
+  };
+  /// Estimates both classes from labelled pixels (`road`, `nonroad`: w × h, non-zero = labelled)
+  /// and blends them into the models (first call: takes them as they are).
+  UpdateResult update(const std::uint8_t* rgb, int width, int height, const std::uint8_t* road,
+                      const std::uint8_t* nonroad);
+  /// log p(x | road) − log p(x | non-road) + log P(road)/P(non-road) for every pixel (row-major);
+  /// only where `where` is non-zero (nullptr: everywhere), 0 elsewhere. Requires trained().
+  std::vector<float> logOdds(const std::uint8_t* rgb, int width, int height, const std::uint8_t* where = nullptr) const;
+  float logOdds(const std::uint8_t* pixel) const;
+
+  bool trained() const { return road_.valid && nonroad_.valid; }
+  /// Bhattacharyya distance between the two class models (0: indistinguishable).
+  double separation() const;
+  const GaussianClass& road() const { return road_; }
+  const GaussianClass& nonroad() const { return nonroad_; }
+  double priorRoad() const { return prior_road_; }
+  const ColorClassifierOptions& options() const { return options_; }
+  void reset();
+
+ private:
+  ColorClassifierOptions options_;
+  GaussianClass road_, nonroad_;
+  double prior_road_ = 0.5;
+  // cached for logOdds
+  Mat3 road_inv_, nonroad_inv_;
+  double road_logdet_ = 0, nonroad_logdet_ = 0;
+  void refreshCache();
+};
+
+}  // namespace mapnav

@@ -1,0 +1,36 @@
+#pragma once
+// Polygon fitting and line labelling (Wallace 1985, 2.2.2): the region's boundary is approximated
+// by a polygon within a tolerance (CGAL Polyline_simplification_2), its edges are the straight
+// lines; those along the image border (or the edge of the ground in the image) are frame edges and
+// are never labelled; the others are matched to the predicted interest segments by angle and
+// position on the ground, then checked against the predicted relations (parallel separations).
+#include <vector>
+
+#include "mapnav/geometry/camera.h"
+#include "mapnav/sim/image.h"
+#include "mapnav/vision_iface/detected_object.h"
+#include "mapnav/vision_iface/predicted_object.h"
+
+namespace mapnav {
+
+struct LineOptions {
+  double simplify_tolerance_px = 3.0;  ///< polygon fit tolerance, pixels. > 0
+  double min_length_px = 12.0;         ///< shorter polygon edges are dropped. ≥ 0
+  double frame_edge_px = 4.0;          ///< within this of the image border / ground edge = frame edge. ≥ 0
+  double max_angle_deg = 10.0;         ///< a match is within this angle on the ground. > 0
+  double max_distance_m = 0.4;         ///< ... and both end points within this of the predicted line. > 0
+  double min_overlap = 0.5;            ///< ... and this fraction of the line overlaps the segment. [0, 1]
+  double relation_tolerance_m = 0.5;   ///< parallel pairs: separation within this of the predicted. > 0
+
+  void validate() const;
+};
+
+/// The closed `contour` (pixels) as straight lines with image and ground coordinates; frame edges
+/// marked (`valid`: 1 channel, non-zero where pixels see the ground).
+std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camera& camera, const Image& valid,
+                                   const LineOptions& options = {});
+
+/// Labels the lines that are not frame edges with the best-matching predicted interest segment.
+void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& prediction, const LineOptions& options = {});
+
+}  // namespace mapnav

@@ -1,0 +1,140 @@
+#include "mapnav/vision/line_labelling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mapnav/core/options.h"
+#include "mapnav/geometry/simplify.h"
+
+namespace mapnav {
+
+void LineOptions::validate() const {
+  requireOption(simplify_tolerance_px > 0, "LineOptions", "simplify_tolerance_px", simplify_tolerance_px, "> 0");
+  requireOption(min_length_px >= 0, "LineOptions", "min_length_px", min_length_px, ">= 0");
+  requireOption(frame_edge_px >= 0, "LineOptions", "frame_edge_px", frame_edge_px, ">= 0");
+  requireOption(max_angle_deg > 0, "LineOptions", "max_angle_deg", max_angle_deg, "> 0");
+  requireOption(max_distance_m > 0, "LineOptions", "max_distance_m", max_distance_m, "> 0");
+  requireOption(min_overlap >= 0 && min_overlap <= 1, "LineOptions", "min_overlap", min_overlap, "in [0, 1]");
+  requireOption(relation_tolerance_m > 0, "LineOptions", "relation_tolerance_m", relation_tolerance_m, "> 0");
+}
+
+std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camera& camera, const Image& valid,
+                                   const LineOptions& options) {
+  options.validate();
+  std::vector<DetectedLine> lines;
+  if (contour.size() < 3) return lines;
+  std::vector<Vec2> ring = contour;
+  ring.push_back(contour.front());
+  std::vector<Vec2> poly = simplifyPolyline(ring, options.simplify_tolerance_px);
+  // The ring's start is an arbitrary contour point: drop it when it lies on a straight edge.
+  if (poly.size() >= 4 && (poly.front() - poly.back()).norm() < 1e-9) {
+    poly.pop_back();
+    const std::size_t n = poly.size();
+    const Segment2 across{poly[n - 1], poly[1]};
+    if (n >= 4 && across.distanceTo(poly[0]) <= options.simplify_tolerance_px) poly.erase(poly.begin());
+  } else if (poly.size() >= 2 && (poly.front() - poly.back()).norm() < 1e-9) {
+    poly.pop_back();
+  }
+  if (poly.size() < 2) return lines;
+
+  // Distance of each pixel to the nearest pixel that does not see the ground (or lies outside).
+  cv::Mat dist;
+  const int w = valid.width, h = valid.height;
+  if (!valid.empty()) {
+    cv::Mat v(h, w, CV_8UC1, const_cast<std::uint8_t*>(valid.data.data()));
+    cv::Mat padded;
+    cv::copyMakeBorder(v != 0, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::distanceTransform(padded, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  }
+  const auto edgeDistance = [&](const Vec2& p) -> double {
+    if (dist.empty()) return 1e9;
+    const int u = std::clamp(static_cast<int>(std::lround(p.x())), 0, w - 1);
+    const int v = std::clamp(static_cast<int>(std::lround(p.y())), 0, h - 1);
+    return dist.at<float>(v + 1, u + 1);
+  };
+
+  const std::size_t n = poly.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    DetectedLine line;
+    line.image = {poly[i], poly[(i + 1) % n]};
+    if (line.image.length() < options.min_length_px) continue;
+    int near = 0;
+    constexpr int kSamples = 11;
+    for (int k = 0; k < kSamples; ++k) {
+      if (edgeDistance(line.image.pointAt(k / double(kSamples - 1))) <= options.frame_edge_px + 1.0) ++near;
+    }
+    line.frame_edge = near >= 9;
+    const auto a = camera.backproject(line.image.a);
+    const auto b = camera.backproject(line.image.b);
+    if (a && b) line.vehicle = {*a, *b};
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& prediction, const LineOptions& options) {
+  options.validate();
+  const double max_angle = options.max_angle_deg * std::numbers::pi / 180.0;
+  for (DetectedLine& line : lines) {
+    line.label.reset();
+    line.score = 0;
+    if (line.frame_edge || line.vehicle.length() < 1e-6) continue;
+    double best = 0;
+    const InterestSegment* best_seg = nullptr;
+    for (const InterestSegment& s : prediction.segments) {
+      if (s.vehicle.length() < 1e-6) continue;
+      const double angle = angleBetweenLines(line.vehicle, s.vehicle);
+      if (angle > max_angle) continue;
+      const double da = std::abs(s.vehicle.signedDistance(line.vehicle.a));
+      const double db = std::abs(s.vehicle.signedDistance(line.vehicle.b));
+      const double d = std::max(da, db);
+      if (d > options.max_distance_m) continue;
+      // Overlap of the line's projection onto the segment.
+      const Vec2 dir = s.vehicle.direction();
+      const double L = s.vehicle.length();
+      double ta = (line.vehicle.a - s.vehicle.a).dot(dir), tb = (line.vehicle.b - s.vehicle.a).dot(dir);
+      if (ta > tb) std::swap(ta, tb);
+      const double len = std::max(tb - ta, 1e-9);
+      const double overlap = std::max(0.0, std::min(tb, L) - std::max(ta, 0.0)) / std::min(len, L);
+      if (overlap < options.min_overlap) continue;
+      const double score = (1.0 - 0.5 * d / options.max_distance_m) * (1.0 - 0.5 * angle / max_angle) *
+                           std::min(1.0, 0.5 + 0.5 * overlap);
+      if (score > best) {
+        best = score;
+        best_seg = &s;
+      }
+    }
+    if (best_seg != nullptr) {
+      line.label = best_seg->id;
+      line.score = best;
+    }
+  }
+  // Relations: a labelled parallel pair must be about the predicted distance apart.
+  std::map<std::string, std::vector<DetectedLine*>> by_label;
+  for (DetectedLine& line : lines)
+    if (line.label) by_label[*line.label].push_back(&line);
+  for (const SegmentRelation& rel : prediction.relations) {
+    if (rel.type != SegmentRelation::Type::Parallel) continue;
+    const auto ia = by_label.find(rel.a), ib = by_label.find(rel.b);
+    if (ia == by_label.end() || ib == by_label.end()) continue;
+    for (DetectedLine* la : ia->second) {
+      for (DetectedLine* lb : ib->second) {
+        if (!la->label || !lb->label) continue;
+        const Vec2 mid = 0.5 * (lb->vehicle.a + lb->vehicle.b);
+        const double sep = std::abs(la->vehicle.signedDistance(mid));
+        if (std::abs(sep - rel.separation_m) > options.relation_tolerance_m) {
+          DetectedLine* worse = la->score < lb->score ? la : lb;
+          worse->label.reset();
+          worse->score = 0;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace mapnav

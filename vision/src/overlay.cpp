@@ -1,0 +1,73 @@
+#include "mapnav/vision/overlay.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <cstring>
+
+namespace mapnav {
+
+namespace {
+
+cv::Point fixed(const Vec2& p) {  // 4 fractional bits, pixel centres at integers
+  return {static_cast<int>(std::lround(p.x() * 16)), static_cast<int>(std::lround(p.y() * 16))};
+}
+
+std::vector<cv::Point> ring(const Polygon2& polygon) {
+  std::vector<cv::Point> out;
+  for (const Vec2& p : polygon) {
+    if (p.allFinite() && std::abs(p.x()) < 1e5 && std::abs(p.y()) < 1e5) out.push_back(fixed(p));
+  }
+  return out;
+}
+
+}  // namespace
+
+Image regionMask(const DetectedObject& detection, int width, int height) {
+  cv::Mat mask(height, width, CV_8UC1, cv::Scalar(0));
+  const std::vector<cv::Point> points = ring(detection.region_image);
+  if (points.size() >= 3) {
+    const cv::Point* pts = points.data();
+    const int n = static_cast<int>(points.size());
+    cv::fillPoly(mask, &pts, &n, 1, cv::Scalar(255), cv::LINE_8, 4);
+  }
+  Image out(width, height, 1);
+  std::memcpy(out.data.data(), mask.data, out.data.size());
+  return out;
+}
+
+Image drawDetection(const Image& frame, const PredictedObject& prediction, const DetectedObject& detection) {
+  cv::Mat rgb(frame.height, frame.width, CV_8UC3);
+  if (frame.channels == 3) {
+    std::memcpy(rgb.data, frame.data.data(), frame.data.size());
+  } else {
+    cv::Mat grey(frame.height, frame.width, CV_8UC1, const_cast<std::uint8_t*>(frame.data.data()));
+    cv::cvtColor(grey, rgb, cv::COLOR_GRAY2RGB);
+  }
+  const std::vector<cv::Point> region = ring(detection.region_image);
+  if (region.size() >= 3) cv::polylines(rgb, std::vector<std::vector<cv::Point>>{region}, true, cv::Scalar(255, 220, 0), 1, cv::LINE_AA, 4);
+  for (const InterestSegment& s : prediction.segments) {
+    cv::line(rgb, fixed(s.image.a), fixed(s.image.b), cv::Scalar(255, 255, 255), 1, cv::LINE_AA, 4);
+  }
+  for (const DetectedLine& line : detection.lines) {
+    const cv::Scalar colour = line.frame_edge ? cv::Scalar(150, 150, 150)
+                              : line.label    ? cv::Scalar(40, 220, 40)
+                                              : cv::Scalar(230, 40, 40);
+    cv::line(rgb, fixed(line.image.a), fixed(line.image.b), colour, 3, cv::LINE_AA, 4);
+    if (line.label) {
+      const Vec2 mid = line.image.pointAt(0.5);
+      cv::putText(rgb, *line.label, cv::Point(static_cast<int>(mid.x()) + 4, static_cast<int>(mid.y()) - 4),
+                  cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
+      cv::putText(rgb, *line.label, cv::Point(static_cast<int>(mid.x()) + 4, static_cast<int>(mid.y()) - 4),
+                  cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 100, 0), 1, cv::LINE_AA);
+    }
+  }
+  const std::string status = detection.status == DetectedObject::Status::Ok ? "ok" : "failed: " + detection.reason;
+  cv::putText(rgb, status, cv::Point(6, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
+  cv::putText(rgb, status, cv::Point(6, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  Image out(frame.width, frame.height, 3);
+  std::memcpy(out.data.data(), rgb.data, out.data.size());
+  return out;
+}
+
+}  // namespace mapnav

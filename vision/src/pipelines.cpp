@@ -1,0 +1,442 @@
+// The built-in pipelines: "sidewalk" (normalised rg), "color-rgb" and "blue-band".
+#include "mapnav/vision/pipelines.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mapnav/core/error.h"
+#include "mapnav/vision/color_classifier.h"
+#include "mapnav/vision/line_labelling.h"
+#include "mapnav/vision/region.h"
+#include "mapnav/vision_iface/pipeline.h"
+
+namespace mapnav {
+
+namespace {
+
+// --- Options -----------------------------------------------------------------------------------
+
+struct OptionSpec {
+  std::string name;
+  double value;  // default (bool: 0 / 1)
+  bool is_bool;
+  bool is_int;
+  double min, max;
+  std::string description;
+};
+
+std::string numberText(double v, bool is_bool, bool is_int) {
+  if (is_bool) return v != 0 ? "true" : "false";
+  if (is_int) return std::to_string(static_cast<long long>(v));
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::vector<OptionSpec> commonSpecs() {
+  return {
+      {"dark_level", 20, false, false, 0, 255,
+       "mean grey level (0-255) of the ground pixels below which the frame fails: \"frame too dark\""},
+      {"saturated_level", 250, false, false, 0, 255, "a pixel is saturated when all its channels are at least this"},
+      {"overexposed_fraction", 0.5, false, false, 0, 1,
+       "fraction of saturated ground pixels above which the frame fails: \"frame over-exposed\""},
+      {"min_predicted_px", 500, false, true, 0, 1e9,
+       "fewer predicted road pixels in the image than this: \"nothing predicted in view\""},
+      {"min_region_fraction", 0.15, false, false, 0, 10,
+       "a reproduced region smaller than this fraction of the predicted road area: \"no road-coloured region\""},
+      {"smooth_px", 2, false, true, 0, 50, "box-filter radius applied to the per-pixel road score before the threshold"},
+      {"block_size", 8, false, true, 1, 256, "region reproduction: block side, pixels"},
+      {"block_fraction", 0.5, false, false, 1e-9, 1, "a block is road when at least this fraction of its pixels is"},
+      {"morph_iterations", 1, false, true, 0, 10, "block-level closings then openings (3 x 3)"},
+      {"refine_margin_blocks", 1, false, true, 0, 10, "pixel region may reach this many blocks beyond the block region"},
+      {"pixel_morph_px", 2, false, true, 0, 50, "pixel-level closing then opening radius"},
+      {"fill_holes", 1, true, false, 0, 1, "fill holes in the region (leaves, cracks, slab gaps)"},
+      {"region_tolerance_px", 0.75, false, false, 1e-6, 100, "polygon tolerance of region_image, pixels"},
+      {"simplify_tolerance_px", 3.0, false, false, 1e-6, 100, "polygon fit tolerance for lines, pixels"},
+      {"min_line_length_px", 12, false, false, 0, 1e6, "shorter polygon edges are dropped, pixels"},
+      {"frame_edge_px", 4, false, false, 0, 100, "lines within this of the image border or ground edge are frame edges"},
+      {"max_angle_deg", 10, false, false, 1e-6, 90, "label match: angle on the ground within this"},
+      {"max_distance_m", 0.4, false, false, 1e-6, 100, "label match: both end points within this of the predicted line"},
+      {"min_overlap", 0.5, false, false, 0, 1, "label match: this fraction of the line overlaps the predicted segment"},
+      {"relation_tolerance_m", 0.5, false, false, 1e-6, 100,
+       "a labelled parallel pair must be within this of the predicted separation"},
+  };
+}
+
+std::vector<OptionSpec> classifierSpecs() {
+  std::vector<OptionSpec> s = {
+      {"adaptive", 1, true, false, 0, 1, "keep the colour models from frame to frame, blending in each frame's estimate"},
+      {"blend", 0.5, false, false, 1e-9, 1, "weight of a frame's estimate in the blended model"},
+      {"max_mean_shift_sigma", 4, false, false, 1e-9, 1e6,
+       "refuse a class estimate whose mean moved more than this many sigma (drift guard)"},
+      {"min_training_pixels", 400, false, true, 1, 1e9, "refuse a class estimate from fewer labelled pixels"},
+      {"label_erosion_px", 6, false, true, 0, 200,
+       "training labels: the predicted road eroded by this, non-road = the rest of the view eroded by this"},
+      {"outlier_llr", 6, false, false, 0, 1e6,
+       "adaptive: drop training pixels whose label the current model contradicts by more than this log-odds"},
+      {"llr_threshold", 0, false, false, -1e6, 1e6, "road where the smoothed log-odds exceed this"},
+      {"min_separation", 0.5, false, false, 0, 1e6,
+       "Bhattacharyya distance between the class models below which: \"no road-coloured region\""},
+  };
+  for (auto& c : commonSpecs()) s.push_back(c);
+  return s;
+}
+
+std::vector<OptionSpec> blueSpecs() {
+  std::vector<OptionSpec> s = {
+      {"threshold", -1, false, false, -1, 255, "road where blue >= this; -1 = Otsu's threshold on the ground pixels"},
+  };
+  for (auto& c : commonSpecs()) s.push_back(c);
+  return s;
+}
+
+std::vector<OptionInfo> infos(const std::vector<OptionSpec>& specs) {
+  std::vector<OptionInfo> out;
+  for (const OptionSpec& s : specs) out.push_back({s.name, numberText(s.value, s.is_bool, s.is_int), s.description});
+  return out;
+}
+
+class Options {
+ public:
+  explicit Options(std::vector<OptionSpec> specs) : specs_(std::move(specs)) {
+    for (const OptionSpec& s : specs_) values_[s.name] = s.value;
+  }
+  void configure(const std::string& pipeline, const std::string& text) {
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(text.empty() ? std::string("{}") : text);
+    } catch (const nlohmann::json::exception& e) {
+      throw InvalidInput("pipeline \"" + pipeline + "\": options are not JSON: " + e.what());
+    }
+    if (!j.is_object()) throw InvalidInput("pipeline \"" + pipeline + "\": options must be a JSON object");
+    std::map<std::string, double> next = values_;
+    for (const auto& [key, value] : j.items()) {
+      const auto it = std::find_if(specs_.begin(), specs_.end(), [&](const OptionSpec& s) { return s.name == key; });
+      if (it == specs_.end()) throw InvalidInput("pipeline \"" + pipeline + "\": unknown option \"" + key + "\"");
+      const std::string bad = "pipeline \"" + pipeline + "\": option " + key + " = " + value.dump();
+      if (it->is_bool) {
+        if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
+        next[key] = value.get<bool>() ? 1 : 0;
+        continue;
+      }
+      if (!value.is_number()) throw InvalidInput(bad + ": must be a number");
+      const double v = value.get<double>();
+      if (!std::isfinite(v) || v < it->min || v > it->max)
+        throw InvalidInput(bad + ": must be in [" + numberText(it->min, false, false) + ", " +
+                           numberText(it->max, false, false) + "]");
+      if (it->is_int && v != std::floor(v)) throw InvalidInput(bad + ": must be an integer");
+      next[key] = v;
+    }
+    values_ = std::move(next);
+  }
+  double operator[](const std::string& k) const { return values_.at(k); }
+  int i(const std::string& k) const { return static_cast<int>(values_.at(k)); }
+  bool b(const std::string& k) const { return values_.at(k) != 0; }
+
+ private:
+  std::vector<OptionSpec> specs_;
+  std::map<std::string, double> values_;
+};
+
+// --- Frame geometry ---------------------------------------------------------------------------------
+
+cv::Mat wrap(Image& im) { return cv::Mat(im.height, im.width, CV_8UC1, im.data.data()); }
+
+/// The ring (vehicle frame) in the image: edges densified so that curved lenses bend them.
+std::vector<cv::Point> projectRing(const Polygon2& ring, const Camera& camera) {
+  std::vector<cv::Point> out;
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.05)));
+    for (int k = 0; k < steps; ++k) {
+      const auto p = camera.projectGround(a + (b - a) * (static_cast<double>(k) / steps));
+      if (p) out.emplace_back(cvRound(std::clamp(p->x(), -1e5, 1e5)), cvRound(std::clamp(p->y(), -1e5, 1e5)));
+    }
+  }
+  return out;
+}
+
+Image fillRings(const std::vector<Polygon2>& rings, const Camera& camera, int w, int h) {
+  Image out(w, h, 1);
+  cv::Mat m = wrap(out);
+  for (const Polygon2& r : rings) {
+    const auto pts = projectRing(r, camera);
+    if (pts.size() >= 3) cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255));
+  }
+  return out;
+}
+
+struct GroundCache {
+  const Camera* camera = nullptr;
+  CameraIntrinsics intrinsics;
+  CameraMount mount;
+  Image valid;
+};
+
+// --- The pipelines ---------------------------------------------------------------------------------
+
+class BasePipeline : public VisionPipeline {
+ public:
+  BasePipeline(std::string name, std::vector<OptionSpec> specs) : name_(std::move(name)), opts_(std::move(specs)) {}
+  std::string name() const override { return name_; }
+  void configure(const std::string& options_json) override { opts_.configure(name_, options_json); }
+
+  DetectedObject detect(const VisionFrame& frame, const PredictedObject& prediction) override {
+    if (frame.camera == nullptr) throw InvalidInput("pipeline \"" + name_ + "\": the frame has no camera");
+    if (frame.rgb == nullptr || frame.width <= 0 || frame.height <= 0)
+      throw InvalidInput("pipeline \"" + name_ + "\": the frame has no pixels");
+    if (frame.width != frame.camera->width() || frame.height != frame.camera->height())
+      throw InvalidInput("pipeline \"" + name_ + "\": frame size differs from the camera's image size");
+    const Camera& cam = *frame.camera;
+    const int w = frame.width, h = frame.height;
+    const Image& valid = ground(cam);
+    const std::size_t n = static_cast<std::size_t>(w) * h;
+
+    // Exposure.
+    double sum = 0;
+    std::size_t count = 0, saturated = 0;
+    const int sat = static_cast<int>(opts_["saturated_level"]);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (valid.data[i] == 0) continue;
+      const std::uint8_t* p = frame.rgb + 3 * i;
+      sum += (p[0] + p[1] + p[2]) / 3.0;
+      ++count;
+      if (p[0] >= sat && p[1] >= sat && p[2] >= sat) ++saturated;
+    }
+    if (count == 0) return fail(frame, "no ground in view");
+    if (sum / count < opts_["dark_level"]) return fail(frame, "frame too dark");
+    if (static_cast<double>(saturated) / count > opts_["overexposed_fraction"]) return fail(frame, "frame over-exposed");
+
+    // The prediction in the image.
+    std::vector<Polygon2> road_rings;
+    for (const PredictedRegion& r : prediction.regions)
+      for (const Polygon2& p : r.vehicle) road_rings.push_back(p);
+    Image predicted = fillRings(road_rings, cam, w, h);
+    cv::bitwise_and(wrap(predicted), cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(valid.data.data())),
+                    wrap(predicted));
+    const int predicted_px = cv::countNonZero(wrap(predicted));
+    if (predicted_px < opts_.i("min_predicted_px")) return fail(frame, "nothing predicted in view");
+
+    // Per-pixel road decision.
+    std::string why;
+    std::optional<Image> road = classify(frame, prediction, valid, predicted, why);
+    if (!road) return fail(frame, why);
+
+    RegionOptions ro;
+    ro.block_size = opts_.i("block_size");
+    ro.block_fraction = opts_["block_fraction"];
+    ro.morph_iterations = opts_.i("morph_iterations");
+    ro.refine_margin_blocks = opts_.i("refine_margin_blocks");
+    ro.pixel_morph_px = opts_.i("pixel_morph_px");
+    ro.fill_holes = opts_.b("fill_holes");
+    RegionResult region = reproduceRegion(*road, valid, predicted, ro);
+    if (!region.found || region.area_px < opts_["min_region_fraction"] * predicted_px)
+      return fail(frame, "no road-coloured region");
+
+    DetectedObject d;
+    d.timestamp = frame.timestamp;
+    {
+      std::vector<Vec2> ring = region.contour;
+      ring.push_back(ring.front());
+      std::vector<Vec2> poly = simplifyRing(ring, opts_["region_tolerance_px"]);
+      d.region_image = poly;
+      for (const Vec2& p : poly)
+        if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
+    }
+    LineOptions lo;
+    lo.simplify_tolerance_px = opts_["simplify_tolerance_px"];
+    lo.min_length_px = opts_["min_line_length_px"];
+    lo.frame_edge_px = opts_["frame_edge_px"];
+    lo.max_angle_deg = opts_["max_angle_deg"];
+    lo.max_distance_m = opts_["max_distance_m"];
+    lo.min_overlap = opts_["min_overlap"];
+    lo.relation_tolerance_m = opts_["relation_tolerance_m"];
+    d.lines = fitLines(region.contour, cam, valid, lo);
+    labelLines(d.lines, prediction, lo);
+
+    cv::Mat inter;
+    cv::bitwise_and(wrap(region.mask), wrap(predicted), inter);
+    const double i = cv::countNonZero(inter);
+    d.confidence = std::clamp(i / (region.area_px + predicted_px - i), 0.0, 1.0);
+    return d;
+  }
+
+ protected:
+  /// Road pixels (1 channel, 255 = road) or nothing with `why` set.
+  virtual std::optional<Image> classify(const VisionFrame& frame, const PredictedObject& prediction,
+                                        const Image& valid, const Image& predicted, std::string& why) = 0;
+
+  /// Smooths a per-pixel score (box filter of radius smooth_px) and thresholds it inside `valid`.
+  Image threshold(std::vector<float>& score, int w, int h, const Image& valid, double t) const {
+    cv::Mat s(h, w, CV_32FC1, score.data());
+    const int r = opts_.i("smooth_px");
+    if (r > 0) cv::blur(s, s, cv::Size(2 * r + 1, 2 * r + 1), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+    Image out(w, h, 1);
+    for (std::size_t i = 0; i < out.data.size(); ++i)
+      out.data[i] = (valid.data[i] != 0 && score[i] > t) ? 255 : 0;
+    return out;
+  }
+
+  static std::vector<Vec2> simplifyRing(const std::vector<Vec2>& ring, double tol);
+
+  std::string name_;
+  Options opts_;
+
+ private:
+  DetectedObject fail(const VisionFrame& frame, const std::string& why) {
+    DetectedObject d = DetectedObject::failed(why);
+    d.timestamp = frame.timestamp;
+    return d;
+  }
+  const Image& ground(const Camera& cam) {
+    if (cache_.camera != &cam || !(cache_.intrinsics == cam.intrinsics()) || !(cache_.mount == cam.mount()) ||
+        cache_.valid.empty()) {
+      cache_.camera = &cam;
+      cache_.intrinsics = cam.intrinsics();
+      cache_.mount = cam.mount();
+      cache_.valid = Image(cam.width(), cam.height(), 1);
+      for (int v = 0; v < cam.height(); ++v)
+        for (int u = 0; u < cam.width(); ++u)
+          if (cam.backproject(Vec2(u, v))) cache_.valid.pixel(u, v)[0] = 255;
+    }
+    return cache_.valid;
+  }
+  GroundCache cache_;
+};
+
+}  // namespace
+}  // namespace mapnav
+
+#include "mapnav/geometry/simplify.h"
+
+namespace mapnav {
+namespace {
+
+std::vector<Vec2> BasePipeline::simplifyRing(const std::vector<Vec2>& ring, double tol) {
+  std::vector<Vec2> poly = simplifyPolyline(ring, tol);
+  if (poly.size() >= 2 && (poly.front() - poly.back()).norm() < 1e-9) poly.pop_back();
+  return poly;
+}
+
+class ClassifierPipeline : public BasePipeline {
+ public:
+  ClassifierPipeline(std::string name, ColorSpace space)
+      : BasePipeline(std::move(name), classifierSpecs()), space_(space) {
+    reset();
+  }
+  void configure(const std::string& options_json) override {
+    BasePipeline::configure(options_json);
+    reset();
+  }
+  void reset() override {
+    ColorClassifierOptions co;
+    co.space = space_;
+    co.blend = opts_["blend"];
+    co.max_mean_shift_sigma = opts_["max_mean_shift_sigma"];
+    co.min_pixels = opts_.i("min_training_pixels");
+    classifier_ = ColorClassifier(co);
+  }
+
+ protected:
+  std::optional<Image> classify(const VisionFrame& frame, const PredictedObject& prediction, const Image& valid,
+                                const Image& predicted, std::string& why) override {
+    const int w = frame.width, h = frame.height;
+    const Camera& cam = *frame.camera;
+    // Conservative labels: the predicted road eroded, and the rest of the predicted view eroded.
+    Image view_mask = prediction.footprint.size() >= 3 ? fillRings({prediction.footprint}, cam, w, h) : valid;
+    cv::Mat vm = wrap(view_mask);
+    cv::bitwise_and(vm, cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(valid.data.data())), vm);
+    Image road_lab(w, h, 1), non_lab(w, h, 1);
+    const int e = opts_.i("label_erosion_px");
+    const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * e + 1, 2 * e + 1));
+    cv::Mat pm(h, w, CV_8UC1, const_cast<std::uint8_t*>(predicted.data.data()));
+    cv::erode(pm, wrap(road_lab), k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    cv::Mat grown;
+    cv::dilate(pm, grown, k);
+    cv::Mat vm_eroded;
+    cv::erode(vm, vm_eroded, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    cv::bitwise_and(vm_eroded, ~grown, wrap(non_lab));
+
+    if (!opts_.b("adaptive")) reset();
+    if (classifier_.trained()) {
+      // Adaptive: keep only labelled pixels the current model does not strongly contradict.
+      const float out = static_cast<float>(opts_["outlier_llr"]);
+      for (std::size_t i = 0; i < road_lab.data.size(); ++i) {
+        if (road_lab.data[i] == 0 && non_lab.data[i] == 0) continue;
+        const float l = classifier_.logOdds(frame.rgb + 3 * i);
+        if (road_lab.data[i] != 0 && l < -out) road_lab.data[i] = 0;
+        if (non_lab.data[i] != 0 && l > out) non_lab.data[i] = 0;
+      }
+    }
+    classifier_.update(frame.rgb, w, h, road_lab.data.data(), non_lab.data.data());
+    if (!classifier_.trained() || classifier_.separation() < opts_["min_separation"]) {
+      why = "no road-coloured region";
+      return std::nullopt;
+    }
+    std::vector<float> llr = classifier_.logOdds(frame.rgb, w, h, valid.data.data());
+    for (float& v : llr) v = std::clamp(v, -20.0f, 20.0f);
+    return threshold(llr, w, h, valid, opts_["llr_threshold"]);
+  }
+
+ private:
+  ColorSpace space_;
+  ColorClassifier classifier_;
+};
+
+class BlueBandPipeline : public BasePipeline {
+ public:
+  BlueBandPipeline() : BasePipeline("blue-band", blueSpecs()) {}
+  void reset() override {}
+
+ protected:
+  std::optional<Image> classify(const VisionFrame& frame, const PredictedObject&, const Image& valid, const Image&,
+                                std::string&) override {
+    const int w = frame.width, h = frame.height;
+    const std::size_t n = static_cast<std::size_t>(w) * h;
+    double t = opts_["threshold"];
+    if (t < 0) {
+      std::vector<std::uint8_t> blue;
+      blue.reserve(n);
+      for (std::size_t i = 0; i < n; ++i)
+        if (valid.data[i] != 0) blue.push_back(frame.rgb[3 * i + 2]);
+      cv::Mat b(1, static_cast<int>(blue.size()), CV_8UC1, blue.data()), dummy;
+      t = cv::threshold(b, dummy, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+    }
+    std::vector<float> score(n);
+    for (std::size_t i = 0; i < n; ++i) score[i] = frame.rgb[3 * i + 2];
+    return threshold(score, w, h, valid, t - 0.5);
+  }
+};
+
+}  // namespace
+
+void registerBuiltinPipelines() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    registerPipeline({"blue-band",
+                      "Threshold on the blue band (Wallace 1985, 3.6.3, the Warp runs): road is bright in blue, "
+                      "grass dark; then region reproduction and line labelling",
+                      infos(blueSpecs()), [] { return std::make_unique<BlueBandPipeline>(); }});
+    registerPipeline({"color-rgb",
+                      "Gaussian road/non-road classes in RGB (3.4), trained from the prediction, adaptive; region "
+                      "reproduction (2.2.1) and line labelling (2.2.2)",
+                      infos(classifierSpecs()),
+                      [] { return std::make_unique<ClassifierPipeline>("color-rgb", ColorSpace::RGB); }});
+    registerPipeline({"sidewalk",
+                      "The default: Gaussian classes in normalised colour rg (3.4.3, robust to shadows), trained "
+                      "from the prediction, adaptive with a drift guard; region reproduction (2.2.1) and line "
+                      "labelling (2.2.2)",
+                      infos(classifierSpecs()),
+                      [] { return std::make_unique<ClassifierPipeline>("sidewalk", ColorSpace::NormalizedRG); }});
+  });
+}
+
+}  // namespace mapnav

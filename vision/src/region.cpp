@@ -1,0 +1,163 @@
+#include "mapnav/vision/region.h"
+
+#include <algorithm>
+#include <tuple>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/options.h"
+
+namespace mapnav {
+
+namespace {
+
+cv::Mat view(const Image& im) {
+  return cv::Mat(im.height, im.width, CV_8UC1, const_cast<std::uint8_t*>(im.data.data()));
+}
+
+Image toImage(const cv::Mat& m) {
+  Image out(m.cols, m.rows, 1);
+  cv::Mat dst(m.rows, m.cols, CV_8UC1, out.data.data());
+  m.copyTo(dst);
+  return out;
+}
+
+}  // namespace
+
+void RegionOptions::validate() const {
+  requireOption(block_size >= 1, "RegionOptions", "block_size", block_size, ">= 1");
+  requireOption(block_fraction > 0 && block_fraction <= 1, "RegionOptions", "block_fraction", block_fraction,
+                "in (0, 1]");
+  requireOption(morph_iterations >= 0, "RegionOptions", "morph_iterations", morph_iterations, ">= 0");
+  requireOption(refine_margin_blocks >= 0, "RegionOptions", "refine_margin_blocks", refine_margin_blocks, ">= 0");
+  requireOption(pixel_morph_px >= 0, "RegionOptions", "pixel_morph_px", pixel_morph_px, ">= 0");
+}
+
+Image rasterizePolygon(const Polygon2& ring, int width, int height) {
+  cv::Mat m = cv::Mat::zeros(height, width, CV_8UC1);
+  if (ring.size() >= 3) {
+    std::vector<cv::Point> pts;
+    pts.reserve(ring.size());
+    for (const Vec2& p : ring) pts.emplace_back(cvRound(p.x()), cvRound(p.y()));
+    cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255), cv::LINE_8);
+    cv::polylines(m, std::vector<std::vector<cv::Point>>{pts}, true, cv::Scalar(255), 1, cv::LINE_8);
+  }
+  return toImage(m);
+}
+
+RegionResult reproduceRegion(const Image& road_pixels, const Image& valid, const Image& predicted,
+                             const RegionOptions& options) {
+  options.validate();
+  if (road_pixels.channels != 1 || valid.channels != 1 || road_pixels.width != valid.width ||
+      road_pixels.height != valid.height)
+    throw InvalidInput("reproduceRegion: road_pixels and valid must be 1-channel images of one size");
+  const int w = road_pixels.width, h = road_pixels.height;
+  RegionResult result;
+  result.mask = Image(w, h, 1);
+  if (w == 0 || h == 0) return result;
+
+  cv::Mat road;
+  cv::bitwise_and(view(road_pixels) != 0, view(valid) != 0, road);  // 0 / 255
+
+  // 8 × 8 blocks with a proportion threshold.
+  const int bs = options.block_size;
+  const int bw = (w + bs - 1) / bs, bh = (h + bs - 1) / bs;
+  cv::Mat padded;
+  cv::copyMakeBorder(road, padded, 0, bh * bs - h, 0, bw * bs - w, cv::BORDER_REPLICATE);
+  cv::Mat frac;
+  cv::resize(padded, frac, cv::Size(bw, bh), 0, 0, cv::INTER_AREA);
+  cv::Mat blocks = frac >= options.block_fraction * 255.0;
+  const cv::Mat k3 = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
+  if (options.morph_iterations > 0) {
+    cv::morphologyEx(blocks, blocks, cv::MORPH_CLOSE, k3, cv::Point(-1, -1), options.morph_iterations,
+                     cv::BORDER_REPLICATE);
+    cv::morphologyEx(blocks, blocks, cv::MORPH_OPEN, k3, cv::Point(-1, -1), options.morph_iterations,
+                     cv::BORDER_REPLICATE);
+  }
+
+  // The connected component that is the road.
+  cv::Mat labels;
+  const int n = cv::connectedComponents(blocks, labels, 8, CV_32S);
+  if (n <= 1) return result;
+  cv::Mat pred_blocks;
+  const bool have_pred = !predicted.empty() && cv::countNonZero(view(predicted)) > 0;
+  if (have_pred) {
+    cv::Mat pp;
+    cv::copyMakeBorder(view(predicted), pp, 0, bh * bs - h, 0, bw * bs - w, cv::BORDER_REPLICATE);
+    cv::resize(pp, pred_blocks, cv::Size(bw, bh), 0, 0, cv::INTER_AREA);
+  }
+  std::vector<double> overlap(static_cast<std::size_t>(n), 0.0), bottom(static_cast<std::size_t>(n), 0.0),
+      size(static_cast<std::size_t>(n), 0.0);
+  for (int y = 0; y < bh; ++y) {
+    for (int x = 0; x < bw; ++x) {
+      const int l = labels.at<int>(y, x);
+      if (l == 0) continue;
+      size[l] += 1;
+      if (have_pred) overlap[l] += pred_blocks.at<std::uint8_t>(y, x) / 255.0;
+      if (y == bh - 1) bottom[l] += 1;
+    }
+  }
+  int best = 1;
+  for (int l = 2; l < n; ++l) {
+    const auto key = [&](int i) { return std::make_tuple(have_pred ? overlap[i] : 0.0, bottom[i], size[i]); };
+    if (key(l) > key(best)) best = l;
+  }
+  cv::Mat chosen = labels == best;
+  if (options.refine_margin_blocks > 0) {
+    const int k = 2 * options.refine_margin_blocks + 1;
+    cv::dilate(chosen, chosen, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+  }
+  cv::Mat allowed;
+  cv::resize(chosen, allowed, cv::Size(bw * bs, bh * bs), 0, 0, cv::INTER_NEAREST);
+  allowed = allowed(cv::Rect(0, 0, w, h));
+
+  // Pixel level inside the block region.
+  cv::Mat px;
+  cv::bitwise_and(road, allowed, px);
+  if (options.pixel_morph_px > 0) {
+    const int k = 2 * options.pixel_morph_px + 1;
+    const cv::Mat ke = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k));
+    cv::morphologyEx(px, px, cv::MORPH_CLOSE, ke, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    cv::morphologyEx(px, px, cv::MORPH_OPEN, ke, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    cv::bitwise_and(px, view(valid) != 0, px);
+  }
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(px, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  if (contours.empty()) return result;
+  // The outer boundary that holds most of the chosen block component.
+  cv::Mat core = labels == best;
+  cv::Mat core_px;
+  cv::resize(core, core_px, cv::Size(bw * bs, bh * bs), 0, 0, cv::INTER_NEAREST);
+  core_px = core_px(cv::Rect(0, 0, w, h));
+  std::size_t pick = 0;
+  double pick_score = -1;
+  for (std::size_t i = 0; i < contours.size(); ++i) {
+    cv::Mat one = cv::Mat::zeros(h, w, CV_8UC1);
+    cv::drawContours(one, contours, static_cast<int>(i), cv::Scalar(255), cv::FILLED);
+    cv::Mat both;
+    cv::bitwise_and(one, core_px, both);
+    const double score = cv::countNonZero(both) + 1e-3 * cv::contourArea(contours[i]);
+    if (score > pick_score) {
+      pick_score = score;
+      pick = i;
+    }
+  }
+  cv::Mat out = cv::Mat::zeros(h, w, CV_8UC1);
+  if (options.fill_holes) {
+    cv::drawContours(out, contours, static_cast<int>(pick), cv::Scalar(255), cv::FILLED);
+  } else {
+    cv::Mat one = cv::Mat::zeros(h, w, CV_8UC1);
+    cv::drawContours(one, contours, static_cast<int>(pick), cv::Scalar(255), cv::FILLED);
+    cv::bitwise_and(one, px, out);
+  }
+  result.mask = toImage(out);
+  result.area_px = cv::countNonZero(out);
+  result.found = result.area_px > 0;
+  result.contour.reserve(contours[pick].size());
+  for (const cv::Point& p : contours[pick]) result.contour.emplace_back(p.x, p.y);
+  return result;
+}
+
+}  // namespace mapnav
