@@ -12,6 +12,9 @@
 #include "route_command.h"
 #include "simulate_command.h"
 #include "log_command.h"
+#include "pipelines_command.h"
+#include "detect_command.h"
+#include "vision_commands.h"
 #include "mapnav/core/error.h"
 
 namespace mapnav::cli {
@@ -201,6 +204,86 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   lf->add_option("index", log_frame.index, "Frame number, from 0")->required();
   lf->add_option("-o,--output", log_frame.output, "PNG to write")->required();
   lf->callback([&] { command = [&] { return runLogFrame(log_frame, out, err); }; });
+
+  PipelinesConfig pipelines;
+  CLI::App* pl = app.add_subcommand("pipelines", "List the vision pipelines available, with their options and defaults");
+  pl->add_flag("--names", pipelines.names_only, "One name a line");
+  pl->add_option("--plugin", pipelines.plugins, "Load a vision plug-in (a shared library; see examples/vision_plugin)");
+  pl->callback([&] { command = [&] { return runPipelines(pipelines, out, err); }; });
+
+  // detect and segment share their options.
+  DetectConfig detect;
+  std::string detect_pose, detect_at;
+  auto visionOptions = [&](CLI::App* c) {
+    c->add_option("--pipeline", detect.pipeline, "Vision pipeline (mapnav pipelines lists them)")->default_val("sidewalk");
+    c->add_option("--options", detect.options_json, "The pipeline's options as a JSON object")->default_val("{}");
+    c->add_option("--plugin", detect.plugins, "Load a vision plug-in first");
+    c->add_option("image", detect.image, "Camera frame (RGB PNG)")->required()->check(CLI::ExistingFile);
+    c->add_option("--map", detect.map, "Map file")->required()->check(CLI::ExistingFile);
+    c->add_option("--camera", detect.camera, "Camera file")->required()->check(CLI::ExistingFile);
+    auto* pose = c->add_option("--pose", detect_pose, "Vehicle pose X,Y,HEADING_DEG, for the prediction");
+    auto* at = c->add_option("--at", detect_at, "Vehicle on a road: ROAD@NODE+METERS");
+    pose->excludes(at);
+    at->excludes(pose);
+  };
+  auto visionCommand = [&](auto run) {
+    return [&, run] {
+      command = [&, run] {
+        if (detect_pose.empty() && detect_at.empty()) throw InvalidInput("the prediction needs --pose or --at");
+        if (!detect_pose.empty()) detect.pose = parsePose(detect_pose);
+        if (!detect_at.empty()) detect.at = parseRoadPosition(detect_at);
+        return run(detect, out, err);
+      };
+    };
+  };
+  CLI::App* dt = app.add_subcommand("detect", "Run a vision pipeline on a frame against the prediction: the Detected Object");
+  visionOptions(dt);
+  dt->add_flag("--json", detect.json, "Print the DetectedObject as JSON");
+  dt->add_option("-o,--output", detect.output, "Overlay picture (PNG): predicted segments thin, detected lines bold")
+      ->check(outputFile(false));
+  dt->footer("Exit codes: 0 detected, 1 the pipeline failed on the frame (the reason is printed) or bad input, 2 usage/I-O.");
+  dt->callback(visionCommand(runDetect));
+  CLI::App* sg = app.add_subcommand("segment", "Run a vision pipeline on a frame and write the road mask it finds");
+  visionOptions(sg);
+  sg->add_option("-o,--output", detect.output, "Road mask to write (PNG, 255 = road)")->required();
+  sg->add_option("--overlay", detect.overlay, "Also the overlay picture (PNG)");
+  sg->callback(visionCommand(runSegment));
+
+  RectifyConfig rectify;
+  CLI::App* rc = app.add_subcommand("rectify", "Warp a camera frame to a top view of the ground (Wallace 1985, 3.5.1)");
+  rc->add_option("image", rectify.image, "Camera frame (PNG or JPEG)")->required()->check(CLI::ExistingFile);
+  rc->add_option("--camera", rectify.camera, "Camera file")->required()->check(CLI::ExistingFile);
+  rc->add_option("--x-min", rectify.options.x_min_m, "Nearest ground ahead, m")->default_val(1.0);
+  rc->add_option("--x-max", rectify.options.x_max_m, "Farthest ground ahead, m")->default_val(15.0);
+  rc->add_option("--y-min", rectify.options.y_min_m, "Rightmost ground, m (right negative)")->default_val(-6.0);
+  rc->add_option("--y-max", rectify.options.y_max_m, "Leftmost ground, m")->default_val(6.0);
+  rc->add_option("--resolution", rectify.options.metres_per_pixel, "Metres per output pixel")->default_val(0.02);
+  rc->add_option("-o,--output", rectify.output, "Top view to write (PNG): far at the top, left on the left")->required();
+  rc->callback([&] { command = [&] { return runRectify(rectify, out, err); }; });
+
+  CLI::App* cal = app.add_subcommand("calibrate", "Camera calibration (Wallace 1985, 3.5.2; OpenCV chessboards)");
+  cal->require_subcommand(1);
+  CalibrateChessboardConfig chessboard;
+  std::string board = "9x6";
+  CLI::App* cb = cal->add_subcommand("chessboard", "Intrinsics from chessboard photos; reports the reprojection error");
+  cb->add_option("images", chessboard.images, "Photos of the board (PNG or JPEG)")->required()->check(CLI::ExistingFile);
+  cb->add_option("--board", board, "Inner corners COLSxROWS")->default_val("9x6");
+  cb->add_option("--square", chessboard.square_m, "Square size, m")->default_val(0.025)->check(CLI::PositiveNumber);
+  cb->add_option("-o,--output", chessboard.output, "Camera file to write (mapnav-camera/1; fill in the mount)")->required();
+  cb->add_option("--corners", chessboard.corners_dir, "Folder to draw the detected corners into");
+  cb->callback([&] {
+    command = [&] {
+      const auto x = board.find('x');
+      try {
+        if (x == std::string::npos) throw std::invalid_argument(board);
+        chessboard.cols = std::stoi(board.substr(0, x));
+        chessboard.rows = std::stoi(board.substr(x + 1));
+      } catch (const std::exception&) {
+        throw InvalidInput("--board \"" + board + "\": expected COLSxROWS, e.g. 9x6");
+      }
+      return runCalibrateChessboard(chessboard, out, err);
+    };
+  });
 
   try {
     app.parse(argc, argv);

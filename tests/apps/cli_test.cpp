@@ -304,5 +304,32 @@ TEST(Cli, ABadMissionExitsOneNamingTheProblem) {
   EXPECT_FALSE(fs::exists(dir / "log"));
 }
 
+TEST(Cli, VisionCommandsOnASimulatedFrame) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string map = str(testing::mapPath("cmu_campus.json"));
+  const std::string camera = str(testing::mapPath("cameras/terregator_pinhole.json"));
+  ASSERT_EQ(runCli({"simulate", "--mission", str(testing::mapPath("missions/campus_dialogue.json")), "-o", str(dir / "log"),
+                    "--max-frames", "1"})
+                .exit_code,
+            0);
+  const std::string frame = str(dir / "log/images/000000.png");
+  // The first frame is taken at the mission's start, R1@I1+3, facing I1 (the route's direction).
+  const auto names = runCli({"pipelines", "--names"});
+  EXPECT_EQ(names.exit_code, 0);
+  EXPECT_NE(names.out.find("sidewalk\n"), std::string::npos) << names.out;
+  const auto detect = runCli({"detect", "--map", map, "--camera", camera, "--pose", "53,40,180", frame, "--json", "-o", str(dir / "d.png")});
+  ASSERT_EQ(detect.exit_code, 0) << detect.err;
+  const auto j = nlohmann::json::parse(detect.out);
+  EXPECT_EQ(j["status"], "ok");
+  EXPECT_GE(j["region"]["image"].size(), 3u);
+  EXPECT_EQ(readFile(dir / "d.png").substr(1, 3), "PNG");
+  const auto segment = runCli({"segment", "--map", map, "--camera", camera, "--pose", "53,40,180", frame, "-o", str(dir / "mask.png")});
+  ASSERT_EQ(segment.exit_code, 0) << segment.err;
+  const auto rectify = runCli({"rectify", frame, "--camera", camera, "-o", str(dir / "top.png")});
+  ASSERT_EQ(rectify.exit_code, 0) << rectify.err;
+  EXPECT_EQ(runCli({"detect", "--pipeline", "nope", "--map", map, "--camera", camera, "--pose", "53,40,180", frame}).exit_code, 1);
+  EXPECT_EQ(runCli({"detect", "--map", map, "--camera", camera, frame}).exit_code, 2);  // no pose
+}
+
 }  // namespace
 }  // namespace mapnav

@@ -23,3 +23,13 @@ if(NOT last_output MATCHES "^25 roads")
   message(FATAL_ERROR "unexpected consumer output: ${last_output}")
 endif()
 message(STATUS "consumer printed: ${last_output}")
+
+# The example vision plug-in, built out of tree against the installed package, loads in mapnav.
+run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/vision_plugin" -B "${WORK_DIR}/plugin" -G Ninja
+    "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix" "-DCMAKE_CXX_FLAGS=${flags}")
+run(${CMAKE_COMMAND} --build "${WORK_DIR}/plugin")
+run("${WORK_DIR}/prefix/bin/mapnav" pipelines --names --plugin "${WORK_DIR}/plugin/libmapnav_example_plugin.so")
+if(NOT last_output MATCHES "example-lower-half")
+  message(FATAL_ERROR "the out-of-tree plug-in was not listed: ${last_output}")
+endif()
+message(STATUS "pipelines with the plug-in: ${last_output}")

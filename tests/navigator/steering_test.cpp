@@ -70,19 +70,6 @@ Polyline2 curvyRoute() {
       .build();
 }
 
-// maps/cameras/terregator_pinhole.json.
-std::unique_ptr<Camera> terregatorPinhole() {
-  CameraIntrinsics intrinsics;
-  intrinsics.width = 512;
-  intrinsics.height = 480;
-  intrinsics.fx = intrinsics.fy = 904.0;
-  intrinsics.cx = 255.5;
-  intrinsics.cy = 239.5;
-  CameraMount mount;
-  mount.height_m = 1.5;
-  mount.tilt_rad = degToRad(22.0);
-  return createCamera(LensModel::Pinhole, intrinsics, mount);
-}
 
 struct RunResult {
   double max_error = 0;              // max |cross-track error| over the whole run, m
@@ -311,7 +298,7 @@ TEST(PurePursuit, ConvergesFromAHalfMetreOffsetWithinTenMetres) {
 // The paper's servo, dτ/dt = γ · x
 
 TEST(CenterServo, TurnsByGammaTimesTheImageAbscissaOfTheRoadCentre) {
-  const auto camera = terregatorPinhole();
+  const auto camera = testing::terregatorPinhole();
   const double beta = degToRad(22.0);
   // The road centre along y = −0.5; from the origin the point 2.5 m ahead is (2.5, −0.5) in the
   // vehicle frame, 0.5 m right: depth 2.5 cos β + 1.5 sin β along the optical axis,
@@ -336,7 +323,7 @@ TEST(CenterServo, TurnsByGammaTimesTheImageAbscissaOfTheRoadCentre) {
 
 TEST(CenterServo, FallsBackToTheBearingOutsideTheImage) {
   // The centre 3 m right at 2.5 m ahead: beyond the image's ±0.82 m there. Turn rate γ · fx · bearing.
-  const auto camera = terregatorPinhole();
+  const auto camera = testing::terregatorPinhole();
   CenterServo servo(densePath(Polyline2({Vec2(-5, -3), Vec2(50, -3)}), 0.25), *camera);
   const VehicleCommand cmd = servo.command(Pose2());
   EXPECT_FALSE(servo.lastObservation().in_image);
@@ -346,7 +333,7 @@ TEST(CenterServo, FallsBackToTheBearingOutsideTheImage) {
 }
 
 TEST(CenterServo, DefaultGainMatchesPurePursuitForTheTerregatorCamera) {
-  const auto camera = terregatorPinhole();
+  const auto camera = testing::terregatorPinhole();
   const double beta = degToRad(22.0);
   const double expected = 2 * 0.6 * (2.5 * std::cos(beta) + 1.5 * std::sin(beta)) / (904.0 * 2.5 * 2.5);
   EXPECT_NEAR(CenterServo::matchedGain(*camera, 2.5, 0.6), expected, 1e-9);
@@ -360,7 +347,7 @@ TEST(CenterServo, DefaultGainMatchesPurePursuitForTheTerregatorCamera) {
 }
 
 TEST(CenterServo, FollowsACurvyRouteWithinTenCentimetresAndFinishesAtItsEnd) {
-  const auto camera = terregatorPinhole();
+  const auto camera = testing::terregatorPinhole();
   const Polyline2 route = curvyRoute();
   CenterServo servo(densePath(route, 0.2), *camera);
   const RunResult r = drive(servo, route, Pose2(route.front(), route.headingAt(0)));
@@ -373,7 +360,7 @@ TEST(CenterServo, FollowsACurvyRouteWithinTenCentimetresAndFinishesAtItsEnd) {
 }
 
 TEST(CenterServo, ConvergesFromAHalfMetreOffsetWithinTenMetres) {
-  const auto camera = terregatorPinhole();
+  const auto camera = testing::terregatorPinhole();
   const Polyline2 route = curvyRoute();
   for (double lateral : {0.5, -0.5}) {
     CenterServo servo(densePath(route, 0.2), *camera);
@@ -436,7 +423,7 @@ TEST(SteeringOptions, DefaultsAreValidAndBadFieldsAreNamed) {
   expectFieldNamed(servo, "CenterServoOptions::speed_mps = 0");
 
   // The followers validate what they are given.
-  const auto camera = terregatorPinhole();
+  const auto camera = testing::terregatorPinhole();
   const std::vector<PathPoint> path = densePath(Polyline2({Vec2(0, 0), Vec2(10, 0)}), 0.5);
   pursuit = {};
   pursuit.lookahead_m = 0;

@@ -44,6 +44,20 @@ fs::path freshTempDir() {
                                        << dh << ", tolerance " << tolerance;
 }
 
+std::unique_ptr<Camera> terregatorPinhole(double tilt_deg, double yaw_deg) {
+  CameraIntrinsics in;
+  in.width = 512;
+  in.height = 480;
+  in.fx = in.fy = 904.0;
+  in.cx = 255.5;
+  in.cy = 239.5;
+  CameraMount mount;
+  mount.height_m = 1.5;
+  mount.tilt_rad = degToRad(tilt_deg);
+  mount.yaw_rad = degToRad(yaw_deg);
+  return createCamera(LensModel::Pinhole, in, mount);
+}
+
 namespace {
 std::string slurp(int fd) {
   std::string data;

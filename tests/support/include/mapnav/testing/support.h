@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
 
@@ -24,6 +25,11 @@ std::filesystem::path freshTempDir();
 ::testing::AssertionResult poseNear(const Pose2& actual, const Pose2& expected, double tolerance);
 #define EXPECT_VEC2_NEAR(a, b, tol) EXPECT_TRUE(::mapnav::testing::vecNear((a), (b), (tol)))
 #define EXPECT_POSE_NEAR(a, b, tol) EXPECT_TRUE(::mapnav::testing::poseNear((a), (b), (tol)))
+
+/// The camera of maps/cameras/terregator_pinhole.json, built in code: 512 x 480, f = 904 px,
+/// principal point (255.5, 239.5), 1.5 m high, tilted `tilt_deg` down (22 in the file), yawed
+/// `yaw_deg` left.
+std::unique_ptr<Camera> terregatorPinhole(double tilt_deg = 22.0, double yaw_deg = 0.0);
 
 /// What running the built `mapnav` CLI gave.
 struct CommandResult {
