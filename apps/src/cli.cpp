@@ -7,6 +7,7 @@
 #include <sstream>
 #include <ostream>
 
+#include "command_support.h"
 #include "map_commands.h"
 #include "predict_command.h"
 #include "route_command.h"
@@ -219,17 +220,24 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     c->add_option("--options", detect.options_json, "The pipeline's options as a JSON object")->default_val("{}");
     c->add_option("--plugin", detect.plugins, "Load a vision plug-in first");
     c->add_option("image", detect.image, "Camera frame (RGB PNG)")->required()->check(CLI::ExistingFile);
-    c->add_option("--map", detect.map, "Map file")->required()->check(CLI::ExistingFile);
+    c->add_option("--map", detect.map, "Map file, for the prediction")->check(CLI::ExistingFile);
     c->add_option("--camera", detect.camera, "Camera file")->required()->check(CLI::ExistingFile);
     auto* pose = c->add_option("--pose", detect_pose, "Vehicle pose X,Y,HEADING_DEG, for the prediction");
     auto* at = c->add_option("--at", detect_at, "Vehicle on a road: ROAD@NODE+METERS");
     pose->excludes(at);
     at->excludes(pose);
   };
+  std::string train_region;
   auto visionCommand = [&](auto run) {
     return [&, run] {
       command = [&, run] {
-        if (detect_pose.empty() && detect_at.empty()) throw InvalidInput("the prediction needs --pose or --at");
+        if (!train_region.empty()) {
+          detect.train_region = parsePixelPolygon(train_region);
+          return run(detect, out, err);
+        }
+        if (detect.map.empty() || (detect_pose.empty() && detect_at.empty())) {
+          throw InvalidInput("the prediction needs --map and --pose (or --at); segment also takes --train-region instead");
+        }
         if (!detect_pose.empty()) detect.pose = parsePose(detect_pose);
         if (!detect_at.empty()) detect.at = parseRoadPosition(detect_at);
         return run(detect, out, err);
@@ -247,6 +255,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   visionOptions(sg);
   sg->add_option("-o,--output", detect.output, "Road mask to write (PNG, 255 = road)")->required();
   sg->add_option("--overlay", detect.overlay, "Also the overlay picture (PNG)");
+  sg->add_option("--train-region", train_region, "Train on this image polygon U,V;U,V;U,V (pixels) instead of a map prediction");
   sg->callback(visionCommand(runSegment));
 
   RectifyConfig rectify;
@@ -282,6 +291,23 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
         throw InvalidInput("--board \"" + board + "\": expected COLSxROWS, e.g. 9x6");
       }
       return runCalibrateChessboard(chessboard, out, err);
+    };
+  });
+
+  std::string tilt_camera, tilt_output;
+  std::vector<std::string> tilt_lines;
+  CLI::App* tl = cal->add_subcommand("tilt", "Camera tilt from the vanishing point of two ground-parallel lines (the paper's poles)");
+  tl->add_option("--camera", tilt_camera, "Camera file (its intrinsics are used)")->required()->check(CLI::ExistingFile);
+  tl->add_option("--line", tilt_lines, "A ground-parallel line's image end points U1,V1,U2,V2 (give two)")->required()->expected(2);
+  tl->add_option("-o,--output", tilt_output, "Write the camera with this tilt");
+  tl->callback([&] {
+    command = [&] {
+      std::vector<Segment2> lines;
+      for (const std::string& text : tilt_lines) {
+        const auto v = parseNumbers("--line", text, 4, 4, "U1,V1,U2,V2 (pixels)");
+        lines.push_back(Segment2{Vec2(v[0], v[1]), Vec2(v[2], v[3])});
+      }
+      return runCalibrateTilt(tilt_camera, lines.at(0), lines.at(1), tilt_output, out, err);
     };
   });
 

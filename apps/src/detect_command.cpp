@@ -1,6 +1,7 @@
 #include "detect_command.h"
 
 #include <cmath>
+#include <sstream>
 #include <ostream>
 
 #include "cli.h"
@@ -24,10 +25,29 @@ struct Detection {
   DetectedObject detected;
 };
 
-Detection run(const Map& map, const DetectConfig& config) {
+// A prediction made of one region the user gives, in image pixels, for training without a map.
+Prediction fromRegion(const std::vector<Vec2>& polygon, const Camera& camera) {
+  Prediction p;
+  PredictedRegion region;
+  region.id = "train-region";
+  region.kind = "given region";
+  Polygon2 ground;
+  for (const Vec2& pixel : polygon) {
+    if (const auto g = camera.backproject(pixel)) ground.push_back(*g);
+  }
+  if (ground.size() < 3) {
+    throw InvalidInput("--train-region: fewer than 3 of its points see the ground (they are above the horizon)");
+  }
+  region.vehicle = {ground};
+  p.view.regions = {region};
+  const PredictOptions defaults;
+  p.view.footprint = viewFootprint(camera, defaults.near_m, defaults.far_m);
+  return p;
+}
+
+Detection run(const Map* map, const DetectConfig& config) {
   loadPlugins(config.plugins);
   const auto camera = loadCamera(config.camera);
-  const Pose2 pose = config.at ? toPose(map, *config.at) : *config.pose;
   Detection d;
   d.image = readPng(config.image);
   if (d.image.channels != 3) throw InvalidInput(config.image + ": a camera frame must be an RGB image");
@@ -35,7 +55,8 @@ Detection run(const Map& map, const DetectConfig& config) {
     throw InvalidInput(config.image + ": the image is " + std::to_string(d.image.width) + "x" + std::to_string(d.image.height) +
                        " but the camera's is " + std::to_string(camera->width()) + "x" + std::to_string(camera->height()));
   }
-  d.prediction = predictView(map, pose, *camera);
+  d.prediction = map != nullptr ? predictView(*map, config.at ? toPose(*map, *config.at) : *config.pose, *camera)
+                                : fromRegion(config.train_region, *camera);
   const auto pipeline = createPipeline(config.pipeline, config.options_json);
   d.detected = pipeline->detect(VisionFrame{d.image.width, d.image.height, d.image.data.data(), camera.get(), 0.0},
                                 d.prediction.view);
@@ -70,7 +91,7 @@ std::string toJson(const DetectedObject& d) {
 
 int runDetect(const DetectConfig& config, std::ostream& out, std::ostream& err) {
   return withMap(config.map, err, [&](const Map& map) {
-    const Detection d = run(map, config);
+    const Detection d = run(&map, config);
     if (!config.output.empty()) writePng(drawDetection(d.image, d.prediction.view, d.detected), config.output);
     if (config.json) {
       out << toJson(d.detected);
@@ -87,8 +108,19 @@ int runDetect(const DetectConfig& config, std::ostream& out, std::ostream& err) 
   });
 }
 
+std::vector<Vec2> parsePixelPolygon(const std::string& text) {
+  std::vector<Vec2> polygon;
+  std::stringstream in(text);
+  for (std::string point; std::getline(in, point, ';');) {
+    const auto uv = parseNumbers("--train-region", point, 2, 2, "U,V;U,V;U,V (pixels)");
+    polygon.emplace_back(uv[0], uv[1]);
+  }
+  if (polygon.size() < 3) throw InvalidInput("--train-region \"" + text + "\": a polygon needs at least 3 points U,V;U,V;U,V");
+  return polygon;
+}
+
 int runSegment(const DetectConfig& config, std::ostream& out, std::ostream& err) {
-  return withMap(config.map, err, [&](const Map& map) {
+  auto body = [&](const Map* map) {
     const Detection d = run(map, config);
     if (d.detected.status != DetectedObject::Status::Ok) {
       err << "mapnav: error: " << config.image << ": " << d.detected.reason << "; nothing written\n";
@@ -98,7 +130,9 @@ int runSegment(const DetectConfig& config, std::ostream& out, std::ostream& err)
     if (!config.overlay.empty()) writePng(drawDetection(d.image, d.prediction.view, d.detected), config.overlay);
     out << "wrote " << config.output << "\n";
     return static_cast<int>(kOk);
-  });
+  };
+  if (!config.train_region.empty()) return guarded(err, [&] { return body(nullptr); });
+  return withMap(config.map, err, [&](const Map& map) { return body(&map); });
 }
 
 }  // namespace mapnav::cli

@@ -1,5 +1,9 @@
 #include "vision_commands.h"
 
+#include "cli.h"
+
+#include <cstdio>
+
 #include <cctype>
 #include <filesystem>
 #include <iomanip>
@@ -94,6 +98,25 @@ int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream
            "(the tilt can be found from two ground-parallel lines, Wallace 1985, 3.5.2)\n";
     if (!config.corners_dir.empty()) out << "corners drawn in " << config.corners_dir << "\n";
     return 0;
+  });
+}
+
+int runCalibrateTilt(const std::string& camera_file, const Segment2& a, const Segment2& b, const std::string& output,
+                     std::ostream& out, std::ostream& err) {
+  return guarded(err, [&] {
+    const auto camera = loadCamera(camera_file);
+    const double tilt = tiltFromParallelLines(camera->intrinsics(), a, b);
+    char line[160];
+    std::snprintf(line, sizeof line, "tilt %.3f degrees below the horizon (the file says %.3f)\n", radToDeg(tilt),
+                  radToDeg(camera->mount().tilt_rad));
+    out << line;
+    if (!output.empty()) {
+      CameraMount mount = camera->mount();
+      mount.tilt_rad = tilt;
+      writeFileAtomic(output, cameraToJson(*createCamera(camera->model(), camera->intrinsics(), mount)));
+      out << "wrote " << output << "\n";
+    }
+    return static_cast<int>(kOk);
   });
 }
 

@@ -3,6 +3,8 @@
 // functions, callable from tests; cli.cpp parses the options into them.
 #include <iosfwd>
 #include <string>
+
+#include "mapnav/geometry/segment2.h"
 #include <vector>
 
 #include "mapnav/vision/rectify.h"
@@ -28,5 +30,10 @@ struct CalibrateChessboardConfig {
 /// Calibrates a pin-hole camera (focal, principal point, k1 k2 p1 p2 k3) and writes it with a
 /// default mount, which the user must fill in; prints the RMS reprojection error.
 int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream& out, std::ostream& err);
+
+/// `mapnav calibrate tilt`: the tilt from two ground-parallel lines in the image of `camera_file`;
+/// writes the camera with that tilt to `output` when it is not empty.
+int runCalibrateTilt(const std::string& camera_file, const Segment2& a, const Segment2& b, const std::string& output,
+                     std::ostream& out, std::ostream& err);
 
 }  // namespace mapnav::cli

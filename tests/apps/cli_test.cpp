@@ -331,5 +331,34 @@ TEST(Cli, VisionCommandsOnASimulatedFrame) {
   EXPECT_EQ(runCli({"detect", "--map", map, "--camera", camera, frame}).exit_code, 2);  // no pose
 }
 
+TEST(Cli, CalibrateTiltFromTwoGroundParallelLinesAndSegmentFromAGivenRegion) {
+  const std::string camera_file = str(testing::mapPath("cameras/terregator_pinhole.json"));
+  const auto camera = testing::terregatorPinhole();  // the same camera: 22 degrees down
+  auto line = [&](double y) {
+    const Vec2 a = *camera->projectGround(Vec2(3, y)), b = *camera->projectGround(Vec2(11, y));
+    char text[128];
+    std::snprintf(text, sizeof text, "%.6f,%.6f,%.6f,%.6f", a.x(), a.y(), b.x(), b.y());
+    return std::string(text);
+  };
+  const auto tilt = runCli({"calibrate", "tilt", "--camera", camera_file, "--line", line(1.25), "--line", line(-1.25)});
+  ASSERT_EQ(tilt.exit_code, 0) << tilt.err;
+  EXPECT_NE(tilt.out.find("tilt 22.000 degrees"), std::string::npos) << tilt.out;
+
+  const fs::path dir = testing::freshTempDir();
+  ASSERT_EQ(runCli({"simulate", "--mission", str(testing::mapPath("missions/campus_dialogue.json")), "-o", str(dir / "log"),
+                    "--max-frames", "1"})
+                .exit_code,
+            0);
+  // A trapezoid on the sidewalk straight ahead, as a person would draw it.
+  const auto seg = runCli({"segment", str(dir / "log/images/000000.png"), "--camera", camera_file, "--train-region",
+                           "200,470;310,470;270,300;240,300", "-o", str(dir / "mask.png")});
+  ASSERT_EQ(seg.exit_code, 0) << seg.err;
+  EXPECT_EQ(readFile(dir / "mask.png").substr(1, 3), "PNG");
+  EXPECT_EQ(runCli({"segment", str(dir / "log/images/000000.png"), "--camera", camera_file, "--train-region", "1,2;3",
+                    "-o", str(dir / "bad.png")})
+                .exit_code,
+            2);
+}
+
 }  // namespace
 }  // namespace mapnav
