@@ -1,0 +1,305 @@
+// The oriented edge tracker (Wallace 1985, 3.1-3.2) on synthetic steps and simulated park-path frames.
+#include "mapnav/vision/edge_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <utility>
+#include <vector>
+
+#include "mapnav/core/error.h"
+#include "mapnav/map/map_io.h"
+#include "mapnav/map/predict.h"
+#include "mapnav/sim/world.h"
+#include "mapnav/testing/support.h"
+#include "mapnav/vision/pipelines.h"
+
+namespace mapnav {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+const Map& park() {
+  static const Map map = loadMap(testing::mapPath("park_path.json"));
+  return map;
+}
+
+const Camera& cam() {
+  static const std::unique_ptr<Camera> c = testing::terregatorPinhole();
+  return *c;
+}
+
+/// A pose on R1 at `ds` m past the centre-line vertex nearest `vertex`, looking along the road.
+Pose2 poseNear(const Vec2& vertex, double ds) {
+  const Polyline2& line = park().road("R1").centerline;
+  const double s = line.project(vertex).arc_length + ds;
+  const Vec2 t = line.tangentAt(s);
+  return {line.pointAt(s), std::atan2(t.y(), t.x())};
+}
+
+/// A pose on the second curve of R1 (about 36 m radius), `ds` m past its start: the pin-hole sees
+/// both 3 m apart edges only from about 6 m to 12 m ahead, so the vehicle stands on the extension of
+/// the centre line's chord from 6 m to 12 m ahead (about 1 m off the centre line), looking along it.
+Pose2 curvePose(double ds = 2.0) {
+  const Polyline2& line = park().road("R1").centerline;
+  const double s = line.project(Vec2(119.931, 81.09)).arc_length + ds;
+  const Vec2 p6 = line.pointAt(s + 6), p12 = line.pointAt(s + 12);
+  const Vec2 u = (p12 - p6).normalized();
+  return {p6 - 6 * u, std::atan2(u.y(), u.x())};
+}
+Pose2 straightPose() { return poseNear(Vec2(74.936, 27.467), 15.0); }
+
+/// The true edge's projection into the image: dense ground points of the edge ahead of the camera.
+std::vector<Vec2> projectedEdge(const Polyline2& edge, const Pose2& pose) {
+  std::vector<Vec2> out;
+  for (double s = 0; s <= edge.length(); s += 0.02) {
+    const Vec2 g = pose.inverseTransform(edge.pointAt(s));
+    if (g.x() < 0.5 || g.norm() > 40) continue;
+    if (const auto p = cam().projectGround(g)) out.push_back(*p);
+  }
+  return out;
+}
+
+double distanceToPolyline(const std::vector<Vec2>& line, const Vec2& p) {
+  double best = 1e18;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+    if ((line[i + 1] - line[i]).norm() > 20) continue;  // a jump: not a neighbour
+    best = std::min(best, Segment2{line[i], line[i + 1]}.distanceTo(p));
+  }
+  return best;
+}
+
+struct TrackRun {
+  Frame frame;
+  Prediction prediction;
+  DetectedObject detected;
+  EdgeTrackReport report;
+};
+
+TrackRun runAt(const Pose2& pose, double shadow_density, EdgeTracker& tracker) {
+  WorldOptions wo;
+  wo.shadow_density = shadow_density;
+  const World world(park(), wo);
+  if (std::getenv("MAPNAV_EDGE_DUMP") != nullptr) {
+    int shaded = 0, total = 0;
+    for (double x = 2; x < 13; x += 0.5)
+      for (double y = -3; y <= 3; y += 0.5, ++total) shaded += world.shadowAt(pose.transform(Vec2(x, y))) > 0.5;
+    std::printf("shadow density %.2f: %d of %d ground samples in view shaded\n", shadow_density, shaded, total);
+  }
+  TrackRun r;
+  r.frame = world.render(cam(), pose, 0.0);
+  r.prediction = predictView(park(), pose, cam());
+  const VisionFrame vf{r.frame.rgb.width, r.frame.rgb.height, r.frame.rgb.data.data(), &cam(), 0.0};
+  r.detected = tracker.detect(vf, r.prediction.view);
+  r.report = tracker.lastReport();
+  if (std::getenv("MAPNAV_EDGE_DUMP") != nullptr) {
+    static int k = 0;
+    Image im = r.frame.rgb;
+    auto put = [&](const Vec2& p, std::uint8_t R, std::uint8_t G, std::uint8_t B) {
+      for (int dv = -1; dv <= 1; ++dv)
+        for (int du = -1; du <= 1; ++du) {
+          const int u = static_cast<int>(std::lround(p.x())) + du, v = static_cast<int>(std::lround(p.y())) + dv;
+          if (u < 0 || v < 0 || u >= im.width || v >= im.height) continue;
+          std::uint8_t* q = im.data.data() + 3 * (static_cast<std::size_t>(v) * im.width + u);
+          q[0] = R; q[1] = G; q[2] = B;
+        }
+    };
+    for (const auto& e : {r.report.left, r.report.right}) {
+      put(e.start, 255, 0, 255);
+      for (const Vec2& p : e.image) put(p, 255, 0, 0);
+      std::printf("edge %s start (%.1f %.1f) dir (%.2f %.2f) pts %zu stop %s\n", e.label ? e.label->c_str() : "-",
+                  e.start.x(), e.start.y(), e.start_direction.x(), e.start_direction.y(), e.image.size(),
+                  e.stop_reason.c_str());
+      for (std::size_t i = 0; i < e.image.size(); ++i)
+        std::printf("   (%.1f %.1f) c %.1f\n", e.image[i].x(), e.image[i].y(), e.matches[i].contrast);
+    }
+    for (const auto& sg : r.prediction.view.segments)
+      std::printf("seg %s side %s img (%.0f %.0f)-(%.0f %.0f)\n", sg.id.c_str(), sg.side.c_str(), sg.image.a.x(),
+                  sg.image.a.y(), sg.image.b.x(), sg.image.b.y());
+    const std::string path = "/tmp/edge_dump_" + std::to_string(k++) + ".ppm";
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    std::fprintf(f, "P6 %d %d 255\n", im.width, im.height);
+    std::fwrite(im.data.data(), 1, im.data.size(), f);
+    std::fclose(f);
+  }
+  return r;
+}
+
+/// Max pixel error of the tracked points from the true edges (left/right of the vehicle).
+void trackingErrors(const TrackRun& r, const Pose2& pose, double& left_max, double& right_max) {
+  const Road& road = park().road("R1");
+  // The pose looks along from → to, so the road's left edge is the vehicle's left.
+  const auto left = projectedEdge(park().leftEdge(road), pose);
+  const auto right = projectedEdge(park().rightEdge(road), pose);
+  left_max = right_max = 0;
+  for (const Vec2& p : r.report.left.image) left_max = std::max(left_max, distanceToPolyline(left, p));
+  for (const Vec2& p : r.report.right.image) right_max = std::max(right_max, distanceToPolyline(right, p));
+}
+
+TEST(OrientedEdgeOperator, FindsASyntheticStepWithin1PxAnd2Deg) {
+  for (const double angle_deg : {0.0, 30.0, -40.0, 63.0}) {
+    GreyImage g;
+    g.width = 512;
+    g.height = 480;
+    g.data.resize(static_cast<std::size_t>(g.width) * g.height);
+    const Vec2 c0(256.3, 240.0);
+    const Vec2 d(std::sin(angle_deg * kDeg), -std::cos(angle_deg * kDeg));  // along the edge, up the image
+    const Vec2 n(-d.y(), d.x());
+    for (int v = 0; v < g.height; ++v)
+      for (int u = 0; u < g.width; ++u)
+        g.data[static_cast<std::size_t>(v) * g.width + u] = (Vec2(u, v) - c0).dot(n) > 0 ? 140.0f : 60.0f;
+    // Start 7 px off the edge, with a direction 6 degrees off.
+    const Vec2 guess_dir(std::sin((angle_deg + 6) * kDeg), -std::cos((angle_deg + 6) * kDeg));
+    const EdgeMatch m = orientedEdge(g, c0 + 7 * n, guess_dir, OrientedEdgeParams{});
+    ASSERT_TRUE(m.found) << angle_deg;
+    const double dist = std::abs((m.point - c0).dot(n));
+    const double err_deg = std::acos(std::clamp(m.direction.dot(d), -1.0, 1.0)) / kDeg;
+    EXPECT_LT(dist, 1.0) << angle_deg;
+    EXPECT_LT(err_deg, 2.0) << angle_deg;
+    EXPECT_NEAR(m.contrast, 80, 8) << angle_deg;
+    EXPECT_GT(m.correlation, 0.8) << angle_deg;
+  }
+}
+
+TEST(EdgeTracker, FollowsBothEdgesOfACurvingPathToTheTop) {
+  // shadow_density 0.2 puts no tree shadow in these views; 0.4 shades about a tenth of the ground in
+  // the views 0 and 4 m into the curve (and 40 % further on: see HeavyShadowFailsRatherThanMisleads).
+  const std::vector<std::pair<double, double>> cases = {{0.0, 0.0}, {0.0, 4.0}, {0.0, 8.0}, {0.0, 12.0},
+                                                        {0.4, 0.0}, {0.4, 4.0}};
+  for (const auto& [shadows, ds] : cases) {
+    SCOPED_TRACE(::testing::Message() << "shadow_density " << shadows << ", " << ds << " m into the curve");
+    EdgeTracker tracker;
+    const Pose2 pose = curvePose(ds);
+    const TrackRun r = runAt(pose, shadows, tracker);
+    ASSERT_EQ(r.report.start_source, "prediction");
+    ASSERT_EQ(r.detected.status, DetectedObject::Status::Ok) << r.detected.reason;
+    double lmax = 0, rmax = 0;
+    trackingErrors(r, pose, lmax, rmax);
+    std::printf("shadow %.1f ds %4.1f: left %zu pts max err %.2f px (top v %.1f), right %zu pts max err %.2f px (top v %.1f), "
+                "width %.3f m sd %.3f angle %.2f deg, conf %.2f\n",
+                shadows, ds, r.report.left.image.size(), lmax, r.report.left.image.back().y(),
+                r.report.right.image.size(), rmax, r.report.right.image.back().y(), r.report.pair.width_m,
+                r.report.pair.width_sd_m, r.report.pair.angle_deg, r.detected.confidence);
+    EXPECT_LT(lmax, 4.0);
+    EXPECT_LT(rmax, 4.0);
+    for (const TrackedEdge* e : {&r.report.left, &r.report.right}) {
+      EXPECT_TRUE(e->reached_top) << e->stop_reason;
+      EXPECT_LT(e->image.back().y(), 64.0);  // the last window is near the top
+      EXPECT_GE(e->image.size(), 6u);
+      ASSERT_TRUE(e->label.has_value());
+      EXPECT_EQ(e->label->rfind("R1.", 0), 0u) << *e->label;
+      EXPECT_GT(e->eval.contrast, 10);
+      EXPECT_GT(e->eval.consistency, 0.6);
+    }
+    EXPECT_NEAR(r.report.pair.width_m, 3.0, 0.3);
+    ASSERT_TRUE(r.detected.centerline_vehicle.has_value());
+    // The fitted centre line's ends lie near the true centre line (the curve's sagitta is ~0.1 m).
+    const Polyline2& centre = park().road("R1").centerline;
+    for (const Vec2& g : {r.detected.centerline_vehicle->a, r.detected.centerline_vehicle->b})
+      EXPECT_LT((centre.project(pose.transform(g)).point - pose.transform(g)).norm(), 0.3);
+    EXPECT_FALSE(r.detected.lines.empty());
+    for (const DetectedLine& l : r.detected.lines) EXPECT_TRUE(l.label.has_value());
+    EXPECT_GE(r.detected.region_image.size(), 6u);
+    EXPECT_GT(r.detected.confidence, 0.3);
+  }
+}
+
+TEST(EdgeTracker, HeavyShadowFailsRatherThanMisleads) {
+  // 8 and 12 m into the curve, shadow_density 0.4 shades ~40 % of the ground in view, the right edge
+  // mostly (the paper, 3.2.1: "we have had difficulty ... when shadows lie on the road"). The
+  // tracker must then fail, or be right.
+  for (const double ds : {8.0, 12.0}) {
+    EdgeTracker tracker;
+    const Pose2 pose = curvePose(ds);
+    const TrackRun r = runAt(pose, 0.4, tracker);
+    double lmax = 0, rmax = 0;
+    trackingErrors(r, pose, lmax, rmax);
+    std::printf("heavy shadow ds %4.1f: %s%s; left %zu pts max err %.2f px, right %zu pts max err %.2f px\n", ds,
+                r.detected.status == DetectedObject::Status::Ok ? "ok" : "failed: ", r.detected.reason.c_str(),
+                r.report.left.image.size(), lmax, r.report.right.image.size(), rmax);
+    if (r.detected.status == DetectedObject::Status::Ok) {
+      EXPECT_LT(lmax, 4.0) << ds;
+      EXPECT_LT(rmax, 4.0) << ds;
+    }
+  }
+}
+
+TEST(EdgeTracker, ParallelismPassesOnAStraightStretchAndAWrongWidthIsFlagged) {
+  {
+    EdgeTracker tracker;
+    const TrackRun r = runAt(straightPose(), 0.0, tracker);
+    ASSERT_EQ(r.detected.status, DetectedObject::Status::Ok) << r.detected.reason;
+    EXPECT_TRUE(r.report.pair.parallel_ok);
+    EXPECT_TRUE(r.report.pair.width_ok);
+    EXPECT_NEAR(r.report.pair.expected_width_m, 3.0, 0.05);  // from the prediction's relation
+    EXPECT_NEAR(r.report.pair.width_m, 3.0, 0.3);
+    EXPECT_LT(r.report.pair.angle_deg, 3.0);
+    std::printf("straight: width %.3f m, sd %.3f, angle %.2f deg\n", r.report.pair.width_m, r.report.pair.width_sd_m,
+                r.report.pair.angle_deg);
+  }
+  {
+    EdgeTrackerOptions o;
+    o.expected_width_m = 5.0;
+    EdgeTracker tracker(o);
+    const TrackRun r = runAt(straightPose(), 0.0, tracker);
+    EXPECT_EQ(r.detected.status, DetectedObject::Status::Failed);
+    EXPECT_NE(r.detected.reason.find("width"), std::string::npos) << r.detected.reason;
+    EXPECT_TRUE(r.report.pair.parallel_ok);
+    EXPECT_FALSE(r.report.pair.width_ok);
+  }
+}
+
+TEST(EdgeTracker, CarriesThePreviousEdgesWithTheVehicleMotion) {
+  EdgeTracker tracker;
+  const Pose2 a = curvePose(0.0);
+  const Pose2 b = a * Pose2(0.8, 0.0, -0.03);  // odometry: 0.8 m ahead, turning right
+  const TrackRun first = runAt(a, 0.0, tracker);
+  ASSERT_EQ(first.detected.status, DetectedObject::Status::Ok) << first.detected.reason;
+  tracker.advance(a.inverse() * b);
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  const Frame f = World(park(), wo).render(cam(), b, 0.0);
+  const VisionFrame vf{f.rgb.width, f.rgb.height, f.rgb.data.data(), &cam(), 0.0};
+  const DetectedObject d = tracker.detect(vf, PredictedObject{});
+  EXPECT_EQ(tracker.lastReport().start_source, "carried");
+  ASSERT_EQ(d.status, DetectedObject::Status::Ok) << d.reason;
+  EXPECT_NEAR(tracker.lastReport().pair.width_m, 3.0, 0.3);
+}
+
+TEST(EdgeTracker, LostEdgeFails) {
+  // A flat grey frame: no edge at the option start points.
+  std::vector<std::uint8_t> rgb(512 * 480 * 3, 100);
+  EdgeTracker tracker;
+  const VisionFrame vf{512, 480, rgb.data(), &cam(), 0.0};
+  const DetectedObject d = tracker.detect(vf, PredictedObject{});
+  EXPECT_EQ(tracker.lastReport().start_source, "options");
+  EXPECT_EQ(d.status, DetectedObject::Status::Failed);
+  EXPECT_NE(d.reason.find("lost"), std::string::npos) << d.reason;
+}
+
+TEST(EdgeTrackerPipeline, RegisteredWithDocumentedOptions) {
+  registerBuiltinPipelines();
+  bool found = false;
+  for (const PipelineInfo& info : listPipelines())
+    if (info.name == "edge-tracker") {
+      found = true;
+      EXPECT_GE(info.options.size(), 15u);
+      for (const OptionInfo& o : info.options) {
+        EXPECT_FALSE(o.default_json.empty()) << o.name;
+        EXPECT_NO_THROW(createPipeline("edge-tracker", "{\"" + o.name + "\": " + o.default_json + "}")) << o.name;
+      }
+    }
+  EXPECT_TRUE(found);
+  EXPECT_NO_THROW(createPipeline("edge-tracker", R"({"band": "luminance", "window_rows": 48})"));
+  EXPECT_THROW(createPipeline("edge-tracker", R"({"band": "red"})"), InvalidInput);
+  EXPECT_THROW(createPipeline("edge-tracker", R"({"no_such": 1})"), InvalidInput);
+  EXPECT_THROW(createPipeline("edge-tracker", R"({"window_rows": 2})"), InvalidInput);
+  EXPECT_THROW(createPipeline("edge-tracker", R"({"use_carried_edges": 1})"), InvalidInput);
+}
+
+}  // namespace
+}  // namespace mapnav

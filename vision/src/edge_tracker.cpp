@@ -1,0 +1,740 @@
+// The oriented road-edge tracker (Wallace et al. 1985, 3.1-3.2) and the "edge-tracker" pipeline.
+#include "mapnav/vision/edge_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
+
+#include "mapnav/core/error.h"
+#include "mapnav/geometry/simplify.h"
+
+namespace mapnav {
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+Vec2 rotateVec(const Vec2& v, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
+
+/// Perpendicular of an image direction: the direction turned clockwise on screen (up → right).
+Vec2 across(const Vec2& d) { return {-d.y(), d.x()}; }
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+/// Distance from p to the polyline, and whether the closest point is interior (not an end point).
+double polylineDistance(const std::vector<Vec2>& line, const Vec2& p, bool& interior, Vec2& closest) {
+  double best = std::numeric_limits<double>::infinity();
+  interior = false;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+    const Segment2 s{line[i], line[i + 1]};
+    const double t = s.closestParameter(p);
+    const Vec2 c = s.pointAt(t);
+    const double d = (c - p).norm();
+    if (d < best) {
+      best = d;
+      closest = c;
+      interior = !((i == 0 && t <= 1e-9) || (i + 2 == line.size() && t >= 1 - 1e-9));
+    }
+  }
+  return best;
+}
+
+/// Principal direction of points (unit), through their mean.
+Vec2 principalDirection(const std::vector<Vec2>& pts, Vec2& mean) {
+  mean = Vec2::Zero();
+  for (const Vec2& p : pts) mean += p;
+  mean /= static_cast<double>(pts.size());
+  Mat2 c = Mat2::Zero();
+  for (const Vec2& p : pts) c += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Mat2> es(c);
+  Vec2 d = es.eigenvectors().col(1);
+  if (d.x() < 0) d = -d;
+  return d;
+}
+
+/// Clips segment a→b to the box [lo, hi]; false when nothing is left.
+bool clipSegment(Vec2& a, Vec2& b, const Vec2& lo, const Vec2& hi) {
+  double t0 = 0, t1 = 1;
+  const Vec2 d = b - a;
+  for (int k = 0; k < 2; ++k) {
+    for (int side = 0; side < 2; ++side) {
+      const double p = side == 0 ? -d[k] : d[k];
+      const double q = side == 0 ? a[k] - lo[k] : hi[k] - a[k];
+      if (std::abs(p) < 1e-12) {
+        if (q < 0) return false;
+        continue;
+      }
+      const double r = q / p;
+      if (p < 0) t0 = std::max(t0, r);
+      else t1 = std::min(t1, r);
+    }
+  }
+  if (t0 > t1) return false;
+  const Vec2 a0 = a;
+  a = a0 + t0 * d;
+  b = a0 + t1 * d;
+  return true;
+}
+
+}  // namespace
+
+// --- Grey image and the oriented operator ------------------------------------------------------------
+
+GreyImage toGrey(const std::uint8_t* rgb, int width, int height, GreyBand band) {
+  GreyImage g;
+  g.width = width;
+  g.height = height;
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  g.data.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t* p = rgb + 3 * i;
+    g.data[i] = band == GreyBand::Blue ? static_cast<float>(p[2])
+                                       : static_cast<float>(0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2]);
+  }
+  return g;
+}
+
+EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& direction,
+                       const OrientedEdgeParams& params, int polarity) {
+  EdgeMatch best;
+  const int L = std::max(1, params.along_px), W = std::max(4, params.across_px);
+  const int h = std::max(1, params.step_half_width_px);
+  const Vec2 d0 = direction.normalized();
+  const int na = params.angle_step_deg > 0 ? static_cast<int>(std::floor(params.angle_search_deg / params.angle_step_deg))
+                                            : 0;
+  double best_score = -std::numeric_limits<double>::infinity();
+  std::vector<double> prof(W), scores(W);
+  for (int ai = -na; ai <= na; ++ai) {
+    const Vec2 d = rotateVec(d0, ai * params.angle_step_deg * kDeg);
+    const Vec2 n = across(d);
+    // The edge profile: the operator's columns (along d) summed over nearest pixels.
+    for (int k = 0; k < W; ++k) {
+      const double o = k - (W - 1) / 2.0;
+      double sum = 0;
+      int count = 0;
+      for (int j = 0; j < L; ++j) {
+        const double t = j - (L - 1) / 2.0;
+        const Vec2 p = centre + o * n + t * d;
+        const long u = std::lround(p.x()), v = std::lround(p.y());
+        if (u < 0 || v < 0 || u >= image.width || v >= image.height) continue;
+        sum += image.at(static_cast<int>(u), static_cast<int>(v));
+        ++count;
+      }
+      prof[k] = count * 4 >= L ? sum / count : kNaN;
+    }
+    // Correlation with the ideal step at each position (step between k-1 and k).
+    int kbest = -1;
+    double sbest = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k < W; ++k) {
+      scores[k] = kNaN;
+      if (k - h < 0 || k + h > W) continue;
+      if (std::abs(k - 0.5 - (W - 1) / 2.0) > params.max_offset_px) continue;
+      double l = 0, r = 0;
+      bool ok = true;
+      for (int i = 1; i <= h && ok; ++i) {
+        if (std::isnan(prof[k - i]) || std::isnan(prof[k + i - 1])) ok = false;
+        else {
+          l += prof[k - i];
+          r += prof[k + i - 1];
+        }
+      }
+      if (!ok) continue;
+      const double c = (r - l) / h;
+      const double s = polarity == 0 ? std::abs(c) : polarity * c;
+      scores[k] = s;
+      if (s > sbest) {
+        sbest = s;
+        kbest = k;
+      }
+    }
+    if (kbest < 0 || sbest <= best_score) continue;
+    best_score = sbest;
+    // Sub-pixel position: parabola through the neighbouring scores.
+    double frac = 0;
+    if (kbest > 0 && kbest + 1 < W && !std::isnan(scores[kbest - 1]) && !std::isnan(scores[kbest + 1])) {
+      const double a = scores[kbest - 1], b = scores[kbest], c = scores[kbest + 1];
+      const double den = a - 2 * b + c;
+      if (den < 0) frac = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+    }
+    const double pos = kbest - 0.5 + frac - (W - 1) / 2.0;
+    best.found = true;
+    best.point = centre + pos * n;
+    best.direction = d;
+    double l = 0, r = 0, mean = 0, var = 0, slope = 0;
+    for (int i = 1; i <= h; ++i) {
+      l += prof[kbest - i];
+      r += prof[kbest + i - 1];
+    }
+    best.contrast = (r - l) / h;
+    for (int i = kbest - h; i < kbest + h; ++i) mean += prof[i];
+    mean /= 2 * h;
+    for (int i = kbest - h; i < kbest + h; ++i) var += (prof[i] - mean) * (prof[i] - mean);
+    const double sd = std::sqrt(var / (2 * h));
+    best.correlation = sd > 1e-9 ? (best.contrast / 2) / sd : 0;
+    for (int i = kbest - h; i + 1 < kbest + h; ++i) slope = std::max(slope, std::abs(prof[i + 1] - prof[i]));
+    best.width_px = slope > 1e-9 ? std::abs(best.contrast) / slope : 0;
+    best.profile = prof;
+  }
+  return best;
+}
+
+// --- Options -------------------------------------------------------------------------------------------
+
+void EdgeTrackerOptions::validate() const {
+  auto bad = [](const std::string& field, double v, const std::string& rule) {
+    std::ostringstream s;
+    s << "EdgeTrackerOptions::" << field << " = " << v << ": must be " << rule;
+    throw InvalidInput(s.str());
+  };
+  if (window_rows < 4) bad("window_rows", window_rows, ">= 4");
+  if (window_cols < 8) bad("window_cols", window_cols, ">= 8");
+  if (!(step_fraction > 0 && step_fraction <= 4)) bad("step_fraction", step_fraction, "in (0, 4]");
+  if (step_half_width_px < 1) bad("step_half_width_px", step_half_width_px, ">= 1");
+  if (!(angle_search_deg >= 0 && angle_search_deg <= 45)) bad("angle_search_deg", angle_search_deg, "in [0, 45]");
+  if (!(angle_step_deg > 0 && angle_step_deg <= 45)) bad("angle_step_deg", angle_step_deg, "in (0, 45]");
+  if (!(min_contrast >= 0)) bad("min_contrast", min_contrast, ">= 0");
+  if (!(max_turn_deg > 0 && max_turn_deg <= 180)) bad("max_turn_deg", max_turn_deg, "in (0, 180]");
+  if (min_points < 1) bad("min_points", min_points, ">= 1");
+  if (max_points < min_points) bad("max_points", max_points, ">= min_points");
+  if (!(expected_width_m >= 0)) bad("expected_width_m", expected_width_m, ">= 0");
+  if (!(width_tolerance > 0)) bad("width_tolerance", width_tolerance, "> 0");
+  if (!(parallel_tolerance_deg > 0)) bad("parallel_tolerance_deg", parallel_tolerance_deg, "> 0");
+  if (!(max_width_sd_m > 0)) bad("max_width_sd_m", max_width_sd_m, "> 0");
+}
+
+namespace {
+
+struct Spec {
+  const char* name;
+  const char* def;
+  const char* description;
+};
+
+const std::vector<Spec>& specs() {
+  static const std::vector<Spec> s = {
+      {"band", "\"luminance\"", "grey image: \"luminance\" (0.299 R + 0.587 G + 0.114 B) or \"blue\" (the blue band of the Warp runs, 3.6.3)"},
+      {"window_rows", "64", "search window length along the edge at 480 rows (scaled with the image height)"},
+      {"window_cols", "128", "search window width across the edge at 512 columns (scaled with the image width)"},
+      {"step_fraction", "0.5", "the next point is predicted this x window_rows ahead along theta"},
+      {"step_half_width_px", "6", "the ideal step edge: this many profile samples each side (at 512 columns)"},
+      {"angle_search_deg", "10", "operator orientations tried: theta +- this ..."},
+      {"angle_step_deg", "1", "... in steps of this"},
+      {"min_contrast", "6", "a weaker step (grey levels) ends the trace"},
+      {"max_turn_deg", "30", "a larger change of theta between two steps ends the trace"},
+      {"min_points", "3", "fewer edge points: the edge is lost (status failed)"},
+      {"max_points", "200", "at most this many points per edge"},
+      {"start_left_u", "-1", "without a prediction: left edge start column (-1: 0.25 x width)"},
+      {"start_right_u", "-1", "without a prediction: right edge start column (-1: 0.75 x width)"},
+      {"start_v", "-1", "without a prediction: start row (-1: half a window above the bottom)"},
+      {"start_left_angle_deg", "20", "without a prediction: left edge direction, degrees from up, + leaning right"},
+      {"start_right_angle_deg", "-20", "without a prediction: right edge direction"},
+      {"expected_width_m", "0", "expected road width; 0: the prediction's parallel relation separation_m"},
+      {"width_tolerance", "0.15", "ground width must be within this fraction of the expected width"},
+      {"parallel_tolerance_deg", "10", "the two edges' ground lines must be within this angle"},
+      {"max_width_sd_m", "0.4", "the spread of the width along the edges must be within this"},
+      {"gate_search", "false",
+       "after the first point search only offsets reachable within max_turn_deg (step x tan); off: the whole window"},
+      {"use_carried_edges", "true", "start from advance()'d previous edges when the prediction has no segments"},
+  };
+  return s;
+}
+
+}  // namespace
+
+EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const EdgeTrackerOptions& base) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text.empty() ? std::string("{}") : text);
+  } catch (const nlohmann::json::exception& e) {
+    throw InvalidInput(std::string("pipeline \"edge-tracker\": options are not JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw InvalidInput("pipeline \"edge-tracker\": options must be a JSON object");
+  EdgeTrackerOptions o = base;
+  for (const auto& [key, value] : j.items()) {
+    const std::string bad = "pipeline \"edge-tracker\": option " + key + " = " + value.dump();
+    auto num = [&]() {
+      if (!value.is_number() || !std::isfinite(value.get<double>())) throw InvalidInput(bad + ": must be a number");
+      return value.get<double>();
+    };
+    auto integer = [&]() {
+      const double v = num();
+      if (v != std::floor(v) || std::abs(v) > 1e9) throw InvalidInput(bad + ": must be an integer");
+      return static_cast<int>(v);
+    };
+    if (key == "band") {
+      if (value == "blue") o.band = GreyBand::Blue;
+      else if (value == "luminance") o.band = GreyBand::Luminance;
+      else throw InvalidInput(bad + ": must be \"blue\" or \"luminance\"");
+    } else if (key == "window_rows") o.window_rows = integer();
+    else if (key == "window_cols") o.window_cols = integer();
+    else if (key == "step_fraction") o.step_fraction = num();
+    else if (key == "step_half_width_px") o.step_half_width_px = integer();
+    else if (key == "angle_search_deg") o.angle_search_deg = num();
+    else if (key == "angle_step_deg") o.angle_step_deg = num();
+    else if (key == "min_contrast") o.min_contrast = num();
+    else if (key == "max_turn_deg") o.max_turn_deg = num();
+    else if (key == "min_points") o.min_points = integer();
+    else if (key == "max_points") o.max_points = integer();
+    else if (key == "start_left_u") o.start_left_u = num();
+    else if (key == "start_right_u") o.start_right_u = num();
+    else if (key == "start_v") o.start_v = num();
+    else if (key == "start_left_angle_deg") o.start_left_angle_deg = num();
+    else if (key == "start_right_angle_deg") o.start_right_angle_deg = num();
+    else if (key == "expected_width_m") o.expected_width_m = num();
+    else if (key == "width_tolerance") o.width_tolerance = num();
+    else if (key == "parallel_tolerance_deg") o.parallel_tolerance_deg = num();
+    else if (key == "max_width_sd_m") o.max_width_sd_m = num();
+    else if (key == "gate_search") {
+      if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
+      o.gate_search = value.get<bool>();
+    } else if (key == "use_carried_edges") {
+      if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
+      o.use_carried_edges = value.get<bool>();
+    } else
+      throw InvalidInput("pipeline \"edge-tracker\": unknown option \"" + key + "\"");
+  }
+  try {
+    o.validate();
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(std::string("pipeline \"edge-tracker\": ") + e.what());
+  }
+  return o;
+}
+
+std::vector<OptionInfo> edgeTrackerOptionInfos() {
+  std::vector<OptionInfo> out;
+  for (const Spec& s : specs()) out.push_back({s.name, s.def, s.description});
+  return out;
+}
+
+// --- The tracker ---------------------------------------------------------------------------------------
+
+EdgeTracker::EdgeTracker(EdgeTrackerOptions options) : options_(std::move(options)) { options_.validate(); }
+
+void EdgeTracker::setOptions(const EdgeTrackerOptions& options) {
+  options.validate();
+  options_ = options;
+}
+
+namespace {
+
+OrientedEdgeParams paramsFor(const EdgeTrackerOptions& o, int width, int height) {
+  OrientedEdgeParams p;
+  p.along_px = std::max(4, static_cast<int>(std::lround(o.window_rows * height / 480.0)));
+  p.across_px = std::max(8, static_cast<int>(std::lround(o.window_cols * width / 512.0)));
+  p.step_half_width_px = std::max(1, static_cast<int>(std::lround(o.step_half_width_px * width / 512.0)));
+  p.angle_search_deg = o.angle_search_deg;
+  p.angle_step_deg = o.angle_step_deg;
+  return p;
+}
+
+void evaluate(TrackedEdge& e, double max_turn_deg) {
+  EdgeEvaluation& ev = e.eval;
+  const std::size_t n = e.matches.size();
+  if (n == 0) return;
+  std::vector<double> c;
+  for (const EdgeMatch& m : e.matches) {
+    c.push_back(std::abs(m.contrast));
+    ev.contrast += std::abs(m.contrast);
+    ev.width_px += m.width_px;
+  }
+  ev.contrast /= static_cast<double>(n);
+  ev.width_px /= static_cast<double>(n);
+  double ss = 0;
+  int cnt = 0;
+  for (std::size_t i = 1; i + 1 < e.image.size(); ++i) {
+    const Segment2 chord{e.image[i - 1], e.image[i + 1]};
+    const double d = chord.distanceTo(e.image[i]);
+    ss += d * d;
+    ++cnt;
+  }
+  ev.smoothness = cnt > 0 ? std::sqrt(ss / cnt) : 0;
+  const double med = median(c);
+  int good = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool ok = c[i] >= 0.5 * med && c[i] <= 2 * med;
+    if (i >= 2) {
+      const Vec2 a = (e.image[i - 1] - e.image[i - 2]).normalized(), b = (e.image[i] - e.image[i - 1]).normalized();
+      const double turn = std::acos(std::clamp(a.dot(b), -1.0, 1.0)) / kDeg;
+      ok = ok && turn <= max_turn_deg / 2;
+    }
+    if (ok) ++good;
+  }
+  ev.consistency = static_cast<double>(good) / static_cast<double>(n);
+  // Score: contrast saturating at 20 grey levels, times consistency, less for a rough trace.
+  ev.score = std::clamp(ev.contrast / 20.0, 0.0, 1.0) * ev.consistency * std::exp(-ev.smoothness / 4.0);
+}
+
+}  // namespace
+
+TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const Vec2& direction,
+                               int expected_polarity) const {
+  TrackedEdge e;
+  e.start = start;
+  e.start_direction = direction.normalized();
+  OrientedEdgeParams p = paramsFor(options_, image.width, image.height);
+  const double step = options_.step_fraction * p.along_px;
+  auto inside = [&](const Vec2& q) {
+    return q.x() >= -0.5 && q.y() >= -0.5 && q.x() <= image.width - 0.5 && q.y() <= image.height - 0.5;
+  };
+  Vec2 dir = e.start_direction;
+  if (dir.y() > 0) dir = -dir;  // trace up the image
+  EdgeMatch m = orientedEdge(image, start, dir, p, expected_polarity);
+  if (!m.found || std::abs(m.contrast) < options_.min_contrast) {
+    e.stop_reason = "no step edge at the start point";
+    return e;
+  }
+  const int polarity = m.contrast > 0 ? 1 : -1;
+  // gate_search: after the first point, only steps the trace can reach without turning more than
+  // max_turn_deg. Off by default: under heavy shadow it turns "edge lost" into a wrong trace.
+  if (options_.gate_search) p.max_offset_px = step * std::tan(std::min(options_.max_turn_deg, 80.0) * kDeg);
+  m.profile.clear();
+  e.image.push_back(m.point);
+  e.matches.push_back(m);
+  while (static_cast<int>(e.image.size()) < options_.max_points) {
+    const Vec2 predicted = e.image.back() + step * dir;
+    if (!inside(predicted)) {
+      e.reached_top = true;
+      e.stop_reason = "the search window left the image";
+      break;
+    }
+    EdgeMatch next = orientedEdge(image, predicted, dir, p, polarity);
+    if (!next.found || std::abs(next.contrast) < options_.min_contrast) {
+      e.stop_reason = "edge contrast lost";
+      break;
+    }
+    const Vec2 moved = next.point - e.image.back();
+    if (moved.norm() < 0.25 * step) {
+      e.stop_reason = "edge did not advance";
+      break;
+    }
+    const Vec2 nd = moved.normalized();
+    const double turn = std::acos(std::clamp(nd.dot(dir), -1.0, 1.0)) / kDeg;
+    if (turn > options_.max_turn_deg) {
+      e.stop_reason = "edge turned too sharply";
+      break;
+    }
+    next.profile.clear();
+    e.image.push_back(next.point);
+    e.matches.push_back(next);
+    dir = nd;  // theta = atan2(c_i - c_{i-1}, r_i - r_{i-1})
+  }
+  if (e.stop_reason.empty()) e.stop_reason = "max_points reached";
+  evaluate(e, options_.max_turn_deg);
+  return e;
+}
+
+void EdgeTracker::advance(const Pose2& motion) {
+  auto carry = [&](const std::optional<Carried>& last) -> std::optional<Carried> {
+    if (!last) return std::nullopt;
+    Carried c;
+    c.label = last->label;
+    for (const Vec2& g : last->ground) c.ground.push_back(motion.inverseTransform(g));
+    return c;
+  };
+  carried_left_ = carry(last_left_);
+  carried_right_ = carry(last_right_);
+}
+
+void EdgeTracker::reset() {
+  carried_left_.reset();
+  carried_right_.reset();
+  last_left_.reset();
+  last_right_.reset();
+  report_ = {};
+}
+
+namespace {
+
+struct Start {
+  Vec2 point = Vec2::Zero(), direction = Vec2(0, -1);
+  std::optional<std::string> label;
+  int polarity = 0;
+};
+
+double greyOf(const Vec3& rgb, GreyBand band) {
+  return band == GreyBand::Blue ? rgb.z() : 0.299 * rgb.x() + 0.587 * rgb.y() + 0.114 * rgb.z();
+}
+
+/// The near end of an image segment clipped to the image, directed up the image.
+/// The start is kept `margin` px from the image's sides, so that the step model fits in the image.
+std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& cam, int w, int h, GreyBand band,
+                                      double margin = 16) {
+  Vec2 a = s.image.a, b = s.image.b;
+  // Recompute from the ground so that a clipped image segment is not an issue for curved lenses.
+  const auto pa = cam.projectGround(s.vehicle.a), pb = cam.projectGround(s.vehicle.b);
+  if (pa && pb) {
+    a = *pa;
+    b = *pb;
+  }
+  if (!clipSegment(a, b, Vec2(margin, 1), Vec2(w - 1.0 - margin, h - 2.0))) return std::nullopt;
+  if ((b - a).norm() < 4) return std::nullopt;
+  Start st;
+  // Walking a → b on the ground is walking up the image when a is the lower end; then the image's
+  // right of the edge is the segment's right side.
+  const bool forward = a.y() >= b.y();
+  if (forward) {
+    st.point = a;
+    st.direction = (b - a).normalized();
+  } else {
+    st.point = b;
+    st.direction = (a - b).normalized();
+  }
+  st.label = s.id;
+  const bool colours = s.left_rgb.norm() > 0 || s.right_rgb.norm() > 0;
+  const double diff = (greyOf(s.right_rgb, band) - greyOf(s.left_rgb, band)) * (forward ? 1 : -1);
+  if (colours && std::abs(diff) >= 3) st.polarity = diff > 0 ? 1 : -1;
+  return st;
+}
+
+/// Start points from the prediction: the road whose edge comes nearest the vehicle, its nearest
+/// segment on each side; returns {vehicle-left, vehicle-right}.
+bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, GreyBand band, Start& left,
+                          Start& right, std::string& left_id, std::string& right_id) {
+  const InterestSegment* nearest = nullptr;
+  double best = std::numeric_limits<double>::infinity();
+  for (const InterestSegment& s : pred.segments) {
+    if (s.side != "left" && s.side != "right") continue;
+    const double d = s.vehicle.distanceTo(Vec2::Zero());
+    if (d < best && startFromSegment(s, cam, w, h, band)) {
+      best = d;
+      nearest = &s;
+    }
+  }
+  if (nearest == nullptr) return false;
+  const InterestSegment* side[2] = {nullptr, nullptr};  // road's left, right
+  double sd[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  for (const InterestSegment& s : pred.segments) {
+    if (s.owner != nearest->owner || (s.side != "left" && s.side != "right")) continue;
+    const int k = s.side == "left" ? 0 : 1;
+    const auto st = startFromSegment(s, cam, w, h, band);
+    if (!st) continue;
+    // Nearest in the image: the lowest near end.
+    const double key = -st->point.y();
+    if (key < sd[k]) {
+      sd[k] = key;
+      side[k] = &s;
+    }
+  }
+  if (side[0] == nullptr || side[1] == nullptr) return false;
+  auto s0 = startFromSegment(*side[0], cam, w, h, band);
+  auto s1 = startFromSegment(*side[1], cam, w, h, band);
+  // Vehicle left = larger y at the segments' midpoints.
+  const double y0 = side[0]->vehicle.pointAt(0.5).y(), y1 = side[1]->vehicle.pointAt(0.5).y();
+  if (y0 >= y1) {
+    left = *s0;
+    right = *s1;
+    left_id = side[0]->id;
+    right_id = side[1]->id;
+  } else {
+    left = *s1;
+    right = *s0;
+    left_id = side[1]->id;
+    right_id = side[0]->id;
+  }
+  return true;
+}
+
+std::optional<Start> startFromCarried(const std::vector<Vec2>& ground, const std::optional<std::string>& label,
+                                      const Camera& cam, int w, int h) {
+  std::vector<Vec2> px;
+  for (const Vec2& g : ground) {
+    const auto p = cam.projectGround(g);
+    if (p && p->x() >= 1 && p->y() >= 1 && p->x() <= w - 2 && p->y() <= h - 2) px.push_back(*p);
+  }
+  if (px.size() < 2) return std::nullopt;
+  std::sort(px.begin(), px.end(), [](const Vec2& a, const Vec2& b) { return a.y() > b.y(); });
+  Start st;
+  st.point = px[0];
+  st.direction = (px[std::min<std::size_t>(px.size() - 1, 2)] - px[0]).normalized();
+  st.label = label;
+  return st;
+}
+
+}  // namespace
+
+DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObject& prediction) {
+  if (frame.camera == nullptr) throw InvalidInput("pipeline \"edge-tracker\": the frame has no camera");
+  if (frame.rgb == nullptr || frame.width <= 0 || frame.height <= 0)
+    throw InvalidInput("pipeline \"edge-tracker\": the frame has no pixels");
+  const Camera& cam = *frame.camera;
+  const int w = frame.width, h = frame.height;
+  report_ = {};
+  last_left_.reset();
+  last_right_.reset();
+  auto fail = [&](const std::string& why) {
+    DetectedObject d = DetectedObject::failed(why);
+    d.timestamp = frame.timestamp;
+    return d;
+  };
+
+  Start ls, rs;
+  std::string lid, rid;
+  if (startsFromPrediction(prediction, cam, w, h, options_.band, ls, rs, lid, rid)) {
+    report_.start_source = "prediction";
+  } else if (options_.use_carried_edges && carried_left_ && carried_right_ &&
+             startFromCarried(carried_left_->ground, carried_left_->label, cam, w, h) &&
+             startFromCarried(carried_right_->ground, carried_right_->label, cam, w, h)) {
+    ls = *startFromCarried(carried_left_->ground, carried_left_->label, cam, w, h);
+    rs = *startFromCarried(carried_right_->ground, carried_right_->label, cam, w, h);
+    report_.start_source = "carried";
+  } else {
+    const double sv = options_.start_v >= 0 ? options_.start_v
+                                            : h - 1 - 0.5 * paramsFor(options_, w, h).along_px;
+    ls.point = Vec2(options_.start_left_u >= 0 ? options_.start_left_u : 0.25 * w, sv);
+    rs.point = Vec2(options_.start_right_u >= 0 ? options_.start_right_u : 0.75 * w, sv);
+    ls.direction = Vec2(std::sin(options_.start_left_angle_deg * kDeg), -std::cos(options_.start_left_angle_deg * kDeg));
+    rs.direction =
+        Vec2(std::sin(options_.start_right_angle_deg * kDeg), -std::cos(options_.start_right_angle_deg * kDeg));
+    report_.start_source = "options";
+  }
+  carried_left_.reset();
+  carried_right_.reset();
+
+  const GreyImage grey = toGrey(frame.rgb, w, h, options_.band);
+  report_.left = trace(grey, ls.point, ls.direction, ls.polarity);
+  report_.right = trace(grey, rs.point, rs.direction, rs.polarity);
+  report_.left.label = ls.label;
+  report_.right.label = rs.label;
+  for (TrackedEdge* e : {&report_.left, &report_.right})
+    for (const Vec2& p : e->image)
+      if (const auto g = cam.backproject(p)) e->ground.push_back(*g);
+
+  if (static_cast<int>(report_.left.image.size()) < options_.min_points)
+    return fail("left edge lost: " + report_.left.stop_reason);
+  if (static_cast<int>(report_.right.image.size()) < options_.min_points)
+    return fail("right edge lost: " + report_.right.stop_reason);
+  if (report_.left.ground.size() < 2 || report_.right.ground.size() < 2) return fail("edges not on the ground");
+
+  // Ground check: width samples from each edge to the other, parallelism of the fitted lines.
+  EdgePairCheck& pc = report_.pair;
+  std::vector<double> widths;
+  std::vector<Vec2> mids;
+  for (int side = 0; side < 2; ++side) {
+    const std::vector<Vec2>& a = side == 0 ? report_.left.ground : report_.right.ground;
+    const std::vector<Vec2>& b = side == 0 ? report_.right.ground : report_.left.ground;
+    for (const Vec2& p : a) {
+      bool interior = false;
+      Vec2 c;
+      const double d = polylineDistance(b, p, interior, c);
+      if (!interior) continue;
+      widths.push_back(d);
+      mids.push_back(0.5 * (p + c));
+    }
+  }
+  if (widths.size() < 2) return fail("edges inconsistent: they do not overlap on the ground");
+  pc.width_m = median(widths);
+  double var = 0;
+  for (double x : widths) var += (x - pc.width_m) * (x - pc.width_m);
+  pc.width_sd_m = std::sqrt(var / static_cast<double>(widths.size()));
+  Vec2 ml, mr;
+  const Vec2 dl = principalDirection(report_.left.ground, ml), dr = principalDirection(report_.right.ground, mr);
+  pc.angle_deg = std::acos(std::clamp(std::abs(dl.dot(dr)), 0.0, 1.0)) / kDeg;
+  pc.parallel_ok = pc.angle_deg <= options_.parallel_tolerance_deg && pc.width_sd_m <= options_.max_width_sd_m;
+  pc.expected_width_m = options_.expected_width_m;
+  if (pc.expected_width_m <= 0) {
+    for (const SegmentRelation& r : prediction.relations) {
+      if (r.type != SegmentRelation::Type::Parallel) continue;
+      if ((r.a == lid && r.b == rid) || (r.a == rid && r.b == lid)) {
+        pc.expected_width_m = r.separation_m;
+        break;
+      }
+    }
+    if (pc.expected_width_m <= 0)
+      for (const SegmentRelation& r : prediction.relations)
+        if (r.type == SegmentRelation::Type::Parallel && (r.a == lid || r.b == lid || r.a == rid || r.b == rid)) {
+          pc.expected_width_m = r.separation_m;
+          break;
+        }
+  }
+  pc.width_ok = pc.expected_width_m <= 0 ||
+                std::abs(pc.width_m - pc.expected_width_m) <= options_.width_tolerance * pc.expected_width_m;
+
+  last_left_ = Carried{report_.left.ground, report_.left.label};
+  last_right_ = Carried{report_.right.ground, report_.right.label};
+
+  if (!pc.parallel_ok) {
+    std::ostringstream s;
+    s << "edges not parallel: " << pc.angle_deg << " deg apart, width spread " << pc.width_sd_m << " m";
+    return fail(s.str());
+  }
+  if (!pc.width_ok) {
+    std::ostringstream s;
+    s << "edges inconsistent: width " << pc.width_m << " m, expected " << pc.expected_width_m << " m";
+    return fail(s.str());
+  }
+
+  DetectedObject d;
+  d.timestamp = frame.timestamp;
+  for (const TrackedEdge* e : {&report_.left, &report_.right}) {
+    const std::vector<Vec2> poly = e->image.size() > 2 ? simplifyPolyline(e->image, 1.5) : e->image;
+    for (std::size_t i = 0; i + 1 < poly.size(); ++i) {
+      DetectedLine l;
+      l.label = e->label;
+      l.score = e->label ? e->eval.score : 0;
+      l.image = {poly[i], poly[i + 1]};
+      const auto ga = cam.backproject(poly[i]), gb = cam.backproject(poly[i + 1]);
+      if (ga && gb) l.vehicle = {*ga, *gb};
+      d.lines.push_back(l);
+    }
+  }
+  // Region between the edges: left bottom → top, then right top → bottom.
+  for (const Vec2& p : report_.left.image) d.region_image.push_back(p);
+  for (auto it = report_.right.image.rbegin(); it != report_.right.image.rend(); ++it) d.region_image.push_back(*it);
+  for (const Vec2& p : d.region_image)
+    if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
+  // Centre line: the mid-points fitted with a line, from the nearest to the farthest.
+  {
+    Vec2 mean;
+    const Vec2 dir = principalDirection(mids, mean);
+    double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
+    for (const Vec2& m : mids) {
+      const double t = (m - mean).dot(dir);
+      tmin = std::min(tmin, t);
+      tmax = std::max(tmax, t);
+    }
+    d.centerline_vehicle = Segment2{mean + tmin * dir, mean + tmax * dir};
+  }
+  const double width_fit =
+      pc.expected_width_m > 0 ? 1 - std::abs(pc.width_m - pc.expected_width_m) / pc.expected_width_m : 1.0;
+  d.confidence = std::clamp(0.5 * (report_.left.eval.score + report_.right.eval.score) * width_fit, 0.0, 1.0);
+  return d;
+}
+
+// --- The pipeline ----------------------------------------------------------------------------------------
+
+namespace {
+
+class EdgeTrackerPipeline : public VisionPipeline {
+ public:
+  std::string name() const override { return "edge-tracker"; }
+  void configure(const std::string& options_json) override {
+    tracker_.setOptions(edgeTrackerOptionsFromJson(options_json, tracker_.options()));
+  }
+  DetectedObject detect(const VisionFrame& frame, const PredictedObject& prediction) override {
+    return tracker_.detect(frame, prediction);
+  }
+  void reset() override { tracker_.reset(); }
+
+ private:
+  EdgeTracker tracker_;
+};
+
+}  // namespace
+
+std::unique_ptr<VisionPipeline> createEdgeTrackerPipeline() { return std::make_unique<EdgeTrackerPipeline>(); }
+
+}  // namespace mapnav
