@@ -13,7 +13,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mapnav/core/error.h"
+#include "mapnav/vision/cluster_perceptron.h"  // cluster-perceptron
 #include "mapnav/vision/color_classifier.h"
+#include "mapnav/vision/edge_tracker.h"  // edge-tracker
 #include "mapnav/vision/line_labelling.h"
 #include "mapnav/vision/region.h"
 #include "mapnav/vision_iface/pipeline.h"
@@ -436,6 +438,23 @@ void registerBuiltinPipelines() {
                       "labelling (2.2.2)",
                       infos(classifierSpecs()),
                       [] { return std::make_unique<ClassifierPipeline>("sidewalk", ColorSpace::NormalizedRG); }});
+
+    // --- cluster-perceptron (Jochem & Baluja 1993; vision/src/cluster_perceptron.cpp) ---
+    registerPipeline({"cluster-perceptron",
+                      "Park-mode road finder (Jochem & Baluja 1993): colour clusters by competitive learning, a "
+                      "tanh perceptron road/non-road combiner bootstrapped from the predicted road outline in the "
+                      "first frame, block road certainty and a Hough over (top-row column x angle) for the centre "
+                      "line; frozen after the first frame (reset() retrains)",
+                      clusterPerceptronOptionInfos(), [] { return createClusterPerceptronPipeline(); }});
+    // --- end cluster-perceptron ---
+
+    // --- edge-tracker (Wallace 1985, 3.1-3.2; vision/src/edge_tracker.cpp) ---
+    registerPipeline({"edge-tracker",
+                      "Oriented step-edge tracker (3.1-3.2): traces the road's left and right edges up the image "
+                      "from the predicted interest segments (or the previous frame's edges, or option start "
+                      "points), checks them on the ground for parallelism and width",
+                      edgeTrackerOptionInfos(), [] { return createEdgeTrackerPipeline(); }});
+    // --- end edge-tracker ---
   });
 }
 
