@@ -2,6 +2,8 @@
 // Hough road finder over (top-row intercept column × angle). See cluster_perceptron.h.
 #include "mapnav/vision/cluster_perceptron.h"
 
+#include "pipeline_options.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -509,16 +511,9 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
 
 namespace {
 
-struct Spec {
-  const char* name;
-  double value;
-  bool is_bool, is_int;
-  double min, max;
-  const char* description;
-};
 
-const std::vector<Spec>& specs() {
-  static const std::vector<Spec> s = {
+const std::vector<OptionSpec>& specs() {
+  static const std::vector<OptionSpec> s = {
       {"clusters", 5, false, true, 1, 30, "colour clusters (competitive learning units), 1..30"},
       {"seed", 1, false, true, 0, 1e15, "seed of the random initial cluster means"},
       {"max_cluster_iterations", 30, false, true, 1, 1000, "clustering iterations at most"},
@@ -541,49 +536,13 @@ const std::vector<Spec>& specs() {
   return s;
 }
 
-std::string numberText(double v, bool is_bool, bool is_int) {
-  if (is_bool) return v != 0 ? "true" : "false";
-  if (is_int) return std::to_string(static_cast<long long>(v));
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 class ClusterPerceptronPipeline : public VisionPipeline {
  public:
-  ClusterPerceptronPipeline() {
-    for (const Spec& s : specs()) values_[s.name] = s.value;
-    apply();
-  }
+  ClusterPerceptronPipeline() : options_(specs()) { apply(); }
   std::string name() const override { return "cluster-perceptron"; }
   void configure(const std::string& text) override {
-    nlohmann::json j;
-    try {
-      j = nlohmann::json::parse(text.empty() ? std::string("{}") : text);
-    } catch (const nlohmann::json::exception& e) {
-      throw InvalidInput("pipeline \"cluster-perceptron\": options are not JSON: " + std::string(e.what()));
-    }
-    if (!j.is_object()) throw InvalidInput("pipeline \"cluster-perceptron\": options must be a JSON object");
-    auto next = values_;
-    for (const auto& [key, value] : j.items()) {
-      const auto it = std::find_if(specs().begin(), specs().end(), [&](const Spec& s) { return key == s.name; });
-      if (it == specs().end())
-        throw InvalidInput("pipeline \"cluster-perceptron\": unknown option \"" + key + "\"");
-      const std::string bad = "pipeline \"cluster-perceptron\": option " + key + " = " + value.dump();
-      if (it->is_bool) {
-        if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
-        next[key] = value.get<bool>() ? 1 : 0;
-        continue;
-      }
-      if (!value.is_number()) throw InvalidInput(bad + ": must be a number");
-      const double v = value.get<double>();
-      if (!std::isfinite(v) || v < it->min || v > it->max)
-        throw InvalidInput(bad + ": must be in [" + numberText(it->min, false, false) + ", " +
-                           numberText(it->max, false, false) + "]");
-      if (it->is_int && v != std::floor(v)) throw InvalidInput(bad + ": must be an integer");
-      next[key] = v;
-    }
-    values_ = std::move(next);
+    options_.configure("cluster-perceptron", text);
     apply();
   }
   void reset() override { finder_ = ClusterPerceptron(opts_); }
@@ -651,26 +610,26 @@ class ClusterPerceptronPipeline : public VisionPipeline {
  private:
   void apply() {
     ClusterPerceptronOptions o;
-    o.clusters = static_cast<int>(values_["clusters"]);
-    o.seed = static_cast<std::uint64_t>(values_["seed"]);
-    o.max_cluster_iterations = static_cast<int>(values_["max_cluster_iterations"]);
-    o.cluster_slope_threshold = values_["cluster_slope_threshold"];
-    o.max_perceptron_iterations = static_cast<int>(values_["max_perceptron_iterations"]);
-    o.perceptron_rate = values_["perceptron_rate"];
-    o.perceptron_tolerance = values_["perceptron_tolerance"];
-    o.train_stride = static_cast<int>(values_["train_stride"]);
-    o.block_size = static_cast<int>(values_["block_size"]);
-    o.max_shift_blocks = static_cast<int>(values_["max_shift_blocks"]);
-    o.trapezoid_top = values_["trapezoid_top"];
-    o.trapezoid_top_width = values_["trapezoid_top_width"];
-    o.trapezoid_bottom_width = values_["trapezoid_bottom_width"];
-    o.fast = values_["fast"] != 0;
-    o.min_road_fraction = values_["min_road_fraction"];
+    o.clusters = static_cast<int>(options_["clusters"]);
+    o.seed = static_cast<std::uint64_t>(options_["seed"]);
+    o.max_cluster_iterations = static_cast<int>(options_["max_cluster_iterations"]);
+    o.cluster_slope_threshold = options_["cluster_slope_threshold"];
+    o.max_perceptron_iterations = static_cast<int>(options_["max_perceptron_iterations"]);
+    o.perceptron_rate = options_["perceptron_rate"];
+    o.perceptron_tolerance = options_["perceptron_tolerance"];
+    o.train_stride = static_cast<int>(options_["train_stride"]);
+    o.block_size = static_cast<int>(options_["block_size"]);
+    o.max_shift_blocks = static_cast<int>(options_["max_shift_blocks"]);
+    o.trapezoid_top = options_["trapezoid_top"];
+    o.trapezoid_top_width = options_["trapezoid_top_width"];
+    o.trapezoid_bottom_width = options_["trapezoid_bottom_width"];
+    o.fast = options_["fast"] != 0;
+    o.min_road_fraction = options_["min_road_fraction"];
     o.validate();
     opts_ = o;
     reset();
   }
-  std::map<std::string, double> values_;
+  PipelineOptions options_;
   ClusterPerceptronOptions opts_;
   ClusterPerceptron finder_;
 };
@@ -681,10 +640,6 @@ std::unique_ptr<VisionPipeline> createClusterPerceptronPipeline() {
   return std::make_unique<ClusterPerceptronPipeline>();
 }
 
-std::vector<OptionInfo> clusterPerceptronOptionInfos() {
-  std::vector<OptionInfo> out;
-  for (const Spec& s : specs()) out.push_back({s.name, numberText(s.value, s.is_bool, s.is_int), s.description});
-  return out;
-}
+std::vector<OptionInfo> clusterPerceptronOptionInfos() { return optionInfos(specs()); }
 
 }  // namespace mapnav

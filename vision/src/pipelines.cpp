@@ -1,6 +1,8 @@
 // The built-in pipelines: "sidewalk" (normalised rg), "color-rgb" and "blue-band".
 #include "mapnav/vision/pipelines.h"
 
+#include "pipeline_options.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -24,24 +26,9 @@ namespace mapnav {
 
 namespace {
 
-// --- Options -----------------------------------------------------------------------------------
+// --- PipelineOptions -----------------------------------------------------------------------------------
 
-struct OptionSpec {
-  std::string name;
-  double value;  // default (bool: 0 / 1)
-  bool is_bool;
-  bool is_int;
-  double min, max;
-  std::string description;
-};
 
-std::string numberText(double v, bool is_bool, bool is_int) {
-  if (is_bool) return v != 0 ? "true" : "false";
-  if (is_int) return std::to_string(static_cast<long long>(v));
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 std::vector<OptionSpec> commonSpecs() {
   return {
@@ -100,53 +87,7 @@ std::vector<OptionSpec> blueSpecs() {
   return s;
 }
 
-std::vector<OptionInfo> infos(const std::vector<OptionSpec>& specs) {
-  std::vector<OptionInfo> out;
-  for (const OptionSpec& s : specs) out.push_back({s.name, numberText(s.value, s.is_bool, s.is_int), s.description});
-  return out;
-}
 
-class Options {
- public:
-  explicit Options(std::vector<OptionSpec> specs) : specs_(std::move(specs)) {
-    for (const OptionSpec& s : specs_) values_[s.name] = s.value;
-  }
-  void configure(const std::string& pipeline, const std::string& text) {
-    nlohmann::json j;
-    try {
-      j = nlohmann::json::parse(text.empty() ? std::string("{}") : text);
-    } catch (const nlohmann::json::exception& e) {
-      throw InvalidInput("pipeline \"" + pipeline + "\": options are not JSON: " + e.what());
-    }
-    if (!j.is_object()) throw InvalidInput("pipeline \"" + pipeline + "\": options must be a JSON object");
-    std::map<std::string, double> next = values_;
-    for (const auto& [key, value] : j.items()) {
-      const auto it = std::find_if(specs_.begin(), specs_.end(), [&](const OptionSpec& s) { return s.name == key; });
-      if (it == specs_.end()) throw InvalidInput("pipeline \"" + pipeline + "\": unknown option \"" + key + "\"");
-      const std::string bad = "pipeline \"" + pipeline + "\": option " + key + " = " + value.dump();
-      if (it->is_bool) {
-        if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
-        next[key] = value.get<bool>() ? 1 : 0;
-        continue;
-      }
-      if (!value.is_number()) throw InvalidInput(bad + ": must be a number");
-      const double v = value.get<double>();
-      if (!std::isfinite(v) || v < it->min || v > it->max)
-        throw InvalidInput(bad + ": must be in [" + numberText(it->min, false, false) + ", " +
-                           numberText(it->max, false, false) + "]");
-      if (it->is_int && v != std::floor(v)) throw InvalidInput(bad + ": must be an integer");
-      next[key] = v;
-    }
-    values_ = std::move(next);
-  }
-  double operator[](const std::string& k) const { return values_.at(k); }
-  int i(const std::string& k) const { return static_cast<int>(values_.at(k)); }
-  bool b(const std::string& k) const { return values_.at(k) != 0; }
-
- private:
-  std::vector<OptionSpec> specs_;
-  std::map<std::string, double> values_;
-};
 
 // --- Frame geometry ---------------------------------------------------------------------------------
 
@@ -290,7 +231,7 @@ class BasePipeline : public VisionPipeline {
   static std::vector<Vec2> simplifyRing(const std::vector<Vec2>& ring, double tol);
 
   std::string name_;
-  Options opts_;
+  PipelineOptions opts_;
 
  private:
   DetectedObject fail(const VisionFrame& frame, const std::string& why) {
@@ -426,17 +367,17 @@ void registerBuiltinPipelines() {
     registerPipeline({"blue-band",
                       "Threshold on the blue band (Wallace 1985, 3.6.3, the Warp runs): road is bright in blue, "
                       "grass dark; then region reproduction and line labelling",
-                      infos(blueSpecs()), [] { return std::make_unique<BlueBandPipeline>(); }});
+                      optionInfos(blueSpecs()), [] { return std::make_unique<BlueBandPipeline>(); }});
     registerPipeline({"color-rgb",
                       "Gaussian road/non-road classes in RGB (3.4), trained from the prediction, adaptive; region "
                       "reproduction (2.2.1) and line labelling (2.2.2)",
-                      infos(classifierSpecs()),
+                      optionInfos(classifierSpecs()),
                       [] { return std::make_unique<ClassifierPipeline>("color-rgb", ColorSpace::RGB); }});
     registerPipeline({"sidewalk",
                       "The default: Gaussian classes in normalised colour rg (3.4.3, robust to shadows), trained "
                       "from the prediction, adaptive with a drift guard; region reproduction (2.2.1) and line "
                       "labelling (2.2.2)",
-                      infos(classifierSpecs()),
+                      optionInfos(classifierSpecs()),
                       [] { return std::make_unique<ClassifierPipeline>("sidewalk", ColorSpace::NormalizedRG); }});
 
     // --- cluster-perceptron (Jochem & Baluja 1993; vision/src/cluster_perceptron.cpp) ---
