@@ -15,11 +15,8 @@
 namespace mapnav {
 
 namespace {
-using cgal::K;
-using cgal::Point;
-using CgalSegment = cgal::Segment;
-using cgal::fromCgal;
-using cgal::toCgal;
+using namespace cgal;
+using CgalSegment = cgal::Segment;  // beside mapnav's own Segment2
 
 // ---- bounding-box sweep ---------------------------------------------------------------------------
 

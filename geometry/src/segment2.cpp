@@ -9,11 +9,8 @@
 namespace mapnav {
 
 namespace {
-using cgal::K;
-using cgal::Point;
-using CgalSegment = cgal::Segment;
-using cgal::fromCgal;
-using cgal::toCgal;
+using namespace cgal;
+using CgalSegment = cgal::Segment;  // beside mapnav's own Segment2
 bool degenerate(const Segment2& s) { return s.a == s.b; }
 }  // namespace
 

@@ -20,15 +20,8 @@
 namespace mapnav {
 namespace {
 
-const Map& park() {
-  static const Map map = loadMap(testing::mapPath("park_path.json"));
-  return map;
-}
-
-const Camera& cam() {
-  static const std::unique_ptr<Camera> c = testing::terregatorPinhole();
-  return *c;
-}
+using visiontest::park;
+const Camera& cam() { return visiontest::pinhole(); }
 
 WorldOptions parkWorld() {
   WorldOptions wo;

@@ -18,20 +18,15 @@
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 
+#include "eval_common.h"
+
 namespace mapnav {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-const Map& park() {
-  static const Map map = loadMap(testing::mapPath("park_path.json"));
-  return map;
-}
-
-const Camera& cam() {
-  static const std::unique_ptr<Camera> c = testing::terregatorPinhole();
-  return *c;
-}
+using visiontest::park;
+const Camera& cam() { return visiontest::pinhole(); }
 
 /// A pose on R1 at `ds` m past the centre-line vertex nearest `vertex`, looking along the road.
 Pose2 poseNear(const Vec2& vertex, double ds) {

@@ -1,5 +1,5 @@
 #pragma once
-// Shared helpers of the vision tests: the campus map, the pin-hole camera, poses along its roads.
+// Shared helpers of the vision tests: the campus and park maps, the pin-hole camera, poses along roads.
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -16,6 +16,11 @@ namespace mapnav::visiontest {
 
 inline const Map& campus() {
   static const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  return map;
+}
+
+inline const Map& park() {
+  static const Map map = loadMap(testing::mapPath("park_path.json"));
   return map;
 }
 
