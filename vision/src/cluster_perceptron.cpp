@@ -12,9 +12,13 @@
 #include <random>
 #include <sstream>
 
+#include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
@@ -42,11 +46,29 @@ void ClusterPerceptronOptions::validate() const {
                 "in (0, 10]");
   requireOption(trapezoid_bottom_width > 0 && trapezoid_bottom_width <= 10, o, "trapezoid_bottom_width",
                 trapezoid_bottom_width, "in (0, 10]");
+  requireOption(max_bend_blocks >= 0 && max_bend_blocks <= 256, o, "max_bend_blocks", max_bend_blocks,
+                "in [0, 256]");
+  requireOption(threads >= 0 && threads <= 256, o, "threads", threads, "in [0, 256] (0 = every core)");
   requireOption(min_road_fraction >= 0 && min_road_fraction <= 1, o, "min_road_fraction", min_road_fraction,
                 "in [0, 1]");
 }
 
+std::string toString(RoadModel model) { return model == RoadModel::Arc ? "arc" : "line"; }
+
+RoadModel roadModelFromString(const std::string& text) {
+  if (text == "line") return RoadModel::Line;
+  if (text == "arc") return RoadModel::Arc;
+  throw InvalidInput("unknown road model \"" + text + "\" (expected line or arc)");
+}
+
 ClusterPerceptron::ClusterPerceptron(ClusterPerceptronOptions options) : opt_(std::move(options)) { opt_.validate(); }
+
+void ClusterPerceptron::setThreads(int threads) {
+  ClusterPerceptronOptions o = opt_;
+  o.threads = threads;
+  o.validate();
+  opt_ = o;
+}
 
 int ClusterPerceptron::nearest(float r, float g, float b) const {
   int best = 0;
@@ -257,6 +279,18 @@ void ClusterPerceptron::buildLut() {
         if (!same) same = uniform(r, g, b, cert[k0]);
         lut_[(r << 10) | (g << 5) | b] = same ? cert[k0] : kAmbiguous;
       }
+  // Second level: every ambiguous cell gets its own 8×8×8 table of exact certainties, so the fast
+  // path needs no distance computation at all and still equals the reference path colour by colour.
+  sub_offset_.assign(32 * 32 * 32, 0);
+  sub_.clear();
+  for (int cell = 0; cell < 32 * 32 * 32; ++cell) {
+    if (lut_[cell] != kAmbiguous) continue;
+    sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
+    const int r0 = (cell >> 10) * 8, g0 = ((cell >> 5) & 31) * 8, b0 = (cell & 31) * 8;
+    for (int i = 0; i < 512; ++i)
+      sub_.push_back(cert[nearest(static_cast<float>(r0 + (i >> 6)), static_cast<float>(g0 + ((i >> 3) & 7)),
+                                  static_cast<float>(b0 + (i & 7)))]);
+  }
 }
 
 void ClusterPerceptron::setRowWidths(std::vector<double> widths) {
@@ -335,6 +369,149 @@ std::vector<double> trapezoidRowWidths(const Image& mask) {
 
 // --- §5/§6 runtime ------------------------------------------------------------------------------------
 
+namespace {
+
+/// Per-thread scratch of find(): the frame's per-pixel certainty and its block sums, reused from
+/// frame to frame so that a frame costs no allocation.
+struct Scratch {
+  std::vector<std::uint8_t> cert;
+  std::vector<std::uint32_t> bsum;
+};
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
+int threadCount(int option) {
+#ifdef _OPENMP
+  return option == 0 ? omp_get_num_procs() : option;
+#else
+  (void)option;
+  return 1;
+#endif
+}
+
+/// The road model u(t) = a + b t + c t² of the image centre line, t = (v − v0) / (v1 − v0).
+struct CentreModel {
+  double v0 = 0, v1 = 1;
+  Vec3 p = Vec3::Zero();  // a, b, c
+  double t(double v) const { return (v - v0) / (v1 - v0); }
+  double u(double v) const {
+    const double x = t(v);
+    return p[0] + x * (p[1] + x * p[2]);
+  }
+};
+
+/// Least-squares fit of the model's `degree + 1` coefficients to (v, u) samples with Huber
+/// weights (IRLS, `k` pixels), starting from the model's own coefficients for the weights.
+bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreModel& model) {
+  const int m = degree + 1;
+  if (static_cast<int>(vu.size()) < 4 * m) return false;
+  for (int it = 0; it < 8; ++it) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Vec3 rhs = Vec3::Zero();
+    for (const Vec2& s : vu) {
+      const double r = std::abs(s.y() - model.u(s.x()));
+      const double w = r <= k ? 1.0 : k / r;
+      const double t = model.t(s.x());
+      const Vec3 phi(1.0, t, t * t);
+      A.topLeftCorner(m, m) += w * phi.head(m) * phi.head(m).transpose();
+      rhs.head(m) += w * phi.head(m) * s.y();
+    }
+    Vec3 p = Vec3::Zero();
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(A.topLeftCorner(m, m));
+    if (ldlt.info() != Eigen::Success) return false;
+    p.head(m) = ldlt.solve(rhs.head(m));
+    if (!p.allFinite()) return false;
+    const double change = (p - model.p).cwiseAbs().maxCoeff();
+    model.p = p;
+    if (change < 1e-3) break;
+  }
+  return true;
+}
+
+/// A place in a row where the class changes and stays changed for 3 pixels on each side (isolated
+/// pixels of the other class are no edge): a left road edge (road starts, going right) or a right one.
+struct EdgeCandidate {
+  int v;
+  double u;  // pixel boundary, x.5
+  bool left;
+};
+
+std::vector<EdgeCandidate> edgeCandidates(const std::uint8_t* cert, int width, int v0, int v1, int step) {
+  std::vector<EdgeCandidate> out;
+  std::vector<std::uint8_t> bit(static_cast<std::size_t>(width));
+  for (int v = v0; v < v1; v += step) {
+    const std::uint8_t* row = cert + static_cast<std::size_t>(v) * width;
+    for (int u = 0; u < width; ++u) bit[u] = row[u] > 127;
+    for (int u = 3; u + 3 <= width; ++u) {
+      if (bit[u - 1] == bit[u]) continue;
+      if (bit[u - 3] == bit[u - 1] && bit[u - 2] == bit[u - 1] && bit[u + 1] == bit[u] && (u + 2 >= width || bit[u + 2] == bit[u]))
+        out.push_back({v, u - 0.5, bit[u] != 0});
+    }
+  }
+  return out;
+}
+
+/// How many candidates lie within `tol` pixels of the road edges the model puts at
+/// centre ∓ width/2 (each row counts a left and a right edge at most once).
+int edgeSupport(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m,
+                double tol) {
+  int n = 0, last_v = -1;
+  bool got_l = false, got_r = false;
+  for (const EdgeCandidate& e : cands) {
+    if (e.v != last_v) {
+      last_v = e.v;
+      got_l = got_r = false;
+    }
+    const double want = m.u(e.v) + (e.left ? -0.5 : 0.5) * widths[e.v];
+    if (std::abs(e.u - want) > tol) continue;
+    bool& got = e.left ? got_l : got_r;
+    if (!got) ++n;
+    got = true;
+  }
+  return n;
+}
+
+/// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
+/// candidates in different rows, kept when more candidates support them than support `model`.
+CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths,
+                          const CentreModel& model, int degree, std::uint64_t seed, int iterations, double tol) {
+  CentreModel best = model;
+  int best_n = edgeSupport(cands, widths, model, tol);
+  if (cands.size() < static_cast<std::size_t>(degree + 1)) return best;
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, cands.size() - 1);
+  const int m = degree + 1;
+  for (int it = 0; it < iterations; ++it) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+    Vec3 rhs = Vec3::Zero();
+    bool ok = true;
+    std::array<int, 3> rows{-1000, -1000, -1000};
+    for (int k = 0; k < m && ok; ++k) {
+      const EdgeCandidate& e = cands[pick(rng)];
+      for (int j = 0; j < k; ++j) ok = ok && std::abs(e.v - rows[j]) >= 16;
+      rows[k] = e.v;
+      const double t = model.t(e.v);
+      A.row(k) = Eigen::RowVector3d(1.0, t, t * t);
+      rhs[k] = e.u + (e.left ? 0.5 : -0.5) * widths[e.v];
+    }
+    if (!ok) continue;
+    CentreModel h = model;
+    h.p = Vec3::Zero();
+    h.p.head(m) = A.topLeftCorner(m, m).partialPivLu().solve(rhs.head(m));
+    if (!h.p.allFinite()) continue;
+    const int n = edgeSupport(cands, widths, h, tol);
+    if (n > best_n) {
+      best_n = n;
+      best = h;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int height, bool want_mask) const {
   RoadFinding res;
   if (!trained_) {
@@ -347,58 +524,69 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   }
   const int bs = opt_.block_size;
   const int cols = (width + bs - 1) / bs, rows = (height + bs - 1) / bs;
-  // Block road certainty, 0..255 (mean of the pixels' 0..254 certainty, scaled).
-  std::vector<std::uint32_t> bsum;
-  std::vector<std::uint8_t> pcert;
-  bsum.assign(static_cast<std::size_t>(cols) * rows, 0);
-  if (want_mask) res.mask = Image(width, height, 1);
-  std::size_t road_px = 0;
+  Scratch& scr = scratch();
+  scr.cert.resize(static_cast<std::size_t>(width) * height);
+  scr.bsum.assign(static_cast<std::size_t>(cols) * rows, 0);
   const int n = static_cast<int>(means_.size());
   std::array<std::uint8_t, 32> cert{};
   for (int k = 0; k < n; ++k) cert[k] = std::min<std::uint8_t>(certaintyOf(std::tanh(netFor(weights_, k))), 254);
-  pcert.resize(static_cast<std::size_t>(width));
-  for (int v = 0; v < height; ++v) {
-    const std::uint8_t* row = rgb + static_cast<std::size_t>(v) * width * 3;
-    if (opt_.fast) {
-      const std::uint8_t* lut = lut_.data();
-      for (int u = 0; u < width; ++u) {
-        const std::uint8_t* p = row + 3 * u;
-        std::uint8_t c = lut[((p[0] >> 3) << 10) | ((p[1] >> 3) << 5) | (p[2] >> 3)];
-        if (c == kAmbiguous) c = cert[nearest(p[0], p[1], p[2])];
-        pcert[u] = c;
+
+  // Classification and block certainty, one band of block rows per task: the bands write disjoint
+  // rows of the certainty image and of the block sums, so threads do not change the answer.
+  std::uint8_t* const cimg = scr.cert.data();
+  std::uint32_t* const bsum = scr.bsum.data();
+  const std::uint8_t* const lut = lut_.data();
+  const std::uint32_t* const sub_offset = sub_offset_.data();
+  const std::uint8_t* const sub = sub_.data();
+  const bool fast = opt_.fast;
+  long long road_px = 0;
+  const int nt = std::min(threadCount(opt_.threads), rows);
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static) reduction(+ : road_px)
+  for (int r = 0; r < rows; ++r) {
+    for (int v = r * bs; v < std::min(height, (r + 1) * bs); ++v) {
+      const std::uint8_t* p = rgb + static_cast<std::size_t>(v) * width * 3;
+      std::uint8_t* c = cimg + static_cast<std::size_t>(v) * width;
+      if (fast) {
+        for (int u = 0; u < width; ++u, p += 3) {
+          const int cell = ((p[0] >> 3) << 10) | ((p[1] >> 3) << 5) | (p[2] >> 3);
+          const std::uint8_t q = lut[cell];
+          c[u] = q != kAmbiguous ? q : sub[sub_offset[cell] + (((p[0] & 7) << 6) | ((p[1] & 7) << 3) | (p[2] & 7))];
+        }
+      } else {
+        for (int u = 0; u < width; ++u, p += 3) {
+          const double y = std::tanh(netFor(weights_, nearest(p[0], p[1], p[2])));
+          c[u] = std::min<std::uint8_t>(certaintyOf(y), 254);
+        }
       }
-    } else {
-      for (int u = 0; u < width; ++u) {
-        const std::uint8_t* p = row + 3 * u;
-        const double y = std::tanh(netFor(weights_, nearest(p[0], p[1], p[2])));
-        pcert[u] = std::min<std::uint8_t>(certaintyOf(y), 254);
+      std::uint32_t* brow = bsum + static_cast<std::size_t>(r) * cols;
+      int road = 0;
+      for (int b = 0; b < cols; ++b) {
+        const int u0 = b * bs, u1 = std::min(width, u0 + bs);
+        std::uint32_t s = 0;
+        for (int u = u0; u < u1; ++u) {
+          s += c[u];
+          road += c[u] > 127;
+        }
+        brow[b] += s;
       }
+      road_px += road;
     }
-    std::uint32_t* brow = bsum.data() + static_cast<std::size_t>(v / bs) * cols;
-    for (int c = 0; c < cols; ++c) {
-      const int u0 = c * bs, u1 = std::min(width, u0 + bs);
-      std::uint32_t s = 0;
-      for (int u = u0; u < u1; ++u) s += pcert[u];
-      brow[c] += s;
-    }
-    if (want_mask) {
-      std::uint8_t* m = res.mask.data.data() + static_cast<std::size_t>(v) * width;
-      for (int u = 0; u < width; ++u) m[u] = pcert[u] > 127 ? 255 : 0;
-    }
-    for (int u = 0; u < width; ++u) road_px += pcert[u] > 127;
+  }
+  if (want_mask) {
+    res.mask = Image(width, height, 1);
+    for (std::size_t i = 0; i < scr.cert.size(); ++i) res.mask.data[i] = cimg[i] > 127 ? 255 : 0;
   }
   if (static_cast<double>(road_px) < opt_.min_road_fraction * width * height) {
     res.reason = "no road-coloured pixels";
     return res;
   }
-  // Signed certainty per block: -127..+128 (0 outside the image).
-  std::vector<double> sc;
-  sc.assign(bsum.size(), 0.0);
+  // Signed certainty per block: -127.5..+127.5.
+  std::vector<double> sc(scr.bsum.size(), 0.0);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const int npx = (std::min(width, (c + 1) * bs) - c * bs) * (std::min(height, (r + 1) * bs) - r * bs);
-      sc[static_cast<std::size_t>(r) * cols + c] = static_cast<double>(bsum[static_cast<std::size_t>(r) * cols + c]) /
-                                                       (npx * 254.0) * 255.0 - 127.5;
+      sc[static_cast<std::size_t>(r) * cols + c] =
+          static_cast<double>(bsum[static_cast<std::size_t>(r) * cols + c]) / (npx * 254.0) * 255.0 - 127.5;
     }
   // Road rows and their widths in blocks.
   std::vector<int> rr;
@@ -414,9 +602,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   }
   // Per-row horizontal summation kernel over an extended column range [-cols, 2 cols).
   const int ext = 3 * cols;
-  std::vector<double> S, prefix;
-  S.assign(rr.size() * ext, 0.0);
-  prefix.resize(static_cast<std::size_t>(cols) + 1);
+  std::vector<double> S(rr.size() * ext, 0.0), prefix(static_cast<std::size_t>(cols) + 1);
   double max_possible = 0;
   for (std::size_t i = 0; i < rr.size(); ++i) {
     const int r = rr[i];
@@ -430,37 +616,42 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       S[i * ext + x] = (prefix[hi] - prefix[lo]) / k;  // each row weighs the same
     }
   }
-  // Hough: shift row i by round(s · (r − r0) / (r_last − r0)) and sum up the columns.
+  // Hough: row i (t from 0 at the top road row to 1 at the bottom one) is shifted by
+  // round(s·t + q·4t(1 − t)) blocks and the columns summed: s the bottom row's shift (the line's
+  // angle), q the bend at mid-height (the arc model; 0 for the paper's straight trapezoid).
   const int r0 = rr.front(), rl = rr.back();
+  const double span = std::max(1, rl - r0);
+  std::vector<double> tr(rr.size());
+  for (std::size_t i = 0; i < rr.size(); ++i) tr[i] = (rr[i] - r0) / span;
   const int M = std::min(opt_.max_shift_blocks, 2 * cols);
+  const int Q = opt_.road_model == RoadModel::Arc ? std::min(opt_.max_bend_blocks, cols) : 0;
   double best = -std::numeric_limits<double>::max();
-  int bx = 0, bsft = 0;
-  std::vector<double> acc;
-  for (int s = -M; s <= M; ++s) {
-    acc.assign(static_cast<std::size_t>(cols), 0.0);
-    for (std::size_t i = 0; i < rr.size(); ++i) {
-      const int off = static_cast<int>(std::lround(static_cast<double>(s) * (rr[i] - r0) / std::max(1, rl - r0)));
-      const double* srow = S.data() + i * ext + cols + off;
-      for (int x = 0; x < cols; ++x) {
-        const int xx = x + off;
-        if (xx >= -cols && xx < 2 * cols) acc[x] += srow[x];
+  int bx = 0, bsft = 0, bq = 0;
+  std::vector<double> acc(static_cast<std::size_t>(cols));
+  for (int q = -Q; q <= Q; ++q)
+    for (int s = -M; s <= M; ++s) {
+      std::fill(acc.begin(), acc.end(), 0.0);
+      for (std::size_t i = 0; i < rr.size(); ++i) {
+        const int off = static_cast<int>(std::lround(s * tr[i] + q * 4.0 * tr[i] * (1.0 - tr[i])));
+        const double* srow = S.data() + i * ext + cols + off;
+        const int x0 = std::max(0, -cols - off), x1 = std::min(cols, 2 * cols - off);
+        for (int x = x0; x < x1; ++x) acc[x] += srow[x];
       }
+      for (int x = 0; x < cols; ++x)
+        if (acc[x] > best) {
+          best = acc[x];
+          bx = x;
+          bsft = s;
+          bq = q;
+        }
     }
-    for (int x = 0; x < cols; ++x)
-      if (acc[x] > best) {
-        best = acc[x];
-        bx = x;
-        bsft = s;
-      }
-  }
   res.intercept_col = bx;
   res.shift = bsft;
   // Sub-block refinement: the same Hough sum, with each block's certainty spread evenly over its
-  // width and the kernel exactly the row's road width, evaluated at fractional intercepts and
-  // shifts around the coarse maximum (coarse to fine: half-block steps, then eighth-block steps).
+  // width and the kernel exactly the row's road width, evaluated at fractional intercepts, shifts
+  // (and bends) around the coarse maximum, coarse to fine: half-block steps, then eighth-block steps.
   // The continuous kernel sum is P(x + W/2) − P(x − W/2), P the running integral of the row.
-  std::vector<double> P;
-  P.assign(rr.size() * (static_cast<std::size_t>(cols) + 1), 0.0);
+  std::vector<double> P(rr.size() * (static_cast<std::size_t>(cols) + 1), 0.0);
   for (std::size_t i = 0; i < rr.size(); ++i) {
     const double* row = sc.data() + static_cast<std::size_t>(rr[i]) * cols;
     double* pr = P.data() + i * (cols + 1);
@@ -473,36 +664,96 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     const int c = static_cast<int>(x);
     return pr[c] + (x - c) * (pr[c + 1] - pr[c]);
   };
-  const double span = std::max(1, rl - r0);
-  auto score = [&](double X, double sft) {
+  auto score = [&](double X, double sft, double bend) {
     double total = 0;
     for (std::size_t i = 0; i < rr.size(); ++i) {
-      const double x = X + sft * (rr[i] - r0) / span, hw = 0.5 * wb[rr[i]];
+      const double x = X + sft * tr[i] + bend * 4.0 * tr[i] * (1.0 - tr[i]), hw = 0.5 * wb[rr[i]];
       total += (integral(i, x + hw) - integral(i, x - hw)) / (2.0 * hw);
     }
     return total;
   };
-  double fx = bx + 0.5, fs = bsft, fbest = score(fx, fs);
+  double fx = bx + 0.5, fs = bsft, fq = bq, fbest = score(fx, fs, fq);
   for (const double step : {0.5, 0.125}) {
-    const double cx = fx, cs = fs;
-    const int reach = step == 0.5 ? 3 : 4;
+    const double cx = fx, cs = fs, cq = fq;
+    const int reach = step == 0.5 ? 3 : 4, qreach = Q > 0 ? reach : 0;
     for (int a = -reach; a <= reach; ++a)
-      for (int b = -reach; b <= reach; ++b) {
-        const double val = score(cx + a * step, cs + b * step);
-        if (val > fbest) {
-          fbest = val;
-          fx = cx + a * step;
-          fs = cs + b * step;
+      for (int b = -reach; b <= reach; ++b)
+        for (int e = -qreach; e <= qreach; ++e) {
+          const double val = score(cx + a * step, cs + b * step, cq + e * step);
+          if (val > fbest) {
+            fbest = val;
+            fx = cx + a * step;
+            fs = cs + b * step;
+            fq = cq + e * step;
+          }
         }
-      }
   }
   // Continuous block coordinate X ↔ pixel u = X · bs − 0.5; rows at their block centres.
-  const double vt = r0 * bs + (bs - 1) / 2.0, vb = rl * bs + (bs - 1) / 2.0;
-  const double b = (fs * bs) / std::max(1.0, vb - vt);
-  const double a = fx * bs - 0.5 - b * vt;
-  const double v_top = r0 * bs, v_bot = height - 1.0;
-  res.centerline_image = Segment2{Vec2(a + b * v_top, v_top), Vec2(a + b * v_bot, v_bot)};
+  CentreModel model;
+  model.v0 = r0 * bs + (bs - 1) / 2.0;
+  model.v1 = std::max(model.v0 + 1.0, rl * bs + (bs - 1) / 2.0);
+  model.p = Vec3(fx * bs - 0.5, fs * bs, 0.0);
+  if (Q > 0) {  // s·t + q·4t(1 − t) = (s + 4q) t − 4q t²
+    model.p[1] += 4.0 * fq * bs;
+    model.p[2] = -4.0 * fq * bs;
+  }
   res.confidence = std::clamp(best / std::max(1.0, max_possible), 0.0, 1.0);
+
+  // Beyond the paper: the Hough answer is good to about a block. Where the road's edges are in the
+  // image, find them to the pixel around the Hough line (the step of best correlation, in each row),
+  // turn each edge into a centre estimate with the row's road width (scaled by the widths measured
+  // where both edges show), and fit the model to those by robust least squares. Twice: the second
+  // time in narrower windows around the first fit.
+  const int v_top = r0 * bs;
+  if (opt_.refine_edges) {
+    const int degree = Q > 0 ? 2 : 1;
+    // The Hough line counts road-coloured area, which shaded shoulders of road colour can pull; the
+    // road's edges are straight and a known width apart, which those shadows' outlines are not.
+    // Start from the model that most edge candidates support.
+    const std::vector<EdgeCandidate> cands = edgeCandidates(cimg, width, v_top, height, 1);
+    model = edgeConsensus(cands, row_widths_, model, degree, opt_.seed, 200, 2.0);
+    // Then fit it to the edges that support it: in each row the left and right candidates nearest
+    // the model's edges, each turned into a centre estimate (the pair's middle, or one edge plus half
+    // the row's width scaled by the widths measured where both show), by robust least squares; twice,
+    // each time with the edges nearer the last fit.
+    for (const double tol : {2.0, 1.5, 1.0}) {
+      std::vector<double> left(height, std::nan("")), right(height, std::nan(""));
+      for (const EdgeCandidate& e : cands) {
+        const double want = model.u(e.v) + (e.left ? -0.5 : 0.5) * row_widths_[e.v];
+        double& slot = e.left ? left[e.v] : right[e.v];
+        if (std::abs(e.u - want) <= tol && !(std::abs(slot - want) <= std::abs(e.u - want))) slot = e.u;
+      }
+      std::vector<double> ratios;
+      for (int v = v_top; v < height; ++v)
+        if (!std::isnan(left[v]) && !std::isnan(right[v])) ratios.push_back((right[v] - left[v]) / row_widths_[v]);
+      double scale = 1.0;
+      if (ratios.size() >= 8) {
+        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+        scale = std::clamp(ratios[ratios.size() / 2], 0.8, 1.25);
+      }
+      std::vector<Vec2> vu;
+      for (int v = v_top; v < height; ++v) {
+        const double hw = 0.5 * scale * row_widths_[v];
+        const bool l = !std::isnan(left[v]), r = !std::isnan(right[v]);
+        if (l && r) vu.emplace_back(v, 0.5 * (left[v] + right[v]));
+        else if (l) vu.emplace_back(v, left[v] + hw);
+        else if (r) vu.emplace_back(v, right[v] - hw);
+      }
+      CentreModel fitted = model;
+      if (!fitCentreModel(vu, degree, 0.6, fitted)) break;
+      model = fitted;
+      res.refined = true;
+      res.edge_rows = static_cast<int>(vu.size());
+    }
+  }
+  const double v_bot = height - 1.0;
+  res.centerline_image = Segment2{Vec2(model.u(v_top), v_top), Vec2(model.u(v_bot), v_bot)};
+  res.centerline_curve.clear();
+  for (double v = v_top;; v = std::min(v_bot, v + bs)) {
+    res.centerline_curve.emplace_back(model.u(v), v);
+    if (v >= v_bot) break;
+  }
+  res.bend = -0.25 * model.p[2];  // u(½) minus the chord's middle, pixels
   res.ok = true;
   return res;
 }
@@ -528,6 +779,12 @@ const std::vector<OptionSpec>& specs() {
       {"trapezoid_top", 0.0, false, false, 0, 0.999, "default bootstrap trapezoid (no predicted road): top row, fraction of the height"},
       {"trapezoid_top_width", 0.45, false, false, 1e-6, 10, "default trapezoid: top width, fraction of the image width"},
       {"trapezoid_bottom_width", 1.6, false, false, 1e-6, 10, "default trapezoid: bottom width, fraction of the image width"},
+      {"arc", 0, true, false, 0, 1,
+       "beyond the paper (9): the Hough searches bending centre lines too (u = a + b t + c t^2), so curves are not cut"},
+      {"max_bend_blocks", 8, false, true, 0, 256, "arc model: largest bend searched, blocks at mid-height"},
+      {"refine_edges", 1, true, false, 0, 1,
+       "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
+      {"threads", 1, false, true, 0, 256, "runtime threads (0 = every core); the answer does not depend on it"},
       {"fast", 1, true, false, 0, 1,
        "runtime through a 32x32x32 colour lookup table (exact: boundary cells are classified per pixel); false = "
        "per-pixel reference path"},
@@ -623,6 +880,10 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.trapezoid_top = options_["trapezoid_top"];
     o.trapezoid_top_width = options_["trapezoid_top_width"];
     o.trapezoid_bottom_width = options_["trapezoid_bottom_width"];
+    o.road_model = options_.b("arc") ? RoadModel::Arc : RoadModel::Line;
+    o.max_bend_blocks = options_.i("max_bend_blocks");
+    o.refine_edges = options_.b("refine_edges");
+    o.threads = options_.i("threads");
     o.fast = options_["fast"] != 0;
     o.min_road_fraction = options_["min_road_fraction"];
     o.validate();

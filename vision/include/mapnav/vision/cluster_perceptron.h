@@ -24,6 +24,13 @@
 
 namespace mapnav {
 
+/// The road model of the Hough (§5): the paper's straight trapezoid, or (§9, "beyond") one that
+/// bends, so that curves are not cut: the centre line u(t) = a + b t + c t² in the image.
+enum class RoadModel { Line, Arc };
+std::string toString(RoadModel model);
+/// "line" or "arc"; throws InvalidInput otherwise.
+RoadModel roadModelFromString(const std::string& text);
+
 struct ClusterPerceptronOptions {
   int clusters = 5;                     ///< colour clusters, 1..30 (paper: 5)
   std::uint64_t seed = 1;               ///< random initial cluster means in the RGB cube
@@ -45,7 +52,15 @@ struct ClusterPerceptronOptions {
   double trapezoid_top = 0.0;
   double trapezoid_top_width = 0.45;
   double trapezoid_bottom_width = 1.6;
+  RoadModel road_model = RoadModel::Line;  ///< straight (the paper) or arc (bends)
+  /// Arc model: the largest bend searched, blocks at mid-height of the road rows.
+  int max_bend_blocks = 8;
+  /// Beyond the paper: refine the Hough line to the pixel from the road's edges (robust fit).
+  bool refine_edges = true;
   bool fast = true;                     ///< colour lookup table (true) or per-pixel reference path
+  /// Runtime threads: bands of rows classified in parallel (1 = this thread only, 0 = every core).
+  /// The answer does not depend on it.
+  int threads = 1;
   double min_road_fraction = 0.02;      ///< fewer road pixels than this fraction: Failed
   void validate() const;
 };
@@ -59,6 +74,12 @@ struct RoadFinding {
   double intercept_col = 0;  ///< Hough: column where the centre line meets the top road row, blocks
   int shift = 0;             ///< Hough: columns the bottom row was shifted (east positive), blocks
   double confidence = 0;     ///< 0..1
+  /// The centre line sampled every block row from the top road row down (the arc model's curve;
+  /// on the line model, points of the line).
+  std::vector<Vec2> centerline_curve;
+  double bend = 0;           ///< arc model: the curve's offset from its chord at mid-height, pixels
+  bool refined = false;      ///< the edge refinement found enough edge rows and moved the line
+  int edge_rows = 0;         ///< rows with an edge that the refinement used
   Image mask;                ///< 1 channel, 255 = perceptron output > 0
 };
 
@@ -67,6 +88,8 @@ class ClusterPerceptron {
   explicit ClusterPerceptron(ClusterPerceptronOptions options = {});
   const ClusterPerceptronOptions& options() const { return opt_; }
   void setFast(bool fast) { opt_.fast = fast; }
+  /// Runtime threads (0 = every core); the answer does not depend on it.
+  void setThreads(int threads);
 
   /// §3: clusters the colours of an RGB frame. Returns the mean squared reconstruction error per
   /// band (R, G, B) after each iteration; the first entry is that of the random initial means.
@@ -98,7 +121,9 @@ class ClusterPerceptron {
   std::vector<Vec3> means_;
   std::vector<double> weights_;
   std::vector<double> row_widths_;
-  std::vector<std::uint8_t> lut_;  // 32³: road certainty 0..255 (perceptron output scaled)
+  std::vector<std::uint8_t> lut_;  // 32³ cells of 8³ colours: road certainty 0..254, 255 = ambiguous
+  std::vector<std::uint32_t> sub_offset_;  // ambiguous cell → its 8³ table in sub_
+  std::vector<std::uint8_t> sub_;          // exact certainties of the ambiguous cells' colours
   bool trained_ = false;
 };
 
