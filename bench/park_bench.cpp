@@ -1,17 +1,15 @@
 // Google Benchmark: the park-mode road finder (Jochem & Baluja 1993, §6 runtime) per colour frame,
 // single-threaded, at several sizes: the fast path (colour lookup table, block Hough), the per-pixel
-// reference path, and a plain memcpy of the same frame for scale.
+// reference path, and a plain memcpy of the same frame for scale. The scene (camera, frames, training)
+// is the one `mapnav bench` uses: apps/src/park_scene.h.
 #include <benchmark/benchmark.h>
 
 #include <cstring>
 #include <map>
-#include <memory>
 #include <vector>
 
 #include "mapnav/map/map_io.h"
-#include "mapnav/map/predict.h"
-#include "mapnav/sim/world.h"
-#include "mapnav/vision/cluster_perceptron.h"
+#include "park_scene.h"  // the scene `mapnav bench` times too (apps/src)
 
 namespace {
 
@@ -21,47 +19,19 @@ const mapnav::Map& parkMap() {
 }
 
 struct Setup {
-  std::unique_ptr<mapnav::Camera> camera;
-  std::vector<mapnav::Frame> frames;  // a few consecutive frames along R1
-  std::unique_ptr<mapnav::ClusterPerceptron> finder;
+  mapnav::cli::ParkScene scene;  // a few consecutive frames along R1
+  mapnav::ClusterPerceptron finder;
 };
 
-// A size × size Terregator-like pin-hole (f scaled with the size) on the park path, trained on the
-// first frame from the predicted road outline; built once per size.
+// The shared park scene at size × size, trained on the first frame from the predicted road outline;
+// built once per size.
 const Setup& setup(int size) {
   static std::map<int, Setup> cache;
   auto it = cache.find(size);
   if (it != cache.end()) return it->second;
-  Setup s;
-  mapnav::CameraIntrinsics in;
-  in.width = in.height = size;
-  in.fx = in.fy = 904.0 * size / 512.0;
-  in.cx = in.cy = (size - 1) / 2.0;
-  mapnav::CameraMount mount;
-  mount.tilt_rad = mapnav::degToRad(22.0);
-  s.camera = mapnav::createCamera(mapnav::LensModel::Pinhole, in, mount);
-  mapnav::WorldOptions options;
-  options.shadow_density = 0.4;
-  const mapnav::World world(parkMap(), options);
-  const mapnav::RayTable rays(*s.camera);
-  const double heading = std::atan2(6.946, 39.392);
-  for (int k = 0; k < 4; ++k) {
-    const double d = 5.0 + 2.0 * k;
-    s.frames.push_back(
-        world.render(rays, mapnav::Pose2(mapnav::Vec2(d * std::cos(heading), d * std::sin(heading)), heading), k));
-  }
-  const mapnav::Prediction pred = mapnav::predictView(parkMap(), mapnav::Pose2(mapnav::Vec2(5.0 * std::cos(heading),
-                                                                                            5.0 * std::sin(heading)),
-                                                                               heading),
-                                                      *s.camera);
-  const mapnav::Image outline = mapnav::predictedRoadMask(pred.view, *s.camera);
-  mapnav::ClusterPerceptronOptions o;
-  o.block_size = std::max(2, 8 * size / 512);
-  s.finder = std::make_unique<mapnav::ClusterPerceptron>(o);
-  const mapnav::Image& f0 = s.frames.front().rgb;
-  s.finder->trainClusters(f0.data.data(), size, size);
-  s.finder->setRowWidths(mapnav::trapezoidRowWidths(outline));
-  s.finder->trainPerceptron(f0.data.data(), size, size, outline.data.data());
+  mapnav::cli::ParkScene scene = mapnav::cli::makeParkScene(parkMap(), size);
+  mapnav::ClusterPerceptron finder = mapnav::cli::trainParkFinder(scene, mapnav::cli::parkFinderOptions(size)).finder;
+  Setup s{std::move(scene), std::move(finder)};
   return cache.emplace(size, std::move(s)).first->second;
 }
 
@@ -74,11 +44,11 @@ void counters(benchmark::State& state, int size) {
 void runFinder(benchmark::State& state, bool fast) {
   const int size = static_cast<int>(state.range(0));
   const Setup& s = setup(size);
-  mapnav::ClusterPerceptron finder = *s.finder;
+  mapnav::ClusterPerceptron finder = s.finder;
   finder.setFast(fast);
   std::size_t k = 0;
   for (auto _ : state) {
-    const mapnav::Image& f = s.frames[k++ % s.frames.size()].rgb;
+    const mapnav::Image& f = s.scene.frames[k++ % s.scene.frames.size()].rgb;
     mapnav::RoadFinding r = finder.find(f.data.data(), size, size, false);
     benchmark::DoNotOptimize(r.centerline_image);
   }
@@ -94,10 +64,10 @@ void BM_ParkRoadFinderReference(benchmark::State& state) { runFinder(state, fals
 void BM_ParkFrameMemcpy(benchmark::State& state) {
   const int size = static_cast<int>(state.range(0));
   const Setup& s = setup(size);
-  std::vector<std::uint8_t> dst(s.frames.front().rgb.data.size());
+  std::vector<std::uint8_t> dst(s.scene.frames.front().rgb.data.size());
   std::size_t k = 0;
   for (auto _ : state) {
-    const mapnav::Image& f = s.frames[k++ % s.frames.size()].rgb;
+    const mapnav::Image& f = s.scene.frames[k++ % s.scene.frames.size()].rgb;
     std::memcpy(dst.data(), f.data.data(), f.data.size());
     benchmark::DoNotOptimize(dst.data());
     benchmark::ClobberMemory();

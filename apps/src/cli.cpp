@@ -16,6 +16,7 @@
 #include "pipelines_command.h"
 #include "detect_command.h"
 #include "vision_commands.h"
+#include "bench_command.h"
 #include "mapnav/core/error.h"
 
 namespace mapnav::cli {
@@ -308,6 +309,42 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
         lines.push_back(Segment2{Vec2(v[0], v[1]), Vec2(v[2], v[3])});
       }
       return runCalibrateTilt(tilt_camera, lines.at(0), lines.at(1), tilt_output, out, err);
+    };
+  });
+
+  BenchConfig bench;
+  std::string bench_sizes = "64,128,256,512,1024", bench_min_time = "0.2";
+  CLI::App* bn = app.add_subcommand("bench", "Time the park road finder's runtime per frame on this machine (Jochem & Baluja 1993, section 6)");
+  bn->add_flag("--json", bench.json, "Print one JSON object instead of the table");
+  bn->add_option("--sizes", bench_sizes, "Square frame sizes, pixels a side, comma-separated, each in [16, 4096]")
+      ->default_str("64,128,256,512,1024");
+  bn->add_option("--min-time", bench_min_time, "Seconds to spend on each measurement at least (> 0, at most 60)")
+      ->default_str("0.2");
+  bn->add_option("--threads", bench.threads, "Threads of the multi-threaded rows; 0 = every core")
+      ->default_val(0)
+      ->check(CLI::Range(0, 256));
+  bn->add_option("--map", bench.map, "The park map the frames are rendered from (default: maps/park_path.json)")
+      ->check(CLI::ExistingFile);
+  bn->footer(
+      "What is measured, per size: the park scene (maps/park_path.json, a SIZE x SIZE pin-hole scaled from the\n"
+      "Terregator camera, synthetic frames with tree shadows) is rendered, the road finder is trained on the\n"
+      "first frame, then find() without the mask (lookup-table classification, block certainty, Hough) is\n"
+      "timed per colour frame with one thread and with every core (or --threads), reported as ms/frame,\n"
+      "frames/s and pixels/s. Each measurement runs in batches for at least --min-time seconds and takes the\n"
+      "median batch (steady_clock). Two ratios are measured in the same run:\n"
+      "  memcpy_ratio    = runtime time / time of a plain memcpy of the same frame (1 = the memory floor)\n"
+      "  reference_ratio = time of the per-pixel reference path (float distance to every cluster, std::tanh)\n"
+      "                    with the same threads / runtime time (> 1 = the runtime is that much faster)\n"
+      "Cost per pixel growth = (time at the largest size / time at the smallest) / pixel ratio: 1 = linear.\n"
+      "Training (clustering + perceptron on the first frame, one thread) is reported at 512, or at the largest\n"
+      "size when 512 is not measured; train_ms in the JSON, with every size's under \"training\".\n"
+      "--json prints {\"runtime\":[{\"size\",\"threads\",\"fps\",\"ms\",\"px_per_s\",\"memcpy_ratio\",\n"
+      "\"reference_ratio\",...},...],\"train_ms\",...}. Exit codes: 0 measured, 1 an invalid --map, 2 usage or I/O error.");
+  bn->callback([&] {
+    command = [&] {
+      bench.sizes = parseBenchSizes(bench_sizes);
+      bench.min_time_s = parseBenchMinTime(bench_min_time);
+      return runBench(bench, out, err);
     };
   });
 

@@ -1,7 +1,9 @@
 // The `mapnav` command run end to end: exit codes, messages, files written or not.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <map>
 #include <random>
 #include <set>
 
@@ -358,6 +360,91 @@ TEST(Cli, CalibrateTiltFromTwoGroundParallelLinesAndSegmentFromAGivenRegion) {
                     "-o", str(dir / "bad.png")})
                 .exit_code,
             2);
+}
+
+// `mapnav bench` end to end at two small sizes: the JSON's shape and that its numbers agree with each
+// other. No timing asserts: the machine decides how fast.
+TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
+  const auto r = runCli({"bench", "--json", "--sizes", "64,128", "--min-time", "0.01"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("runtime")) << r.out;
+  ASSERT_TRUE(j.contains("train_ms")) << r.out;
+  ASSERT_TRUE(j["train_ms"].is_number()) << r.out;
+  EXPECT_GT(j["train_ms"].get<double>(), 0.0);
+  EXPECT_TRUE(std::isfinite(j["train_ms"].get<double>()));
+  EXPECT_EQ(j["train_size"], 128);  // 512 is not measured: the largest size
+  const int cores = j["cores"].get<int>();
+  EXPECT_GE(cores, 1);
+  ASSERT_EQ(j["runtime"].size(), 4u) << r.out;
+  std::map<int, std::set<int>> threads_by_size;
+  for (const auto& row : j["runtime"]) {
+    for (const char* key : {"size", "threads", "fps", "ms", "px_per_s", "memcpy_ratio", "reference_ratio", "memcpy_ms",
+                            "reference_ms"}) {
+      ASSERT_TRUE(row.contains(key) && row[key].is_number()) << key << " in " << row.dump();
+      const double v = row[key].get<double>();
+      EXPECT_TRUE(std::isfinite(v) && v > 0) << key << " in " << row.dump();
+    }
+    const int size = row["size"].get<int>();
+    const double ms = row["ms"].get<double>(), fps = row["fps"].get<double>();
+    threads_by_size[size].insert(row["threads"].get<int>());
+    EXPECT_NEAR(ms, 1000.0 / fps, 1e-9 * ms) << row.dump();
+    EXPECT_NEAR(row["px_per_s"].get<double>(), fps * size * size, 1e-9 * fps * size * size) << row.dump();
+    EXPECT_NEAR(row["memcpy_ratio"].get<double>(), ms / row["memcpy_ms"].get<double>(),
+                1e-9 * row["memcpy_ratio"].get<double>())
+        << row.dump();
+    EXPECT_NEAR(row["reference_ratio"].get<double>(), row["reference_ms"].get<double>() / ms,
+                1e-9 * row["reference_ratio"].get<double>())
+        << row.dump();
+  }
+  // Each size once with one thread and once with every core.
+  EXPECT_EQ(threads_by_size.size(), 2u);
+  for (const int size : {64, 128}) {
+    ASSERT_TRUE(threads_by_size.count(size)) << size;
+    EXPECT_TRUE(threads_by_size[size].count(1)) << size;
+    EXPECT_TRUE(threads_by_size[size].count(cores)) << size;
+  }
+  int rows_per_size[2] = {0, 0};
+  for (const auto& row : j["runtime"]) ++rows_per_size[row["size"] == 64 ? 0 : 1];
+  EXPECT_EQ(rows_per_size[0], 2);
+  EXPECT_EQ(rows_per_size[1], 2);
+}
+
+TEST(Cli, BenchPrintsATableWithTheRatios) {
+  const auto r = runCli({"bench", "--sizes", "32,64", "--min-time", "0.01", "--threads", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* text : {"cores", "memcpy_ratio", "reference_ratio", "frames/s", "cost per pixel growth", "training at 64x64"}) {
+    EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
+  }
+  const auto help = runCli({"bench", "--help"});
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("memcpy_ratio"), std::string::npos) << help.out;
+  EXPECT_NE(help.out.find("reference_ratio"), std::string::npos) << help.out;
+}
+
+TEST(Cli, BenchRefusesBadOptionsWithExitTwoNamingTheOption) {
+  struct Case {
+    std::vector<std::string> args;
+    std::string option;
+  };
+  for (const Case& c : std::vector<Case>{{{"--sizes", "8"}, "--sizes"},
+                                         {{"--sizes", "64,5000"}, "--sizes"},
+                                         {{"--sizes", "64,abc"}, "--sizes"},
+                                         {{"--sizes", "64.5"}, "--sizes"},
+                                         {{"--sizes", ""}, "--sizes"},
+                                         {{"--min-time", "0"}, "--min-time"},
+                                         {{"--min-time", "-1"}, "--min-time"},
+                                         {{"--min-time", "soon"}, "--min-time"},
+                                         {{"--threads", "-1"}, "--threads"},
+                                         {{"--threads", "many"}, "--threads"}}) {
+    std::vector<std::string> args{"bench"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const auto r = runCli(args);
+    EXPECT_EQ(r.exit_code, 2) << c.args.back();
+    EXPECT_NE(r.err.find("mapnav: error: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.option), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
 }
 
 }  // namespace

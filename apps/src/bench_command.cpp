@@ -1,0 +1,314 @@
+#include "bench_command.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ostream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli.h"
+#include "command_support.h"
+#include "mapnav/core/error.h"
+#include "mapnav/core/json.h"
+#include "mapnav/map/map_io.h"
+#include "park_scene.h"
+
+namespace mapnav::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Keeps the compiler from dropping work whose result is otherwise unused.
+template <class T>
+inline void keep(const T& value) {
+  asm volatile("" : : "g"(&value) : "memory");
+}
+
+struct Measured {
+  double s_per_frame = 0;  // the median batch's time per call
+  int batches = 0;
+};
+
+// Runs `once` in batches until `min_time_s` has passed and there are at least 5 batches (3 when one
+// call alone takes a third of the time), and takes the median batch: the machine's noise (other
+// processes, frequency changes) lands in the outer batches. A warm-up call and a calibration that
+// sizes a batch to about a tenth of `min_time_s` come first and are not counted.
+template <class F>
+Measured measure(F&& once, double min_time_s) {
+  once();
+  const double batch_target = min_time_s / 10;
+  long n = 1;
+  double per_call = 0;
+  for (;;) {
+    const Clock::time_point t0 = Clock::now();
+    for (long i = 0; i < n; ++i) once();
+    const double dt = secondsSince(t0);
+    if (dt >= batch_target / 4 || n >= (1L << 30)) {
+      per_call = dt / static_cast<double>(n);
+      break;
+    }
+    n *= 4;
+  }
+  const long calls = std::max(1L, static_cast<long>(std::ceil(batch_target / std::max(per_call, 1e-9))));
+  const int min_batches = per_call > min_time_s / 3 ? 3 : 5;
+  std::vector<double> batches;
+  const Clock::time_point start = Clock::now();
+  while (static_cast<int>(batches.size()) < min_batches ||
+         (secondsSince(start) < min_time_s && batches.size() < 1000)) {
+    const Clock::time_point t0 = Clock::now();
+    for (long i = 0; i < calls; ++i) once();
+    batches.push_back(secondsSince(t0) / static_cast<double>(calls));
+  }
+  std::sort(batches.begin(), batches.end());
+  const std::size_t m = batches.size();
+  const double median = m % 2 ? batches[m / 2] : 0.5 * (batches[m / 2 - 1] + batches[m / 2]);
+  return {median, static_cast<int>(m)};
+}
+
+// One row of the table: the runtime at one size and thread count, with what it is compared to.
+struct Row {
+  int size = 0;
+  int threads = 1;
+  Measured runtime;    // fast path: lookup table, block Hough
+  Measured reference;  // the per-pixel path, same threads
+  Measured memcpy;     // one plain memcpy of the frame (one thread)
+  double ms() const { return 1e3 * runtime.s_per_frame; }
+  double fps() const { return 1.0 / runtime.s_per_frame; }
+  double pxPerS() const { return static_cast<double>(size) * size / runtime.s_per_frame; }
+  double memcpyRatio() const { return runtime.s_per_frame / memcpy.s_per_frame; }
+  double referenceRatio() const { return reference.s_per_frame / runtime.s_per_frame; }
+};
+
+struct Training {
+  int size = 0;
+  double cluster_ms = 0, perceptron_ms = 0;
+  double ms() const { return cluster_ms + perceptron_ms; }
+};
+
+// Cost per pixel at the largest size over that at the smallest: 1 = time grows linearly with pixels.
+double costPerPixelGrowth(double t_small, int small, double t_large, int large) {
+  const double px = (static_cast<double>(large) * large) / (static_cast<double>(small) * small);
+  return (t_large / t_small) / px;
+}
+
+std::string format(const char* fmt, double value) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, value);
+  return buf;
+}
+
+// Four significant digits, without an exponent for the values a frame time takes.
+std::string sig(double value) {
+  if (!std::isfinite(value)) return "-";
+  const double a = std::fabs(value);
+  if (a >= 1000) return format("%.0f", value);
+  if (a >= 100) return format("%.1f", value);
+  if (a >= 10) return format("%.2f", value);
+  if (a >= 1) return format("%.3f", value);
+  if (a >= 0.1) return format("%.4f", value);
+  if (a >= 0.01) return format("%.5f", value);
+  return format("%.6f", value);
+}
+
+std::string pad(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
+}
+
+Json number(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
+
+}  // namespace
+
+std::vector<int> parseBenchSizes(const std::string& text) {
+  const std::string expected = "sizes in pixels a side, whole numbers in [16, 4096], e.g. 64,128,256,512,1024";
+  const std::vector<double> values = parseNumbers("--sizes", text, 1, 64, expected);
+  std::vector<int> sizes;
+  for (double v : values) {
+    if (v != std::floor(v) || v < 16 || v > 4096) {
+      throw InvalidInput("--sizes \"" + text + "\": " + format("%g", v) + " is not a whole number in [16, 4096]");
+    }
+    sizes.push_back(static_cast<int>(v));
+  }
+  std::sort(sizes.begin(), sizes.end());
+  sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
+  return sizes;
+}
+
+double parseBenchMinTime(const std::string& text) {
+  const double v = parseNumbers("--min-time", text, 1, 1, "seconds per measurement, a number in (0, 60]").front();
+  if (!(v > 0 && v <= 60)) throw InvalidInput("--min-time \"" + text + "\": expected seconds in (0, 60]");
+  return v;
+}
+
+int resolveThreads(int threads) {
+  if (threads > 0) return threads;
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
+  return guarded(err, [&] {
+    if (config.sizes.empty()) throw InvalidInput("--sizes: at least one size");
+    const int cores = resolveThreads(0);
+    const int many = resolveThreads(config.threads);
+    const Map park = loadMap(config.map.empty() ? defaultParkMapPath() : config.map);
+    // Training is reported at 512 when measured, else at the largest size.
+    const int train_size =
+        std::find(config.sizes.begin(), config.sizes.end(), 512) != config.sizes.end() ? 512 : config.sizes.back();
+
+    // Two rows per size: one thread, and every core (or --threads); on a one-core machine both are 1.
+    const std::vector<int> thread_counts{1, many};
+    if (!config.json) {
+      out << "mapnav bench: park road finder runtime (Jochem & Baluja 1993, section 6) on this machine, " << cores
+          << (cores == 1 ? " core" : " cores") << "\n"
+          << "time per colour frame: find() without the mask on the park scene, median batch, >= "
+          << format("%g", config.min_time_s) << " s per cell\n"
+          << "memcpy_ratio    = runtime time / time of a plain memcpy of the same frame (memory floor; lower is "
+             "better)\n"
+          << "reference_ratio = per-pixel reference path's time / runtime time, same threads (> 1 = faster than "
+             "the reference)\n\n";
+      out << pad("size", 6) << pad("threads", 9) << pad("ms/frame", 12) << pad("frames/s", 12) << pad("Mpx/s", 10)
+          << pad("memcpy_ratio", 14) << pad("reference_ratio", 17) << "\n";
+      out.flush();
+    }
+
+    std::vector<Row> rows;
+    std::vector<Training> trainings;
+    for (const int size : config.sizes) {
+      const ParkScene scene = makeParkScene(park, size);
+      const TrainedParkFinder trained = trainParkFinder(scene, parkFinderOptions(size, 1));
+      trainings.push_back({size, trained.cluster_ms, trained.perceptron_ms});
+
+      const std::vector<Frame>& frames = scene.frames;
+      std::vector<std::uint8_t> dst(frames.front().rgb.data.size());
+      std::size_t k = 0;
+      const Measured copy = measure(
+          [&] {
+            const Image& f = frames[k++ % frames.size()].rgb;
+            std::memcpy(dst.data(), f.data.data(), f.data.size());
+            keep(dst.front());
+          },
+          config.min_time_s);
+      const auto timeFind = [&](const ClusterPerceptron& finder) {
+        std::size_t j = 0;
+        return measure(
+            [&] {
+              const Image& f = frames[j++ % frames.size()].rgb;
+              const RoadFinding r = finder.find(f.data.data(), size, size, false);
+              keep(r.centerline_image);
+            },
+            config.min_time_s);
+      };
+      for (const int threads : thread_counts) {
+        ClusterPerceptron fast = trained.finder;
+        fast.setThreads(threads);
+        ClusterPerceptron reference = fast;
+        reference.setFast(false);
+        Row row;
+        row.size = size;
+        row.threads = threads;
+        row.memcpy = copy;
+        row.reference = timeFind(reference);
+        row.runtime = timeFind(fast);
+        rows.push_back(row);
+        if (!config.json) {
+          out << pad(std::to_string(size), 6) << pad(std::to_string(threads), 9) << pad(sig(row.ms()), 12)
+              << pad(format("%.0f", row.fps()), 12) << pad(format("%.1f", row.pxPerS() / 1e6), 10)
+              << pad(format("%.2f", row.memcpyRatio()), 14) << pad(format("%.2f", row.referenceRatio()), 17) << "\n";
+          out.flush();
+        }
+      }
+    }
+    const Training& train = *std::find_if(trainings.begin(), trainings.end(),
+                                          [&](const Training& t) { return t.size == train_size; });
+
+    // Cost per pixel growth from the smallest to the largest size, per thread count and for memcpy.
+    struct Growth {
+      std::string what;
+      int threads;
+      double ratio;
+    };
+    std::vector<Growth> growth;
+    const int small = config.sizes.front(), large = config.sizes.back();
+    if (small != large) {
+      for (const int threads : thread_counts) {
+        const auto at = [&](int size) {
+          return *std::find_if(rows.begin(), rows.end(),
+                               [&](const Row& r) { return r.size == size && r.threads == threads; });
+        };
+        growth.push_back({"runtime", threads,
+                          costPerPixelGrowth(at(small).runtime.s_per_frame, small, at(large).runtime.s_per_frame, large)});
+        if (threads == 1) {
+          growth.push_back({"memcpy", 1, costPerPixelGrowth(at(small).memcpy.s_per_frame, small,
+                                                            at(large).memcpy.s_per_frame, large)});
+        }
+      }
+    }
+
+    if (config.json) {
+      Json doc = Json::object();
+      Json runtime = Json::array();
+      for (const Row& r : rows) {
+        runtime.push_back({{"size", r.size},
+                           {"threads", r.threads},
+                           {"fps", number(r.fps())},
+                           {"ms", number(r.ms())},
+                           {"px_per_s", number(r.pxPerS())},
+                           {"memcpy_ratio", number(r.memcpyRatio())},
+                           {"reference_ratio", number(r.referenceRatio())},
+                           {"memcpy_ms", number(1e3 * r.memcpy.s_per_frame)},
+                           {"reference_ms", number(1e3 * r.reference.s_per_frame)},
+                           {"batches", r.runtime.batches}});
+      }
+      doc["runtime"] = runtime;
+      doc["train_ms"] = number(train.ms());
+      doc["train_size"] = train.size;
+      Json training = Json::array();
+      for (const Training& t : trainings) {
+        training.push_back({{"size", t.size},
+                            {"train_ms", number(t.ms())},
+                            {"cluster_ms", number(t.cluster_ms)},
+                            {"perceptron_ms", number(t.perceptron_ms)}});
+      }
+      doc["training"] = training;
+      Json g = Json::array();
+      for (const Growth& x : growth) {
+        g.push_back({{"what", x.what}, {"threads", x.threads}, {"from", small}, {"to", large},
+                     {"cost_per_pixel_ratio", number(x.ratio)}});
+      }
+      doc["cost_per_pixel_growth"] = g;
+      doc["cores"] = cores;
+      doc["min_time_s"] = config.min_time_s;
+      out << doc.dump() << "\n";
+      return static_cast<int>(kOk);
+    }
+
+    if (!growth.empty()) {
+      out << "\ncost per pixel growth, time(" << large << ") / time(" << small << ") / pixel ratio "
+          << format("%.0f", (static_cast<double>(large) * large) / (static_cast<double>(small) * small))
+          << " (1 = linear):";
+      const char* sep = " ";
+      for (const Growth& x : growth) {
+        out << sep
+            << (x.what == "memcpy" ? std::string("memcpy")
+                                   : "runtime " + std::to_string(x.threads) + (x.threads == 1 ? " thread" : " threads"))
+            << " " << format("%.2f", x.ratio);
+        sep = ", ";
+      }
+      out << "\n";
+    }
+    out << "training at " << train.size << "x" << train.size
+        << " (clustering + perceptron on the first frame, one thread): " << sig(train.ms()) << " ms (clustering "
+        << sig(train.cluster_ms) << ", perceptron " << sig(train.perceptron_ms) << ")\n";
+    return static_cast<int>(kOk);
+  });
+}
+
+}  // namespace mapnav::cli

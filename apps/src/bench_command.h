@@ -1,0 +1,30 @@
+#pragma once
+// `mapnav bench`: the speed of the park-mode road finder's runtime (Jochem & Baluja 1993, §6) on the
+// scene of apps/src/park_scene.h, per colour frame, single-threaded and on every core, with its
+// ratios to a memcpy of the same frame and to the per-pixel reference path; and the training time.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace mapnav::cli {
+
+struct BenchConfig {
+  std::vector<int> sizes{64, 128, 256, 512, 1024};  ///< square frames, pixels a side, 16..4096
+  double min_time_s = 0.2;  ///< at least this long per measured cell (batches until then)
+  int threads = 0;          ///< the multi-threaded rows: this many threads, 0 = every core
+  std::string map;          ///< the park map; empty = defaultParkMapPath()
+  bool json = false;        ///< one JSON object on stdout instead of the table
+};
+
+/// "64,128,256": the sizes, each a whole number in [16, 4096], sorted, without repeats. Throws
+/// InvalidInput naming --sizes.
+std::vector<int> parseBenchSizes(const std::string& text);
+/// "0.2": seconds, a number in (0, 60]. Throws InvalidInput naming --min-time.
+double parseBenchMinTime(const std::string& text);
+
+/// The threads a `threads` option means: itself, or every core for 0 (at least 1).
+int resolveThreads(int threads);
+
+int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err);
+
+}  // namespace mapnav::cli
