@@ -7,12 +7,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <random>
 #include <sstream>
 
 #include <Eigen/Dense>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -178,7 +182,14 @@ double netFor(const std::vector<double>& w, int k) {
   for (int j = 0; j < n; ++j) net += (j == k ? 1.0 : -1.0) * w[static_cast<std::size_t>(j)];
   return net;
 }
-std::uint8_t certaintyOf(double y) { return static_cast<std::uint8_t>(std::lround((y + 1.0) * 127.0)); }
+/// A pixel's road certainty: the perceptron output y in [-1, 1] quantised to 16 levels, 16 apart
+/// (0 = surely not road, 240 = surely road; > 127 ⇔ y > 0 but for y within 1/15 of 0). Coarser
+/// than a byte on purpose: clusters of almost the same output (two shades of lit asphalt at 0.99
+/// and 0.995) share a level, so the lookup table's cells between them are not boundary cells.
+constexpr int kCertaintyMax = 240;
+std::uint8_t certaintyOf(double y) {
+  return static_cast<std::uint8_t>(16 * std::lround(std::clamp((y + 1.0) * 7.5, 0.0, 15.0)));
+}
 constexpr std::uint8_t kAmbiguous = 255;  // LUT cell spanning a cluster boundary: classify exactly
 }  // namespace
 
@@ -236,7 +247,7 @@ void ClusterPerceptron::buildLut() {
   // marked ambiguous and classified per pixel, so the fast path equals the reference path.
   const int n = static_cast<int>(means_.size());
   std::vector<std::uint8_t> cert(n);
-  for (int k = 0; k < n; ++k) cert[k] = std::min<std::uint8_t>(certaintyOf(std::tanh(netFor(weights_, k))), 254);
+  for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
   // Nearest cluster of every lattice corner (33 values per band: 8q and 8q + 7 for q < 32).
   auto corner = [](int i) { return i % 2 == 0 ? (i / 2) * 8 : (i / 2) * 8 + 7; };
   std::vector<std::uint8_t> near(64 * 64 * 64);
@@ -430,6 +441,102 @@ bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreMod
   return true;
 }
 
+/// Round half away from zero, without libm's call (|x| < 2³¹).
+inline std::int32_t roundToInt(double x) {
+  return x >= 0 ? static_cast<std::int32_t>(x + 0.5) : -static_cast<std::int32_t>(-x + 0.5);
+}
+
+/// Adds each block's certainty sum of one row to `sums` (blocks of `bs` pixels) and returns the
+/// row's road pixels (certainty > 127, the byte's top bit). Eight pixels at a time with SSE2's sum
+/// of absolute differences where the blocks are whole multiples of 8 pixels.
+long long blockSums(const std::uint8_t* c, int width, int bs, std::uint32_t* sums) {
+  const int cols = (width + bs - 1) / bs;
+  long long road = 0;
+  int b = 0;
+#ifdef __SSE2__
+  if (bs % 8 == 0) {
+    const __m128i zero = _mm_setzero_si128(), ones = _mm_set1_epi8(1);
+    for (; (b + 1) * bs <= width; ++b) {
+      __m128i sum = zero, cnt = zero;
+      for (int u = b * bs; u < (b + 1) * bs; u += 8) {
+        const __m128i x = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(c + u));
+        sum = _mm_add_epi64(sum, _mm_sad_epu8(x, zero));
+        cnt = _mm_add_epi64(cnt, _mm_sad_epu8(_mm_and_si128(_mm_srli_epi16(x, 7), ones), zero));
+      }
+      sums[b] += static_cast<std::uint32_t>(_mm_cvtsi128_si32(sum));
+      road += _mm_cvtsi128_si32(cnt);
+    }
+  }
+#endif
+  for (; b < cols; ++b) {
+    const int u0 = b * bs, u1 = std::min(width, u0 + bs);
+    std::uint32_t s = 0;
+    for (int u = u0; u < u1; ++u) {
+      s += c[u];
+      road += c[u] > 127;
+    }
+    sums[b] += s;
+  }
+  return road;
+}
+
+struct HoughPeak {
+  std::int64_t sum = std::numeric_limits<std::int64_t>::min();
+  int x = 0, shift = 0, bend = 0;
+};
+
+/// The Hough's accumulation (§5): for every bend q and shift s, row i of the kernel sums `S`
+/// (`rows` × 3·cols, column c of the image at index cols + c) moved by offsets[(q·shifts + s)·rows + i]
+/// blocks and summed column by column; the largest column sum, first in (q, s, x) order. Exact
+/// integer arithmetic; built for AVX2 too where the processor has it.
+__attribute__((target_clones("avx2", "default"))) HoughPeak houghSearch(const std::int32_t* S, int rows, int cols,
+                                                                         const int* offsets, int shifts, int bends) {
+  HoughPeak best;
+  const int ext = 3 * cols;
+  std::vector<std::int32_t> acc(static_cast<std::size_t>(cols));
+  for (int q = 0; q < bends; ++q)
+    for (int s = 0; s < shifts; ++s) {
+      std::fill(acc.begin(), acc.end(), 0);
+      const int* off = offsets + (static_cast<std::size_t>(q) * shifts + s) * rows;
+      for (int i = 0; i < rows; ++i) {
+        const std::int32_t* __restrict srow = S + static_cast<std::size_t>(i) * ext + cols + off[i];
+        const int x0 = std::max(0, -cols - off[i]), x1 = std::min(cols, 2 * cols - off[i]);
+        std::int32_t* __restrict a = acc.data();
+        for (int x = x0; x < x1; ++x) a[x] += srow[x];
+      }
+      for (int x = 0; x < cols; ++x)
+        if (acc[x] > best.sum) best = {acc[x], x, s, q};
+    }
+  return best;
+}
+
+/// The fast path's classification of one row: the colour's cell in the 32³ table, and for the
+/// cells that straddle a cluster boundary, the colour's entry in the cell's exact 8³ table.
+void classifyRow(const std::uint8_t* __restrict p, std::uint8_t* __restrict c, int width,
+                 const std::uint8_t* __restrict lut, const std::uint32_t* __restrict sub_offset,
+                 const std::uint8_t* __restrict sub) {
+  // The cell index per band from small tables: three loads and two ors instead of six shifts.
+  static const auto index = [] {
+    std::array<std::array<std::uint16_t, 256>, 3> t{};
+    for (int x = 0; x < 256; ++x) {
+      t[0][x] = static_cast<std::uint16_t>((x >> 3) << 10);
+      t[1][x] = static_cast<std::uint16_t>((x >> 3) << 5);
+      t[2][x] = static_cast<std::uint16_t>(x >> 3);
+    }
+    return t;
+  }();
+  const std::uint16_t *ir = index[0].data(), *ig = index[1].data(), *ib = index[2].data();
+  for (int u = 0; u < width; ++u, p += 3) {
+    const unsigned cell = ir[p[0]] | ig[p[1]] | ib[p[2]];
+    const std::uint8_t q = lut[cell];
+    if (q != kAmbiguous) [[likely]] {
+      c[u] = q;
+    } else {
+      c[u] = sub[sub_offset[cell] + (((p[0] & 7u) << 6) | ((p[1] & 7u) << 3) | (p[2] & 7u))];
+    }
+  }
+}
+
 /// A place in a row where the class changes and stays changed for 3 pixels on each side (isolated
 /// pixels of the other class are no edge): a left road edge (road starts, going right) or a right one.
 struct EdgeCandidate {
@@ -438,19 +545,26 @@ struct EdgeCandidate {
   bool left;
 };
 
-std::vector<EdgeCandidate> edgeCandidates(const std::uint8_t* cert, int width, int v0, int v1, int step) {
-  std::vector<EdgeCandidate> out;
-  std::vector<std::uint8_t> bit(static_cast<std::size_t>(width));
-  for (int v = v0; v < v1; v += step) {
-    const std::uint8_t* row = cert + static_cast<std::size_t>(v) * width;
-    for (int u = 0; u < width; ++u) bit[u] = row[u] > 127;
-    for (int u = 3; u + 3 <= width; ++u) {
-      if (bit[u - 1] == bit[u]) continue;
-      if (bit[u - 3] == bit[u - 1] && bit[u - 2] == bit[u - 1] && bit[u + 1] == bit[u] && (u + 2 >= width || bit[u + 2] == bit[u]))
-        out.push_back({v, u - 0.5, bit[u] != 0});
+/// The candidates of one row (certainties; road ⇔ > 127 ⇔ the byte's top bit) with u in [lo, hi].
+void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, std::vector<EdgeCandidate>& out) {
+  auto road = [row](int u) { return row[u] > 127; };
+  const int u0 = std::max(3, lo), u1 = std::min(width - 3, hi);
+  for (int u = u0; u <= u1; ++u) {
+    // Eight pixels from u − 1 of one class hold no change: skip them.
+    if (u + 7 <= width) {
+      std::uint64_t word;
+      std::memcpy(&word, row + u - 1, 8);
+      const std::uint64_t top = word & 0x8080808080808080ULL;
+      if (top == 0 || top == 0x8080808080808080ULL) {
+        u += 6;
+        continue;
+      }
     }
+    const bool now = road(u);
+    if (road(u - 1) == now) continue;
+    if (road(u - 3) != now && road(u - 2) != now && road(u + 1) == now && (u + 2 >= width || road(u + 2) == now))
+      out.push_back({v, u - 0.5, now});
   }
-  return out;
 }
 
 /// How many candidates lie within `tol` pixels of the road edges the model puts at
@@ -483,7 +597,9 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<std::size_t> pick(0, cands.size() - 1);
   const int m = degree + 1;
-  for (int it = 0; it < iterations; ++it) {
+  // Adaptive: stop once a better model is unlikely (probability 0.999) given the best one's support.
+  int needed = iterations;
+  for (int it = 0; it < std::min(iterations, needed); ++it) {
     Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
     Vec3 rhs = Vec3::Zero();
     bool ok = true;
@@ -505,6 +621,8 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
     if (n > best_n) {
       best_n = n;
       best = h;
+      const double w = std::min(0.99, static_cast<double>(n) / static_cast<double>(cands.size()));
+      needed = static_cast<int>(std::ceil(std::log(0.001) / std::log(1.0 - std::pow(w, m))));
     }
   }
   return best;
@@ -529,7 +647,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   scr.bsum.assign(static_cast<std::size_t>(cols) * rows, 0);
   const int n = static_cast<int>(means_.size());
   std::array<std::uint8_t, 32> cert{};
-  for (int k = 0; k < n; ++k) cert[k] = std::min<std::uint8_t>(certaintyOf(std::tanh(netFor(weights_, k))), 254);
+  for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
 
   // Classification and block certainty, one band of block rows per task: the bands write disjoint
   // rows of the certainty image and of the block sums, so threads do not change the answer.
@@ -547,29 +665,14 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       const std::uint8_t* p = rgb + static_cast<std::size_t>(v) * width * 3;
       std::uint8_t* c = cimg + static_cast<std::size_t>(v) * width;
       if (fast) {
-        for (int u = 0; u < width; ++u, p += 3) {
-          const int cell = ((p[0] >> 3) << 10) | ((p[1] >> 3) << 5) | (p[2] >> 3);
-          const std::uint8_t q = lut[cell];
-          c[u] = q != kAmbiguous ? q : sub[sub_offset[cell] + (((p[0] & 7) << 6) | ((p[1] & 7) << 3) | (p[2] & 7))];
-        }
+        classifyRow(p, c, width, lut, sub_offset, sub);
       } else {
         for (int u = 0; u < width; ++u, p += 3) {
           const double y = std::tanh(netFor(weights_, nearest(p[0], p[1], p[2])));
-          c[u] = std::min<std::uint8_t>(certaintyOf(y), 254);
+          c[u] = certaintyOf(y);
         }
       }
-      std::uint32_t* brow = bsum + static_cast<std::size_t>(r) * cols;
-      int road = 0;
-      for (int b = 0; b < cols; ++b) {
-        const int u0 = b * bs, u1 = std::min(width, u0 + bs);
-        std::uint32_t s = 0;
-        for (int u = u0; u < u1; ++u) {
-          s += c[u];
-          road += c[u] > 127;
-        }
-        brow[b] += s;
-      }
-      road_px += road;
+      road_px += blockSums(c, width, bs, bsum + static_cast<std::size_t>(r) * cols);
     }
   }
   if (want_mask) {
@@ -586,7 +689,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     for (int c = 0; c < cols; ++c) {
       const int npx = (std::min(width, (c + 1) * bs) - c * bs) * (std::min(height, (r + 1) * bs) - r * bs);
       sc[static_cast<std::size_t>(r) * cols + c] =
-          static_cast<double>(bsum[static_cast<std::size_t>(r) * cols + c]) / (npx * 254.0) * 255.0 - 127.5;
+          static_cast<double>(bsum[static_cast<std::size_t>(r) * cols + c]) / (npx * static_cast<double>(kCertaintyMax)) * 255.0 - 127.5;
     }
   // Road rows and their widths in blocks.
   std::vector<int> rr;
@@ -600,9 +703,11 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     res.reason = "the bootstrap road outline has fewer than 2 block rows";
     return res;
   }
-  // Per-row horizontal summation kernel over an extended column range [-cols, 2 cols).
+  // Per-row horizontal summation kernel over an extended column range [-cols, 2 cols), in fixed
+  // point (1/1024) so that the Hough's sums are exact integers, in any order, and vectorise.
   const int ext = 3 * cols;
-  std::vector<double> S(rr.size() * ext, 0.0), prefix(static_cast<std::size_t>(cols) + 1);
+  std::vector<std::int32_t> S(rr.size() * ext, 0);
+  std::vector<double> prefix(static_cast<std::size_t>(cols) + 1);
   double max_possible = 0;
   for (std::size_t i = 0; i < rr.size(); ++i) {
     const int r = rr[i];
@@ -613,7 +718,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     for (int x = 0; x < ext; ++x) {
       const int centre = x - cols;
       const int lo = std::clamp(centre - k / 2, 0, cols), hi = std::clamp(centre - k / 2 + k, 0, cols);
-      S[i * ext + x] = (prefix[hi] - prefix[lo]) / k;  // each row weighs the same
+      S[i * ext + x] = roundToInt((prefix[hi] - prefix[lo]) / k * 1024.0);  // rows weigh the same
     }
   }
   // Hough: row i (t from 0 at the top road row to 1 at the bottom one) is shifted by
@@ -625,26 +730,15 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   for (std::size_t i = 0; i < rr.size(); ++i) tr[i] = (rr[i] - r0) / span;
   const int M = std::min(opt_.max_shift_blocks, 2 * cols);
   const int Q = opt_.road_model == RoadModel::Arc ? std::min(opt_.max_bend_blocks, cols) : 0;
-  double best = -std::numeric_limits<double>::max();
-  int bx = 0, bsft = 0, bq = 0;
-  std::vector<double> acc(static_cast<std::size_t>(cols));
-  for (int q = -Q; q <= Q; ++q)
-    for (int s = -M; s <= M; ++s) {
-      std::fill(acc.begin(), acc.end(), 0.0);
-      for (std::size_t i = 0; i < rr.size(); ++i) {
-        const int off = static_cast<int>(std::lround(s * tr[i] + q * 4.0 * tr[i] * (1.0 - tr[i])));
-        const double* srow = S.data() + i * ext + cols + off;
-        const int x0 = std::max(0, -cols - off), x1 = std::min(cols, 2 * cols - off);
-        for (int x = x0; x < x1; ++x) acc[x] += srow[x];
-      }
-      for (int x = 0; x < cols; ++x)
-        if (acc[x] > best) {
-          best = acc[x];
-          bx = x;
-          bsft = s;
-          bq = q;
-        }
-    }
+  std::vector<int> offsets(rr.size() * static_cast<std::size_t>(2 * M + 1) * (2 * Q + 1));
+  for (int q = -Q, j = 0; q <= Q; ++q)
+    for (int s = -M; s <= M; ++s)
+      for (std::size_t i = 0; i < rr.size(); ++i, ++j)
+        offsets[j] = roundToInt(s * tr[i] + q * 4.0 * tr[i] * (1.0 - tr[i]));
+  const HoughPeak peak = houghSearch(S.data(), static_cast<int>(rr.size()), cols, offsets.data(), 2 * M + 1, 2 * Q + 1);
+  const int bx = peak.x, bsft = peak.shift - M, bq = peak.bend - Q;
+  const std::int64_t best_fixed = peak.sum;
+  const double best = static_cast<double>(best_fixed) / 1024.0;
   res.intercept_col = bx;
   res.shift = bsft;
   // Sub-block refinement: the same Hough sum, with each block's certainty spread evenly over its
@@ -672,22 +766,28 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     }
     return total;
   };
-  double fx = bx + 0.5, fs = bsft, fq = bq, fbest = score(fx, fs, fq);
-  for (const double step : {0.5, 0.125}) {
-    const double cx = fx, cs = fs, cq = fq;
-    const int reach = step == 0.5 ? 3 : 4, qreach = Q > 0 ? reach : 0;
-    for (int a = -reach; a <= reach; ++a)
-      for (int b = -reach; b <= reach; ++b)
-        for (int e = -qreach; e <= qreach; ++e) {
-          const double val = score(cx + a * step, cs + b * step, cq + e * step);
+  // Pattern search: move to the best of the ± step neighbours in each parameter until none is
+  // better, then halve the step (0.5 → 0.25 → 0.125 blocks).
+  Vec3 f(bx + 0.5, bsft, bq);
+  double fbest = score(f[0], f[1], f[2]);
+  for (double step = 0.5; step >= 0.125; step /= 2) {
+    for (int moves = 0; moves < 32; ++moves) {
+      Vec3 next = f;
+      for (int d = 0; d < (Q > 0 ? 3 : 2); ++d)
+        for (const double sign : {-1.0, 1.0}) {
+          Vec3 g = f;
+          g[d] += sign * step;
+          const double val = score(g[0], g[1], g[2]);
           if (val > fbest) {
             fbest = val;
-            fx = cx + a * step;
-            fs = cs + b * step;
-            fq = cq + e * step;
+            next = g;
           }
         }
+      if (next == f) break;
+      f = next;
+    }
   }
+  const double fx = f[0], fs = f[1], fq = f[2];
   // Continuous block coordinate X ↔ pixel u = X · bs − 0.5; rows at their block centres.
   CentreModel model;
   model.v0 = r0 * bs + (bs - 1) / 2.0;
@@ -710,13 +810,23 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     // The Hough line counts road-coloured area, which shaded shoulders of road colour can pull; the
     // road's edges are straight and a known width apart, which those shadows' outlines are not.
     // Start from the model that most edge candidates support.
-    const std::vector<EdgeCandidate> cands = edgeCandidates(cimg, width, v_top, height, 1);
+    std::vector<EdgeCandidate> cands;
+    for (int v = v_top; v < height; v += 4) rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, 0, width, cands);
     model = edgeConsensus(cands, row_widths_, model, degree, opt_.seed, 200, 2.0);
     // Then fit it to the edges that support it: in each row the left and right candidates nearest
     // the model's edges, each turned into a centre estimate (the pair's middle, or one edge plus half
     // the row's width scaled by the widths measured where both show), by robust least squares; twice,
     // each time with the edges nearer the last fit.
     for (const double tol : {2.0, 1.5, 1.0}) {
+      // Every row's candidates near the model's two edges.
+      cands.clear();
+      for (int v = v_top; v < height; ++v)
+        for (const double side : {-0.5, 0.5}) {
+          const double want = model.u(v) + side * row_widths_[v];
+          if (want < -tol || want > width + tol) continue;
+          rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, static_cast<int>(std::floor(want - tol)),
+                        static_cast<int>(std::ceil(want + tol)) + 1, cands);
+        }
       std::vector<double> left(height, std::nan("")), right(height, std::nan(""));
       for (const EdgeCandidate& e : cands) {
         const double want = model.u(e.v) + (e.left ? -0.5 : 0.5) * row_widths_[e.v];

@@ -121,7 +121,7 @@ class ClusterPerceptron {
   std::vector<Vec3> means_;
   std::vector<double> weights_;
   std::vector<double> row_widths_;
-  std::vector<std::uint8_t> lut_;  // 32³ cells of 8³ colours: road certainty 0..254, 255 = ambiguous
+  std::vector<std::uint8_t> lut_;  // 32³ cells of 8³ colours: road certainty 0..240, 255 = ambiguous
   std::vector<std::uint32_t> sub_offset_;  // ambiguous cell → its 8³ table in sub_
   std::vector<std::uint8_t> sub_;          // exact certainties of the ambiguous cells' colours
   bool trained_ = false;
