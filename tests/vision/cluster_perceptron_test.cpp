@@ -222,6 +222,91 @@ TEST(ClusterPerceptron, HoughCentreLineOnStraightStretches) {
               n, sum_top / n, worst_top, sum_deg / n, worst_deg, worst_bot);
 }
 
+/// Poses on bends: the centre line's heading turns by at least 10 degrees over the 12 m ahead, with a
+/// radius of curvature of 15 m or more everywhere in between (the park's tightest bends are 15 m).
+std::vector<StraightPose> curvePoses(double step) {
+  std::vector<StraightPose> out;
+  for (const Road& road : park().roads()) {
+    const Polyline2& line = road.centerline;
+    for (double s = 3.0; s + 14.0 < line.length(); s += step) {
+      const Vec2 t0 = line.tangentAt(s), t1 = line.tangentAt(s + 12.0);
+      const double turn = std::atan2(t0.x() * t1.y() - t0.y() * t1.x(), t0.dot(t1));
+      if (std::abs(turn) < 10.0 * std::numbers::pi / 180.0) continue;
+      out.push_back({Pose2(line.pointAt(s), std::atan2(t0.y(), t0.x())), &road, s});
+    }
+  }
+  return out;
+}
+
+// Beyond the paper (§9): with the arc model the found centre curve follows bends of radius >= 15 m
+// within 2 px wherever the road is in the image; the paper's straight model cuts them.
+// NOT YET MET (issue 7 stays open): the arc model is a quadratic u(v) in the image, which follows
+// the bend where the edges are seen (the top rows) but not the projection of a ground arc below,
+// where the road fills the image and the quadratic extrapolates: worst offsets 76 to 3900 px over
+// the 15 curve frames. The fix is a ground-plane model (y = y0 + θx + κx²/2, a linear basis per row
+// from the camera), left for the next session. Run with --gtest_also_run_disabled_tests.
+TEST(ClusterPerceptron, DISABLED_ArcModelFollowsCurves) {
+  const World world(park(), parkWorld());
+  const auto poses = curvePoses(3.0);
+  ASSERT_GE(poses.size(), 6u);
+  double worst_arc = 0, worst_line = 0, sum_arc = 0;
+  int n = 0;
+  std::optional<ClusterPerceptron> arc, line;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (i == 0 || poses[i].road != poses[i - 1].road) {
+      ClusterPerceptronOptions o;
+      o.road_model = RoadModel::Arc;
+      arc = trainedOn(world, poses[i].pose, static_cast<double>(i), o);
+      line = trainedOn(world, poses[i].pose, static_cast<double>(i));
+    }
+    const Frame f = world.render(cam(), poses[i].pose, static_cast<double>(i));
+    const RoadFinding ra = arc->find(f.rgb.data.data(), f.rgb.width, f.rgb.height, false);
+    const RoadFinding rl = line->find(f.rgb.data.data(), f.rgb.width, f.rgb.height, false);
+    ASSERT_TRUE(ra.ok && rl.ok) << ra.reason << rl.reason;
+    // The truth: the centre line's projection, sampled densely; u at each detected curve point's row.
+    std::vector<Vec2> truth;
+    for (double d = -2.0; d <= 14.0; d += 0.05)
+      if (const auto p = cam().projectGround(poses[i].pose.inverseTransform(poses[i].road->centerline.pointAt(poses[i].s + d))))
+        truth.push_back(*p);
+    auto truthU = [&](double v) -> std::optional<double> {
+      for (std::size_t k = 1; k < truth.size(); ++k)
+        if ((truth[k - 1].y() - v) * (truth[k].y() - v) <= 0 && truth[k - 1].y() != truth[k].y()) {
+          const double t = (v - truth[k - 1].y()) / (truth[k].y() - truth[k - 1].y());
+          return truth[k - 1].x() + t * (truth[k].x() - truth[k - 1].x());
+        }
+      return std::nullopt;
+    };
+    auto worstOf = [&](const RoadFinding& r) {
+      double worst = 0;
+      for (const Vec2& p : r.centerline_curve)
+        if (const auto u = truthU(p.y()); u && *u >= 0 && *u < cam().width()) worst = std::max(worst, std::abs(p.x() - *u));
+      return worst;
+    };
+    const double ea = worstOf(ra), el = worstOf(rl);
+    if (std::getenv("PARK_DEBUG")) {
+      Image out = f.rgb;
+      auto dot = [&](const Vec2& p, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+        const int u = static_cast<int>(std::lround(p.x())), v = static_cast<int>(std::lround(p.y()));
+        if (u < 0 || v < 0 || u >= out.width || v >= out.height) return;
+        std::uint8_t* px = out.data.data() + 3 * (static_cast<std::size_t>(v) * out.width + u);
+        px[0] = r; px[1] = g; px[2] = b;
+      };
+      for (const Vec2& p : truth) dot(p, 255, 255, 255);
+      for (const Vec2& p : ra.centerline_curve) for (int k = -2; k <= 2; ++k) dot(p + Vec2(k, 0), 255, 0, 0);
+      for (const Vec2& p : rl.centerline_curve) for (int k = -2; k <= 2; ++k) dot(p + Vec2(k, 0), 0, 0, 255);
+      writePng(out, "/tmp/arc_dbg_" + std::to_string(i) + ".png");
+    }
+    worst_arc = std::max(worst_arc, ea);
+    worst_line = std::max(worst_line, el);
+    sum_arc += ea;
+    ++n;
+    EXPECT_LE(ea, 2.0) << "frame " << i << " (line model: " << el << " px)";
+  }
+  std::printf("on %d curve frames: arc model worst offset mean %.2f px, worst %.2f px; straight model worst %.2f px\n", n,
+              sum_arc / n, worst_arc, worst_line);
+  EXPECT_GT(worst_line, 2.0 * worst_arc) << "the straight model should cut the curves";
+}
+
 TEST(ClusterPerceptron, FastPathEqualsReferenceOn100Frames) {
   const World world(park(), parkWorld());
   const std::vector<Pose2> poses = visiontest::roadPoses(park(), 5.0);

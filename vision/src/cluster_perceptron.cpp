@@ -890,7 +890,7 @@ const std::vector<OptionSpec>& specs() {
       {"trapezoid_top_width", 0.45, false, false, 1e-6, 10, "default trapezoid: top width, fraction of the image width"},
       {"trapezoid_bottom_width", 1.6, false, false, 1e-6, 10, "default trapezoid: bottom width, fraction of the image width"},
       {"arc", 0, true, false, 0, 1,
-       "beyond the paper (9): the Hough searches bending centre lines too (u = a + b t + c t^2), so curves are not cut"},
+       "beyond the paper (9), experimental: the Hough searches bending centre lines too (u = a + b t + c t^2); not yet accurate where the road fills the image"},
       {"max_bend_blocks", 8, false, true, 0, 256, "arc model: largest bend searched, blocks at mid-height"},
       {"refine_edges", 1, true, false, 0, 1,
        "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
