@@ -307,6 +307,38 @@ TEST(ClusterPerceptron, DISABLED_ArcModelFollowsCurves) {
   EXPECT_GT(worst_line, 2.0 * worst_arc) << "the straight model should cut the curves";
 }
 
+// Beyond the paper (§9): the perceptron on raw R, G, B. On the park, asphalt is bluer than grass,
+// dirt and their shadows, which one linear unit separates well; its lookup table is exact too.
+TEST(ClusterPerceptron, RawRgbPerceptronLearnsTheRoadAndItsTableIsExact) {
+  const World world(park(), parkWorld());
+  const auto poses = straightPoses(10.0);
+  ClusterPerceptronOptions o;
+  o.raw_rgb = true;
+  ClusterPerceptron fast = trainedOn(world, poses.front().pose, 0.0, o);
+  ASSERT_EQ(fast.weights().size(), 4u);
+  ClusterPerceptron ref = fast;
+  ref.setFast(false);
+  double tp = 0, fp = 0, fn = 0;
+  for (std::size_t i = 0; i < 6; ++i) {
+    const Frame f = world.render(cam(), poses[i].pose, static_cast<double>(i));
+    const RoadFinding a = fast.find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
+    const RoadFinding b = ref.find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
+    ASSERT_TRUE(a.ok) << a.reason;
+    EXPECT_EQ(a.mask, b.mask) << "frame " << i;
+    EXPECT_EQ(a.centerline_image.a, b.centerline_image.a) << "frame " << i;
+    for (std::size_t k = 0; k < a.mask.data.size(); ++k) {
+      const bool d = a.mask.data[k] != 0, t = f.mask.data[k] != 0;
+      tp += d && t;
+      fp += d && !t;
+      fn += !d && t;
+    }
+  }
+  const double iou = tp / (tp + fp + fn);
+  std::printf("raw-RGB perceptron: weights %.3f %.3f %.3f bias %.3f, IoU over 6 frames %.4f\n", fast.weights()[0],
+              fast.weights()[1], fast.weights()[2], fast.weights()[3], iou);
+  EXPECT_GE(iou, 0.95);
+}
+
 TEST(ClusterPerceptron, FastPathEqualsReferenceOn100Frames) {
   const World world(park(), parkWorld());
   const std::vector<Pose2> poses = visiontest::roadPoses(park(), 5.0);

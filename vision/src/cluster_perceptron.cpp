@@ -12,6 +12,7 @@
 #include <map>
 #include <random>
 #include <sstream>
+#include <unordered_map>
 
 #include <Eigen/Dense>
 #ifdef __SSE2__
@@ -195,6 +196,7 @@ constexpr std::uint8_t kAmbiguous = 255;  // LUT cell spanning a cluster boundar
 
 std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, int width, int height,
                                                        const std::uint8_t* road) {
+  if (opt_.raw_rgb) return trainRgbPerceptron(rgb, width, height, road);
   if (means_.empty()) throw InvalidInput("trainPerceptron: the clusters are not trained");
   const int n = static_cast<int>(means_.size());
   // Every pixel won by the same cluster has the same inputs, so the per-pixel LMS sums reduce exactly
@@ -237,11 +239,96 @@ std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, 
   return history;
 }
 
+namespace {
+/// The raw-RGB perceptron's input for one band: the level scaled to [-1, 1].
+double rgbInput(std::uint8_t x) { return x / 127.5 - 1.0; }
+double netRgb(const std::vector<double>& w, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  return w[0] * rgbInput(r) + w[1] * rgbInput(g) + w[2] * rgbInput(b) + w[3];
+}
+}  // namespace
+
+std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rgb, int width, int height,
+                                                          const std::uint8_t* road) {
+  // Pixels of the same colour have the same inputs: the LMS sums reduce exactly to per-colour counts.
+  std::unordered_map<std::uint32_t, std::pair<double, double>> counts;  // colour → (road, not road)
+  double total = 0;
+  const int st = opt_.train_stride;
+  for (int v = 0; v < height; v += st)
+    for (int u = 0; u < width; u += st) {
+      const std::size_t i = static_cast<std::size_t>(v) * width + u;
+      const std::uint32_t key = (std::uint32_t{rgb[3 * i]} << 16) | (std::uint32_t{rgb[3 * i + 1]} << 8) | rgb[3 * i + 2];
+      auto& c = counts[key];
+      (road[i] != 0 ? c.first : c.second) += 1;
+      total += 1;
+    }
+  std::vector<std::pair<std::uint32_t, std::pair<double, double>>> colours(counts.begin(), counts.end());
+  std::sort(colours.begin(), colours.end());  // a fixed summation order: the same weights every run
+  weights_.assign(4, 0.0);
+  std::vector<double> history;
+  double prev = std::numeric_limits<double>::max();
+  int calm = 0;
+  for (int it = 0; it < opt_.max_perceptron_iterations; ++it) {
+    std::array<double, 4> grad{};
+    double err = 0;
+    for (const auto& [key, pn] : colours) {
+      const std::uint8_t r = key >> 16, g = (key >> 8) & 255, b = key & 255;
+      const double y = std::tanh(netRgb(weights_, r, g, b));
+      const double e = pn.first * (1.0 - y) + pn.second * (-1.0 - y);
+      err += pn.first * std::abs(1.0 - y) + pn.second * std::abs(-1.0 - y);
+      grad[0] += e * rgbInput(r);
+      grad[1] += e * rgbInput(g);
+      grad[2] += e * rgbInput(b);
+      grad[3] += e;
+    }
+    err /= total;
+    history.push_back(err);
+    for (std::size_t j = 0; j < 4; ++j) weights_[j] += opt_.perceptron_rate * grad[j] / total;
+    calm = std::abs(prev - err) < opt_.perceptron_tolerance ? calm + 1 : 0;
+    if (calm >= 3) break;
+    prev = err;
+  }
+  buildLut();
+  trained_ = !row_widths_.empty();
+  return history;
+}
+
 double ClusterPerceptron::outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const {
+  if (opt_.raw_rgb) return std::tanh(netRgb(weights_, r, g, b));
   return std::tanh(netFor(weights_, nearest(r, g, b)));
 }
 
 void ClusterPerceptron::buildLut() {
+  if (opt_.raw_rgb) {
+    // The net input is linear in the colour: over a cell it lies between its values at the corners,
+    // and the certainty, monotonic in it, is uniform when it is the same at both ends (a hair wider,
+    // against rounding); other cells get their exact 8³ table.
+    lut_.assign(32 * 32 * 32, 0);
+    sub_offset_.assign(32 * 32 * 32, 0);
+    sub_.clear();
+    for (int cell = 0; cell < 32 * 32 * 32; ++cell) {
+      const int r0 = (cell >> 10) * 8, g0 = ((cell >> 5) & 31) * 8, b0 = (cell & 31) * 8;
+      double lo = std::numeric_limits<double>::max(), hi = -lo;
+      for (int m = 0; m < 8; ++m) {
+        const double net = netRgb(weights_, static_cast<std::uint8_t>(r0 + 7 * (m & 1)),
+                                  static_cast<std::uint8_t>(g0 + 7 * ((m >> 1) & 1)),
+                                  static_cast<std::uint8_t>(b0 + 7 * ((m >> 2) & 1)));
+        lo = std::min(lo, net);
+        hi = std::max(hi, net);
+      }
+      const std::uint8_t c = certaintyOf(std::tanh(lo - 1e-9));
+      if (c == certaintyOf(std::tanh(hi + 1e-9))) {
+        lut_[cell] = c;
+        continue;
+      }
+      lut_[cell] = kAmbiguous;
+      sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
+      for (int i = 0; i < 512; ++i)
+        sub_.push_back(certaintyOf(std::tanh(netRgb(weights_, static_cast<std::uint8_t>(r0 + (i >> 6)),
+                                                    static_cast<std::uint8_t>(g0 + ((i >> 3) & 7)),
+                                                    static_cast<std::uint8_t>(b0 + (i & 7))))));
+    }
+    return;
+  }
   // Cell q covers the colours [8q, 8q + 7] per band. A cell whose 8 corners share their nearest
   // cluster lies wholly in that cluster's (convex) Voronoi cell: its certainty is exact. Others are
   // marked ambiguous and classified per pixel, so the fast path equals the reference path.
@@ -645,9 +732,6 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   Scratch& scr = scratch();
   scr.cert.resize(static_cast<std::size_t>(width) * height);
   scr.bsum.assign(static_cast<std::size_t>(cols) * rows, 0);
-  const int n = static_cast<int>(means_.size());
-  std::array<std::uint8_t, 32> cert{};
-  for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
 
   // Classification and block certainty, one band of block rows per task: the bands write disjoint
   // rows of the certainty image and of the block sums, so threads do not change the answer.
@@ -668,7 +752,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
         classifyRow(p, c, width, lut, sub_offset, sub);
       } else {
         for (int u = 0; u < width; ++u, p += 3) {
-          const double y = std::tanh(netFor(weights_, nearest(p[0], p[1], p[2])));
+          const double y = outputReference(p[0], p[1], p[2]);
           c[u] = certaintyOf(y);
         }
       }
@@ -894,6 +978,8 @@ const std::vector<OptionSpec>& specs() {
       {"max_bend_blocks", 8, false, true, 0, 256, "arc model: largest bend searched, blocks at mid-height"},
       {"refine_edges", 1, true, false, 0, 1,
        "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
+      {"raw_rgb", 0, true, false, 0, 1,
+       "beyond the paper (9): the perceptron's inputs are the pixel's R, G, B instead of the clusters' winner code"},
       {"threads", 1, false, true, 0, 256, "runtime threads (0 = every core); the answer does not depend on it"},
       {"fast", 1, true, false, 0, 1,
        "runtime through a 32x32x32 colour lookup table (exact: boundary cells are classified per pixel); false = "
@@ -994,6 +1080,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.max_bend_blocks = options_.i("max_bend_blocks");
     o.refine_edges = options_.b("refine_edges");
     o.threads = options_.i("threads");
+    o.raw_rgb = options_.b("raw_rgb");
     o.fast = options_["fast"] != 0;
     o.min_road_fraction = options_["min_road_fraction"];
     o.validate();

@@ -60,6 +60,9 @@ struct ClusterPerceptronOptions {
   int max_bend_blocks = 8;
   /// Beyond the paper: refine the Hough line to the pixel from the road's edges (robust fit).
   bool refine_edges = true;
+  /// Beyond the paper (§9): the perceptron's inputs are the pixel's R, G, B (scaled to [-1, 1])
+  /// instead of the clusters' winner-take-all code. The clusters are still trained (reconstruction).
+  bool raw_rgb = false;
   bool fast = true;                     ///< colour lookup table (true) or per-pixel reference path
   /// Runtime threads: bands of rows classified in parallel (1 = this thread only, 0 = every core).
   /// The answer does not depend on it.
@@ -109,7 +112,8 @@ class ClusterPerceptron {
   /// §3.2: every pixel replaced by its cluster's mean (debugging).
   Image reconstruct(const std::uint8_t* rgb, int width, int height) const;
   const std::vector<Vec3>& means() const { return means_; }
-  const std::vector<double>& weights() const { return weights_; }  ///< per cluster, then the bias
+  /// Per cluster, then the bias; with raw_rgb: R, G, B, bias.
+  const std::vector<double>& weights() const { return weights_; }
   bool trained() const { return trained_; }
 
   /// Perceptron output in [-1, 1] of one colour, reference arithmetic.
@@ -119,6 +123,7 @@ class ClusterPerceptron {
 
  private:
   int nearest(float r, float g, float b) const;
+  std::vector<double> trainRgbPerceptron(const std::uint8_t* rgb, int width, int height, const std::uint8_t* road);
   void buildLut();
   ClusterPerceptronOptions opt_;
   std::vector<Vec3> means_;
