@@ -1,6 +1,8 @@
 #include "cli.h"
 
 #include <CLI/CLI.hpp>
+#include <unistd.h>
+
 #include <cctype>
 #include <filesystem>
 #include <functional>
@@ -17,6 +19,7 @@
 #include "detect_command.h"
 #include "vision_commands.h"
 #include "bench_command.h"
+#include "mission_commands.h"
 #include "mapnav/core/error.h"
 
 namespace mapnav::cli {
@@ -206,6 +209,55 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   lf->add_option("index", log_frame.index, "Frame number, from 0")->required();
   lf->add_option("-o,--output", log_frame.output, "PNG to write")->required();
   lf->callback([&] { command = [&] { return runLogFrame(log_frame, out, err); }; });
+
+  // replay and run share their options.
+  const bool stderr_is_tty = ::isatty(STDERR_FILENO) == 1;
+  auto missionOptions = [&](CLI::App* c, MissionRunConfig& config) {
+    c->add_option("--mission", config.mission, "Mission file (mapnav-mission/1, docs/mission-format.md)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    c->add_option("--pipeline", config.pipeline, "Vision pipeline (default: the mission's vision.pipeline, else sidewalk)");
+    c->add_option("--plugin", config.plugins, "Load a vision plug-in first");
+    c->add_option("--trace", config.trace, "Write the JSONL trace of every token (docs/trace-format.md)");
+    c->add_option("--max-frames", config.max_frames, "Stop after this many frames (default: to the end)");
+    c->add_flag("--json", config.json, "Print the metrics as one JSON object instead of the summary");
+    config.progress = stderr_is_tty;
+  };
+  constexpr const char* kMissionFooter =
+      "Prints a summary (or --json: {\"frames\",\"reached_goal\",\"lateral_rms_m\",\"along_rms_m\",\"heading_rms_deg\",\n"
+      "\"max_error_m\",\"odometry_only_max_error_m\",\"vision_failures\",\"replans\",\"latency_ms_median\",\n"
+      "\"latency_ms_p99\",\"along_after_intersection_max_m\",...}); a progress bar on a terminal. Exit codes: 0 the goal\n"
+      "was reached (or --max-frames stopped it first), 1 the mission failed (halted, goal not reached) or the input\n"
+      "is invalid, 2 usage or I/O error.";
+
+  ReplayConfig replay;
+  CLI::App* rp = app.add_subcommand("replay", "Run a mission open loop over a recorded log: localisation and commands per frame, against the truth");
+  missionOptions(rp, replay);
+  rp->add_option("--log", replay.log, "Replay log folder (mapnav simulate, docs/replay-log-format.md)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  rp->footer(kMissionFooter);
+  rp->callback([&] { command = [&] { return runReplayCommand(replay, out, err); }; });
+
+  RunConfig run_config;
+  std::int64_t run_seed = -1;
+  CLI::App* rn = app.add_subcommand("run", "Run a mission closed loop in the simulator: each frame rendered from where the commands drove");
+  missionOptions(rn, run_config);
+  rn->add_option("--seed", run_seed, "Seed for the world and the odometry noise (default: the mission's)")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{9007199254740991}));
+  rn->footer(kMissionFooter);
+  rn->callback([&] {
+    if (run_seed >= 0) run_config.seed = static_cast<std::uint64_t>(run_seed);
+    command = [&] { return runRunCommand(run_config, out, err); };
+  });
+
+  CLI::App* trace = app.add_subcommand("trace", "Read mission traces (docs/trace-format.md)");
+  trace->require_subcommand(1);
+  TraceShowConfig trace_show;
+  CLI::App* ts = trace->add_subcommand("show", "Print a trace as the paper's dialogue (Map, Vision, Navigator, Motion Control)");
+  ts->add_option("file", trace_show.file, "Trace (JSONL) written by replay or run --trace")->required();
+  ts->footer("Exit codes: 0 printed, 1 a bad line (FILE:LINE:1: error: check: message), 2 the file cannot be read.");
+  ts->callback([&] { command = [&] { return runTraceShow(trace_show, out, err); }; });
 
   PipelinesConfig pipelines;
   CLI::App* pl = app.add_subcommand("pipelines", "List the vision pipelines available, with their options and defaults");

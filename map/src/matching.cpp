@@ -96,6 +96,7 @@ void LocalizeOptions::validate() const {
           "finite and >= 0");
   require(std::isfinite(centerline_search_m) && centerline_search_m > 0, "centerline_search_m", centerline_search_m,
           "finite and > 0");
+  require(std::isfinite(curve_piece_m) && curve_piece_m >= 0, "curve_piece_m", curve_piece_m, "finite and >= 0");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -351,20 +352,61 @@ std::optional<LineFit> fitPoseToLines(const Pose2& prior, const std::vector<Line
   return fit;
 }
 
-std::vector<LineCorrespondence> labelledCorrespondences(const Prediction& prediction, const DetectedObject& detected,
-                                                        double sigma_m, double min_length_m) {
+namespace {
+
+/// Calls `use(line, predicted segment index)` for every detected line that is labelled with a
+/// predicted segment, not cut by the frame, and at least `min_length_m` long.
+template <typename Use>
+void forEachLabelledLine(const Prediction& prediction, const DetectedObject& detected, double min_length_m, Use use) {
+  if (detected.status != DetectedObject::Status::Ok) return;
   std::map<std::string, std::size_t, std::less<>> index;
   const std::size_t n = std::min(prediction.view.segments.size(), prediction.segments_world.size());
   for (std::size_t i = 0; i < n; ++i) index.emplace(prediction.view.segments[i].id, i);
-
-  std::vector<LineCorrespondence> out;
-  if (detected.status != DetectedObject::Status::Ok) return out;
   for (const DetectedLine& line : detected.lines) {
     if (!line.label || line.frame_edge || line.vehicle.length() < min_length_m) continue;
     const auto it = index.find(*line.label);
-    if (it == index.end()) continue;
-    out.push_back({*line.label, line.vehicle, prediction.segments_world[it->second], sigma_m});
+    if (it != index.end()) use(line, it->second);
   }
+}
+
+}  // namespace
+
+std::vector<LineCorrespondence> labelledCorrespondences(const Prediction& prediction, const DetectedObject& detected,
+                                                        double sigma_m, double min_length_m) {
+  std::vector<LineCorrespondence> out;
+  forEachLabelledLine(prediction, detected, min_length_m, [&](const DetectedLine& line, std::size_t i) {
+    out.push_back({*line.label, line.vehicle, prediction.segments_world[i], sigma_m});
+  });
+  return out;
+}
+
+std::vector<LineCorrespondence> edgeCorrespondences(const Map& map, const Prediction& prediction,
+                                                    const DetectedObject& detected, const Pose2& prior,
+                                                    double sigma_m, double min_length_m, double piece_m) {
+  std::vector<LineCorrespondence> out;
+  forEachLabelledLine(prediction, detected, min_length_m, [&](const DetectedLine& line, std::size_t i) {
+    const InterestSegment& segment = prediction.view.segments[i];
+    const Segment2& chord = prediction.segments_world[i];
+    const Road* road = (segment.side == "left" || segment.side == "right") ? map.findRoad(segment.owner) : nullptr;
+    const Polyline2* edge = road == nullptr ? nullptr : &(segment.side == "left" ? map.leftEdge(*road) : map.rightEdge(*road));
+    if (edge == nullptr || edge->segmentCount() == 0 || !(piece_m > 0)) {
+      out.push_back({*line.label, line.vehicle, chord, sigma_m});
+      return;
+    }
+    // The stretch of the edge the predicted segment covers: the edge does not go on inside the
+    // paved areas the prediction cut it at (a crossing road, an intersection's mouth).
+    const double sa = edge->project(chord.a).arc_length, sb = edge->project(chord.b).arc_length;
+    const double lo = std::min(sa, sb) - 0.25, hi = std::max(sa, sb) + 0.25;
+    const int pieces = std::max(1, static_cast<int>(std::ceil(line.vehicle.length() / piece_m)));
+    const double sigma = sigma_m * std::sqrt(static_cast<double>(pieces));
+    for (int k = 0; k < pieces; ++k) {
+      const Segment2 piece{line.vehicle.pointAt(static_cast<double>(k) / pieces),
+                           line.vehicle.pointAt(static_cast<double>(k + 1) / pieces)};
+      const Polyline2::Projection p = edge->project(prior.transform(piece.pointAt(0.5)));
+      if (p.arc_length < lo || p.arc_length > hi) continue;
+      out.push_back({*line.label, piece, edge->segment(p.segment), sigma});
+    }
+  });
   return out;
 }
 
@@ -541,7 +583,10 @@ CurrentPosition localize(PoseFilter& filter, const VehicleMotion& motion, const 
     return filter.current(t, "vision failed (" + detected.reason + "): odometry only");
   }
   std::vector<LineCorrespondence> lines =
-      labelledCorrespondences(prediction, detected, options.edge_sigma_m, options.min_line_length_m);
+      map != nullptr && options.curve_piece_m > 0
+          ? edgeCorrespondences(*map, prediction, detected, filter.pose(), options.edge_sigma_m,
+                                options.min_line_length_m, options.curve_piece_m)
+          : labelledCorrespondences(prediction, detected, options.edge_sigma_m, options.min_line_length_m);
   bool park = false;
   if (lines.empty() && map != nullptr && detected.centerline_vehicle &&
       detected.centerline_vehicle->length() >= options.min_line_length_m) {

@@ -71,6 +71,24 @@ MissionFile loadMission(const std::filesystem::path& path) {
       if (const Json* options = v.member("options", false)) m.vision_options_json = options->dump();
       v.rejectUnknownMembers();
     }
+    if (const Json* halt = top.member("halt", false)) {
+      JsonObject h(*halt, top.pointer("halt"), issues);
+      if (const Json* resume = h.member("resume_after_frames", false)) {
+        if (resume->is_null()) {
+          m.halt.resume_after_frames.reset();
+        } else if (!resume->is_number_integer() && !resume->is_number_unsigned()) {
+          addIssue(issues, Severity::Error, "schema.type", h.pointer("resume_after_frames"),
+                   "expected a whole number of frames (>= 0) or null (never resume), got " +
+                       std::string(jsonTypeName(*resume)));
+        } else if (resume->get<long long>() < 0 || resume->get<long long>() > 1000000) {
+          addIssue(issues, Severity::Error, "schema.range", h.pointer("resume_after_frames"),
+                   "resume_after_frames = " + std::to_string(resume->get<long long>()) + ": must be in [0, 1000000]");
+        } else {
+          m.halt.resume_after_frames = static_cast<std::size_t>(resume->get<long long>());
+        }
+      }
+      h.rejectUnknownMembers();
+    }
     top.rejectUnknownMembers();
   }
   if (hasErrors(issues)) throw ValidationError(path.string(), std::move(issues));

@@ -449,3 +449,101 @@ TEST(Cli, BenchRefusesBadOptionsWithExitTwoNamingTheOption) {
 
 }  // namespace
 }  // namespace mapnav
+
+namespace mapnav {
+namespace {
+
+TEST(Cli, ReplayRunAndTraceShowEndToEnd) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string mission = str(testing::fixturePath("missions/short_crossing.json"));
+  ASSERT_EQ(runCli({"simulate", "--mission", mission, "-o", str(dir / "log")}).exit_code, 0);
+
+  const auto json_run = runCli({"replay", "--mission", mission, "--log", str(dir / "log"), "--json"});
+  EXPECT_EQ(json_run.exit_code, 0) << json_run.err;
+  EXPECT_EQ(json_run.err, "");  // no progress bar when stderr is not a terminal
+  const auto j = nlohmann::ordered_json::parse(json_run.out);
+  const std::vector<std::string> keys = {"frames", "reached_goal", "lateral_rms_m", "along_rms_m", "heading_rms_deg",
+                                         "max_error_m", "odometry_only_max_error_m", "vision_failures", "replans",
+                                         "latency_ms_median", "latency_ms_p99", "along_after_intersection_max_m"};
+  std::vector<std::string> first;
+  for (auto it = j.begin(); it != j.end() && first.size() < keys.size(); ++it) first.push_back(it.key());
+  EXPECT_EQ(first, keys);
+  EXPECT_EQ(j["reached_goal"], true);
+  EXPECT_LE(j["lateral_rms_m"].get<double>(), 0.05);
+  EXPECT_LE(j["heading_rms_deg"].get<double>(), 0.5);
+
+  const std::string trace = str(dir / "trace.jsonl");
+  const auto text_run = runCli({"replay", "--mission", mission, "--log", str(dir / "log"), "--trace", trace});
+  EXPECT_EQ(text_run.exit_code, 0) << text_run.err;
+  EXPECT_NE(text_run.out.find("short crossing (replay, pipeline sidewalk): goal reached"), std::string::npos) << text_run.out;
+  EXPECT_NE(text_run.out.find("odometry alone:"), std::string::npos);
+  EXPECT_NE(text_run.out.find("loop latency (512x480): median"), std::string::npos);
+  EXPECT_NE(text_run.out.find("wrote " + trace), std::string::npos);
+
+  const auto show = runCli({"trace", "show", trace});
+  EXPECT_EQ(show.exit_code, 0) << show.err;
+  EXPECT_EQ(show.out.rfind("User: Robot is at road R2, 30 meters from I1.", 0), 0u) << show.out.substr(0, 200);
+  EXPECT_NE(show.out.find("Navigator: Drive on R2 10.0 meters and go straight through I2."), std::string::npos);
+  EXPECT_NE(show.out.find("Map: Vision will see straight road"), std::string::npos);
+  EXPECT_NE(show.out.find("Mission: goal reached"), std::string::npos);
+
+  const auto run = runCli({"run", "--mission", mission, "--max-frames", "4", "--json", "--seed", "3"});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  const auto r = nlohmann::json::parse(run.out);
+  EXPECT_EQ(r["frames"], 4);
+  EXPECT_EQ(r["mode"], "closed-loop");
+  EXPECT_EQ(r["reached_goal"], false);
+}
+
+TEST(Cli, MissionRunnerErrorsExitOneOrTwoWithAMessage) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string mission = str(testing::fixturePath("missions/short_crossing.json"));
+  ASSERT_EQ(runCli({"simulate", "--mission", mission, "-o", str(dir / "log"), "--max-frames", "6"}).exit_code, 0);
+  // A log that ends before the goal: the mission failed.
+  const auto short_log = runCli({"replay", "--mission", mission, "--log", str(dir / "log")});
+  EXPECT_EQ(short_log.exit_code, 1);
+  EXPECT_NE(short_log.out.find("the log ended"), std::string::npos) << short_log.out;
+  // An unknown pipeline: the input is wrong.
+  const auto pipeline = runCli({"replay", "--mission", mission, "--log", str(dir / "log"), "--pipeline", "nope"});
+  EXPECT_EQ(pipeline.exit_code, 1);
+  EXPECT_NE(pipeline.err.find("mapnav: error: "), std::string::npos);
+  EXPECT_NE(pipeline.err.find("nope"), std::string::npos) << pipeline.err;
+  // Usage and I/O: no such log, no such mission, a missing trace file.
+  EXPECT_EQ(runCli({"replay", "--mission", mission, "--log", str(dir / "nowhere")}).exit_code, 2);
+  EXPECT_EQ(runCli({"run", "--mission", str(dir / "none.json")}).exit_code, 2);
+  EXPECT_EQ(runCli({"replay", "--mission", mission}).exit_code, 2);
+  const auto missing = runCli({"trace", "show", str(dir / "none.jsonl")});
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("mapnav: error: "), std::string::npos);
+  // An invalid mission: its problems with their pointers.
+  writeFileAtomic(dir / "bad.json", std::string_view(R"({"format": "mapnav-mission/1", "halt": {"resume_after_frames": -3}})"));
+  const auto bad = runCli({"run", "--mission", str(dir / "bad.json")});
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find(str(dir / "bad.json") + ":/halt/resume_after_frames: error: schema.range"), std::string::npos)
+      << bad.err;
+  // A trace with bad lines: FILE:LINE for each, exit 1.
+  const std::string trace = str(dir / "bad.jsonl");
+  writeFileAtomic(trace, std::string_view(
+                             "{\"t\":0,\"frame\":null,\"module\":\"MotionControl\",\"type\":\"Executing\",\"payload\":"
+                             "{\"sequence\":null,\"executes\":false,\"kind\":\"stop\"}}\n"
+                             "garbage\n"
+                             "{\"t\":1,\"frame\":0,\"module\":\"Navigator\",\"type\":\"MotionCommand\",\"payload\":{}}\n"));
+  const auto show = runCli({"trace", "show", trace});
+  EXPECT_EQ(show.exit_code, 1);
+  EXPECT_NE(show.err.find(trace + ":2:1: error: trace.not_json: not JSON"), std::string::npos) << show.err;
+  EXPECT_NE(show.err.find(trace + ":3:1: error: trace.field: /payload/kind: missing"), std::string::npos) << show.err;
+  EXPECT_NE(show.err.find("mapnav: error: " + trace + ": invalid (2 errors)"), std::string::npos) << show.err;
+}
+
+TEST(Cli, MissionRunnerHelp) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"replay", "--help"}, {"run", "--help"}, {"trace", "show", "--help"}}) {
+    const auto r = runCli(args);
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.out.find("Usage"), std::string::npos);
+  }
+  EXPECT_NE(runCli({"replay", "--help"}).out.find("along_after_intersection_max_m"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mapnav

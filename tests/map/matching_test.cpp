@@ -11,6 +11,7 @@
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
 #include "mapnav/map/map.h"
+#include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision_iface/detected_object.h"
@@ -439,6 +440,64 @@ TEST(MatchingLocalize, ParkModeCentreLineCorrectsLateralAndHeadingNotAlong) {
   PoseFilter lost(Pose2(8.5, 9.0, 0.0), diagonalCovariance(0.5, 5.0));
   EXPECT_EQ(localize(lost, {0.0, 0.0}, Prediction{}, d, {}, &map).status, PositionStatus::OdometryOnly);
   EXPECT_EQ(localize(filter, {0.0, 0.0}, Prediction{}, d).status, PositionStatus::OdometryOnly);
+}
+
+TEST(MatchingOnCurve, PiecewiseEdgesFollowTheCurveWhereThePredictedChordsDoNot) {
+  // On the campus' R5, a 35 m radius curve, the vehicle 20 m from I4 facing along the road. Vision's
+  // lines are short chords of the edges (2.4 m: 2 cm from the curve, as the image polygon's 3 px
+  // tolerance gives), breaking at other places than the prediction's 5 m chords (0.1 m tolerance).
+  const Map campus = loadMap(testing::mapPath("cmu_campus.json"));
+  const Road& r5 = campus.road("R5");
+  const Pose2 truth(r5.centerline.pointAt(20.0), r5.centerline.headingAt(20.0));
+  const auto camera = testing::terregatorPinhole();
+  const Prediction prediction = predictView(campus, truth, *camera);
+  DetectedObject detected;
+  for (std::size_t i = 0; i < prediction.view.segments.size(); ++i) {
+    const InterestSegment& s = prediction.view.segments[i];
+    if (s.owner != "R5" || s.side == "corner") continue;
+    const Polyline2& edge = s.side == "left" ? campus.leftEdge(r5) : campus.rightEdge(r5);
+    const double sa = edge.project(prediction.segments_world[i].a).arc_length;
+    const double sb = edge.project(prediction.segments_world[i].b).arc_length;
+    for (double s0 = std::min(sa, sb) + 0.7; s0 + 2.4 <= std::max(sa, sb); s0 += 2.4) {
+      DetectedLine line;
+      line.label = s.id;
+      line.vehicle = truth.inverse().transform(Segment2{edge.pointAt(s0), edge.pointAt(s0 + 2.4)});
+      detected.lines.push_back(line);
+    }
+  }
+  ASSERT_GE(detected.lines.size(), 4u);
+  const auto chords = labelledCorrespondences(prediction, detected, 0.05, 0.3);
+  const auto pieces = edgeCorrespondences(campus, prediction, detected, truth, 0.05, 0.3, 1.0);
+  EXPECT_GT(pieces.size(), chords.size());
+  auto worst = [&](const std::vector<LineCorrespondence>& lines) {  // largest end-point distance at the truth
+    double d = 0;
+    for (const LineCorrespondence& c : lines) {
+      const Segment2 w = truth.transform(c.detected_vehicle);
+      const Vec2 n = leftNormal((c.map_world.b - c.map_world.a).normalized());
+      d = std::max({d, std::abs(n.dot(w.a - c.map_world.a)), std::abs(n.dot(w.b - c.map_world.a))});
+    }
+    return d;
+  };
+  std::printf("on the curve: end points up to %.3f m off the predicted chords, %.3f m off the edge pieces\n",
+              worst(chords), worst(pieces));
+  EXPECT_LT(worst(pieces), 0.025);
+  EXPECT_GT(worst(chords), 2 * worst(pieces));
+  // Fitted from the truth, the pieces stay on it; the chords pull it away.
+  const auto fit_pieces = fitPoseToLines(truth, pieces);
+  const auto fit_chords = fitPoseToLines(truth, chords);
+  ASSERT_TRUE(fit_pieces && fit_chords);
+  const Vec3 e_pieces = poseError(fit_pieces->pose, truth), e_chords = poseError(fit_chords->pose, truth);
+  std::printf("fit from the truth: pieces off by %.4f m, %.3f deg; chords by %.4f m, %.3f deg\n",
+              e_pieces.head<2>().norm(), radToDeg(std::abs(e_pieces.z())), e_chords.head<2>().norm(),
+              radToDeg(std::abs(e_chords.z())));
+  EXPECT_LT(e_pieces.head<2>().norm(), 0.02);
+  EXPECT_LT(std::abs(radToDeg(e_pieces.z())), 0.1);
+  EXPECT_GT(e_chords.head<2>().norm() + std::abs(e_chords.z()), e_pieces.head<2>().norm() + std::abs(e_pieces.z()));
+
+  LocalizeOptions options;
+  EXPECT_EQ(options.curve_piece_m, 0.0);  // opt-in: the chords unless asked
+  options.curve_piece_m = -1;
+  EXPECT_THROW(options.validate(), InvalidInput);
 }
 
 }  // namespace

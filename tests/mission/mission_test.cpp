@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <tuple>
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
@@ -91,6 +92,36 @@ TEST(LoadMission, ReportsEveryProblemWithItsPointer) {
         {"schema.unknown_field", "/colour"},
     };
     EXPECT_EQ(got, expected);
+  }
+}
+
+TEST(LoadMission, TheHaltBlockSaysWhenTheOperatorHandsControlBack) {
+  EXPECT_EQ(mission("campus_dialogue.json").halt.resume_after_frames, std::optional<std::size_t>(2));  // the default
+  const fs::path dir = testing::freshTempDir();
+  const std::string head = R"({"format": "mapnav-mission/1", "map": ")" + testing::mapPath("cmu_campus.json").string() +
+                           R"(", "camera": ")" + testing::mapPath("cameras/terregator_pinhole.json").string() +
+                           R"(", "start": "R1@I1+3", "goal": "R3@I3+2", "halt": )";
+  auto load = [&](const std::string& halt) {
+    writeFileAtomic(dir / "m.json", head + halt + "}");
+    return loadMission(dir / "m.json");
+  };
+  EXPECT_EQ(load(R"({"resume_after_frames": 5})").halt.resume_after_frames, std::optional<std::size_t>(5));
+  EXPECT_EQ(load(R"({"resume_after_frames": 0})").halt.resume_after_frames, std::optional<std::size_t>(0));
+  EXPECT_FALSE(load(R"({"resume_after_frames": null})").halt.resume_after_frames);
+  for (const auto& [halt, check, where] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {R"({"resume_after_frames": -1})", "schema.range", "/halt/resume_after_frames"},
+           {R"({"resume_after_frames": 1.5})", "schema.type", "/halt/resume_after_frames"},
+           {R"({"resume_after_frames": "never"})", "schema.type", "/halt/resume_after_frames"},
+           {R"({"resume": 2})", "schema.unknown_field", "/halt/resume"},
+           {R"([])", "schema.type", "/halt"}}) {
+    try {
+      load(halt);
+      ADD_FAILURE() << halt;
+    } catch (const ValidationError& e) {
+      ASSERT_EQ(e.issues().size(), 1u) << halt;
+      EXPECT_EQ(e.issues()[0].check, check) << halt;
+      EXPECT_EQ(e.issues()[0].where, where) << halt;
+    }
   }
 }
 

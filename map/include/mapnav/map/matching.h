@@ -119,6 +119,20 @@ std::optional<LineFit> fitPoseToLines(const Pose2& prior, const std::vector<Line
 std::vector<LineCorrespondence> labelledCorrespondences(const Prediction& prediction, const DetectedObject& detected,
                                                         double sigma_m, double min_length_m = 0.0);
 
+/// As labelledCorrespondences, but a line labelled with a road's edge segment ("R5.left.3") is
+/// matched against the road's actual edge (`map`'s left or right edge polyline) instead of the
+/// predicted segment's chord: it is cut into pieces at most `piece_m` long, and each piece, placed in
+/// the world by `prior`, gets the edge polyline's segment nearest to its midpoint as its line, with
+/// sigma_m * sqrt(pieces) so that the line carries the information of one. On a curve the chords of
+/// the prediction and those of the image polygon break at different places, so end points measured
+/// against the wrong chord's infinite line bias the pose (along the road and in heading); on a
+/// straight edge this gives the same line as the chord. Pieces that fall beyond the stretch of edge
+/// the predicted segment covers (+ 0.25 m) are left out: the edge does not go on where the prediction
+/// cut it (inside a crossing road or an intersection). Intersection corners keep their segment.
+std::vector<LineCorrespondence> edgeCorrespondences(const Map& map, const Prediction& prediction,
+                                                    const DetectedObject& detected, const Pose2& prior,
+                                                    double sigma_m, double min_length_m, double piece_m);
+
 /// Park mode: the detected centre line against the centre line of the road nearest to it (its
 /// midpoint placed in the world by `prior`, roads within `search_radius_m`): the piece of the
 /// polyline it projects onto, as an infinite line. Nothing when no road is that close.
@@ -221,6 +235,9 @@ struct LocalizeOptions {
   double centerline_sigma_m = 0.10;     ///< the same for a detected centre line (park mode), m
   double min_line_length_m = 0.3;       ///< shorter detected lines are ignored, m
   double centerline_search_m = 3.0;     ///< park mode: roads at most this far from the centre line, m
+  /// > 0 (and a map given): labelled road edges are matched piecewise against the map's edge
+  /// polylines, pieces at most this long (edgeCorrespondences), m; 0: against the predicted chord.
+  double curve_piece_m = 0.0;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;

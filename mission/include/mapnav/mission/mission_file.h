@@ -2,7 +2,9 @@
 // Mission files (`mapnav-mission/1`, docs/mission-format.md): what to simulate or run — the map,
 // the camera, where to start and where to go, how fast, how often a frame, what the world looks
 // like, which vision pipeline, how noisy the odometry.
+#include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,15 @@
 namespace mapnav {
 
 inline constexpr std::string_view kMissionFormat = "mapnav-mission/1";
+
+/// What happens after Vision fails and halts motion (Wallace 1985, 4: "the Vision system halts and
+/// signals the blackboard so that another module (or person) [can] take control"). In simulation
+/// and replay the operator hands control back after a number of frames, or never.
+struct HaltPolicy {
+  /// Frames after the last failing frame until the operator hands control back and the Navigator
+  /// plans again (0: on the next frame). Nothing: never — the mission ends at the first halt.
+  std::optional<std::size_t> resume_after_frames = 2;
+};
 
 struct MissionFile {
   std::string name;
@@ -26,6 +37,7 @@ struct MissionFile {
   std::string vision_pipeline;       ///< `vision.pipeline` (used by the vision issues)
   std::string vision_options_json = "{}";
   std::string odometry_json = "{}";  ///< the `odometry` block, for the odometry noise model
+  HaltPolicy halt;                   ///< the `halt` block
 };
 
 /// Reads a mission; the structure and values are checked (issues with JSON Pointers), the files it

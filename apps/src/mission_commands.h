@@ -1,0 +1,47 @@
+#pragma once
+// `mapnav replay`, `mapnav run` and `mapnav trace show`: the mission runner (mission/runner.h) on the
+// command line, with a progress bar on a terminal and a summary (or --json) at the end.
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mapnav::cli {
+
+/// What replay and run share.
+struct MissionRunConfig {
+  std::string mission;                 ///< mapnav-mission/1 file
+  std::string pipeline;                ///< "" : the mission's vision.pipeline, else "sidewalk"
+  std::vector<std::string> plugins;    ///< vision plug-ins to load first
+  std::string trace;                   ///< JSONL trace to write ("" = none)
+  std::size_t max_frames = 0;          ///< 0: to the end
+  bool json = false;                   ///< print the metrics as one JSON object instead of the summary
+  bool progress = false;               ///< draw a progress bar on stderr (the CLI sets it when stderr is a TTY)
+  /// The HTML report folder (issue 9, item 5). Not written yet: the report writer plugs in where
+  /// runMissionCommand() has the MissionRun (and the trace); "" = none.
+  std::string report_dir;
+};
+
+struct ReplayConfig : MissionRunConfig {
+  std::string log;  ///< the replay log folder (`mapnav simulate`)
+};
+
+struct RunConfig : MissionRunConfig {
+  std::optional<std::uint64_t> seed;  ///< overrides the world's and the odometry's seeds
+};
+
+struct TraceShowConfig {
+  std::string file;
+};
+
+/// `mapnav replay`: open loop over a recorded log. Exit 0 when the goal was reached (or --max-frames
+/// stopped it first), 1 when the mission failed (halted, goal not reached) or the input is invalid,
+/// 2 usage or I/O error.
+int runReplayCommand(const ReplayConfig& config, std::ostream& out, std::ostream& err);
+/// `mapnav run`: closed loop in the simulator. Exit codes as replay.
+int runRunCommand(const RunConfig& config, std::ostream& out, std::ostream& err);
+/// `mapnav trace show`: the trace as the paper's dialogue. Exit 1 for bad lines (FILE:LINE:1: ...).
+int runTraceShow(const TraceShowConfig& config, std::ostream& out, std::ostream& err);
+
+}  // namespace mapnav::cli

@@ -1,0 +1,93 @@
+#pragma once
+// What a mission run measured, frame by frame and in total: the estimate and odometry alone against
+// the truth (lateral and along the road at the true pose, heading), vision failures, halts, replans,
+// and the module loop's latency.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/geometry/types.h"
+#include "mapnav/map/matching.h"
+#include "mapnav/mission/blackboard.h"
+#include "mapnav/navigator/route.h"
+
+namespace mapnav {
+
+/// An estimate's error against the truth, in the road's frame at the true pose (estimate − truth).
+struct PoseError {
+  double lateral_m = 0;    ///< across the road, left positive
+  double along_m = 0;      ///< along the road, forward positive
+  double heading_rad = 0;  ///< wrapped into (-pi, pi]
+  double distance_m = 0;   ///< |position error|
+};
+
+/// One frame of a run.
+struct FrameRecord {
+  std::size_t index = 0;
+  double t = 0;                   ///< s
+  std::optional<Pose2> truth;     ///< when the log (or the simulator) knows it
+  // The Map's CurrentPosition.
+  Pose2 estimate;
+  Mat3 covariance = Mat3::Zero();
+  PositionStatus status = PositionStatus::OdometryOnly;
+  bool observed_lateral = false, observed_along = false, observed_heading = false;
+  int lines_used = 0;
+  Pose2 odometry_only;            ///< dead reckoning alone from the start, same motion model
+  // Vision.
+  bool vision_ok = true;
+  std::string vision_reason;      ///< when it failed
+  std::size_t lines_detected = 0, lines_labelled = 0;
+  bool halted = false;            ///< a halt was in force after this frame's modules ran
+  // The Navigator's command.
+  CommandKind command = CommandKind::Stop;
+  VehicleCommand setpoint;
+  double to_go_m = 0;             ///< the Navigator's estimate of the distance left
+  /// Loop latency: Map + Vision + Map + Navigator + Motion Control for this frame, ms (steady_clock;
+  /// not rendering, not image decoding, not the trace).
+  double latency_ms = 0;
+  double vision_ms = 0;           ///< the Vision module's part of latency_ms
+  // Against the truth (meaningful when `truth`).
+  double route_s = 0;             ///< the truth's arc length along the planned route, m
+  PoseError error;                ///< estimate − truth
+  PoseError odometry_error;       ///< odometry_only − truth
+};
+
+/// RMS and maximum of a set of pose errors.
+struct ErrorStats {
+  double lateral_rms_m = 0, lateral_max_m = 0;
+  double along_rms_m = 0, along_max_m = 0;
+  double heading_rms_deg = 0, heading_max_deg = 0;
+  double max_error_m = 0;  ///< largest |position error|
+};
+
+struct MissionMetrics {
+  std::size_t frames = 0;
+  bool has_truth = false;         ///< the errors below mean something
+  bool reached_goal = false;      ///< within 0.5 m of the goal at the end (the truth when known)
+  double goal_distance_m = 0;     ///< at the end: truth (else estimate) to the goal
+  ErrorStats estimate;            ///< the Map's CurrentPosition
+  ErrorStats odometry_only;       ///< dead reckoning alone
+  /// Issue 8: the largest |along-road error| within 2 m after each intersection of the route
+  /// (truth between the intersection's centre and 2 m past it), m; 0 when no frame fell there.
+  double along_after_intersection_max_m = 0;
+  std::size_t intersections_checked = 0;  ///< intersections with at least one frame in that window
+  std::size_t vision_failures = 0;
+  std::size_t halts = 0;          ///< halt periods (consecutive failures count once)
+  std::size_t replans = 0;
+  double latency_ms_median = 0, latency_ms_p99 = 0, latency_ms_max = 0;
+  double vision_ms_median = 0;    ///< the Vision module's part (the pipeline)
+};
+
+/// The error of `estimate` against `truth` with the road heading `road_heading` at the truth.
+PoseError poseError(const Pose2& estimate, const Pose2& truth, double road_heading);
+
+/// Totals over `frames` (errors already filled in); reached_goal, goal distance, replans and halts
+/// are the runner's and are left as they are in `into`.
+void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& route, MissionMetrics& into);
+
+/// Nearest-rank percentile (0..100) of `values`; 0 when empty.
+double percentile(std::vector<double> values, double p);
+
+}  // namespace mapnav

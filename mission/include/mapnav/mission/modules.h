@@ -1,0 +1,239 @@
+#pragma once
+// The four modules of the road-following subsystem (Wallace 1985, 2.1.1 and 4), each talking only
+// through the blackboard:
+//
+//   Map            — knows the map and the vehicle's position: dead-reckons, predicts what the camera
+//                    will see (PredictedObject), matches what Vision found to the map (CurrentPosition).
+//   Vision         — knows images: gets the frame and the PredictedObject, nothing else; answers with a
+//                    DetectedObject, or a VisionFailure and a Halt.
+//   Navigator      — knows the route: progress from the CURRENT ESTIMATED position (never the truth),
+//                    replanning, and the steering plan (MotionCommand).
+//   Motion Control — executes the newest steering plan on the vehicle between frames (closed loop),
+//                    dead-reckoning from the CurrentPosition; in replay it only records the commands.
+//
+// Each module's step is callable on its own (tests), and the runners (runner.h) call them in the
+// paper's order once a frame.
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/camera.h"
+#include "mapnav/map/map.h"
+#include "mapnav/map/matching.h"
+#include "mapnav/map/predict.h"
+#include "mapnav/mission/blackboard.h"
+#include "mapnav/mission/mission_file.h"
+#include "mapnav/navigator/progress.h"
+#include "mapnav/navigator/route.h"
+#include "mapnav/navigator/steering.h"
+#include "mapnav/navigator/vehicle.h"
+#include "mapnav/vision_iface/pipeline.h"
+
+namespace mapnav {
+
+// ---------------------------------------------------------------------------------------------
+// Map
+
+struct MapModuleOptions {
+  PredictOptions predict;  ///< the predicted view (interest segments)
+  /// The pose filter: odometry noise, matching, gate. FilterOptions' defaults except the odometry's
+  /// distance noise, 5 % per metre driven instead of 2 %: the filter's random-walk model must cover
+  /// an encoder scale error of 1-1.5 % (systematic) over the 40-60 m between intersections, or the
+  /// crossing lines of the next intersection fail the Mahalanobis gate and the estimate is lost
+  /// (measured on campus_dialogue at I2: d^2 = 27-45 with 2 %).
+  FilterOptions filter = defaultFilter();
+  /// Edge and centre-line noise, shortest line used. LocalizeOptions' defaults except that road
+  /// edges are matched piecewise against the map's edge polylines (curve_piece_m = 1 m): on the
+  /// campus' curves (R5, R6: 35 m radius) the predicted chords bias the pose along the road and in
+  /// heading otherwise (0.8 m and 0.5 deg on campus_dialogue).
+  LocalizeOptions localize = defaultLocalize();
+  /// 1-sigma of the start position in x and y, m (> 0): the user says where the robot is
+  /// ("Robot is at road R1, 3 meters from I1") to about this.
+  double initial_sigma_m = 0.10;
+  /// 1-sigma of the start heading, degrees (> 0).
+  double initial_heading_sigma_deg = 1.0;
+  /// A prediction whose paved area covers fewer image pixels than this (>= 0) is announced as
+  /// "no road in view": Vision is not asked to find what the camera can hardly see (looking over the
+  /// corner in a 90 degree turn) and the Map dead-reckons. 2000 px is 0.8 % of 512 x 480.
+  double min_visible_px = 2000.0;
+  /// Odometry scale calibration against the map: an along-road fix (frames whose lines observe the
+  /// along direction, one after the other) that comes at least `scale_baseline_m` of driving after
+  /// the previous one measures the encoders' scale error as (sum of its along corrections) / (the
+  /// distance driven since); the scale applied to the odometry's distances moves `scale_gain` of the
+  /// way (in [0, 1]; 0: no calibration) and stays within 1 ± `scale_limit`. The filter's random-walk
+  /// model cannot represent a systematic scale error; this removes most of it after the first
+  /// intersections, so that the along-road error at the next ones stays small.
+  double scale_gain = 0.5;
+  double scale_baseline_m = 10.0;  ///< m (> 0)
+  double scale_limit = 0.05;       ///< relative, in [0, 0.5]
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+
+  static FilterOptions defaultFilter() {
+    FilterOptions f;
+    f.motion.distance_sigma_per_m = 0.05;
+    return f;
+  }
+  static LocalizeOptions defaultLocalize() {
+    LocalizeOptions l;
+    l.curve_piece_m = 1.0;
+    return l;
+  }
+};
+
+class MapModule {
+ public:
+  /// `map` and `camera` must outlive the module. Throws InvalidInput for bad options.
+  MapModule(const Map& map, const Camera& camera, const Pose2& start, const MapModuleOptions& options = {});
+
+  /// A frame's first step: dead-reckon the filter with `odometry` (the motion since the previous
+  /// frame) and post the PredictedObject for the predicted pose ("Vision will see ..."); an empty
+  /// one when less than min_visible_px of road would be in the image.
+  void predict(Blackboard& board, double t, const VehicleMotion& odometry);
+
+  /// After Vision: match this frame's DetectedObject (a failed one, or none: odometry only, "never
+  /// jumps") and post the CurrentPosition.
+  const CurrentPosition& localize(Blackboard& board, double t);
+
+  /// The last prediction with what only the Map knows (the pose, world coordinates).
+  const Prediction& prediction() const { return prediction_; }
+  const PoseFilter& filter() const { return filter_; }
+  const CurrentPosition& position() const { return position_; }
+  /// The scale applied to odometry distances (1: as measured; see MapModuleOptions::scale_gain).
+  double odometryScale() const { return scale_; }
+
+ private:
+  void calibrate();
+
+  const Map& map_;
+  const Camera& camera_;
+  MapModuleOptions options_;
+  PoseFilter filter_;
+  VehicleMotion pending_;   // odometry of the frame being processed (scaled)
+  Pose2 predicted_;         // the filter's pose after the prediction, before the update
+  Prediction prediction_;
+  CurrentPosition position_;
+  double scale_ = 1.0;
+  double since_fix_m_ = 0;  // driven since the last frame that observed the along direction
+  bool in_fix_ = false;     // the previous frame observed it
+  double fix_base_m_ = 0;   // driven before the fix under way began
+  double fix_sum_m_ = 0;    // its along corrections so far
+};
+
+// ---------------------------------------------------------------------------------------------
+// Vision
+
+class VisionModule {
+ public:
+  /// Throws InvalidInput when `pipeline` is null.
+  VisionModule(std::unique_ptr<VisionPipeline> pipeline, const HaltPolicy& halt = {});
+
+  /// Reads the PredictedObject (the only token Vision may read: it never sees the map, the route or
+  /// the pose), runs the pipeline on the frame and posts the DetectedObject. A failure (the
+  /// pipeline's, no prediction for this frame, or an exception from the pipeline) also posts a
+  /// VisionFailure and a Halt: "the Vision system halts and signals the blackboard so that another
+  /// module (or person) [can] take control". An empty PredictedObject (no road in view) is not
+  /// looked for: the DetectedObject is Ok with nothing in it.
+  const DetectedObject& see(Blackboard& board, const VisionFrame& frame);
+
+  /// Forgets what the pipeline learnt (a new scene: the start, or after a halt).
+  void reset();
+  std::string pipelineName() const;
+  const DetectedObject& detected() const { return detected_; }
+
+ private:
+  std::unique_ptr<VisionPipeline> pipeline_;
+  HaltPolicy halt_;
+  DetectedObject detected_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Navigator
+
+struct NavigatorOptions {
+  RouteOptions route;        ///< route costs (replanning uses them too)
+  ProgressOptions progress;  ///< off-route tolerance (a replan beyond it)
+  /// The steering law Motion Control runs on the plan (lookahead) and the cruise speed.
+  PurePursuitOptions steering;
+  /// The steering plan: the route's centre line from this far behind the estimated position ...
+  double plan_behind_m = 1.0;
+  /// ... to this far ahead, m (> 0). More than the vehicle drives between two frames.
+  double plan_ahead_m = 20.0;
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+};
+
+class NavigatorModule {
+ public:
+  /// Plans the route from `start` through `stops` (via points, then the goal). `map` must outlive
+  /// the module. Throws Unreachable when there is no route, NotFound / InvalidInput for bad positions.
+  NavigatorModule(const Map& map, const RoadPosition& start, std::vector<RoadPosition> stops,
+                  const NavigatorOptions& options = {}, const VehicleLimits& limits = {});
+  ~NavigatorModule();
+  NavigatorModule(NavigatorModule&&) noexcept;
+  NavigatorModule& operator=(NavigatorModule&&) noexcept;
+
+  /// Reads the CurrentPosition and the Halt, moves the progress along the route, replans when the
+  /// estimate is off the route (through the stops not reached yet), and posts the MotionCommand:
+  /// Drive with the steering plan, or Stop while halted, without a position or without a route.
+  /// Returns the command posted.
+  const MotionCommand& plan(Blackboard& board, double t);
+
+  /// The route being followed (the newest after a replan).
+  const Route& route() const;
+  const ProgressStatus& status() const { return status_; }
+  std::size_t replans() const { return replans_; }
+  /// The estimate is within 0.5 m of the goal.
+  bool finished() const { return status_.finished; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  ProgressStatus status_;
+  std::size_t replans_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Motion Control
+
+class MotionControlModule {
+ public:
+  /// `execute`: closed loop, drives the vehicle; false: replay, records the commands only.
+  /// `limits` are the vehicle's (its dead-reckoning model uses them). Throws InvalidInput for bad
+  /// limits or a lookahead that is not > 0.
+  MotionControlModule(bool execute, const VehicleLimits& limits = {}, double lookahead_m = 1.5);
+
+  /// Once a frame, after the Navigator: takes the newest command (a newer one has aborted the older
+  /// ones) and the CurrentPosition it was planned from, which resets the dead reckoning. Returns the
+  /// command taken, or null.
+  const MotionCommand* receive(Blackboard& board, double t);
+
+  /// Closed loop, every control step of `dt` s: the command for the vehicle at the dead-reckoned
+  /// pose. Zero (stop) when the command is Stop, has expired (dropped by the blackboard), or its plan
+  /// ended at the goal and the vehicle is there. Advances the dead reckoning by the command, as the
+  /// wheel encoders would (the model has the vehicle's limits).
+  VehicleCommand control(Blackboard& board, double t, double dt);
+
+  bool executing() const { return execute_; }
+  /// The plan ended at the goal, the vehicle reached its end and stands still.
+  bool arrived() const { return arrived_; }
+  /// The dead-reckoned pose (the last CurrentPosition moved by the commands since).
+  const Pose2& pose() const { return model_.pose(); }
+  const MotionCommand* current() const { return has_command_ ? &command_ : nullptr; }
+
+ private:
+  bool execute_;
+  VehicleLimits limits_;
+  PurePursuitOptions pursuit_options_;
+  SkidSteerVehicle model_;
+  MotionCommand command_;
+  bool has_command_ = false;
+  std::unique_ptr<PurePursuit> pursuit_;
+  bool arrived_ = false;
+};
+
+}  // namespace mapnav

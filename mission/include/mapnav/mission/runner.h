@@ -1,0 +1,107 @@
+#pragma once
+// The mission runner (Wallace 1985, 4): "First, the Map module announces a set of predictions for
+// the current scene, knowing the vehicle's position. The Vision module then [...] extract[s] the
+// predicted road region [...] If road or intersection region detection is successful, the Navigator
+// is alerted and generates a steering plan [...] If not successful, the Vision system halts and
+// signals the blackboard so that another module (or person) [can] take control. [...] The steering
+// plan is received by the low-level motion control module [...]".
+//
+// Two runners over the same module loop:
+//   runReplay     — open loop over a recorded log (`mapnav simulate`, docs/replay-log-format.md):
+//                   localisation and commands computed frame by frame from the log's images and
+//                   odometry, compared with the log's truth when it has it; Motion Control records.
+//   runClosedLoop — the simulator renders each frame from the true pose that Motion Control's
+//                   execution of the commands produces; odometry from the simulated sensors.
+// Both return the metrics and a record per frame, and can write the JSONL trace (docs/trace-format.md).
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapnav/mission/metrics.h"
+#include "mapnav/mission/mission_file.h"
+#include "mapnav/mission/modules.h"
+#include "mapnav/sim/image.h"
+
+namespace mapnav {
+
+/// The pipeline used when neither the mission nor the caller names one (vision's kDefaultPipeline).
+inline constexpr const char* kDefaultPipelineName = "sidewalk";
+
+/// Where a run is, for a progress bar.
+struct RunProgress {
+  std::size_t frame = 0;  ///< frames done
+  std::size_t total = 0;  ///< frames expected (replay: the log's; closed loop: an estimate), 0 unknown
+  double t = 0;           ///< mission time, s
+};
+
+struct RunOptions {
+  /// The vision pipeline by name (registry: createPipeline); "" keeps the mission's `vision.pipeline`,
+  /// and "" there means kDefaultPipelineName.
+  std::string pipeline;
+  /// The pipeline's options as a JSON object; nothing keeps the mission's `vision.options`.
+  std::optional<std::string> pipeline_options_json;
+  /// Stop after this many frames (0: to the end of the log / the goal).
+  std::size_t max_frames = 0;
+  /// Closed loop: overrides the world's seed and the odometry's (seed + 1), as `mapnav simulate --seed`.
+  std::optional<std::uint64_t> seed;
+  /// Closed loop: the control period of Motion Control and the vehicle, s, in (0, 0.5].
+  double control_dt_s = 0.05;
+  /// Token validities in frame periods (the blackboard's, set from the mission's frame rate): a
+  /// prediction, detection or position is used within this many frame periods (> 0) ...
+  double token_validity_frames = 1.0;
+  /// ... and a steering plan within this many (> 0): Motion Control stops when none newer came.
+  double command_validity_frames = 2.5;
+  /// Write the JSONL trace here ("": none). Written atomically at the end of the run.
+  std::filesystem::path trace;
+  MapModuleOptions map;
+  /// The Navigator's options; the steering speed is the mission's speed_mps.
+  NavigatorOptions navigator;
+  /// Called after every frame (a progress bar). Not in the trace.
+  std::function<void(const RunProgress&)> progress;
+  /// Called with every camera frame (the report's thumbnails), after the modules ran.
+  std::function<void(std::size_t frame, const Image& rgb)> on_frame_image;
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+};
+
+struct MissionRun {
+  std::string mode;           ///< "replay" or "closed-loop"
+  std::string mission;        ///< its name
+  std::string pipeline;       ///< the vision pipeline used
+  std::filesystem::path log;  ///< replay: the log folder
+  int image_width = 0, image_height = 0;
+  Route route;                ///< as planned at the start
+  Pose2 start, goal;          ///< world poses of the mission's start and goal
+  std::vector<FrameRecord> frames;
+  MissionMetrics metrics;
+  double duration_s = 0;      ///< mission time covered
+  double distance_m = 0;      ///< driven: closed loop the truth, replay the odometry
+  bool ended_by_halt = false; ///< a halt with no resume ended the mission
+  bool stopped_early = false; ///< max_frames ended it
+  double odometry_scale = 1;  ///< the Map's odometry scale calibration at the end (MapModuleOptions::scale_gain)
+  std::string outcome;        ///< one line: "goal reached", "halted at frame 12: ...", ...
+};
+
+/// Open loop over `log_dir`. The log's camera is used (it took the frames); the mission gives the
+/// map, start, goal, stops, speed, vision and halt policy. Throws ValidationError / IoError for the
+/// mission, log or map, NotFound for an unknown pipeline, Unreachable for no route.
+MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& log_dir, const RunOptions& options = {});
+
+/// Closed loop in the synthetic world of the mission. Throws as runReplay.
+MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options = {});
+
+/// `--json`: {"frames","reached_goal","lateral_rms_m","along_rms_m","heading_rms_deg","max_error_m",
+/// "odometry_only_max_error_m","vision_failures","replans","latency_ms_median","latency_ms_p99",
+/// "along_after_intersection_max_m", ...more}; errors are null without truth. One line.
+std::string runToJson(const MissionRun& run);
+
+/// The summary a person reads at the end: outcome, errors of the estimate and of odometry alone,
+/// failures, replans, latency.
+std::string summaryText(const MissionRun& run);
+
+}  // namespace mapnav

@@ -1,0 +1,100 @@
+#include "drive.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mapnav/core/error.h"
+
+namespace mapnav::detail {
+
+Route planThrough(RoadGraph& graph, const RoadPosition& from, const std::vector<RoadPosition>& stops,
+                  const std::string& what, std::vector<double>* stop_s, const RouteOptions& options) {
+  Route joined;
+  joined.from = from;
+  joined.to = stops.empty() ? from : stops.back();
+  std::vector<Vec2> line;
+  if (stop_s != nullptr) stop_s->clear();
+  RoadPosition here = from;
+  for (const RoadPosition& stop : stops) {
+    const RouteResult leg = graph.route(here, stop, options);
+    if (!leg.route) throw Unreachable(what + ": no route: " + leg.reason);
+    const Route& r = *leg.route;
+    for (const Vec2& p : r.line.points()) {
+      if (line.empty() || (line.back() - p).norm() > 1e-9) line.push_back(p);
+    }
+    for (const Leg& l : r.legs) {
+      if (l.action == LegAction::Drive && !joined.legs.empty() && joined.legs.back().action == LegAction::Drive &&
+          joined.legs.back().road == l.road) {
+        joined.legs.back().meters += l.meters;  // through a via point on the same road
+      } else {
+        joined.legs.push_back(l);
+      }
+    }
+    for (const std::string& road : r.roads) {
+      if (joined.roads.empty() || joined.roads.back() != road) joined.roads.push_back(road);
+    }
+    joined.intersections.insert(joined.intersections.end(), r.intersections.begin(), r.intersections.end());
+    joined.length_m += r.length_m;
+    joined.cost += r.cost;
+    if (stop_s != nullptr) stop_s->push_back(joined.length_m);
+    here = stop;
+  }
+  joined.line = Polyline2(std::move(line));
+  return joined;
+}
+
+std::vector<RoadPosition> missionStops(const MissionFile& mission) {
+  std::vector<RoadPosition> stops = mission.via;
+  stops.push_back(mission.goal);
+  return stops;
+}
+
+std::vector<PathPoint> wanderPath(const Polyline2& route, double amplitude) {
+  const std::vector<PathPoint> dense = densePath(route, 0.25);
+  if (amplitude <= 0) return dense;
+  const double length = route.length();
+  std::vector<Vec2> shifted;
+  for (const PathPoint& p : dense) {
+    const double fade = std::min({1.0, p.s / 5.0, (length - p.s) / 5.0});
+    const double offset = amplitude * fade * std::sin(2 * kPi * p.s / 25.0);
+    shifted.push_back(p.position + offset * leftNormal(unitVector(p.heading)));
+  }
+  return densePath(Polyline2(std::move(shifted)), 0.25);
+}
+
+DriveLoopResult driveLoop(SkidSteerVehicle& vehicle, const DriveLoopOptions& options,
+                          const std::function<bool(double, const Pose2&, const TrueMotion&)>& on_frame,
+                          const std::function<VehicleCommand(double)>& command,
+                          const std::function<bool()>& finished) {
+  DriveLoopResult result;
+  double t = 0, next_frame = 0, last_frame_t = 0;
+  TrueMotion motion;
+  while (true) {
+    if (t >= next_frame - 1e-9) {
+      motion.dt_s = t - last_frame_t;
+      const bool go_on = on_frame(t, vehicle.pose(), motion);
+      motion = TrueMotion{};
+      last_frame_t = t;
+      next_frame += options.frame_dt_s;
+      ++result.frames;
+      if (!go_on) break;
+      if (options.max_frames > 0 && result.frames >= options.max_frames) break;
+    }
+    if (finished()) {
+      result.finished = true;
+      break;
+    }
+    if (t > options.time_limit_s) break;
+    const Pose2 before = vehicle.pose();
+    vehicle.step(command(t), options.control_dt_s);
+    const double step = (vehicle.pose().translation() - before.translation()).norm();
+    motion.distance_m += step;
+    result.distance_m += step;
+    motion.dheading_rad += normalizeAngle(vehicle.pose().heading() - before.heading());
+    t += options.control_dt_s;
+  }
+  result.duration_s = t;
+  return result;
+}
+
+}  // namespace mapnav::detail

@@ -1,0 +1,61 @@
+#pragma once
+// What `simulate()` and the closed-loop runner share (internal to mission/): the mission's route
+// through its via points as one Route, the wander path, and the loop that steps the vehicle between
+// camera frames. simulate() steers it with pure pursuit on the TRUE pose; the closed loop with Motion
+// Control on the ESTIMATED pose. Both get the same frame timing and true motion between frames.
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mapnav/mission/mission_file.h"
+#include "mapnav/navigator/path.h"
+#include "mapnav/navigator/route.h"
+#include "mapnav/navigator/vehicle.h"
+
+namespace mapnav::detail {
+
+/// The route from `from` through every stop in order, as one Route: legs concatenated (two drive
+/// legs on the same road at a stop are merged), lines joined, intersections in order. `stop_s` gets
+/// the arc length along the joined line at which each stop is reached (the last one: the length).
+/// Throws Unreachable naming `what` and the reason.
+Route planThrough(RoadGraph& graph, const RoadPosition& from, const std::vector<RoadPosition>& stops,
+                  const std::string& what, std::vector<double>* stop_s = nullptr, const RouteOptions& options = {});
+
+/// The mission's stops after the start: its via points, then the goal.
+std::vector<RoadPosition> missionStops(const MissionFile& mission);
+
+/// The path the simulator's driver follows: the route with a gentle lateral wander (a sine of
+/// `amplitude` metres and a 25 m wavelength, faded in and out over the first and last 5 m).
+std::vector<PathPoint> wanderPath(const Polyline2& route, double amplitude);
+
+/// The true motion between two camera frames.
+struct TrueMotion {
+  double distance_m = 0;    ///< driven, m
+  double dheading_rad = 0;  ///< heading change, rad
+  double dt_s = 0;          ///< time since the previous frame (0 for the first)
+};
+
+struct DriveLoopOptions {
+  double frame_dt_s = 0.5;    ///< between camera frames, s
+  double control_dt_s = 0.05; ///< between control steps, s
+  double time_limit_s = 1e9;  ///< no control step after this time, s
+  std::size_t max_frames = 0; ///< stop after this many frames (0: no limit)
+};
+
+struct DriveLoopResult {
+  std::size_t frames = 0;
+  double distance_m = 0;  ///< driven (true)
+  double duration_s = 0;  ///< mission time at the end
+  bool finished = false;  ///< `finished()` said so (not a limit, not `on_frame`)
+};
+
+/// The loop: at t = 0, frame_dt, 2 frame_dt, ... `on_frame(t, vehicle pose, motion since the last
+/// frame)` (false: stop); between frames `finished()` is asked (true: stop), then the vehicle steps
+/// `control_dt_s` with `command(t)`.
+DriveLoopResult driveLoop(SkidSteerVehicle& vehicle, const DriveLoopOptions& options,
+                          const std::function<bool(double, const Pose2&, const TrueMotion&)>& on_frame,
+                          const std::function<VehicleCommand(double)>& command,
+                          const std::function<bool()>& finished);
+
+}  // namespace mapnav::detail

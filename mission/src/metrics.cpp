@@ -1,0 +1,98 @@
+#include "mapnav/mission/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mapnav {
+
+PoseError poseError(const Pose2& estimate, const Pose2& truth, double road_heading) {
+  const Vec2 d = estimate.translation() - truth.translation();
+  const Vec2 along = unitVector(road_heading);
+  PoseError e;
+  e.along_m = d.dot(along);
+  e.lateral_m = d.dot(leftNormal(along));
+  e.heading_rad = normalizeAngle(estimate.heading() - truth.heading());
+  e.distance_m = d.norm();
+  return e;
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  // Nearest rank: the smallest value with at least p % of the values at or below it.
+  const double rank = std::ceil(p / 100.0 * static_cast<double>(values.size()));
+  const std::size_t i = static_cast<std::size_t>(std::clamp(rank, 1.0, static_cast<double>(values.size()))) - 1;
+  return values[i];
+}
+
+namespace {
+
+struct Accumulator {
+  double lat2 = 0, along2 = 0, head2 = 0;
+  std::size_t n = 0;
+  ErrorStats stats;
+  void add(const PoseError& e) {
+    ++n;
+    lat2 += e.lateral_m * e.lateral_m;
+    along2 += e.along_m * e.along_m;
+    head2 += e.heading_rad * e.heading_rad;
+    stats.lateral_max_m = std::max(stats.lateral_max_m, std::abs(e.lateral_m));
+    stats.along_max_m = std::max(stats.along_max_m, std::abs(e.along_m));
+    stats.heading_max_deg = std::max(stats.heading_max_deg, std::abs(radToDeg(e.heading_rad)));
+    stats.max_error_m = std::max(stats.max_error_m, e.distance_m);
+  }
+  ErrorStats finish() const {
+    ErrorStats s = stats;
+    if (n > 0) {
+      s.lateral_rms_m = std::sqrt(lat2 / static_cast<double>(n));
+      s.along_rms_m = std::sqrt(along2 / static_cast<double>(n));
+      s.heading_rms_deg = radToDeg(std::sqrt(head2 / static_cast<double>(n)));
+    }
+    return s;
+  }
+};
+
+}  // namespace
+
+void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& route, MissionMetrics& into) {
+  into.frames = frames.size();
+  Accumulator estimate, odometry;
+  // The intersections' arc lengths along the route: each turn leg sits where the drive legs before
+  // it end (the route's line runs through the intersection's centre).
+  std::vector<double> intersection_s;
+  double s = 0;
+  for (const Leg& leg : route.legs) {
+    if (leg.action == LegAction::Drive) s += leg.meters;
+    else intersection_s.push_back(s);
+  }
+  std::vector<bool> checked(intersection_s.size(), false);
+  into.along_after_intersection_max_m = 0;
+  into.vision_failures = 0;
+  std::vector<double> latency, vision;
+  latency.reserve(frames.size());
+  vision.reserve(frames.size());
+  for (const FrameRecord& f : frames) {
+    latency.push_back(f.latency_ms);
+    vision.push_back(f.vision_ms);
+    if (!f.vision_ok) ++into.vision_failures;
+    if (!f.truth) continue;
+    into.has_truth = true;
+    estimate.add(f.error);
+    odometry.add(f.odometry_error);
+    for (std::size_t i = 0; i < intersection_s.size(); ++i) {
+      if (f.route_s >= intersection_s[i] && f.route_s <= intersection_s[i] + 2.0) {
+        checked[i] = true;
+        into.along_after_intersection_max_m = std::max(into.along_after_intersection_max_m, std::abs(f.error.along_m));
+      }
+    }
+  }
+  into.intersections_checked = static_cast<std::size_t>(std::count(checked.begin(), checked.end(), true));
+  into.estimate = estimate.finish();
+  into.odometry_only = odometry.finish();
+  into.latency_ms_median = percentile(latency, 50);
+  into.latency_ms_p99 = percentile(latency, 99);
+  into.latency_ms_max = latency.empty() ? 0 : *std::max_element(latency.begin(), latency.end());
+  into.vision_ms_median = percentile(vision, 50);
+}
+
+}  // namespace mapnav

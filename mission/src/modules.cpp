@@ -1,0 +1,359 @@
+#include "mapnav/mission/modules.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/options.h"
+#include "mapnav/navigator/path.h"
+
+#include "drive.h"
+
+namespace mapnav {
+
+// ---------------------------------------------------------------------------------------------
+// Map
+
+void MapModuleOptions::validate() const {
+  predict.validate();
+  filter.validate();
+  localize.validate();
+  requireOption(std::isfinite(initial_sigma_m) && initial_sigma_m > 0, "MapModuleOptions", "initial_sigma_m",
+                initial_sigma_m, "finite and > 0");
+  requireOption(std::isfinite(initial_heading_sigma_deg) && initial_heading_sigma_deg > 0, "MapModuleOptions",
+                "initial_heading_sigma_deg", initial_heading_sigma_deg, "finite and > 0");
+  requireOption(std::isfinite(min_visible_px) && min_visible_px >= 0, "MapModuleOptions", "min_visible_px",
+                min_visible_px, "finite and >= 0");
+  requireOption(std::isfinite(scale_gain) && scale_gain >= 0 && scale_gain <= 1, "MapModuleOptions", "scale_gain",
+                scale_gain, "in [0, 1]");
+  requireOption(std::isfinite(scale_baseline_m) && scale_baseline_m > 0, "MapModuleOptions", "scale_baseline_m",
+                scale_baseline_m, "finite and > 0");
+  requireOption(std::isfinite(scale_limit) && scale_limit >= 0 && scale_limit <= 0.5, "MapModuleOptions", "scale_limit",
+                scale_limit, "in [0, 0.5]");
+}
+
+namespace {
+
+Mat3 initialCovariance(const MapModuleOptions& o) {
+  o.validate();
+  const double s = o.initial_sigma_m, h = degToRad(o.initial_heading_sigma_deg);
+  return Vec3(s * s, s * s, h * h).asDiagonal();
+}
+
+// The image area (pixels) of the predicted paved regions: each ring projected with its edges cut
+// into 0.25 m steps (so that a curved lens bends them), by the shoelace formula.
+double visiblePixels(const PredictedObject& view, const Camera& camera) {
+  double total = 0;
+  for (const PredictedRegion& region : view.regions) {
+    for (const Polygon2& ring : region.vehicle) {
+      std::vector<Vec2> pixels;
+      for (std::size_t i = 0; i < ring.size(); ++i) {
+        const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+        const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.25)));
+        for (int k = 0; k < steps; ++k) {
+          if (const auto p = camera.projectGround(a + (b - a) * (static_cast<double>(k) / steps))) pixels.push_back(*p);
+        }
+      }
+      double area = 0;
+      for (std::size_t i = 0; i < pixels.size(); ++i) area += cross2(pixels[i], pixels[(i + 1) % pixels.size()]);
+      total += std::abs(area) / 2;
+    }
+  }
+  return total;
+}
+
+}  // namespace
+
+MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, const MapModuleOptions& options)
+    : map_(map), camera_(camera), options_(options), filter_(start, initialCovariance(options), options.filter) {
+  position_ = filter_.current(0.0, "start");
+}
+
+void MapModule::predict(Blackboard& board, double t, const VehicleMotion& odometry) {
+  pending_ = odometry;
+  pending_.distance_m *= scale_;
+  since_fix_m_ += std::abs(pending_.distance_m);
+  PoseFilter predicted = filter_;
+  predicted.predict(pending_);
+  predicted_ = predicted.pose();
+  prediction_ = predictView(map_, predicted.pose(), camera_, options_.predict);
+  if (!prediction_.empty() && visiblePixels(prediction_.view, camera_) < options_.min_visible_px) {
+    Prediction nothing;  // "Vision will see no road from here"
+    nothing.pose = prediction_.pose;
+    nothing.footprint_world = prediction_.footprint_world;
+    nothing.view.footprint = prediction_.view.footprint;
+    prediction_ = std::move(nothing);
+  }
+  prediction_.view.timestamp = t;
+  board.post(Module::Map, PredictionToken{prediction_.view, predicted.pose()});
+}
+
+const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
+  const DetectedObject* detected = board.detection(Module::Map, t);
+  DetectedObject none;
+  if (detected == nullptr || detected->timestamp != t) {
+    none = DetectedObject::failed("no DetectedObject for this frame");
+    none.timestamp = t;
+    detected = &none;
+  }
+  position_ = mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_);
+  position_.timestamp = t;
+  pending_ = VehicleMotion{};
+  calibrate();
+  board.post(Module::Map, position_);
+  return position_;
+}
+
+void MapModule::calibrate() {
+  const bool fix = position_.status == PositionStatus::Corrected && position_.observed_along;
+  if (fix) {
+    if (!in_fix_) {  // a fix begins: what was driven since the last one
+      fix_base_m_ = since_fix_m_;
+      fix_sum_m_ = 0;
+    }
+    // The correction along the heading: negative when the odometry had carried the estimate too far.
+    fix_sum_m_ += (position_.pose.translation() - predicted_.translation()).dot(unitVector(predicted_.heading()));
+    since_fix_m_ = 0;
+  } else if (in_fix_ && fix_base_m_ >= options_.scale_baseline_m && options_.scale_gain > 0) {
+    const double error = fix_sum_m_ / fix_base_m_;  // relative: the scale was 1 - error too large
+    scale_ = std::clamp(scale_ * (1 + options_.scale_gain * error), 1 - options_.scale_limit, 1 + options_.scale_limit);
+  }
+  in_fix_ = fix;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Vision
+
+VisionModule::VisionModule(std::unique_ptr<VisionPipeline> pipeline, const HaltPolicy& halt)
+    : pipeline_(std::move(pipeline)), halt_(halt) {
+  if (!pipeline_) throw InvalidInput("VisionModule: no pipeline");
+}
+
+const DetectedObject& VisionModule::see(Blackboard& board, const VisionFrame& frame) {
+  const double t = frame.timestamp;
+  const PredictedObject* prediction = board.prediction(Module::Vision, t);
+  if (prediction == nullptr || prediction->timestamp != t) {
+    detected_ = DetectedObject::failed("no PredictedObject for this frame");
+  } else if (prediction->empty()) {
+    detected_ = DetectedObject{};  // nothing to look for is not a failure
+    detected_.reason = "nothing predicted in view: nothing to look for";
+  } else {
+    try {
+      detected_ = pipeline_->detect(frame, *prediction);
+    } catch (const std::exception& e) {
+      detected_ = DetectedObject::failed(std::string("the pipeline failed: ") + e.what());
+    }
+  }
+  detected_.timestamp = t;
+  board.post(Module::Vision, detected_);
+  if (detected_.status != DetectedObject::Status::Ok) {
+    board.post(Module::Vision, VisionFailure{t, detected_.reason});
+    Halt halt;
+    halt.timestamp = t;
+    halt.reason = "vision failed: " + detected_.reason;
+    halt.resume_after_frames = halt_.resume_after_frames;
+    board.post(Module::Vision, halt);
+  }
+  return detected_;
+}
+
+void VisionModule::reset() { pipeline_->reset(); }
+
+std::string VisionModule::pipelineName() const { return pipeline_->name(); }
+
+// ---------------------------------------------------------------------------------------------
+// Navigator
+
+void NavigatorOptions::validate() const {
+  route.validate();
+  progress.validate();
+  steering.validate();
+  requireOption(std::isfinite(plan_behind_m) && plan_behind_m >= 0, "NavigatorOptions", "plan_behind_m", plan_behind_m,
+                "finite and >= 0");
+  requireOption(std::isfinite(plan_ahead_m) && plan_ahead_m > 0, "NavigatorOptions", "plan_ahead_m", plan_ahead_m,
+                "finite and > 0");
+}
+
+struct NavigatorModule::Impl {
+  const Map& map;
+  RoadGraph graph;
+  NavigatorOptions options;
+  VehicleLimits limits;
+  std::vector<RoadPosition> remaining;  // stops not reached yet (the goal last)
+  std::vector<double> remaining_s;      // their arc lengths along `route`
+  Route route;
+  std::optional<RouteProgress> progress;
+  std::vector<double> drive_end_s;      // per leg: the arc length at which the leg ends
+  std::uint64_t sequence = 0;
+  std::string last_road;
+  MotionCommand last;
+
+  Impl(const Map& m, const NavigatorOptions& o, const VehicleLimits& l) : map(m), graph(m), options(o), limits(l) {}
+
+  void adopt(Route r) {
+    route = std::move(r);
+    progress.emplace(route, options.progress);
+    drive_end_s.clear();
+    double s = 0;
+    for (const Leg& leg : route.legs) {
+      if (leg.action == LegAction::Drive) s += leg.meters;
+      drive_end_s.push_back(s);
+    }
+  }
+
+  void plan(const RoadPosition& from) {
+    adopt(detail::planThrough(graph, from, remaining, "route from " + toString(from), &remaining_s, options.route));
+  }
+
+  // Where the vehicle is as a road position, facing the way it heads (a replan's start).
+  std::optional<RoadPosition> here(const Pose2& pose) const {
+    auto p = projectToRoad(map, pose);
+    if (!p) return std::nullopt;
+    RoadPosition r = p->position;
+    r.lateral = 0;
+    if (std::abs(p->heading_error) > kPi / 2) {  // facing the road's `from` end
+      const Road& road = map.road(r.road);
+      r.node = road.to;
+      r.meters = std::max(0.0, road.centerline.length() - r.meters);
+    }
+    return r;
+  }
+};
+
+NavigatorModule::NavigatorModule(const Map& map, const RoadPosition& start, std::vector<RoadPosition> stops,
+                                 const NavigatorOptions& options, const VehicleLimits& limits)
+    : impl_(std::make_unique<Impl>(map, options, limits)) {
+  options.validate();
+  limits.validate();
+  if (stops.empty()) throw InvalidInput("NavigatorModule: no goal");
+  impl_->remaining = std::move(stops);
+  impl_->plan(start);
+  status_.to_go_m = impl_->route.length_m;
+}
+
+NavigatorModule::~NavigatorModule() = default;
+NavigatorModule::NavigatorModule(NavigatorModule&&) noexcept = default;
+NavigatorModule& NavigatorModule::operator=(NavigatorModule&&) noexcept = default;
+
+const Route& NavigatorModule::route() const { return impl_->route; }
+
+const MotionCommand& NavigatorModule::plan(Blackboard& board, double t) {
+  Impl& m = *impl_;
+  MotionCommand c;
+  c.sequence = ++m.sequence;
+  c.timestamp = t;
+  auto post = [&]() -> const MotionCommand& {
+    m.last = c;
+    board.post(Module::Navigator, c);
+    return m.last;
+  };
+  auto stop = [&](std::string reason) -> const MotionCommand& {
+    c.kind = CommandKind::Stop;
+    c.reason = std::move(reason);
+    c.speed_mps = 0;
+    return post();
+  };
+  if (const Halt* halt = board.halt(Module::Navigator)) {
+    return stop("halted (" + halt->reason + "); control is with the " + halt->control_to);
+  }
+  const CurrentPosition* position = board.position(Module::Navigator, t);
+  if (position == nullptr) return stop("no current position");
+  const Pose2& pose = position->pose;
+
+  status_ = m.progress->update(pose);
+  // Via points behind us are done: a replan goes through the rest only.
+  while (m.remaining.size() > 1 && status_.along_m >= m.remaining_s.front() - 0.5) {
+    m.remaining.erase(m.remaining.begin());
+    m.remaining_s.erase(m.remaining_s.begin());
+  }
+  if (needsReplan(status_, m.route, m.options.route.blocked)) {
+    const auto from = m.here(pose);
+    if (!from) return stop("off the route and more than 5 m from every road");
+    try {
+      m.plan(*from);
+    } catch (const Unreachable& e) {
+      return stop(e.what());
+    }
+    ++replans_;
+    status_ = m.progress->update(pose);
+  }
+
+  // The dialogue: "Drive on it 2.5 meters and turn to right 90 degrees".
+  const Route& route = m.route;
+  const std::size_t leg = std::min(status_.leg, route.legs.size() - 1);
+  c.road = route.legs[leg].road;
+  c.drive_m = std::max(0.0, m.drive_end_s[leg] - status_.along_m);
+  if (leg + 1 < route.legs.size() && route.legs[leg + 1].action == LegAction::Turn) c.next_turn = route.legs[leg + 1];
+  c.same_road = c.road == m.last_road;
+  m.last_road = c.road;
+
+  // The steering plan: the route's centre line around and ahead of the estimate.
+  const double length = route.line.length();
+  const double s1 = std::min(length, status_.along_m + m.options.plan_ahead_m);
+  const double s0 = std::max(0.0, std::min(status_.along_m - m.options.plan_behind_m, s1 - 0.5));
+  const Polyline2 piece = route.line.slice(s0, s1);
+  c.path = piece.points();
+  c.path_ends_at_goal = s1 >= length - 1e-9;
+  c.speed_mps = m.options.steering.speed_mps;
+  if (piece.size() >= 2 && piece.length() > 1e-6) {
+    PurePursuit pursuit(densePath(piece, 0.25), m.options.steering, m.limits);
+    c.setpoint = pursuit.command(pose);
+    c.lookahead_point = pursuit.goal();
+  } else {
+    return stop("no route left to drive");
+  }
+  return post();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Motion Control
+
+MotionControlModule::MotionControlModule(bool execute, const VehicleLimits& limits, double lookahead_m)
+    : execute_(execute), limits_(limits), model_(Pose2(), limits) {
+  pursuit_options_.lookahead_m = lookahead_m;
+  pursuit_options_.validate();
+}
+
+const MotionCommand* MotionControlModule::receive(Blackboard& board, double t) {
+  const MotionCommand* c = board.command(Module::MotionControl, t);
+  if (c == nullptr) {
+    has_command_ = false;
+    pursuit_.reset();
+    return nullptr;
+  }
+  if (!has_command_ || c->sequence != command_.sequence) {
+    command_ = *c;
+    has_command_ = true;
+    pursuit_.reset();
+    if (command_.kind == CommandKind::Drive && command_.path.size() >= 2) {
+      PurePursuitOptions o = pursuit_options_;
+      o.speed_mps = std::max(1e-3, command_.speed_mps);
+      pursuit_ = std::make_unique<PurePursuit>(densePath(Polyline2(command_.path), 0.25), o, limits_);
+    }
+  }
+  if (const CurrentPosition* p = board.position(Module::MotionControl, t)) model_.setPose(p->pose);
+  return &command_;
+}
+
+VehicleCommand MotionControlModule::control(Blackboard& board, double t, double dt) {
+  VehicleCommand out;
+  const MotionCommand* c = board.command(Module::MotionControl, t);
+  if (c == nullptr) {  // expired: the blackboard dropped it; stand still
+    has_command_ = false;
+    pursuit_.reset();
+  } else if (!has_command_ || c->sequence != command_.sequence) {
+    receive(board, t);
+  }
+  if (has_command_ && command_.kind == CommandKind::Drive && pursuit_) {
+    if (command_.path_ends_at_goal && pursuit_->finished(model_.pose())) {
+      arrived_ = arrived_ || model_.speed() <= 1e-9;
+    } else {
+      out = pursuit_->command(model_.pose());
+    }
+  }
+  model_.step(out, dt);
+  return out;
+}
+
+}  // namespace mapnav

@@ -1,0 +1,520 @@
+#include "mapnav/mission/runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/json.h"
+#include "mapnav/core/options.h"
+#include "mapnav/map/camera_io.h"
+#include "mapnav/map/map_io.h"
+#include "mapnav/mission/trace.h"
+#include "mapnav/navigator/path.h"
+#include "mapnav/navigator/progress.h"
+#include "mapnav/navigator/road_position.h"
+#include "mapnav/navigator/steering.h"
+#include "mapnav/sim/odometry.h"
+#include "mapnav/sim/replay_log.h"
+#include "mapnav/sim/world.h"
+#include "mapnav/sim/world_io.h"
+
+#include "drive.h"
+
+namespace mapnav {
+
+void RunOptions::validate() const {
+  requireOption(std::isfinite(control_dt_s) && control_dt_s > 0 && control_dt_s <= 0.5, "RunOptions", "control_dt_s",
+                control_dt_s, "in (0, 0.5]");
+  requireOption(std::isfinite(token_validity_frames) && token_validity_frames > 0, "RunOptions",
+                "token_validity_frames", token_validity_frames, "finite and > 0");
+  requireOption(std::isfinite(command_validity_frames) && command_validity_frames > 0, "RunOptions",
+                "command_validity_frames", command_validity_frames, "finite and > 0");
+  map.validate();
+  navigator.validate();
+}
+
+namespace {
+
+std::string pipelineName(const MissionFile& mission, const RunOptions& options) {
+  if (!options.pipeline.empty()) return options.pipeline;
+  if (!mission.vision_pipeline.empty()) return mission.vision_pipeline;
+  return kDefaultPipelineName;
+}
+
+// The pipeline's options: the caller's, else the mission's when the pipeline is the mission's (they
+// are that pipeline's options), else none.
+std::string pipelineOptions(const MissionFile& mission, const RunOptions& options) {
+  if (options.pipeline_options_json) return *options.pipeline_options_json;
+  const std::string missions = mission.vision_pipeline.empty() ? kDefaultPipelineName : mission.vision_pipeline;
+  return pipelineName(mission, options) == missions ? mission.vision_options_json : "{}";
+}
+
+std::string absolutePath(const std::filesystem::path& p) {
+  std::error_code ec;
+  const auto c = std::filesystem::weakly_canonical(p, ec);
+  return ec ? p.string() : c.string();
+}
+
+// A grey frame (a log may hold them) as RGB, for the pipelines.
+Image toRgb(Image image) {
+  if (image.channels == 3) return image;
+  Image rgb(image.width, image.height, 3);
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t v = image.data[i * image.channels];
+    rgb.data[3 * i] = rgb.data[3 * i + 1] = rgb.data[3 * i + 2] = v;
+  }
+  return rgb;
+}
+
+// Where the mission starts: the route's first point, facing along it (a road position says where,
+// the route which way: "R1@I1+3" with a route back through I1 faces I1, as simulate() drives it).
+Pose2 routeStart(const Route& route) { return Pose2(route.line.front(), route.line.headingAt(0)); }
+
+// The module loop, the same in replay and in closed loop: once a frame, in the paper's order,
+// Map (prediction) → Vision → Map (matching) → Navigator → Motion Control; the operator's resume
+// before them; the trace, the evaluation against the truth and the frame record after them.
+class ModuleLoop {
+ public:
+  ModuleLoop(const MissionFile& mission, const Map& map, const Camera& camera, const RunOptions& options, bool execute,
+             const VehicleLimits& limits, MissionRun& run)
+      : mission_(mission),
+        map_(map),
+        camera_(camera),
+        options_(options),
+        run_(run),
+        board_(boardOptions(mission, options)),
+        navigator_(map, mission.start, detail::missionStops(mission), navigatorOptions(mission, options), limits),
+        map_module_(map, camera, routeStart(navigator_.route()), options.map),
+        vision_(createPipeline(pipelineName(mission, options), pipelineOptions(mission, options)),
+                mission.halt),
+        motion_(execute, limits, options.navigator.steering.lookahead_m),
+        odometry_only_(routeStart(navigator_.route()), Mat3::Identity(), options.map.filter),
+        truth_tracker_(densePath(navigator_.route().line, 0.25),
+                       std::max(PathTracker::kDefaultWindowM, 4.0 * mission.speed_mps / mission.frame_rate_hz)) {
+    run_.pipeline = vision_.pipelineName();
+    run_.route = navigator_.route();
+    run_.start = routeStart(run_.route);
+    run_.goal = Pose2(run_.route.line.back(), run_.route.line.headingAt(run_.route.line.length()));
+    run_.image_width = camera.width();
+    run_.image_height = camera.height();
+    board_.onPost([this](const Posting& p) { postings_.push_back(p); });
+    board_.onDrop([this](const Drop& d) { drops_.push_back(Pending{postings_.size(), d}); });
+    vision_.reset();
+    replans_seen_ = 0;
+  }
+
+  void header(const std::string& log_dir) {
+    if (!tracing()) return;
+    TraceHeader h;
+    h.mode = run_.mode;
+    h.mission = mission_.name;
+    h.map = absolutePath(mission_.map);
+    h.camera_json = cameraToJson(camera_);
+    h.log = log_dir;
+    h.pipeline = run_.pipeline;
+    h.start = mission_.start;
+    h.goal = mission_.goal;
+    h.via = mission_.via;
+    h.start_pose = run_.start;
+    h.goal_pose = run_.goal;
+    h.speed_mps = mission_.speed_mps;
+    h.frame_rate_hz = mission_.frame_rate_hz;
+    h.resume_after_frames = mission_.halt.resume_after_frames;
+    h.image_width = camera_.width();
+    h.image_height = camera_.height();
+    trace_.header(h);
+    trace_.route(0, navigator_.route(), "planned");
+  }
+
+  /// One frame; false when the mission ends here (a halt with no resume).
+  bool frame(std::size_t index, double t, const Image& rgb, const VehicleMotion& odometry,
+             const std::optional<Pose2>& truth, const std::string& image_path) {
+    flush();  // anything dropped between frames (Motion Control's reads) belongs before this frame
+    // The operator hands control back once the halt has lasted its frames.
+    if (board_.halt(Module::User) != nullptr && mission_.halt.resume_after_frames &&
+        index - last_failure_ - 1 >= *mission_.halt.resume_after_frames) {
+      board_.post(Module::User, Resume{t, index - halt_start_});
+      vision_.reset();  // a new scene: what the pipeline learnt may no longer hold
+    }
+    const bool halted_before = board_.halt(Module::User) != nullptr;
+    odometry_only_.predict(odometry);
+
+    const auto start = std::chrono::steady_clock::now();
+    map_module_.predict(board_, t, odometry);
+    const auto vision_start = std::chrono::steady_clock::now();
+    const DetectedObject& detected = vision_.see(board_, VisionFrame{rgb.width, rgb.height, rgb.data.data(), &camera_, t});
+    const auto vision_stop = std::chrono::steady_clock::now();
+    const CurrentPosition& position = map_module_.localize(board_, t);
+    const MotionCommand& command = navigator_.plan(board_, t);
+    const MotionCommand* taken = motion_.receive(board_, t);
+    const auto stop = std::chrono::steady_clock::now();
+
+    if (tracing()) {
+      TraceFrame f;
+      f.index = index;
+      f.t = t;
+      f.image = image_path;
+      f.odometry = odometry;
+      f.truth = truth;
+      f.odometry_only = odometry_only_.pose();
+      trace_.frame(f);
+    }
+    flush();
+    if (navigator_.replans() != replans_seen_) {
+      replans_seen_ = navigator_.replans();
+      if (tracing()) trace_.route(t, navigator_.route(), "replanned");
+    }
+    if (tracing()) trace_.executing(t, taken, motion_.executing());
+
+    FrameRecord r;
+    r.index = index;
+    r.t = t;
+    r.truth = truth;
+    r.estimate = position.pose;
+    r.covariance = position.covariance;
+    r.status = position.status;
+    r.observed_lateral = position.observed_lateral;
+    r.observed_along = position.observed_along;
+    r.observed_heading = position.observed_heading;
+    r.lines_used = position.lines_used;
+    r.odometry_only = odometry_only_.pose();
+    r.vision_ok = detected.status == DetectedObject::Status::Ok;
+    r.vision_reason = r.vision_ok ? "" : detected.reason;
+    r.lines_detected = detected.lines.size();
+    r.lines_labelled = static_cast<std::size_t>(std::count_if(
+        detected.lines.begin(), detected.lines.end(), [](const DetectedLine& l) { return l.label.has_value(); }));
+    r.halted = board_.halt(Module::User) != nullptr;
+    r.command = command.kind;
+    r.setpoint = command.setpoint;
+    r.to_go_m = navigator_.status().to_go_m;
+    r.latency_ms = std::chrono::duration<double, std::milli>(stop - start).count();
+    r.vision_ms = std::chrono::duration<double, std::milli>(vision_stop - vision_start).count();
+    if (truth) {
+      const PathTracker::Closest c = truth_tracker_.update(truth->translation());
+      r.route_s = c.s;
+      double road = truth->heading();
+      if (c.distance <= 2.0) {
+        road = truth_tracker_.path()[c.segment].heading;
+      } else if (const auto p = projectToRoad(map_, *truth)) {
+        road = truth->heading() - p->heading_error;
+      }
+      r.error = poseError(r.estimate, *truth, road);
+      r.odometry_error = poseError(r.odometry_only, *truth, road);
+    }
+    run_.frames.push_back(r);
+
+    bool go_on = true;
+    if (!r.vision_ok) {
+      if (!halted_before) {  // a new halt (failures while halted extend it)
+        ++run_.metrics.halts;
+        halt_start_ = index;
+      }
+      last_failure_ = index;
+      if (!mission_.halt.resume_after_frames) {
+        run_.ended_by_halt = true;
+        run_.outcome = "halted at frame " + std::to_string(index) + " (" + detected.reason +
+                       "); control passed to the operator and the mission ends there";
+        go_on = false;
+      }
+    }
+    if (options_.on_frame_image) options_.on_frame_image(index, rgb);
+    return go_on;
+  }
+
+  void finish() {
+    flush();
+    run_.metrics.replans = navigator_.replans();
+    run_.odometry_scale = map_module_.odometryScale();
+    accumulateMetrics(run_.frames, run_.route, run_.metrics);
+  }
+
+  void writeTrace() {
+    if (!tracing()) return;
+    trace_.summary(run_);
+    trace_.save(options_.trace);
+  }
+
+  MotionControlModule& motion() { return motion_; }
+  Blackboard& board() { return board_; }
+  const NavigatorModule& navigator() const { return navigator_; }
+  const MapModule& mapModule() const { return map_module_; }
+
+ private:
+  struct Pending {
+    std::size_t before;  // the number of postings queued when it was dropped
+    Drop drop;
+  };
+
+  static BlackboardOptions boardOptions(const MissionFile& mission, const RunOptions& options) {
+    const double period = 1.0 / mission.frame_rate_hz;
+    BlackboardOptions b;
+    b.prediction_validity_s = b.detection_validity_s = b.position_validity_s = options.token_validity_frames * period;
+    b.command_validity_s = options.command_validity_frames * period;
+    return b;
+  }
+
+  static NavigatorOptions navigatorOptions(const MissionFile& mission, const RunOptions& options) {
+    NavigatorOptions n = options.navigator;
+    n.steering.speed_mps = mission.speed_mps;
+    return n;
+  }
+
+  bool tracing() const { return !options_.trace.empty(); }
+
+  // The trace lines of what was posted and dropped, in the order it happened.
+  void flush() {
+    std::size_t d = 0;
+    for (std::size_t i = 0; i <= postings_.size(); ++i) {
+      while (d < drops_.size() && drops_[d].before == i) {
+        if (tracing()) trace_.drop(drops_[d].drop);
+        ++d;
+      }
+      if (i < postings_.size() && tracing()) trace_.posting(postings_[i]);
+    }
+    postings_.clear();
+    drops_.clear();
+  }
+
+  const MissionFile& mission_;
+  const Map& map_;
+  const Camera& camera_;
+  const RunOptions& options_;
+  MissionRun& run_;
+  Blackboard board_;
+  NavigatorModule navigator_;
+  MapModule map_module_;
+  VisionModule vision_;
+  MotionControlModule motion_;
+  PoseFilter odometry_only_;
+  PathTracker truth_tracker_;
+  TraceWriter trace_;
+  std::vector<Posting> postings_;
+  std::vector<Pending> drops_;
+  std::size_t replans_seen_ = 0;
+  std::size_t last_failure_ = 0, halt_start_ = 0;
+};
+
+void progress(const RunOptions& options, std::size_t frame, std::size_t total, double t) {
+  if (options.progress) options.progress(RunProgress{frame, total, t});
+}
+
+}  // namespace
+
+MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& log_dir, const RunOptions& options) {
+  options.validate();
+  const ReplayLog log = ReplayLog::open(log_dir);
+  const Map map = loadMap(mission.map);
+  const Camera& camera = *log.header().camera;
+  MissionRun run;
+  run.mode = "replay";
+  run.mission = mission.name;
+  run.log = log_dir;
+  VehicleLimits limits;
+  limits.max_speed_mps = std::max(limits.max_speed_mps, mission.speed_mps);
+  ModuleLoop loop(mission, map, camera, options, false, limits, run);
+  loop.header(absolutePath(log_dir));
+
+  const std::vector<LogFrame>& frames = log.frames();
+  const std::size_t total = options.max_frames > 0 ? std::min(options.max_frames, frames.size()) : frames.size();
+  for (std::size_t i = 0; i < total; ++i) {
+    const LogFrame& f = frames[i];
+    const Image rgb = toRgb(log.image(i));
+    if (rgb.width != camera.width() || rgb.height != camera.height()) {
+      throw InvalidInput(f.image + ": the image is " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) +
+                         " but the log's camera is " + std::to_string(camera.width()) + "x" +
+                         std::to_string(camera.height()));
+    }
+    run.distance_m += f.odometry.distance_m;
+    const VehicleMotion odometry{f.odometry.distance_m, f.odometry.dheading_rad};
+    const bool go_on = loop.frame(i, f.t, rgb, odometry, f.truth, f.image);
+    progress(options, i + 1, total, f.t);
+    if (!go_on) break;
+  }
+  run.stopped_early = !run.ended_by_halt && total < frames.size();
+  if (!run.frames.empty()) run.duration_s = run.frames.back().t - run.frames.front().t;
+  loop.finish();
+
+  MissionMetrics& m = run.metrics;
+  if (!run.frames.empty()) {
+    const FrameRecord& last = run.frames.back();
+    const Pose2& at = last.truth ? *last.truth : last.estimate;
+    m.goal_distance_m = (at.translation() - run.goal.translation()).norm();
+    m.reached_goal = !run.ended_by_halt && loop.navigator().finished() && m.goal_distance_m <= 0.5;
+  }
+  if (run.outcome.empty()) {
+    char text[200];
+    if (m.reached_goal) {
+      std::snprintf(text, sizeof text, "goal reached (%.2f m from it)", m.goal_distance_m);
+    } else if (run.stopped_early) {
+      std::snprintf(text, sizeof text, "stopped after %zu frames (--max-frames), %.1f m before the goal", run.frames.size(),
+                    loop.navigator().status().to_go_m);
+    } else {
+      std::snprintf(text, sizeof text, "the log ended %.2f m from the goal", m.goal_distance_m);
+    }
+    run.outcome = text;
+  }
+  loop.writeTrace();
+  return run;
+}
+
+MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) {
+  options.validate();
+  const Map map = loadMap(mission.map);
+  const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
+  Issues issues;
+  WorldOptions world_options = parseWorldOptions(mission.world_json, "/world", issues);
+  OdometryNoiseOptions odometry_options = parseOdometryNoise(mission.odometry_json, "/odometry", issues);
+  if (hasErrors(issues)) throw ValidationError(mission.name, std::move(issues));
+  if (options.seed) {
+    world_options.seed = *options.seed;
+    odometry_options.seed = *options.seed + 1;
+  }
+  const World world(map, world_options);
+  const RayTable rays(*camera);
+  OdometrySensor sensor(odometry_options);
+
+  MissionRun run;
+  run.mode = "closed-loop";
+  run.mission = mission.name;
+  VehicleLimits limits;
+  limits.max_speed_mps = std::max(limits.max_speed_mps, mission.speed_mps);
+  ModuleLoop loop(mission, map, *camera, options, true, limits, run);
+  loop.header("");
+  SkidSteerVehicle vehicle(run.start, limits);
+
+  detail::DriveLoopOptions drive;
+  drive.frame_dt_s = 1.0 / mission.frame_rate_hz;
+  drive.control_dt_s = options.control_dt_s;
+  drive.time_limit_s = 3.0 * run.route.length_m / mission.speed_mps + 60.0;
+  drive.max_frames = options.max_frames;
+  const std::size_t expected = static_cast<std::size_t>(run.route.length_m / mission.speed_mps * mission.frame_rate_hz) + 2;
+  const std::size_t total = options.max_frames > 0 ? std::min(options.max_frames, expected) : expected;
+  std::size_t index = 0;
+  const detail::DriveLoopResult driven = detail::driveLoop(
+      vehicle, drive,
+      [&](double t, const Pose2& truth, const detail::TrueMotion& motion) {
+        const Frame frame = world.render(rays, truth, t);  // not in the latency
+        const Odometry o = sensor.measure(motion.distance_m, motion.dheading_rad, motion.dt_s);
+        const bool go_on = loop.frame(index, t, frame.rgb, VehicleMotion{o.distance_m, o.dheading_rad}, truth, "");
+        ++index;
+        progress(options, index, std::max(total, index), t);
+        return go_on;
+      },
+      [&](double t) { return loop.motion().control(loop.board(), t, options.control_dt_s); },
+      [&] { return loop.motion().arrived(); });
+  run.duration_s = driven.duration_s;
+  run.distance_m = driven.distance_m;
+  run.stopped_early =
+      !run.ended_by_halt && !driven.finished && options.max_frames > 0 && driven.frames >= options.max_frames;
+  loop.finish();
+
+  MissionMetrics& m = run.metrics;
+  m.goal_distance_m = (vehicle.pose().translation() - run.goal.translation()).norm();
+  m.reached_goal = !run.ended_by_halt && driven.finished && m.goal_distance_m <= 0.5;
+  if (run.outcome.empty()) {
+    char text[200];
+    if (m.reached_goal) {
+      std::snprintf(text, sizeof text, "goal reached (%.2f m from it)", m.goal_distance_m);
+    } else if (driven.finished) {
+      std::snprintf(text, sizeof text, "stopped where it believed the goal was, %.2f m from it", m.goal_distance_m);
+    } else if (run.stopped_early) {
+      std::snprintf(text, sizeof text, "stopped after %zu frames (--max-frames), %.1f m before the goal", driven.frames,
+                    loop.navigator().status().to_go_m);
+    } else {
+      std::snprintf(text, sizeof text, "time limit (%.0f s) reached %.2f m from the goal", drive.time_limit_s,
+                    m.goal_distance_m);
+    }
+    run.outcome = text;
+  }
+  loop.writeTrace();
+  return run;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output
+
+namespace {
+double round(double x, double scale) { return std::round(x * scale) / scale + 0.0; }
+}  // namespace
+
+std::string runToJson(const MissionRun& run) {
+  const MissionMetrics& m = run.metrics;
+  auto err = [&](double v, double scale) { return m.has_truth ? Json(round(v, scale)) : Json(nullptr); };
+  Json j{{"frames", m.frames},
+         {"reached_goal", m.reached_goal},
+         {"lateral_rms_m", err(m.estimate.lateral_rms_m, 1e5)},
+         {"along_rms_m", err(m.estimate.along_rms_m, 1e5)},
+         {"heading_rms_deg", err(m.estimate.heading_rms_deg, 1e4)},
+         {"max_error_m", err(m.estimate.max_error_m, 1e5)},
+         {"odometry_only_max_error_m", err(m.odometry_only.max_error_m, 1e5)},
+         {"vision_failures", m.vision_failures},
+         {"replans", m.replans},
+         {"latency_ms_median", round(m.latency_ms_median, 1e3)},
+         {"latency_ms_p99", round(m.latency_ms_p99, 1e3)},
+         {"along_after_intersection_max_m", err(m.along_after_intersection_max_m, 1e5)},
+         // More of the same, for people and the report.
+         {"mode", run.mode},
+         {"mission", run.mission},
+         {"pipeline", run.pipeline},
+         {"outcome", run.outcome},
+         {"goal_distance_m", round(m.goal_distance_m, 1e4)},
+         {"lateral_max_m", err(m.estimate.lateral_max_m, 1e5)},
+         {"along_max_m", err(m.estimate.along_max_m, 1e5)},
+         {"heading_max_deg", err(m.estimate.heading_max_deg, 1e4)},
+         {"odometry_only_lateral_rms_m", err(m.odometry_only.lateral_rms_m, 1e5)},
+         {"odometry_only_along_rms_m", err(m.odometry_only.along_rms_m, 1e5)},
+         {"odometry_only_heading_rms_deg", err(m.odometry_only.heading_rms_deg, 1e4)},
+         {"intersections_checked", m.intersections_checked},
+         {"halts", m.halts},
+         {"ended_by_halt", run.ended_by_halt},
+         {"latency_ms_max", round(m.latency_ms_max, 1e3)},
+         {"vision_ms_median", round(m.vision_ms_median, 1e3)},
+         {"odometry_scale", round(run.odometry_scale, 1e6)},
+         {"image_size", std::to_string(run.image_width) + "x" + std::to_string(run.image_height)},
+         {"duration_s", round(run.duration_s, 1e3)},
+         {"distance_m", round(run.distance_m, 1e3)}};
+  return j.dump() + "\n";
+}
+
+std::string summaryText(const MissionRun& run) {
+  const MissionMetrics& m = run.metrics;
+  std::string out;
+  char line[400];
+  std::snprintf(line, sizeof line, "%s (%s, pipeline %s): %s\n", run.mission.c_str(), run.mode.c_str(),
+                run.pipeline.c_str(), run.outcome.c_str());
+  out += line;
+  std::snprintf(line, sizeof line, "  %zu frames, %.1f s, %.1f m driven, route %.1f m through %zu intersections\n", m.frames,
+                run.duration_s, run.distance_m, run.route.length_m, run.route.intersections.size());
+  out += line;
+  auto errors = [&](const char* what, const ErrorStats& s) {
+    std::snprintf(line, sizeof line,
+                  "  %-16s lateral RMS %.3f m (max %.3f), along RMS %.3f m (max %.3f), heading RMS %.2f deg (max %.2f), "
+                  "max error %.3f m\n",
+                  what, s.lateral_rms_m, s.lateral_max_m, s.along_rms_m, s.along_max_m, s.heading_rms_deg,
+                  s.heading_max_deg, s.max_error_m);
+    out += line;
+  };
+  if (m.has_truth) {
+    errors("estimate:", m.estimate);
+    errors("odometry alone:", m.odometry_only);
+    std::snprintf(line, sizeof line,
+                  "  along-road error within 2 m after each intersection: max %.3f m (%zu of %zu intersections)\n",
+                  m.along_after_intersection_max_m, m.intersections_checked, run.route.intersections.size());
+    out += line;
+  } else {
+    out += "  no ground truth: errors not measured\n";
+  }
+  std::snprintf(line, sizeof line, "  vision failures %zu, halts %zu, replans %zu\n", m.vision_failures, m.halts, m.replans);
+  out += line;
+  std::snprintf(line, sizeof line,
+                "  loop latency (%dx%d): median %.2f ms, p99 %.2f ms, max %.2f ms (Vision alone: median %.2f ms)\n",
+                run.image_width, run.image_height, m.latency_ms_median, m.latency_ms_p99, m.latency_ms_max,
+                m.vision_ms_median);
+  out += line;
+  return out;
+}
+
+}  // namespace mapnav

@@ -1,0 +1,308 @@
+// The mission runner end to end on simulated logs: replay meets the issue's targets and is
+// deterministic, a black frame halts and the mission resumes or ends as configured, the closed
+// loop reaches the goal, and the trace reads back as the paper's dialogue.
+#include "mapnav/mission/runner.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/io.h"
+#include "mapnav/mission/simulate.h"
+#include "mapnav/mission/trace.h"
+#include "mapnav/sim/image.h"
+#include "mapnav/testing/support.h"
+#include "mapnav/vision/pipelines.h"
+
+namespace mapnav {
+namespace {
+namespace fs = std::filesystem;
+
+MissionFile shortCrossing() { return loadMission(testing::fixturePath("missions/short_crossing.json")); }
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// One simulated log of the short crossing, shared by the tests of this suite.
+class ReplayShortCrossing : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    registerBuiltinPipelines();
+    dir_ = new fs::path(fs::temp_directory_path() / ("mapnav-runner-test-" + std::to_string(::getpid())));
+    fs::remove_all(*dir_);
+    fs::create_directories(*dir_);
+    const SimulateResult r = simulate(shortCrossing(), *dir_ / "log");
+    ASSERT_TRUE(r.reached_goal);
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    delete dir_;
+  }
+  static fs::path log() { return *dir_ / "log"; }
+  static fs::path dir() { return *dir_; }
+  static fs::path* dir_;
+};
+fs::path* ReplayShortCrossing::dir_ = nullptr;
+
+TEST_F(ReplayShortCrossing, ReachesTheGoalWithTheTargetsWhileOdometryAloneDrifts) {
+  const MissionRun run = runReplay(shortCrossing(), log());
+  const MissionMetrics& m = run.metrics;
+  EXPECT_EQ(run.mode, "replay");
+  EXPECT_EQ(run.pipeline, "sidewalk");
+  EXPECT_TRUE(m.reached_goal) << run.outcome;
+  EXPECT_TRUE(m.has_truth);
+  EXPECT_EQ(m.frames, run.frames.size());
+  EXPECT_GT(m.frames, 40u);
+  EXPECT_LE(m.estimate.lateral_rms_m, 0.05);
+  EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
+  EXPECT_LE(m.along_after_intersection_max_m, 0.15);
+  EXPECT_EQ(m.intersections_checked, 1u);
+  EXPECT_GT(m.odometry_only.max_error_m, m.estimate.max_error_m);
+  EXPECT_EQ(m.vision_failures, 0u);
+  EXPECT_EQ(m.replans, 0u);
+  EXPECT_GT(m.latency_ms_median, 0.0);
+  EXPECT_GE(m.latency_ms_p99, m.latency_ms_median);
+  // Every frame has its record, with the truth and a correction.
+  std::size_t corrected = 0;
+  for (const FrameRecord& f : run.frames) {
+    ASSERT_TRUE(f.truth);
+    corrected += f.status == PositionStatus::Corrected ? 1 : 0;
+  }
+  EXPECT_GT(corrected, run.frames.size() * 9 / 10);
+  // The JSON has the issue's members first.
+  const auto json = nlohmann::json::parse(runToJson(run));
+  for (const char* key : {"frames", "reached_goal", "lateral_rms_m", "along_rms_m", "heading_rms_deg", "max_error_m",
+                          "odometry_only_max_error_m", "vision_failures", "replans", "latency_ms_median",
+                          "latency_ms_p99", "along_after_intersection_max_m"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  EXPECT_EQ(json["frames"], m.frames);
+  EXPECT_NE(summaryText(run).find("odometry alone"), std::string::npos);
+}
+
+TEST_F(ReplayShortCrossing, ReplayingTheSameLogTwiceGivesByteIdenticalTraces) {
+  RunOptions options;
+  options.trace = dir() / "a.jsonl";
+  runReplay(shortCrossing(), log(), options);
+  options.trace = dir() / "b.jsonl";
+  runReplay(shortCrossing(), log(), options);
+  const std::string a = readFile(dir() / "a.jsonl"), b = readFile(dir() / "b.jsonl");
+  EXPECT_GT(a.size(), 10000u);
+  EXPECT_EQ(a, b);
+  // One line per token, framed by the mission, the route, the frames and the summary.
+  EXPECT_EQ(a.rfind("{\"t\":0.0,\"frame\":null,\"module\":\"User\",\"type\":\"Mission\"", 0), 0u);
+  EXPECT_EQ(count(a, "\"type\":\"Frame\""), count(a, "\"type\":\"PredictedObject\""));
+  EXPECT_EQ(count(a, "\"type\":\"Frame\""), count(a, "\"type\":\"CurrentPosition\""));
+  EXPECT_EQ(count(a, "\"type\":\"Frame\""), count(a, "\"type\":\"MotionCommand\""));
+  EXPECT_EQ(count(a, "\"type\":\"Summary\""), 1u);
+  EXPECT_EQ(count(a, "\"latency"), 0u);  // wall-clock figures stay out of the trace
+}
+
+TEST_F(ReplayShortCrossing, TheTraceReadsBackAsThePapersDialogue) {
+  RunOptions options;
+  options.trace = dir() / "dialogue.jsonl";
+  options.max_frames = 12;
+  const MissionRun run = runReplay(shortCrossing(), log(), options);
+  EXPECT_TRUE(run.stopped_early);
+  const std::string text = traceDialogue(readFile(options.trace), options.trace.string());
+  EXPECT_EQ(text.rfind("User: Robot is at road R2, 30 meters from I1.\n      Navigate to road R4, 6 meters from I2.", 0), 0u)
+      << text.substr(0, 300);
+  EXPECT_NE(text.find("Navigator: Route planned, 16.0 m: Drive on R2 10.0 m and go straight through I2 onto R4."),
+            std::string::npos);
+  EXPECT_NE(text.find("Map: Vision will see straight road (R19, R2, R4, R9) and cross intersection (I2). The color on the "
+                      "left and on the right is grass. Detect them."),
+            std::string::npos)
+      << text.substr(0, 1500);
+  EXPECT_NE(text.find("Vision: Ok. I found them."), std::string::npos);
+  EXPECT_NE(text.find("Navigator: Drive on R2 10.0 meters and go straight through I2."), std::string::npos)
+      << text.substr(0, 1500);
+  EXPECT_NE(text.find("Navigator: Drive on it "), std::string::npos);
+  EXPECT_NE(text.find("Motion Control: Ok. (replay: recorded, not driven)"), std::string::npos);
+  EXPECT_NE(text.find("Map: You are at ("), std::string::npos);
+  EXPECT_NE(text.find("[frame 11, 5.5 s]"), std::string::npos);
+  EXPECT_NE(text.find("Mission: stopped after 12 frames"), std::string::npos);
+}
+
+// A copy of the log with frame `index` black.
+fs::path blackOut(const fs::path& log, const fs::path& copy, std::size_t index) {
+  fs::copy(log, copy, fs::copy_options::recursive);
+  char name[32];
+  std::snprintf(name, sizeof name, "images/%06zu.png", index);
+  const Image original = readPng(copy / name);
+  writePng(Image(original.width, original.height, 3), copy / name);
+  return copy;
+}
+
+TEST_F(ReplayShortCrossing, ABlackFrameHaltsAndTheMissionResumesAfterTheConfiguredFrames) {
+  const fs::path log_copy = blackOut(log(), dir() / "black", 20);
+  MissionFile mission = shortCrossing();
+  mission.halt.resume_after_frames = 2;
+  RunOptions options;
+  options.trace = dir() / "black.jsonl";
+  const MissionRun run = runReplay(mission, log_copy, options);
+  EXPECT_EQ(run.metrics.vision_failures, 1u);
+  EXPECT_EQ(run.metrics.halts, 1u);
+  EXPECT_FALSE(run.ended_by_halt);
+  EXPECT_FALSE(run.frames[20].vision_ok);
+  EXPECT_NE(run.frames[20].vision_reason.find("dark"), std::string::npos) << run.frames[20].vision_reason;
+  EXPECT_EQ(run.frames[20].status, PositionStatus::OdometryOnly);
+  // Halted for the failing frame and two more; the Navigator says stop meanwhile.
+  for (std::size_t i : {20u, 21u, 22u}) {
+    EXPECT_TRUE(run.frames[i].halted) << i;
+    EXPECT_EQ(run.frames[i].command, CommandKind::Stop) << i;
+  }
+  EXPECT_FALSE(run.frames[23].halted);
+  EXPECT_EQ(run.frames[23].command, CommandKind::Drive);
+  EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
+  const std::string trace = readFile(options.trace);
+  EXPECT_EQ(count(trace, "\"type\":\"VisionFailure\""), 1u);
+  EXPECT_EQ(count(trace, "\"type\":\"Halt\""), 1u);
+  EXPECT_EQ(count(trace, "\"type\":\"Resume\""), 1u);
+  EXPECT_NE(trace.find("{\"t\":11.5,\"frame\":23,\"module\":\"User\",\"type\":\"Resume\",\"payload\":{\"frames_halted\":3}}"),
+            std::string::npos);
+  const std::string text = traceDialogue(trace, "black.jsonl");
+  EXPECT_NE(text.find("Vision: I cannot find it: frame too dark."), std::string::npos);
+  EXPECT_NE(text.find("Vision: I halt (vision failed: frame too dark). Control passes to the operator"), std::string::npos);
+  EXPECT_NE(text.find("User: I hand control back (after 3 frames halted)."), std::string::npos);
+}
+
+TEST_F(ReplayShortCrossing, ABlackFrameEndsTheMissionWhenNothingResumesIt) {
+  const fs::path log_copy = blackOut(log(), dir() / "black-end", 20);
+  MissionFile mission = shortCrossing();
+  mission.halt.resume_after_frames.reset();
+  RunOptions options;
+  options.trace = dir() / "black-end.jsonl";
+  const MissionRun run = runReplay(mission, log_copy, options);
+  EXPECT_TRUE(run.ended_by_halt);
+  EXPECT_FALSE(run.metrics.reached_goal);
+  EXPECT_EQ(run.frames.size(), 21u);
+  EXPECT_NE(run.outcome.find("halted at frame 20"), std::string::npos) << run.outcome;
+  const std::string trace = readFile(options.trace);
+  EXPECT_EQ(count(trace, "\"type\":\"Halt\""), 1u);
+  EXPECT_NE(trace.find("\"resume_after_frames\":null"), std::string::npos);
+  EXPECT_NE(trace.find("\"ended_by_halt\":true"), std::string::npos);
+  EXPECT_NE(traceDialogue(trace, "x").find("and the mission ends"), std::string::npos);
+}
+
+TEST_F(ReplayShortCrossing, ALogWithoutTruthIsLocalisedButNotScored) {
+  const fs::path copy = dir() / "no-truth";
+  fs::copy(log(), copy, fs::copy_options::recursive);
+  std::string lines = readFile(copy / "frames.jsonl"), stripped;
+  for (std::size_t at = 0; at < lines.size();) {
+    const std::size_t end = lines.find('\n', at);
+    std::string line = lines.substr(at, end - at);
+    const std::size_t truth = line.find(",\"truth\":{");
+    if (truth != std::string::npos) line.erase(truth, line.find('}', truth) - truth + 1);
+    stripped += line + "\n";
+    at = end == std::string::npos ? lines.size() : end + 1;
+  }
+  writeFileAtomic(copy / "frames.jsonl", stripped);
+  const MissionRun run = runReplay(shortCrossing(), copy);
+  EXPECT_FALSE(run.metrics.has_truth);
+  EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;  // by the estimate
+  EXPECT_FALSE(run.frames.front().truth);
+  const auto json = nlohmann::json::parse(runToJson(run));
+  EXPECT_TRUE(json["lateral_rms_m"].is_null());
+  EXPECT_TRUE(json["along_after_intersection_max_m"].is_null());
+  EXPECT_NE(summaryText(run).find("no ground truth"), std::string::npos);
+}
+
+TEST_F(ReplayShortCrossing, AnotherPipelineByNameAndAnUnknownOne) {
+  RunOptions options;
+  options.max_frames = 3;
+  options.pipeline = "color-rgb";
+  EXPECT_EQ(runReplay(shortCrossing(), log(), options).pipeline, "color-rgb");
+  options.pipeline = "no-such-pipeline";
+  EXPECT_THROW(runReplay(shortCrossing(), log(), options), NotFound);
+  EXPECT_THROW(runReplay(shortCrossing(), dir() / "no-log"), IoError);
+}
+
+TEST(RunnerClosedLoop, TheShortCrossingReachesTheGoalSteeringOnTheEstimate) {
+  registerBuiltinPipelines();
+  const fs::path dir = testing::freshTempDir();
+  RunOptions options;
+  options.trace = dir / "run.jsonl";
+  std::size_t images = 0;
+  options.on_frame_image = [&](std::size_t, const Image& rgb) { images += rgb.width == 512 ? 1 : 0; };
+  std::size_t progress_calls = 0;
+  options.progress = [&](const RunProgress& p) {
+    ++progress_calls;
+    EXPECT_LE(p.frame, p.total);
+  };
+  const MissionRun run = runClosedLoop(shortCrossing(), options);
+  EXPECT_EQ(run.mode, "closed-loop");
+  EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
+  EXPECT_LE(run.metrics.goal_distance_m, 0.5);
+  EXPECT_LE(run.metrics.estimate.lateral_rms_m, 0.05);
+  EXPECT_LE(run.metrics.estimate.heading_rms_deg, 0.5);
+  EXPECT_EQ(images, run.frames.size());
+  EXPECT_EQ(progress_calls, run.frames.size());
+  const std::string trace = readFile(options.trace);
+  EXPECT_NE(trace.find("\"mode\":\"closed-loop\""), std::string::npos);
+  EXPECT_NE(traceDialogue(trace, "run.jsonl").find("Motion Control: Ok. I drive."), std::string::npos);
+  // Closed loop is deterministic too.
+  RunOptions again;
+  again.trace = dir / "run2.jsonl";
+  runClosedLoop(shortCrossing(), again);
+  EXPECT_EQ(readFile(again.trace), trace);
+}
+
+TEST(RunnerOptions, DefaultsAreValidAndBadOnesAreNamed) {
+  EXPECT_NO_THROW(RunOptions{}.validate());
+  RunOptions bad;
+  bad.control_dt_s = 0;
+  EXPECT_THROW(bad.validate(), InvalidInput);
+  bad = RunOptions{};
+  bad.map.scale_gain = 2;
+  EXPECT_THROW(bad.validate(), InvalidInput);
+  bad = RunOptions{};
+  bad.map.initial_sigma_m = -1;
+  try {
+    bad.validate();
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("initial_sigma_m"), std::string::npos);
+  }
+}
+
+TEST(RunnerMetrics, PercentileAndRoadFrameErrors) {
+  EXPECT_EQ(percentile({}, 50), 0);
+  EXPECT_EQ(percentile({3, 1, 2}, 50), 2);
+  EXPECT_EQ(percentile({1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 99), 10);
+  EXPECT_EQ(percentile({1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 50), 5);
+  // The road runs north; the estimate is 0.1 m east (right) and 0.3 m north (ahead) of the truth.
+  const PoseError e = poseError(Pose2(10.1, 20.3, kPi / 2 + 0.01), Pose2(10, 20, kPi / 2), kPi / 2);
+  EXPECT_NEAR(e.lateral_m, -0.1, 1e-12);
+  EXPECT_NEAR(e.along_m, 0.3, 1e-12);
+  EXPECT_NEAR(e.heading_rad, 0.01, 1e-12);
+  EXPECT_NEAR(e.distance_m, std::hypot(0.1, 0.3), 1e-12);
+}
+
+// The issue's own mission, simulated then replayed and run closed loop (about 2 minutes here).
+TEST(RunnerCampusDialogue, ReplayAndClosedLoopReachTheGoalWithinTheTargets) {
+  registerBuiltinPipelines();
+  const fs::path dir = testing::freshTempDir();
+  const MissionFile mission = loadMission(testing::mapPath("missions/campus_dialogue.json"));
+  simulate(mission, dir / "log");
+  for (const MissionRun& run : {runReplay(mission, dir / "log"), runClosedLoop(mission)}) {
+    const MissionMetrics& m = run.metrics;
+    SCOPED_TRACE(run.mode);
+    EXPECT_TRUE(m.reached_goal) << run.outcome;
+    EXPECT_LE(m.estimate.lateral_rms_m, 0.05);
+    EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
+    EXPECT_LE(m.along_after_intersection_max_m, 0.15);
+    EXPECT_EQ(m.intersections_checked, 4u);
+    EXPECT_GT(m.odometry_only.max_error_m, 1.0);  // odometry alone drifts past 1 m
+    EXPECT_EQ(m.replans, 0u);
+    // The encoders read 1 % long: the Map's calibration has scaled them down toward 1 / 1.01.
+    EXPECT_LT(run.odometry_scale, 0.998);
+    EXPECT_GT(run.odometry_scale, 0.985);
+  }
+}
+
+}  // namespace
+}  // namespace mapnav
