@@ -4,8 +4,21 @@
 #include <cmath>
 
 #include "mapnav/core/error.h"
+#include "mapnav/sim/world_io.h"
 
 namespace mapnav::detail {
+
+SimulationSettings simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed) {
+  Issues issues;
+  SimulationSettings s{parseWorldOptions(mission.world_json, "/world", issues),
+                       parseOdometryNoise(mission.odometry_json, "/odometry", issues)};
+  if (hasErrors(issues)) throw ValidationError(mission.name, std::move(issues));
+  if (seed) {
+    s.world.seed = *seed;
+    s.odometry.seed = *seed + 1;
+  }
+  return s;
+}
 
 Route planThrough(RoadGraph& graph, const RoadPosition& from, const std::vector<RoadPosition>& stops,
                   const std::string& what, std::vector<double>* stop_s, const RouteOptions& options) {

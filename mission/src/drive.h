@@ -4,7 +4,9 @@
 // camera frames. simulate() steers it with pure pursuit on the TRUE pose; the closed loop with Motion
 // Control on the ESTIMATED pose. Both get the same frame timing and true motion between frames.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,8 @@
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/vehicle.h"
+#include "mapnav/sim/odometry.h"
+#include "mapnav/sim/world.h"
 
 namespace mapnav::detail {
 
@@ -21,6 +25,15 @@ namespace mapnav::detail {
 /// Throws Unreachable naming `what` and the reason.
 Route planThrough(RoadGraph& graph, const RoadPosition& from, const std::vector<RoadPosition>& stops,
                   const std::string& what, std::vector<double>* stop_s = nullptr, const RouteOptions& options = {});
+
+/// The synthetic world and odometry noise of a mission's `world` and `odometry` objects, `seed`
+/// overriding the world's seed and the odometry's (seed + 1): same seed, same bytes. Throws
+/// ValidationError naming the mission and every bad field.
+struct SimulationSettings {
+  WorldOptions world;
+  OdometryNoiseOptions odometry;
+};
+SimulationSettings simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed);
 
 /// The mission's stops after the start: its via points, then the goal.
 std::vector<RoadPosition> missionStops(const MissionFile& mission);

@@ -364,17 +364,10 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
   options.validate();
   const Map map = loadMap(mission.map);
   const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
-  Issues issues;
-  WorldOptions world_options = parseWorldOptions(mission.world_json, "/world", issues);
-  OdometryNoiseOptions odometry_options = parseOdometryNoise(mission.odometry_json, "/odometry", issues);
-  if (hasErrors(issues)) throw ValidationError(mission.name, std::move(issues));
-  if (options.seed) {
-    world_options.seed = *options.seed;
-    odometry_options.seed = *options.seed + 1;
-  }
-  const World world(map, world_options);
+  const detail::SimulationSettings settings = detail::simulationSettings(mission, options.seed);
+  const World world(map, settings.world);
   const RayTable rays(*camera);
-  OdometrySensor sensor(odometry_options);
+  OdometrySensor sensor(settings.odometry);
 
   MissionRun run;
   run.mode = "closed-loop";

@@ -27,14 +27,7 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   options.validate();
   const Map map = loadMap(mission.map);
   const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
-  Issues issues;
-  WorldOptions world_options = parseWorldOptions(mission.world_json, "/world", issues);
-  OdometryNoiseOptions odometry_options = parseOdometryNoise(mission.odometry_json, "/odometry", issues);
-  if (hasErrors(issues)) throw ValidationError(mission.name, std::move(issues));
-  if (options.seed) {
-    world_options.seed = *options.seed;
-    odometry_options.seed = *options.seed + 1;
-  }
+  const detail::SimulationSettings settings = detail::simulationSettings(mission, options.seed);
 
   SimulateResult result;
   RoadGraph graph(map);
@@ -50,8 +43,8 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   PurePursuitOptions follow;
   follow.speed_mps = mission.speed_mps;
   PurePursuit controller(path, follow, limits);
-  const World world(map, world_options);
-  OdometrySensor odometry(odometry_options);
+  const World world(map, settings.world);
+  OdometrySensor odometry(settings.odometry);
 
   LogHeader header;
   header.name = mission.name;
