@@ -112,6 +112,33 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     };
   });
 
+  ImportOsmConfig osm;
+  std::string osm_origin, osm_bbox;
+  CLI::App* io = map->add_subcommand("import-osm", "Convert OpenStreetMap data (walkable ways) to a mapnav map");
+  io->add_option("input", osm.input, "OpenStreetMap file: .osm (XML), .osm.pbf, .osm.bz2")->required()->check(CLI::ExistingFile);
+  io->add_option("-o,--output", osm.output, "mapnav-map/1 JSON to write (only when the imported map is valid)")->required();
+  io->add_option("--bbox", osm_bbox, "Keep only W,S,E,N (degrees); ways leaving it are cut at its border");
+  io->add_option("--highways", osm.highways, "highway values kept, comma-separated (default footway,path,pedestrian,steps,cycleway)");
+  addOrigin(io, osm_origin);
+  io->add_flag("--repair", osm.repair,
+               "Merge nodes closer than 0.5 m, add an intersection where kept ways cross without a shared node, "
+               "drop stubs and loops shorter than 1 m; every repair is listed");
+  io->add_option("--name", osm.name, "The map's name (default: \"imported from FILE\")");
+  io->footer(
+      "Ways are split at every node two kept ways share; those nodes and way ends become intersections (id n<node>, "
+      "x<k> for one --repair added), roads are w<way> or w<way>-<k>, with the OSM ids in their properties. Widths "
+      "from `width` or per highway (footway 2 m, path 1.5, pedestrian 4, steps 2, cycleway 2), surfaces from "
+      "`surface`, grass shoulders, steps with route cost factor 20. Without --origin the origin is the centre of the "
+      "kept data. Data problems are reported as warnings (where = way/ID or node/ID); nothing is written when the "
+      "map is invalid.");
+  io->callback([&] {
+    command = [&] {
+      if (!osm_origin.empty()) osm.origin = parseOrigin(osm_origin);
+      if (!osm_bbox.empty()) osm.bbox = parseBbox(osm_bbox);
+      return runImportOsm(osm, out, err);
+    };
+  });
+
   ExportGeoJsonConfig exp;
   std::string export_origin;
   CLI::App* ex = map->add_subcommand("export-geojson", "Write a map as GeoJSON in lon/lat, for QGIS");

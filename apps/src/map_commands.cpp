@@ -1,5 +1,6 @@
 #include "map_commands.h"
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -15,6 +16,7 @@
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/map_render.h"
 #include "mapnav/map/validation.h"
+#include "mapnav/osm/osm_import.h"
 
 namespace mapnav::cli {
 
@@ -25,6 +27,14 @@ GeoOrigin parseOrigin(const std::string& text) {
     throw InvalidInput("--origin \"" + text + "\": latitude must be in [-90, 90] and longitude in [-180, 180]");
   }
   return GeoOrigin{values[0], values[1], values.size() == 3 ? values[2] : 0.0};
+}
+
+std::array<double, 4> parseBbox(const std::string& text) {
+  const std::vector<double> b = parseNumbers("--bbox", text, 4, 4, "W,S,E,N (degrees)");
+  if (!(b[0] < b[2] && b[1] < b[3] && b[0] >= -180 && b[2] <= 180 && b[1] >= -90 && b[3] <= 90)) {
+    throw InvalidInput("--bbox \"" + text + "\": expected west < east in [-180, 180] and south < north in [-90, 90]");
+  }
+  return {b[0], b[1], b[2], b[3]};
 }
 
 int runValidate(const ValidateConfig& config, std::ostream& out, std::ostream& err) {
@@ -91,6 +101,42 @@ int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::
     saveMap(imported->map, config.output);
     out << "wrote " << config.output << " (" << imported->map.intersections.size() << " intersections, "
         << imported->map.roads.size() << " roads)\n";
+    return static_cast<int>(kOk);
+  });
+}
+
+int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream& err) {
+  return guarded(err, [&] {
+    OsmImportOptions options;
+    options.bbox = config.bbox;
+    if (config.highways) {
+      options.highways.clear();
+      std::stringstream list(*config.highways);
+      for (std::string h; std::getline(list, h, ',');) {
+        if (!h.empty()) options.highways.push_back(h);
+      }
+    }
+    options.origin = config.origin;
+    options.repair = config.repair;
+    if (config.name) options.name = *config.name;
+    const OsmImport imported = importOsm(config.input, options);
+    const OsmImportReport& report = imported.report;
+    out << config.input << ": " << report.nodes_read << " nodes, " << report.ways_read << " ways; kept "
+        << report.ways_kept << " ways\n";
+    printIssues(report.issues, config.input, err);
+    for (const std::string& repair : report.repairs) out << "repair: " << repair << "\n";
+    const Issues issues = validateMap(imported.map);
+    printIssues(issues, config.output, err);
+    if (hasErrors(issues)) {
+      err << "mapnav: error: " << config.input << ": the imported map is invalid (" << countSeverity(issues, Severity::Error)
+          << " errors" << (config.repair ? "" : "; --repair may fix them") << "); nothing written\n";
+      return static_cast<int>(kInvalid);
+    }
+    saveMap(imported.map, config.output);
+    out << "wrote " << config.output << " (" << imported.map.intersections.size() << " intersections, "
+        << imported.map.roads.size() << " roads; " << report.repairs.size() << " repairs, "
+        << countSeverity(report.issues, Severity::Warning) << " data warnings, "
+        << countSeverity(issues, Severity::Warning) << " map warnings)\n";
     return static_cast<int>(kOk);
   });
 }

@@ -1,5 +1,6 @@
 #pragma once
 // `mapnav map ...`: each command is a config struct and a function, so tests can call them.
+#include <array>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -44,6 +45,20 @@ struct ExportGeoJsonConfig {
   std::optional<GeoOrigin> origin;
 };
 int runExportGeoJson(const ExportGeoJsonConfig& config, std::ostream& out, std::ostream& err);
+
+struct ImportOsmConfig {
+  std::string input;                       ///< .osm (XML), .osm.pbf, .osm.bz2, ...
+  std::string output;                      ///< mapnav-map/1 JSON (written only when the map is valid)
+  std::optional<std::array<double, 4>> bbox;  ///< west, south, east, north, degrees (parseBbox)
+  std::optional<std::string> highways;     ///< "footway,path,..." (default: OsmImportOptions')
+  std::optional<GeoOrigin> origin;
+  bool repair = false;
+  std::optional<std::string> name;
+};
+int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream& err);
+
+/// "W,S,E,N" (degrees, west < east, south < north). Throws InvalidInput saying what is wrong.
+std::array<double, 4> parseBbox(const std::string& text);
 
 /// "LAT,LON" or "LAT,LON,ALT" (degrees, metres). Throws InvalidInput saying what is wrong.
 GeoOrigin parseOrigin(const std::string& text);

@@ -109,6 +109,33 @@ std::optional<std::vector<std::pair<std::string, Appearance>>> readSurfaces(cons
 
 namespace {
 
+/// "properties": {"name": "string", ...}; nothing when absent.
+Properties readProperties(JsonObject& object, Issues& issues) {
+  Properties out;
+  const Json* value = object.member("properties", false);
+  if (value == nullptr) return out;
+  const std::string pointer = object.pointer("properties");
+  if (!value->is_object()) {
+    addIssue(issues, Severity::Error, "schema.type", pointer, "expected an object of strings, got " + std::string(jsonTypeName(*value)));
+    return out;
+  }
+  for (auto it = value->begin(); it != value->end(); ++it) {
+    if (it->is_string()) {
+      out.emplace(it.key(), it->get<std::string>());
+    } else {
+      addIssue(issues, Severity::Error, "schema.type", pointerJoin(pointer, it.key()),
+               "expected a string, got " + std::string(jsonTypeName(*it)));
+    }
+  }
+  return out;
+}
+
+Json propertiesToJson(const Properties& properties) {
+  Json out = Json::object();
+  for (const auto& [key, value] : properties) out[key] = value;
+  return out;
+}
+
 std::optional<Intersection> readIntersection(const Json& value, const std::string& pointer, Issues& issues) {
   JsonObject object(value, pointer, issues);
   if (!object.isObject()) return std::nullopt;
@@ -130,6 +157,7 @@ std::optional<Intersection> readIntersection(const Json& value, const std::strin
   std::optional<std::vector<Vec2>> shape;
   const Json* shape_json = object.member("shape", false);
   if (shape_json) shape = readPoints(shape_json, object.pointer("shape"), issues);
+  x.properties = readProperties(object, issues);
   object.rejectUnknownMembers();
   if (!id || !parsed_kind || !point || (shape_json && !shape)) return std::nullopt;
   x.id = *id;
@@ -152,6 +180,7 @@ std::optional<Road> readRoad(const Json& value, const std::string& pointer, Issu
   const auto right = object.string("right");
   const auto oneway = object.boolean("oneway", false);
   const auto cost_factor = object.number("cost_factor", false);
+  Properties properties = readProperties(object, issues);
   object.rejectUnknownMembers();
   const bool optional_ok = (oneway || !object.has("oneway")) && (cost_factor || !object.has("cost_factor"));
   if (!id || !from || !to || !centerline || !width || !surface || !left || !right || !optional_ok) return std::nullopt;
@@ -166,6 +195,7 @@ std::optional<Road> readRoad(const Json& value, const std::string& pointer, Issu
   road.right = *right;
   road.oneway = oneway.value_or(false);
   road.cost_factor = cost_factor.value_or(1.0);
+  road.properties = std::move(properties);
   return road;
 }
 
@@ -277,6 +307,7 @@ std::string mapToJson(const MapData& map) {
   for (const Intersection& x : map.intersections) {
     Json j = {{"id", x.id}, {"kind", toString(x.kind)}, {"position", pointToJson(x.position)}};
     if (x.shape) j["shape"] = pointsToJson(*x.shape);
+    if (!x.properties.empty()) j["properties"] = propertiesToJson(x.properties);
     intersections.push_back(std::move(j));
   }
   doc["intersections"] = std::move(intersections);
@@ -286,6 +317,7 @@ std::string mapToJson(const MapData& map) {
               {"left", r.left}, {"right", r.right}};
     if (r.oneway) j["oneway"] = true;
     if (r.cost_factor != 1.0) j["cost_factor"] = r.cost_factor;
+    if (!r.properties.empty()) j["properties"] = propertiesToJson(r.properties);
     j["centerline"] = pointsToJson(r.centerline.points());
     roads.push_back(std::move(j));
   }

@@ -107,25 +107,44 @@ void drawMapLayers(render::Canvas& canvas, const render::View& view, const Map& 
     canvas.polyline(toPixels(view, road->centerline.points()), style);
   }
   if (!labels) return;
+  // Ids, placed greedily without overlap (intersections first, then roads, each in map order): on a
+  // dense map (an OSM import of hundreds of roads) a label that would cover another is left out
+  // rather than drawn illegibly. The box is the text's extent in the PNG font (about 1 em a character).
   const double size = std::clamp(ppm * 1.6, 10.0, 15.0);
-  for (const Road* road : roads) {
-    TextStyle text;
-    text.size_px = size;
-    text.color = Rgb{20, 40, 120};
-    text.halo = Rgb{255, 255, 255};
-    canvas.text(view.toPixel(road->centerline.pointAt(road->centerline.length() / 2)), road->id, text);
-  }
+  std::vector<Box2> placed;
+  auto place = [&](const Vec2& at, const std::string& label, Anchor anchor) {
+    const double width = 1.0 * size * static_cast<double>(label.size());
+    const double x0 = anchor == Anchor::Start ? at.x() : at.x() - width / 2;
+    const Box2 box(Vec2(x0 - 2, at.y() - size), Vec2(x0 + width + 2, at.y() + 0.3 * size));
+    for (const Box2& other : placed) {
+      if (other.intersects(box)) return false;
+    }
+    placed.push_back(box);
+    return true;
+  };
   for (const Intersection* x : intersections) {
     Style dot;
     dot.fill = Rgb{200, 30, 30};
     canvas.circle(view.toPixel(x->position), 3.0, dot);
+    const Vec2 at = view.toPixel(x->position) + Vec2(6, -6);
+    const std::string label = x->id + " " + std::string(toString(x->kind));
+    if (!place(at, label, Anchor::Start)) continue;
     TextStyle text;
     text.size_px = size;
     text.color = Rgb{150, 20, 20};
     text.bold = true;
     text.halo = Rgb{255, 255, 255};
     text.anchor = Anchor::Start;
-    canvas.text(view.toPixel(x->position) + Vec2(6, -6), x->id + " " + std::string(toString(x->kind)), text);
+    canvas.text(at, label, text);
+  }
+  for (const Road* road : roads) {
+    const Vec2 at = view.toPixel(road->centerline.pointAt(road->centerline.length() / 2));
+    if (!place(at, road->id, Anchor::Middle)) continue;
+    TextStyle text;
+    text.size_px = size;
+    text.color = Rgb{20, 40, 120};
+    text.halo = Rgb{255, 255, 255};
+    canvas.text(at, road->id, text);
   }
 }
 

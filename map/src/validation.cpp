@@ -225,7 +225,11 @@ class Validator {
       }
     }
     if (!repeated) {
-      for (const SegmentHit& hit : selfIntersections(points, false)) {
+      // A loop road that comes back to its first point: its first and last segments meet there
+      // as neighbours do, not as a crossing.
+      const bool closed = points.size() > 3 && (points.front() - points.back()).norm() < options_.repeated_point_tolerance_m;
+      const std::vector<Vec2> chain(points.begin(), closed ? points.end() - 1 : points.end());
+      for (const SegmentHit& hit : selfIntersections(chain, closed)) {
         error("roads.self_intersection", pointerJoin(ptr, std::min(hit.i, hit.j)),
               "segment " + std::to_string(std::min(hit.i, hit.j)) + " of road \"" + road.id + "\" meets its segment " +
                   std::to_string(std::max(hit.i, hit.j)) + " at " + fmt(hit.point));

@@ -109,6 +109,34 @@ TEST(ValidateMap, ARoadPassingThroughAnIntersectionItDoesNotEndAtIsACrossing) {
   EXPECT_TRUE(found);
 }
 
+TEST(ValidateMap, ALoopRoadBackToItsStartIsNotASelfIntersectionButAFigureEightIs) {
+  // A lollipop, as OpenStreetMap has them: a loop leaving E and coming back to it.
+  MapData data = testing::crossOfFourRoads();
+  for (Intersection& x : data.intersections) {
+    if (x.id == "E") x.kind = IntersectionKind::Other;
+  }
+  Road loop = data.roads[0];
+  loop.id = "LOOP";
+  loop.from = loop.to = "E";
+  loop.centerline = Polyline2({Vec2(20, 0), Vec2(30, -5), Vec2(40, 0), Vec2(30, 5), Vec2(20, 0)});
+  data.roads.push_back(loop);
+  auto checks = [](const Issues& issues) {
+    std::multiset<std::string> out;
+    for (const Issue& i : issues) out.insert(i.check);
+    return out;
+  };
+  EXPECT_EQ(checks(validateMap(data)).count("roads.self_intersection"), 0u);
+  // The same loop drawn as a figure eight: segments 1 and 3 cross at (35, 0).
+  data.roads.back().centerline = Polyline2({Vec2(20, 0), Vec2(30, 5), Vec2(40, -5), Vec2(40, 5), Vec2(30, -5), Vec2(20, 0)});
+  const Issues issues = validateMap(data);
+  ASSERT_EQ(checks(issues).count("roads.self_intersection"), 1u);
+  for (const Issue& i : issues) {
+    if (i.check == "roads.self_intersection") {
+      EXPECT_EQ(i.where, "/roads/4/centerline/1");
+    }
+  }
+}
+
 TEST(ValidateMap, EndInsideAnAuthoredShapeIsAtTheIntersection) {
   MapData data = testing::crossOfFourRoads();
   // A 6 m plaza square; R1 now starts at its edge, 2.9 m from the position.

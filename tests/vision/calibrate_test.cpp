@@ -245,8 +245,8 @@ TEST(Chessboard, FindsAndDrawsCornersAndRejectsBoardlessImages) {
 }
 
 TEST(Chessboard, RealPhotosCalibrateWithSubPixelError) {
-  const std::filesystem::path dir = "/work/shared/data/real/calibration";
-  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << "no real calibration photos at " << dir;
+  const std::filesystem::path dir = testing::realDataPath("calibration");
+  ASSERT_TRUE(std::filesystem::is_directory(dir)) << "no real calibration photos at " << dir << " (../shared/data/real)";
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     if (e.path().extension() == ".jpg") names.push_back(e.path().string());

@@ -14,6 +14,8 @@ fs::path sourceDir() { return fs::path(MAPNAV_SOURCE_DIR); }
 fs::path mapPath(const std::string& name) { return sourceDir() / "maps" / name; }
 fs::path fixturePath(const std::string& name) { return sourceDir() / "tests" / "data" / name; }
 
+fs::path realDataPath(const std::string& name) { return sourceDir().parent_path() / "shared" / "data" / "real" / name; }
+
 fs::path freshTempDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = "mapnav-test-" + std::to_string(::getpid());

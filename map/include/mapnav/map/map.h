@@ -3,6 +3,7 @@
 // nodes, roads are edges) and the geometric map (their shapes). `MapData` is the map as authored,
 // plain data that may be invalid; `Map` is a validated map with lookups and a spatial index.
 #include <cstddef>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,11 +36,16 @@ struct GeoOrigin {
   bool operator==(const GeoOrigin&) const = default;
 };
 
+/// Free-form string properties kept with an element, for people and other tools (the OSM ids of an
+/// imported map: `osm_node`, `osm_way`, `highway`). mapnav itself never reads them.
+using Properties = std::map<std::string, std::string>;
+
 struct Intersection {
   std::string id;
   IntersectionKind kind = IntersectionKind::Other;
   Vec2 position = Vec2::Zero();    ///< where the centre lines meet
   std::optional<Polygon2> shape;   ///< the paved outline as authored; derived by Map when absent
+  Properties properties = {};  ///< see Properties
   bool operator==(const Intersection&) const = default;
 };
 
@@ -52,6 +58,7 @@ struct Road {
   std::string left, right;         ///< shoulder surfaces seen walking from → to
   bool oneway = false;             ///< drivable only from → to
   double cost_factor = 1.0;        ///< multiplies the length in route costs
+  Properties properties = {};  ///< see Properties
   bool operator==(const Road&) const = default;
 };
 

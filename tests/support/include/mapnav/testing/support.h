@@ -18,6 +18,9 @@ std::filesystem::path sourceDir();
 std::filesystem::path mapPath(const std::string& name);
 /// `tests/data/NAME` in the source tree.
 std::filesystem::path fixturePath(const std::string& name);
+/// `../shared/data/real/NAME` beside the source tree: real data recorded by others (its README),
+/// read in place, never copied into the repository.
+std::filesystem::path realDataPath(const std::string& name);
 /// A fresh empty folder under the system temp dir, unique to the running test.
 std::filesystem::path freshTempDir();
 
