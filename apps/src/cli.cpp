@@ -348,6 +348,9 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   rc->add_option("--y-max", rectify.options.y_max_m, "Leftmost ground, m")->default_val(6.0);
   rc->add_option("--resolution", rectify.options.metres_per_pixel, "Metres per output pixel")->default_val(0.02);
   rc->add_option("-o,--output", rectify.output, "Top view to write (PNG): far at the top, left on the left")->required();
+  rc->add_flag("--undistort", rectify.undistort,
+               "Write the frame undistorted instead (same size, as the camera's ideal pin-hole would see it: "
+               "straight lines straight); the ground options are then unused");
   rc->callback([&] { command = [&] { return runRectify(rectify, out, err); }; });
 
   CLI::App* cal = app.add_subcommand("calibrate", "Camera calibration (Wallace 1985, 3.5.2; OpenCV chessboards)");

@@ -46,6 +46,12 @@ int runRectify(const RectifyConfig& config, std::ostream& out, std::ostream& err
                          std::to_string(frame.height) + ", the camera (" + config.camera + ") expects " +
                          std::to_string(camera->width()) + "x" + std::to_string(camera->height()));
     }
+    if (config.undistort) {
+      writePng(undistortFrame(*camera, frame), config.output);
+      out << "wrote " << config.output << ": " << frame.width << "x" << frame.height
+          << " px, undistorted (the camera's ideal pin-hole: straight lines are straight)\n";
+      return 0;
+    }
     const Rectifier rectifier(*camera, config.options);
     const Image rectified = rectifier.apply(frame);
     writePng(rectified, config.output);

@@ -16,6 +16,7 @@ struct RectifyConfig {
   std::string camera;   ///< mapnav-camera/1 JSON
   std::string output;   ///< the rectified image, PNG
   RectifyOptions options;
+  bool undistort = false;  ///< write the frame undistorted (the ideal pin-hole's view) instead of the top view
 };
 /// The frame warped onto the ground grid (rows: x far → near, columns: y left → right).
 int runRectify(const RectifyConfig& config, std::ostream& out, std::ostream& err);

@@ -97,25 +97,63 @@ double Rectifier::coverage() const {
   return total > 0 ? static_cast<double>(impl_->covered) / total : 0.0;
 }
 
-Image Rectifier::apply(const Image& frame) const {
-  if (frame.width != impl_->camera_width || frame.height != impl_->camera_height) {
-    throw InvalidInput("rectify: the frame is " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
-                       ", the camera's image " + std::to_string(impl_->camera_width) + "x" +
-                       std::to_string(impl_->camera_height));
+namespace {
+
+// A frame that is `width` x `height` with 1 or 3 channels and matching data, or InvalidInput
+// saying which.
+void checkFrame(const Image& frame, int width, int height, const char* what) {
+  if (frame.width != width || frame.height != height) {
+    throw InvalidInput(std::string(what) + ": the frame is " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+                       ", the camera's image " + std::to_string(width) + "x" + std::to_string(height));
   }
   if (frame.channels != 1 && frame.channels != 3) {
-    throw InvalidInput("rectify: the frame has " + std::to_string(frame.channels) + " channels (1 or 3 expected)");
+    throw InvalidInput(std::string(what) + ": the frame has " + std::to_string(frame.channels) + " channels (1 or 3 expected)");
   }
   if (frame.data.size() != static_cast<std::size_t>(frame.width) * frame.height * frame.channels) {
-    throw InvalidInput("rectify: the frame's data does not match its size");
+    throw InvalidInput(std::string(what) + ": the frame's data does not match its size");
   }
+}
+
+// Each output pixel bilinearly sampled at (map_u, map_v) of the frame; black outside it.
+Image remapFrame(const Image& frame, const cv::Mat& map_u, const cv::Mat& map_v) {
   const int type = frame.channels == 1 ? CV_8UC1 : CV_8UC3;
   // remap only reads the source.
   const cv::Mat src(frame.height, frame.width, type, const_cast<std::uint8_t*>(frame.data.data()));
-  Image out(width(), height(), frame.channels);
+  Image out(map_u.cols, map_u.rows, frame.channels);
   cv::Mat dst(out.height, out.width, type, out.data.data());
-  cv::remap(src, dst, impl_->map_u, impl_->map_v, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+  cv::remap(src, dst, map_u, map_v, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
   return out;
+}
+
+}  // namespace
+
+Image Rectifier::apply(const Image& frame) const {
+  checkFrame(frame, impl_->camera_width, impl_->camera_height, "rectify");
+  return remapFrame(frame, impl_->map_u, impl_->map_v);
+}
+
+Image undistortFrame(const Camera& camera, const Image& frame) {
+  checkFrame(frame, camera.width(), camera.height(), "undistort");
+  if (camera.model() != LensModel::Pinhole) {
+    throw InvalidInput("undistort: only a pinhole camera has an ideal pinhole to undistort to (this one is " +
+                       std::string(toString(camera.model())) + ")");
+  }
+  const CameraIntrinsics& in = camera.intrinsics();
+  cv::Mat map_u(in.height, in.width, CV_32FC1), map_v(in.height, in.width, CV_32FC1);
+  const Vec3 centre = camera.center();
+  for (int r = 0; r < in.height; ++r) {
+    auto* mu = map_u.ptr<float>(r);
+    auto* mv = map_v.ptr<float>(r);
+    for (int c = 0; c < in.width; ++c) {
+      // The ideal pinhole's ray through (c, r), imaged by the real lens.
+      const Vec3 direction((c - in.cx) / in.fx, (r - in.cy) / in.fy, 1.0);
+      const std::optional<Vec2> px = camera.project(centre + camera.rotation() * direction);
+      const bool ok = px && camera.inImage(*px);
+      mu[c] = ok ? static_cast<float>(px->x()) : -10.0f;
+      mv[c] = ok ? static_cast<float>(px->y()) : -10.0f;
+    }
+  }
+  return remapFrame(frame, map_u, map_v);
 }
 
 }  // namespace mapnav

@@ -64,4 +64,10 @@ class Rectifier {
   std::unique_ptr<Impl> impl_;
 };
 
+/// The frame as the camera's ideal pin-hole would have taken it: same size, focal lengths and
+/// principal point, no lens distortion, so that straight lines in the world are straight in the
+/// image. Black where the real lens saw nothing. Throws InvalidInput for a frame of another size or
+/// a camera that is not a pin-hole.
+Image undistortFrame(const Camera& camera, const Image& frame);
+
 }  // namespace mapnav
