@@ -104,7 +104,7 @@ int finish(const ReportedRun& r, bool json, bool cut_short, std::ostream& out) {
     out << summaryText(r.run);
     if (!r.trace.empty()) out << "wrote " << r.trace << "\n";
     if (r.report && r.report->geojson) out << "wrote " << r.report->geojson->string() << "\n";
-    if (r.report) out << "report: " << r.report->html.string() << "\n";
+    if (r.report) out << "report: " << fs::absolute(r.report->html).lexically_normal().string() << "\n";
   }
   const bool ok = r.run.metrics.reached_goal || r.run.stopped_early || cut_short;
   return static_cast<int>(ok ? kOk : kInvalid);
