@@ -248,6 +248,9 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     c->add_option("--trace", config.trace, "Write the JSONL trace of every token (docs/trace-format.md)");
     c->add_option("--max-frames", config.max_frames, "Stop after this many frames (default: to the end)");
     c->add_flag("--json", config.json, "Print the metrics as one JSON object instead of the summary");
+    c->add_option("--report", config.report_dir,
+                  "Write the HTML report (report.html), trajectories.geojson and, without --trace, trace.jsonl "
+                  "to this folder (docs/report.md)");
     config.progress = stderr_is_tty;
   };
   constexpr const char* kMissionFooter =
@@ -277,6 +280,26 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     if (run_seed >= 0) run_config.seed = static_cast<std::uint64_t>(run_seed);
     command = [&] { return runRunCommand(run_config, out, err); };
   });
+
+  DemoConfig demo;
+  CLI::App* dm = app.add_subcommand("demo", "Simulate the paper's dialogue mission on the campus map, replay it and write the HTML report");
+  dm->add_option("-o,--output", demo.output, "Folder to write (default: out/demo)");
+  dm->add_option("--mission", demo.mission, "Another mission (default: maps/missions/campus_dialogue.json)")
+      ->check(CLI::ExistingFile);
+  dm->add_option("--max-frames", demo.max_frames, "Stop after this many frames (default: the whole mission)");
+  dm->footer(
+      "The whole system of Wallace et al. 1985 on one mission: \"the robot is at road R1, 3 m from I1; navigate to\n"
+      "R3, 2 m from I3\". The same as\n"
+      "  mapnav simulate --mission maps/missions/campus_dialogue.json -o DIR/log\n"
+      "  mapnav replay --mission maps/missions/campus_dialogue.json --log DIR/log --report DIR\n"
+      "Writes DIR/log/ (the replay log: frames, odometry, truth; an earlier demo's log there is replaced),\n"
+      "DIR/trace.jsonl (every blackboard token; `mapnav trace show` prints the dialogue), DIR/report.html (one\n"
+      "self-contained page: map, route and trajectories, errors over time, frames with predicted and detected\n"
+      "lines, the dialogue; open it in any browser) and DIR/trajectories.geojson (for QGIS). Prints the summary\n"
+      "and the report's path. Exit codes: 0 the goal was reached (or --max-frames stopped it first), 1 the\n"
+      "mission failed or the input is invalid, 2 usage or I/O error.");
+  demo.progress = stderr_is_tty;
+  dm->callback([&] { command = [&] { return runDemo(demo, out, err); }; });
 
   CLI::App* trace = app.add_subcommand("trace", "Read mission traces (docs/trace-format.md)");
   trace->require_subcommand(1);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <ostream>
 #include <sstream>
+#include <system_error>
 
 #include "cli.h"
 #include "mapnav/core/error.h"
@@ -82,6 +83,16 @@ int withMap(const std::string& file, std::ostream& err, const std::function<int(
     }
     return body(*map);
   });
+}
+
+std::string dataPath(const std::string& relative) {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "mapnav" / relative;
+    if (fs::is_regular_file(installed, ec)) return installed.string();
+  }
+  return std::string(MAPNAV_SOURCE_DIR) + "/" + relative;
 }
 
 std::vector<double> parseNumbers(const std::string& option, const std::string& text, std::size_t min_count,

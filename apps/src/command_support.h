@@ -17,6 +17,11 @@ namespace mapnav::cli {
 std::vector<double> parseNumbers(const std::string& option, const std::string& text, std::size_t min_count,
                                  std::size_t max_count, const std::string& expected);
 
+/// A file shipped with mapnav, by its path in the source tree ("maps/park_path.json"): the
+/// installed copy next to the program (../share/mapnav/...) when there is one, else the source
+/// tree's.
+std::string dataPath(const std::string& relative);
+
 /// `FILE:/pointer: severity: check: message`, one per line.
 void printIssues(const Issues& issues, const std::string& file, std::ostream& out);
 

@@ -18,8 +18,8 @@ struct MissionRunConfig {
   std::size_t max_frames = 0;          ///< 0: to the end
   bool json = false;                   ///< print the metrics as one JSON object instead of the summary
   bool progress = false;               ///< draw a progress bar on stderr (the CLI sets it when stderr is a TTY)
-  /// The HTML report folder (issue 9, item 5). Not written yet: the report writer plugs in where
-  /// runMissionCommand() has the MissionRun (and the trace); "" = none.
+  /// The HTML report folder (docs/report.md): report.html and trajectories.geojson, and the trace
+  /// (trace.jsonl) when `trace` is not set; "" = none.
   std::string report_dir;
 };
 
@@ -29,6 +29,14 @@ struct ReplayConfig : MissionRunConfig {
 
 struct RunConfig : MissionRunConfig {
   std::optional<std::uint64_t> seed;  ///< overrides the world's and the odometry's seeds
+};
+
+/// `mapnav demo`: the paper's dialogue mission on the campus map, simulated, replayed and reported.
+struct DemoConfig {
+  std::string output = "out/demo";  ///< the folder: log/, trace.jsonl, report.html, trajectories.geojson
+  std::string mission;              ///< "" : maps/missions/campus_dialogue.json (installed or the source tree's)
+  std::size_t max_frames = 0;       ///< 0: the whole mission
+  bool progress = false;            ///< a progress bar on stderr
 };
 
 struct TraceShowConfig {
@@ -41,6 +49,10 @@ struct TraceShowConfig {
 int runReplayCommand(const ReplayConfig& config, std::ostream& out, std::ostream& err);
 /// `mapnav run`: closed loop in the simulator. Exit codes as replay.
 int runRunCommand(const RunConfig& config, std::ostream& out, std::ostream& err);
+/// `mapnav demo`: simulate the mission to DIR/log (replacing a replay log left there by an earlier
+/// demo, never anything else), replay it with the default pipeline, write the trace and the report
+/// in DIR, print the summary and the report's path. Exit codes as replay.
+int runDemo(const DemoConfig& config, std::ostream& out, std::ostream& err);
 /// `mapnav trace show`: the trace as the paper's dialogue. Exit 1 for bad lines (FILE:LINE:1: ...).
 int runTraceShow(const TraceShowConfig& config, std::ostream& out, std::ostream& err);
 

@@ -3,17 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <system_error>
 
 #include "mapnav/geometry/types.h"
+#include "command_support.h"
 #include "mapnav/map/predict.h"
 
 namespace mapnav::cli {
 
 namespace {
-namespace fs = std::filesystem;
-
 double msSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -26,15 +23,7 @@ Pose2 alongR1(double d) {
 
 }  // namespace
 
-std::string defaultParkMapPath() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const fs::path installed = exe.parent_path().parent_path() / "share" / "mapnav" / "maps" / "park_path.json";
-    if (fs::is_regular_file(installed, ec)) return installed.string();
-  }
-  return std::string(MAPNAV_SOURCE_DIR) + "/maps/park_path.json";
-}
+std::string defaultParkMapPath() { return dataPath("maps/park_path.json"); }
 
 ParkScene makeParkScene(const Map& park, int size, int frames) {
   ParkScene s;

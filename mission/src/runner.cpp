@@ -220,7 +220,7 @@ class ModuleLoop {
         go_on = false;
       }
     }
-    if (options_.on_frame_image) options_.on_frame_image(index, rgb);
+    if (options_.on_frame) options_.on_frame(FrameView{index, t, &rgb, &map_module_.prediction().view, &detected});
     return go_on;
   }
 

@@ -4,11 +4,13 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <variant>
 
 #include "detail.h"
 #include "mapnav/render/canvas.h"
+#include "mapnav/render/xml.h"
 
 namespace mapnav::render {
 namespace {
@@ -56,18 +58,7 @@ void attr(std::string& out, const char* name, const char* value) {
   out += '"';
 }
 
-void appendEscaped(std::string& out, const std::string& text) {
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-}
+void appendEscaped(std::string& out, const std::string& text) { out += escapeXml(text); }
 
 void appendPoints(std::string& out, const std::vector<Vec2>& pts) {
   out += " points=\"";
@@ -184,6 +175,22 @@ class SvgWriter {
 };
 
 }  // namespace
+
+std::string escapeXml(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
 
 std::string Canvas::toSvg() const {
   std::string out;

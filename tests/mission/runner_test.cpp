@@ -227,7 +227,7 @@ TEST(RunnerClosedLoop, TheShortCrossingReachesTheGoalSteeringOnTheEstimate) {
   RunOptions options;
   options.trace = dir / "run.jsonl";
   std::size_t images = 0;
-  options.on_frame_image = [&](std::size_t, const Image& rgb) { images += rgb.width == 512 ? 1 : 0; };
+  options.on_frame = [&](const FrameView& f) { images += f.rgb->width == 512 ? 1 : 0; };
   std::size_t progress_calls = 0;
   options.progress = [&](const RunProgress& p) {
     ++progress_calls;

@@ -70,7 +70,9 @@ std::string slurp(int fd) {
 }
 }  // namespace
 
-CommandResult runCli(const std::vector<std::string>& args) {
+CommandResult runCli(const std::vector<std::string>& args) { return runProgram(MAPNAV_CLI, args); }
+
+CommandResult runProgram(const std::string& program_path, const std::vector<std::string>& args) {
   // Output goes to temporary files rather than pipes, so a chatty child cannot dead-lock us.
   const fs::path dir = fs::temp_directory_path();
   const std::string stem = "mapnav-cli-" + std::to_string(::getpid());
@@ -84,7 +86,7 @@ CommandResult runCli(const std::vector<std::string>& args) {
     ::dup2(out, 1);
     ::dup2(err, 2);
     std::vector<char*> argv;
-    std::string program = MAPNAV_CLI;
+    std::string program = program_path;
     argv.push_back(program.data());
     std::vector<std::string> copy = args;
     for (std::string& a : copy) argv.push_back(a.data());

@@ -38,6 +38,16 @@ struct RunProgress {
   double t = 0;           ///< mission time, s
 };
 
+/// A camera frame and what the modules made of it, for pictures of the run (the report's thumbnails,
+/// as the paper's Figure 2). The pointers are valid during the call only.
+struct FrameView {
+  std::size_t index = 0;
+  double t = 0;
+  const Image* rgb = nullptr;                  ///< the frame the pipeline saw (RGB)
+  const PredictedObject* predicted = nullptr;  ///< the Map's prediction for it (empty: no road in view)
+  const DetectedObject* detected = nullptr;    ///< Vision's answer (lines labelled with predicted segment ids)
+};
+
 struct RunOptions {
   /// The vision pipeline by name (registry: createPipeline); "" keeps the mission's `vision.pipeline`,
   /// and "" there means kDefaultPipelineName.
@@ -62,8 +72,9 @@ struct RunOptions {
   NavigatorOptions navigator;
   /// Called after every frame (a progress bar). Not in the trace.
   std::function<void(const RunProgress&)> progress;
-  /// Called with every camera frame (the report's thumbnails), after the modules ran.
-  std::function<void(std::size_t frame, const Image& rgb)> on_frame_image;
+  /// Called with every camera frame and its prediction and detection (the report's thumbnails),
+  /// after the modules ran.
+  std::function<void(const FrameView& frame)> on_frame;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;

@@ -43,5 +43,7 @@ struct CommandResult {
 };
 /// Runs the built `mapnav` with `args` (no shell), capturing stdout and stderr.
 CommandResult runCli(const std::vector<std::string>& args);
+/// Runs `program` (a path; no shell, no PATH search) with `args` the same way.
+CommandResult runProgram(const std::string& program, const std::vector<std::string>& args);
 
 }  // namespace mapnav::testing

@@ -1,0 +1,627 @@
+#include "mapnav/mission/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <utility>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/io.h"
+#include "mapnav/core/json.h"
+#include "mapnav/core/options.h"
+#include "mapnav/map/geodesy.h"
+#include "mapnav/map/map_render.h"
+#include "mapnav/mission/trace.h"
+#include "mapnav/render/canvas.h"
+#include "mapnav/render/xml.h"
+#include "mapnav/sim/image.h"
+
+namespace mapnav {
+
+void ReportOptions::validate() const {
+  requireOption(max_thumbnails >= 2, "ReportOptions", "max_thumbnails", static_cast<double>(max_thumbnails), ">= 2");
+  requireOption(max_failure_thumbnails < max_thumbnails, "ReportOptions", "max_failure_thumbnails",
+                static_cast<double>(max_failure_thumbnails), "< max_thumbnails");
+  requireOption(thumbnail_width_px >= 16 && thumbnail_width_px <= 2048, "ReportOptions", "thumbnail_width_px",
+                thumbnail_width_px, "in 16..2048");
+  requireOption(figure_width_px >= 200 && figure_width_px <= 4096, "ReportOptions", "figure_width_px", figure_width_px,
+                "in 200..4096");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The strip's frames
+
+namespace {
+
+// The frame shrunk by a whole factor (box average): the factor that brings the width nearest to
+// `width_px`, at least 1.
+Image shrink(const Image& rgb, int width_px) {
+  const int f = std::max(1, static_cast<int>(std::lround(static_cast<double>(rgb.width) / width_px)));
+  if (f == 1) return rgb;
+  Image out(rgb.width / f, rgb.height / f, rgb.channels);
+  for (int y = 0; y < out.height; ++y) {
+    for (int x = 0; x < out.width; ++x) {
+      for (int c = 0; c < rgb.channels; ++c) {
+        int sum = 0;
+        for (int dy = 0; dy < f; ++dy) {
+          for (int dx = 0; dx < f; ++dx) sum += rgb.pixel(x * f + dx, y * f + dy)[c];
+        }
+        out.pixel(x, y)[c] = static_cast<std::uint8_t>((sum + f * f / 2) / (f * f));
+      }
+    }
+  }
+  return out;
+}
+
+ReportThumbnail thumbnail(const FrameView& frame, int width_px) {
+  ReportThumbnail t;
+  t.index = frame.index;
+  t.t = frame.t;
+  t.width = frame.rgb->width;
+  t.height = frame.rgb->height;
+  const std::vector<std::uint8_t> png = encodePng(shrink(*frame.rgb, width_px));
+  t.png.assign(png.begin(), png.end());
+  if (frame.predicted != nullptr) {
+    for (const InterestSegment& s : frame.predicted->segments) t.predicted.push_back(s.image);
+  }
+  if (frame.detected != nullptr) {
+    t.vision_ok = frame.detected->status == DetectedObject::Status::Ok;
+    t.reason = frame.detected->reason;
+    for (const DetectedLine& l : frame.detected->lines) {
+      if (!l.frame_edge) t.detected.push_back({l.image, l.label.value_or("")});
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+ReportFrames::ReportFrames(const ReportOptions& options) : options_(options) { options_.validate(); }
+
+void ReportFrames::add(const FrameView& frame) {
+  if (frame.rgb == nullptr) return;
+  const bool failed = frame.detected != nullptr && frame.detected->status == DetectedObject::Status::Failed;
+  const bool onset = failed && !previous_failed_;
+  previous_failed_ = failed;
+  if (onset && failures_.size() < options_.max_failure_thumbnails) {
+    failures_.push_back(thumbnail(frame, options_.thumbnail_width_px));
+    return;
+  }
+  if (frame.index % stride_ != 0) return;
+  regular_.push_back(thumbnail(frame, options_.thumbnail_width_px));
+  const std::size_t cap = options_.max_thumbnails - options_.max_failure_thumbnails;
+  while (regular_.size() > cap) {  // every other one goes: the strip stays evenly spaced
+    stride_ *= 2;
+    std::erase_if(regular_, [&](const ReportThumbnail& t) { return t.index % stride_ != 0; });
+  }
+}
+
+std::vector<ReportThumbnail> ReportFrames::thumbnails() const {
+  std::vector<ReportThumbnail> all = regular_;
+  all.insert(all.end(), failures_.begin(), failures_.end());
+  std::sort(all.begin(), all.end(), [](const ReportThumbnail& a, const ReportThumbnail& b) { return a.index < b.index; });
+  return all;
+}
+
+// ---------------------------------------------------------------------------------------------
+// HTML pieces
+
+namespace {
+
+using render::Rgb;
+
+constexpr Rgb kRouteColor{120, 170, 255};
+constexpr Rgb kTruthColor{20, 20, 20};
+constexpr Rgb kEstimateColor{0, 90, 230};
+constexpr Rgb kOdometryColor{240, 120, 0};
+constexpr Rgb kAlongColor{0, 150, 70};
+constexpr Rgb kFailureColor{220, 30, 30};
+constexpr Rgb kHaltColor{250, 170, 170};
+
+std::string hex(const Rgb& c) {
+  char s[8];
+  std::snprintf(s, sizeof s, "#%02x%02x%02x", c.r, c.g, c.b);
+  return s;
+}
+
+std::string escape(const std::string& text) { return render::escapeXml(text); }
+
+std::string format(const char* fmt, double value) {
+  char s[64];
+  std::snprintf(s, sizeof s, fmt, value);
+  return s;
+}
+
+std::string base64(const std::string& bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t v = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      v = (v << 8) | (k < n ? static_cast<std::uint8_t>(bytes[i + k]) : 0u);
+    }
+    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[(v >> (18 - 6 * k)) & 63] : '=';
+  }
+  return out;
+}
+
+// A Canvas as an inline <svg> element: no XML prologue, scaled to the page's width, with an id.
+std::string inlineSvg(const render::Canvas& canvas, const std::string& id, const std::string& title) {
+  std::string svg = canvas.toSvg();
+  const std::size_t at = svg.find("<svg ");
+  svg = svg.substr(at == std::string::npos ? 0 : at);
+  svg.insert(5, "id=\"" + id + "\" class=\"figure\" role=\"img\" aria-label=\"" + escape(title) + "\" ");
+  return svg;
+}
+
+// Frames whose Vision failed, grouped into runs of consecutive frames.
+struct FailureRun {
+  std::size_t first = 0, last = 0;  // indices into run.frames
+  std::string reason;
+};
+
+std::vector<FailureRun> failureRuns(const MissionRun& run) {
+  std::vector<FailureRun> runs;
+  for (std::size_t i = 0; i < run.frames.size(); ++i) {
+    if (run.frames[i].vision_ok) continue;
+    if (!runs.empty() && runs.back().last + 1 == i) {
+      runs.back().last = i;
+    } else {
+      runs.push_back({i, i, run.frames[i].vision_reason});
+    }
+  }
+  return runs;
+}
+
+double framePeriod(const MissionRun& run) {
+  if (run.frames.size() < 2) return 0.5;
+  return (run.frames.back().t - run.frames.front().t) / static_cast<double>(run.frames.size() - 1);
+}
+
+// ---- the map
+
+std::vector<Vec2> track(const MissionRun& run, std::optional<Pose2> FrameRecord::*truth) {
+  std::vector<Vec2> points;
+  for (const FrameRecord& f : run.frames) {
+    if (const auto& p = f.*truth) points.push_back(p->translation());
+  }
+  return points;
+}
+
+std::vector<Vec2> track(const MissionRun& run, Pose2 FrameRecord::*pose) {
+  std::vector<Vec2> points;
+  for (const FrameRecord& f : run.frames) points.push_back((f.*pose).translation());
+  return points;
+}
+
+std::string mapFigure(const MissionRun& run, const Map& map, const ReportOptions& options) {
+  const std::vector<Vec2> truth = track(run, &FrameRecord::truth);
+  const std::vector<Vec2> estimate = track(run, &FrameRecord::estimate);
+  const std::vector<Vec2> odometry = track(run, &FrameRecord::odometry_only);
+  Box2 box;
+  for (const auto* line : {&run.route.line.points(), &truth, &estimate, &odometry}) {
+    for (const Vec2& p : *line) box.extend(p);
+  }
+  box.extend(run.start.translation());
+  box.extend(run.goal.translation());
+  const Vec2 pad(15.0, 15.0);  // the roads around the route
+  box = Box2(box.min() - pad, box.max() + pad);
+  // The figure's height follows the route's shape within 300..640 px (a long north-south route would
+  // fill the page); the view centres the route and shows more map around it.
+  const double aspect = box.sizes().y() / std::max(box.sizes().x(), 1.0);
+  const int height = static_cast<int>(std::clamp(options.figure_width_px * aspect, 300.0, 640.0));
+  const render::View view(box, options.figure_width_px, height, 24.0);
+  render::Canvas canvas(view.width(), view.height(), groundColor(map));
+  std::vector<const Road*> roads;
+  std::vector<const Intersection*> intersections;
+  for (const Road& r : map.roads()) roads.push_back(&r);
+  for (const Intersection& x : map.intersections()) intersections.push_back(&x);
+  drawMapLayers(canvas, view, map, roads, intersections, true);
+
+  auto pixels = [&](const std::vector<Vec2>& world) {
+    std::vector<Vec2> px;
+    px.reserve(world.size());
+    for (const Vec2& p : world) px.push_back(view.toPixel(p));
+    return px;
+  };
+  render::Style route;
+  route.stroke = kRouteColor;
+  route.stroke_width_px = 10;
+  route.opacity = 0.6;
+  canvas.polyline(pixels(run.route.line.points()), route);
+  render::Style odo;
+  odo.stroke = kOdometryColor;
+  odo.stroke_width_px = 2;
+  odo.dashed = true;
+  canvas.polyline(pixels(odometry), odo);
+  render::Style tru;
+  tru.stroke = kTruthColor;
+  tru.stroke_width_px = 2.5;
+  canvas.polyline(pixels(truth), tru);
+  render::Style est;
+  est.stroke = kEstimateColor;
+  est.stroke_width_px = 1.5;
+  canvas.polyline(pixels(estimate), est);
+  // Where Vision failed: on the truth when known, else on the estimate.
+  render::Style fail;
+  fail.stroke = kFailureColor;
+  fail.stroke_width_px = 2;
+  for (const FailureRun& f : failureRuns(run)) {
+    const FrameRecord& r = run.frames[f.first];
+    canvas.circle(view.toPixel(r.truth ? r.truth->translation() : r.estimate.translation()), 7, fail);
+  }
+  render::Style start;
+  start.fill = Rgb{0, 170, 0};
+  start.stroke = Rgb{255, 255, 255};
+  start.stroke_width_px = 2;
+  canvas.circle(view.toPixel(run.start.translation()), 7, start);
+  render::Style goal = start;
+  goal.fill = Rgb{200, 0, 160};
+  canvas.circle(view.toPixel(run.goal.translation()), 7, goal);
+  render::TextStyle label;
+  label.size_px = 11;
+  label.bold = true;
+  label.halo = Rgb{255, 255, 255};
+  label.anchor = render::Anchor::Start;
+  canvas.text(view.toPixel(run.start.translation()) + Vec2(10, -8), "start", label);
+  canvas.text(view.toPixel(run.goal.translation()) + Vec2(10, -8), "goal", label);
+  render::drawScaleBarAndNorthArrow(canvas, view);
+  return inlineSvg(canvas, "map-svg", "the map with the planned route and the trajectories");
+}
+
+std::string swatch(const Rgb& color, double width, bool dashed, const std::string& text, const std::string& cls) {
+  return "<span class=\"key " + cls + "\"><svg width=\"34\" height=\"10\"><line x1=\"2\" y1=\"5\" x2=\"32\" y2=\"5\" stroke=\"" +
+         hex(color) + "\" stroke-width=\"" + format("%.1f", width) + "\"" +
+         (dashed ? " stroke-dasharray=\"6 4\"" : "") + "/></svg>" + escape(text) + "</span>";
+}
+
+// ---- the plots
+
+struct Series {
+  std::string name;
+  Rgb color;
+  std::vector<double> values;  // one per frame; NaN: none
+};
+
+// A time plot of `series` over the run's frames, with failed frames shaded red and halted ones pink.
+std::string plot(const MissionRun& run, const std::string& id, const std::string& title, const std::string& unit,
+                 const std::vector<Series>& series, int width) {
+  const int height = 210;
+  const double left = 64, right = width - 16.0, top = 28, bottom = height - 34.0;
+  render::Canvas canvas(width, height, Rgb{255, 255, 255});
+  double t0 = run.frames.empty() ? 0.0 : run.frames.front().t;
+  double t1 = run.frames.empty() ? 1.0 : run.frames.back().t;
+  if (t1 <= t0) t1 = t0 + 1.0;
+  double lo = 0, hi = 0;
+  for (const Series& s : series) {
+    for (double v : s.values) {
+      if (std::isfinite(v)) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+    }
+  }
+  if (hi - lo < 1e-9) hi = lo + 1.0;
+  const double step_y = render::niceScaleLength((hi - lo) / 4.0);
+  lo = std::floor(lo / step_y) * step_y;
+  hi = std::ceil(hi / step_y) * step_y;
+  auto px = [&](double t, double v) {
+    return Vec2(left + (t - t0) / (t1 - t0) * (right - left), bottom - (v - lo) / (hi - lo) * (bottom - top));
+  };
+  // Failures and halts under everything.
+  const double period = framePeriod(run);
+  for (const FrameRecord& f : run.frames) {
+    if (f.vision_ok && !f.halted) continue;
+    render::Style band;
+    band.fill = f.vision_ok ? kHaltColor : kFailureColor;
+    band.opacity = f.vision_ok ? 0.5 : 0.35;
+    const double a = std::max(t0, f.t - period / 2), b = std::min(t1, f.t + period / 2);
+    canvas.polygon({px(a, lo), px(b, lo), px(b, hi), px(a, hi)}, band);
+  }
+  render::Style grid;
+  grid.stroke = Rgb{225, 225, 225};
+  render::TextStyle tick;
+  tick.size_px = 8;
+  tick.color = Rgb{80, 80, 80};
+  tick.anchor = render::Anchor::End;
+  for (double v = lo; v <= hi + step_y / 2; v += step_y) {
+    canvas.polyline({px(t0, v), px(t1, v)}, grid);
+    canvas.text(px(t0, v) + Vec2(-6, 4), format(step_y < 0.01 ? "%.3f" : step_y < 0.1 ? "%.2f" : "%.1f", v), tick);
+  }
+  const double step_t = render::niceScaleLength((t1 - t0) / 8.0);
+  tick.anchor = render::Anchor::Middle;
+  for (double t = std::ceil(t0 / step_t) * step_t; t <= t1 + 1e-9; t += step_t) {
+    canvas.polyline({px(t, lo), px(t, hi)}, grid);
+    canvas.text(px(t, lo) + Vec2(0, 14), format("%g", t), tick);
+  }
+  render::Style zero;
+  zero.stroke = Rgb{120, 120, 120};
+  if (lo < 0 && hi > 0) canvas.polyline({px(t0, 0), px(t1, 0)}, zero);
+  render::Style frame;
+  frame.stroke = Rgb{60, 60, 60};
+  canvas.polygon({px(t0, lo), px(t1, lo), px(t1, hi), px(t0, hi)}, frame);
+  for (const Series& s : series) {
+    std::vector<Vec2> points;
+    render::Style line;
+    line.stroke = s.color;
+    line.stroke_width_px = 1.5;
+    for (std::size_t i = 0; i < run.frames.size() && i < s.values.size(); ++i) {
+      if (std::isfinite(s.values[i])) {
+        points.push_back(px(run.frames[i].t, s.values[i]));
+      } else if (!points.empty()) {
+        canvas.polyline(points, line);
+        points.clear();
+      }
+    }
+    canvas.polyline(points, line);
+  }
+  render::TextStyle heading;
+  heading.size_px = 10;
+  heading.bold = true;
+  heading.anchor = render::Anchor::Start;
+  canvas.text(Vec2(left, 16), title + " [" + unit + "]", heading);
+  render::TextStyle key = heading;
+  key.bold = false;
+  key.size_px = 9;
+  double x = right;
+  key.anchor = render::Anchor::End;
+  for (auto it = series.rbegin(); it != series.rend(); ++it) {
+    key.color = it->color;
+    canvas.text(Vec2(x, 16), it->name, key);
+    x -= 9.0 * it->name.size() + 24;  // about the text's width and a gap
+  }
+  tick.anchor = render::Anchor::Middle;
+  canvas.text(Vec2((left + right) / 2, height - 4.0), "mission time [s]", tick);
+  return inlineSvg(canvas, id, title);
+}
+
+std::string errorPlots(const MissionRun& run, const ReportOptions& options) {
+  if (!run.metrics.has_truth) {
+    return "<p class=\"note\">The log has no ground truth: the errors were not measured.</p>\n";
+  }
+  auto values = [&](auto get) {
+    std::vector<double> v;
+    for (const FrameRecord& f : run.frames) v.push_back(f.truth ? get(f) : std::numeric_limits<double>::quiet_NaN());
+    return v;
+  };
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  const int w = options.figure_width_px;
+  std::string out;
+  out += plot(run, "plot-position", "Estimate error across and along the road", "m",
+              {{"lateral", kEstimateColor, values([](const FrameRecord& f) { return f.error.lateral_m; })},
+               {"along", kAlongColor, values([](const FrameRecord& f) { return f.error.along_m; })}},
+              w);
+  out += plot(run, "plot-heading", "Estimate heading error", "deg",
+              {{"heading", kEstimateColor, values([&](const FrameRecord& f) { return f.error.heading_rad * kDeg; })}}, w);
+  out += plot(run, "plot-distance", "Position error: estimate and odometry alone", "m",
+              {{"estimate", kEstimateColor, values([](const FrameRecord& f) { return f.error.distance_m; })},
+               {"odometry only", kOdometryColor, values([](const FrameRecord& f) { return f.odometry_error.distance_m; })}},
+              w);
+  return out;
+}
+
+// ---- the strip
+
+std::string thumbnailFigure(const ReportThumbnail& t, int width_px) {
+  const double scale = static_cast<double>(t.width) / width_px;  // viewBox units per displayed pixel
+  const int display_h = static_cast<int>(std::lround(t.height / scale));
+  std::string out = "<figure class=\"thumb" + std::string(t.vision_ok ? "" : " failed") + "\" id=\"frame-" +
+                    std::to_string(t.index) + "\">";
+  out += "<svg class=\"frame\" width=\"" + std::to_string(width_px) + "\" height=\"" + std::to_string(display_h) +
+         "\" viewBox=\"0 0 " + std::to_string(t.width) + " " + std::to_string(t.height) + "\">";
+  out += "<image x=\"0\" y=\"0\" width=\"" + std::to_string(t.width) + "\" height=\"" + std::to_string(t.height) +
+         "\" preserveAspectRatio=\"none\" href=\"data:image/png;base64," + base64(t.png) + "\"/>";
+  auto line = [&](const Segment2& s, const char* cls, double px) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "<line class=\"%s\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke-width=\"%.2f\"/>", cls,
+                  s.a.x(), s.a.y(), s.b.x(), s.b.y(), px * scale);
+    out += text;
+  };
+  for (const Segment2& s : t.predicted) line(s, "predicted", 1.0);
+  std::size_t matched = 0;
+  for (const ReportThumbnail::Line& l : t.detected) {
+    if (l.label.empty()) line(l.image, "unmatched", 1.0);
+  }
+  for (const ReportThumbnail::Line& l : t.detected) {
+    if (l.label.empty()) continue;
+    ++matched;
+    line(l.image, "matched", 3.0);
+    const Vec2 mid = 0.5 * (l.image.a + l.image.b);
+    char text[160];
+    std::snprintf(text, sizeof text, "<text class=\"label\" x=\"%.1f\" y=\"%.1f\" font-size=\"%.1f\">", mid.x(), mid.y(),
+                  9.0 * scale);
+    out += text + escape(l.label) + "</text>";
+  }
+  out += "</svg><figcaption>frame " + std::to_string(t.index) + ", t " + format("%.1f", t.t) + " s";
+  if (t.vision_ok) {
+    out += ": " + std::to_string(t.predicted.size()) + " predicted, " + std::to_string(matched) + " of " +
+           std::to_string(t.detected.size()) + " lines matched";
+  } else {
+    out += ": <b>vision failed</b> (" + escape(t.reason) + ")";
+  }
+  out += "</figcaption></figure>\n";
+  return out;
+}
+
+// ---- the summary
+
+std::string metricsTable(const MissionRun& run) {
+  const MissionMetrics& m = run.metrics;
+  std::string out = "<table id=\"metrics-table\">\n";
+  auto row = [&](const std::string& name, const std::string& a, const std::string& b = "") {
+    out += "<tr><th>" + escape(name) + "</th><td>" + escape(a) + "</td><td>" + escape(b) + "</td></tr>\n";
+  };
+  out += "<tr><th></th><th>estimate</th><th>odometry only</th></tr>\n";
+  if (m.has_truth) {
+    auto rmsMax = [&](double rms, double max, const char* unit) {
+      return format("%.3f", rms) + " " + unit + " (max " + format("%.3f", max) + ")";
+    };
+    row("lateral RMS", rmsMax(m.estimate.lateral_rms_m, m.estimate.lateral_max_m, "m"),
+        rmsMax(m.odometry_only.lateral_rms_m, m.odometry_only.lateral_max_m, "m"));
+    row("along RMS", rmsMax(m.estimate.along_rms_m, m.estimate.along_max_m, "m"),
+        rmsMax(m.odometry_only.along_rms_m, m.odometry_only.along_max_m, "m"));
+    row("heading RMS", rmsMax(m.estimate.heading_rms_deg, m.estimate.heading_max_deg, "deg"),
+        rmsMax(m.odometry_only.heading_rms_deg, m.odometry_only.heading_max_deg, "deg"));
+    row("max position error", format("%.3f m", m.estimate.max_error_m), format("%.3f m", m.odometry_only.max_error_m));
+    row("along error 2 m past intersections", format("max %.3f m", m.along_after_intersection_max_m) + " (" +
+                                                  std::to_string(m.intersections_checked) + " checked)");
+  } else {
+    row("errors", "no ground truth", "no ground truth");
+  }
+  row("reached goal", m.reached_goal ? "yes" : "no", format("%.2f m from it at the end", m.goal_distance_m));
+  row("frames", std::to_string(m.frames), format("%.1f s", run.duration_s) + ", " + format("%.1f m driven", run.distance_m));
+  row("route", format("%.1f m", run.route.length_m),
+      std::to_string(run.route.intersections.size()) + " intersections");
+  row("vision failures", std::to_string(m.vision_failures), std::to_string(m.halts) + " halts");
+  row("replans", std::to_string(m.replans));
+  row("loop latency (" + std::to_string(run.image_width) + "x" + std::to_string(run.image_height) + ")",
+      format("median %.2f ms", m.latency_ms_median) + format(", p99 %.2f ms", m.latency_ms_p99),
+      format("Vision alone: median %.2f ms", m.vision_ms_median));
+  row("odometry scale", format("%.4f", run.odometry_scale));
+  out += "</table>\n";
+  return out;
+}
+
+std::string failureList(const MissionRun& run) {
+  const std::vector<FailureRun> runs = failureRuns(run);
+  std::string out;
+  if (runs.empty()) {
+    out += "<p>None: Vision succeeded on every frame.</p>\n";
+  } else {
+    out += "<ul id=\"failure-list\">\n";
+    for (const FailureRun& f : runs) {
+      const FrameRecord &a = run.frames[f.first], &b = run.frames[f.last];
+      out += "<li>frame" + std::string(f.first == f.last ? " " : "s ") + std::to_string(a.index) +
+             (f.first == f.last ? "" : "&ndash;" + std::to_string(b.index)) + " (t " + format("%.1f", a.t) +
+             (f.first == f.last ? "" : "&ndash;" + format("%.1f", b.t)) + " s): " + escape(f.reason) + "</li>\n";
+    }
+    out += "</ul>\n";
+  }
+  if (run.ended_by_halt) out += "<p><b>The mission ended in a halt:</b> " + escape(run.outcome) + "</p>\n";
+  return out;
+}
+
+constexpr const char* kStyle = R"(
+body { font-family: sans-serif; margin: 24px auto; max-width: 1000px; color: #222; background: #fff; }
+h1 { font-size: 22px; margin-bottom: 4px; }
+h2 { font-size: 17px; margin-top: 28px; border-bottom: 1px solid #ccc; }
+.outcome { font-size: 15px; }
+table { border-collapse: collapse; font-size: 13px; }
+th, td { text-align: left; padding: 3px 10px; border-bottom: 1px solid #eee; }
+svg.figure { max-width: 100%; height: auto; display: block; margin: 6px 0; border: 1px solid #ddd; }
+.legend { font-size: 13px; }
+.key { margin-right: 18px; white-space: nowrap; }
+.key svg { vertical-align: middle; margin-right: 4px; }
+.strip { display: flex; flex-wrap: wrap; gap: 8px; }
+figure.thumb { margin: 0; padding: 3px; border: 2px solid #ddd; font-size: 11px; width: min-content; }
+figure.thumb.failed { border-color: #dc1e1e; background: #fde8e8; }
+figure.thumb svg { display: block; }
+line.predicted { stroke: #ffe000; }
+line.matched { stroke: #ff2080; }
+line.unmatched { stroke: #00e0ff; stroke-dasharray: 6 4; }
+text.label { fill: #fff; stroke: #000; stroke-width: 2px; paint-order: stroke; font-family: sans-serif; }
+pre#dialogue-text { font-size: 12px; white-space: pre-wrap; max-height: 600px; overflow: auto; background: #f6f6f6; padding: 8px; }
+.note { color: #666; }
+)";
+
+}  // namespace
+
+std::string reportHtml(const MissionRun& run, const Map& map, const std::vector<ReportThumbnail>& thumbnails,
+                       const std::string& dialogue, const ReportOptions& options) {
+  options.validate();
+  const std::string title = "mapnav " + run.mode + ": " + run.mission;
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + escape(title) +
+                     "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";
+  html += "<h1>" + escape(title) + "</h1>\n";
+  html += "<p class=\"outcome\" id=\"outcome\">" + escape(run.outcome) + "</p>\n";
+  html += "<p class=\"note\">Pipeline " + escape(run.pipeline) + ", map " + escape(map.name()) +
+          (run.log.empty() ? std::string() : ", log " + escape(run.log.string())) + ".</p>\n";
+
+  html += "<section id=\"metrics\">\n<h2>Summary</h2>\n" + metricsTable(run) + "</section>\n";
+
+  html += "<section id=\"map\">\n<h2>Map, planned route and trajectories</h2>\n<p class=\"legend\">";
+  html += swatch(kRouteColor, 8, false, "planned route", "route");
+  if (run.metrics.has_truth) html += swatch(kTruthColor, 2.5, false, "true", "truth");
+  html += swatch(kEstimateColor, 1.5, false, "estimate (Map module)", "estimate");
+  html += swatch(kOdometryColor, 2, true, "odometry only", "odometry");
+  html += "<span class=\"key\"><svg width=\"16\" height=\"16\"><circle cx=\"8\" cy=\"8\" r=\"6\" fill=\"none\" stroke=\"" +
+          hex(kFailureColor) + "\" stroke-width=\"2\"/></svg>vision failure</span>";
+  html += "</p>\n" + mapFigure(run, map, options) + "</section>\n";
+
+  html += "<section id=\"errors\">\n<h2>Errors over time</h2>\n";
+  html += "<p class=\"legend\">Estimate &minus; truth in the road's frame at the true pose (lateral: left positive; "
+          "along: forward positive). Red bands: frames where Vision failed; pink: halted.</p>\n";
+  html += errorPlots(run, options) + "</section>\n";
+
+  html += "<section id=\"failures\">\n<h2>Vision failures and halts</h2>\n" + failureList(run) + "</section>\n";
+
+  html += "<section id=\"thumbnails\">\n<h2>Frames</h2>\n<p class=\"legend\">" +
+          swatch(Rgb{255, 224, 0}, 1, false, "predicted segments", "predicted") +
+          swatch(Rgb{255, 32, 128}, 3, false, "detected and matched (label: the predicted segment)", "matched") +
+          swatch(Rgb{0, 224, 255}, 1, true, "detected, unmatched", "unmatched") + "</p>\n<div class=\"strip\">\n";
+  for (const ReportThumbnail& t : thumbnails) html += thumbnailFigure(t, options.thumbnail_width_px);
+  html += "</div>\n</section>\n";
+
+  html += "<section id=\"dialogue\">\n<h2>Dialogue</h2>\n";
+  if (dialogue.empty()) {
+    html += "<p class=\"note\">No trace was written.</p>\n";
+  } else {
+    html += "<pre id=\"dialogue-text\">" + escape(dialogue) + "</pre>\n";
+  }
+  html += "</section>\n</body>\n</html>\n";
+  return html;
+}
+
+std::string trajectoriesGeoJson(const MissionRun& run, const Map& map) {
+  const std::optional<GeoOrigin>& origin = map.data().origin;
+  if (!origin) {
+    throw InvalidInput("map \"" + map.name() + "\" has no geodetic origin: the trajectories cannot be written as GeoJSON");
+  }
+  const LocalFrame frame(*origin);
+  // As exportGeoJson: [lon, lat], 9 decimals (0.1 mm).
+  auto positions = [&](const std::vector<Vec2>& points) {
+    Json out = Json::array();
+    for (const Vec2& p : points) {
+      const LatLon g = frame.toGeodetic(p);
+      out.push_back(Json::array({std::round(g.lon * 1e9) / 1e9, std::round(g.lat * 1e9) / 1e9}));
+    }
+    return out;
+  };
+  Json features = Json::array();
+  auto add = [&](const std::string& name, const std::vector<Vec2>& points) {
+    if (points.size() < 2) return;  // a LineString needs two positions
+    features.push_back({{"type", "Feature"},
+                        {"properties", {{"name", name}, {"mission", run.mission}, {"mode", run.mode}}},
+                        {"geometry", {{"type", "LineString"}, {"coordinates", positions(points)}}}});
+  };
+  add("route", run.route.line.points());
+  add("true", track(run, &FrameRecord::truth));
+  add("estimate", track(run, &FrameRecord::estimate));
+  add("odometry", track(run, &FrameRecord::odometry_only));
+  return dumpJson({{"type", "FeatureCollection"}, {"features", features}});
+}
+
+ReportFiles writeReport(const std::filesystem::path& dir, const MissionRun& run, const Map& map,
+                        const ReportFrames& frames, const std::string& trace, const std::string& trace_file,
+                        const ReportOptions& options) {
+  options.validate();
+  const std::string dialogue = trace.empty() ? std::string() : traceDialogue(trace, trace_file);
+  const std::string html = reportHtml(run, map, frames.thumbnails(), dialogue, options);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw IoError(dir.string() + ": cannot create the report folder: " + ec.message());
+  ReportFiles files;
+  files.html = dir / "report.html";
+  writeFileAtomic(files.html, html);
+  if (map.data().origin) {
+    files.geojson = dir / "trajectories.geojson";
+    writeFileAtomic(*files.geojson, trajectoriesGeoJson(run, map));
+  }
+  return files;
+}
+
+}  // namespace mapnav

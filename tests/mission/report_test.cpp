@@ -1,0 +1,218 @@
+// The mission report on a hand-made run: the strip keeps evenly spaced frames and the failures'
+// first frames within its bound, the thumbnails are the frames shrunk by box averaging, the HTML is
+// self-contained and has every part, and the GeoJSON trajectories read back to the run's poses.
+#include "mapnav/mission/report.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/io.h"
+#include "mapnav/map/geodesy.h"
+#include "mapnav/map/map_io.h"
+#include "mapnav/sim/image.h"
+#include "mapnav/testing/support.h"
+
+namespace mapnav {
+namespace {
+namespace fs = std::filesystem;
+
+// Six frames along x at 1 m a frame; the estimate 1 cm left of the truth, odometry drifting 0.1 m
+// left per frame; Vision fails on frames 3 and 4 and the halt lasts to frame 5.
+MissionRun handMadeRun() {
+  MissionRun run;
+  run.mode = "replay";
+  run.mission = "hand made";
+  run.pipeline = "sidewalk";
+  run.image_width = 512;
+  run.image_height = 480;
+  run.route.line = Polyline2({Vec2(0, 0), Vec2(10, 0)});
+  run.route.length_m = 10;
+  run.start = Pose2(Vec2(0, 0), 0);
+  run.goal = Pose2(Vec2(10, 0), 0);
+  for (std::size_t i = 0; i < 6; ++i) {
+    FrameRecord f;
+    f.index = i;
+    f.t = 0.5 * static_cast<double>(i);
+    f.truth = Pose2(Vec2(static_cast<double>(i), 0), 0);
+    f.estimate = Pose2(Vec2(static_cast<double>(i), 0.01), 0);
+    f.odometry_only = Pose2(Vec2(static_cast<double>(i), 0.1 * static_cast<double>(i)), 0);
+    f.error.lateral_m = 0.01;
+    f.error.distance_m = 0.01;
+    f.odometry_error.lateral_m = f.odometry_error.distance_m = 0.1 * static_cast<double>(i);
+    f.vision_ok = i != 3 && i != 4;
+    f.vision_reason = f.vision_ok ? "" : "frame too dark";
+    f.halted = i >= 3;
+    run.frames.push_back(f);
+  }
+  run.metrics.frames = 6;
+  run.metrics.has_truth = true;
+  run.metrics.vision_failures = 2;
+  run.metrics.halts = 1;
+  run.outcome = "the log ended 5.00 m from the goal";
+  return run;
+}
+
+Image plainFrame(int width, int height, std::uint8_t value) {
+  Image image(width, height, 3);
+  std::fill(image.data.begin(), image.data.end(), value);
+  return image;
+}
+
+TEST(ReportFrames, KeepsEvenlySpacedFramesAndTheFirstFrameOfEachFailureWithinTheBound) {
+  ReportOptions options;
+  options.max_thumbnails = 10;
+  options.max_failure_thumbnails = 2;
+  options.thumbnail_width_px = 16;
+  ReportFrames frames(options);
+  const Image rgb = plainFrame(32, 24, 100);
+  const PredictedObject predicted;
+  const DetectedObject ok;
+  const DetectedObject failed = DetectedObject::failed("frame too dark");
+  for (std::size_t i = 0; i < 100; ++i) {
+    const bool fails = (i >= 50 && i <= 52) || i == 70 || i == 90;
+    frames.add(FrameView{i, 0.5 * static_cast<double>(i), &rgb, &predicted, fails ? &failed : &ok});
+  }
+  // Regular frames: 8 at most; the stride doubles 1 → 2 → 4 → 8 → 16 as the run grows (by hand:
+  // frame 64 is the ninth at stride 8). Failures: the onsets 50 and 70; 90 is one too many.
+  const std::vector<ReportThumbnail> kept = frames.thumbnails();
+  std::vector<std::size_t> indices;
+  for (const ReportThumbnail& t : kept) indices.push_back(t.index);
+  EXPECT_EQ(indices, (std::vector<std::size_t>{0, 16, 32, 48, 50, 64, 70, 80, 96}));
+  EXPECT_FALSE(kept[4].vision_ok);
+  EXPECT_EQ(kept[4].reason, "frame too dark");
+  EXPECT_TRUE(kept[3].vision_ok);
+  EXPECT_DOUBLE_EQ(kept[6].t, 35.0);
+  EXPECT_EQ(kept[0].width, 32);
+  EXPECT_EQ(kept[0].height, 24);
+}
+
+TEST(ReportFrames, AThumbnailIsTheFrameBoxAveragedWithItsLines) {
+  ReportOptions options;
+  options.thumbnail_width_px = 16;
+  ReportFrames frames(options);
+  Image rgb = plainFrame(32, 4, 0);
+  // The top-left 2 x 2 block: 0, 10, 20, 31 in red → (61 + 2) / 4 = 15 after rounding.
+  rgb.pixel(1, 0)[0] = 10;
+  rgb.pixel(0, 1)[0] = 20;
+  rgb.pixel(1, 1)[0] = 31;
+  PredictedObject predicted;
+  InterestSegment s;
+  s.id = "R1.left.0";
+  s.image = Segment2{Vec2(1, 2), Vec2(30, 3)};
+  predicted.segments.push_back(s);
+  DetectedObject detected;
+  DetectedLine matched;
+  matched.label = "R1.left.0";
+  matched.image = Segment2{Vec2(1, 2.5), Vec2(30, 3)};
+  DetectedLine border;
+  border.frame_edge = true;
+  detected.lines = {matched, border, DetectedLine{}};
+  frames.add(FrameView{0, 0.0, &rgb, &predicted, &detected});
+  const std::vector<ReportThumbnail> kept = frames.thumbnails();
+  ASSERT_EQ(kept.size(), 1u);
+  const ReportThumbnail& t = kept[0];
+  ASSERT_EQ(t.predicted.size(), 1u);
+  EXPECT_EQ(t.predicted[0].b, Vec2(30, 3));
+  ASSERT_EQ(t.detected.size(), 2u);  // the frame edge is left out
+  EXPECT_EQ(t.detected[0].label, "R1.left.0");
+  EXPECT_EQ(t.detected[1].label, "");
+
+  const fs::path png = testing::freshTempDir() / "thumb.png";
+  writeFileAtomic(png, t.png);
+  const Image small = readPng(png);
+  EXPECT_EQ(small.width, 16);
+  EXPECT_EQ(small.height, 2);
+  EXPECT_EQ(small.pixel(0, 0)[0], 15);
+  EXPECT_EQ(small.pixel(0, 0)[1], 0);
+  EXPECT_EQ(small.pixel(1, 0)[0], 0);
+}
+
+TEST(ReportOptions, ValidateNamesTheField) {
+  ReportOptions o;
+  o.max_failure_thumbnails = o.max_thumbnails;
+  try {
+    o.validate();
+    FAIL() << "no throw";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("ReportOptions::max_failure_thumbnails"), std::string::npos) << e.what();
+  }
+  ReportOptions w;
+  w.thumbnail_width_px = 8;
+  EXPECT_THROW(ReportFrames{w}, InvalidInput);
+}
+
+TEST(ReportHtml, IsSelfContainedWithEveryPart) {
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const MissionRun run = handMadeRun();
+  ReportFrames frames;
+  const Image rgb = plainFrame(512, 480, 90);
+  const PredictedObject predicted;
+  const DetectedObject ok;
+  frames.add(FrameView{0, 0.0, &rgb, &predicted, &ok});
+  const std::string html = reportHtml(run, map, frames.thumbnails(), "Map: Vision will see <straight> road & more.\n");
+
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  // Nothing to fetch: no scripts, no linked files, no remote addresses (the SVG namespace is a name).
+  for (const char* remote : {"<script", "<link", "src=\"", "url(", "href=\"http", "https://"}) {
+    EXPECT_EQ(html.find(remote), std::string::npos) << remote;
+  }
+  for (const char* part : {"id=\"metrics-table\"", "id=\"map-svg\"", "id=\"plot-position\"", "id=\"plot-heading\"",
+                           "id=\"plot-distance\"", "id=\"failure-list\"", "id=\"frame-0\"", "id=\"dialogue-text\""}) {
+    EXPECT_NE(html.find(part), std::string::npos) << part;
+  }
+  // The thumbnail is inline PNG ("iVBORw0KGgo" is the base64 of the PNG signature).
+  EXPECT_NE(html.find("href=\"data:image/png;base64,iVBORw0KGgo"), std::string::npos);
+  // The failures, grouped; the dialogue escaped.
+  EXPECT_NE(html.find("<li>frames 3&ndash;4 (t 1.5&ndash;2.0 s): frame too dark</li>"), std::string::npos);
+  EXPECT_NE(html.find("Map: Vision will see &lt;straight&gt; road &amp; more."), std::string::npos);
+  EXPECT_NE(html.find("<th>lateral RMS</th>"), std::string::npos);
+  EXPECT_EQ(html.find("<?xml"), std::string::npos);  // the SVGs are inline elements
+}
+
+TEST(ReportGeoJson, TheTrajectoriesReadBackToThePosesThroughTheMapsOrigin) {
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const MissionRun run = handMadeRun();
+  const auto doc = nlohmann::json::parse(trajectoriesGeoJson(run, map));
+  EXPECT_EQ(doc["type"], "FeatureCollection");
+  ASSERT_EQ(doc["features"].size(), 4u);
+  std::vector<std::string> names;
+  for (const auto& f : doc["features"]) {
+    EXPECT_EQ(f["geometry"]["type"], "LineString");
+    names.push_back(f["properties"]["name"]);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"route", "true", "estimate", "odometry"}));
+  EXPECT_EQ(doc["features"][0]["geometry"]["coordinates"].size(), 2u);
+  // The truth starts at the local origin: the map's origin, lon first (maps/cmu_campus.json).
+  const auto& truth = doc["features"][1]["geometry"]["coordinates"];
+  ASSERT_EQ(truth.size(), 6u);
+  EXPECT_DOUBLE_EQ(truth[0][0].get<double>(), -79.9436);
+  EXPECT_DOUBLE_EQ(truth[0][1].get<double>(), 40.4433);
+  // Every position back through the origin: within 1 mm of the pose (9 decimals are 0.1 mm).
+  const LocalFrame frame(*map.data().origin);
+  const auto& odometry = doc["features"][3]["geometry"]["coordinates"];
+  for (std::size_t i = 0; i < 6; ++i) {
+    const Vec2 t = frame.toLocal(LatLon{truth[i][1].get<double>(), truth[i][0].get<double>()});
+    EXPECT_NEAR((t - run.frames[i].truth->translation()).norm(), 0.0, 1e-3) << i;
+    const Vec2 o = frame.toLocal(LatLon{odometry[i][1].get<double>(), odometry[i][0].get<double>()});
+    EXPECT_NEAR((o - run.frames[i].odometry_only.translation()).norm(), 0.0, 1e-3) << i;
+  }
+}
+
+TEST(ReportFiles, WritesTheReportAndTheGeoJsonAndNamesABadTrace) {
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const fs::path dir = testing::freshTempDir() / "report";
+  const ReportFiles files = writeReport(dir, handMadeRun(), map, ReportFrames{}, "", "");
+  EXPECT_EQ(files.html, dir / "report.html");
+  ASSERT_TRUE(files.geojson);
+  EXPECT_TRUE(fs::is_regular_file(*files.geojson));
+  EXPECT_NE(readFile(files.html).find("No trace was written."), std::string::npos);
+  // A trace that does not read back: the error names it, and no report replaces the old one.
+  const fs::path other = testing::freshTempDir() / "other";
+  EXPECT_THROW(writeReport(other, handMadeRun(), map, ReportFrames{}, "not json\n", "bad.jsonl"), ValidationError);
+  EXPECT_FALSE(fs::exists(other / "report.html"));
+}
+
+}  // namespace
+}  // namespace mapnav
