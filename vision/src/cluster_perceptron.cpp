@@ -51,8 +51,12 @@ void ClusterPerceptronOptions::validate() const {
                 "in (0, 10]");
   requireOption(trapezoid_bottom_width > 0 && trapezoid_bottom_width <= 10, o, "trapezoid_bottom_width",
                 trapezoid_bottom_width, "in (0, 10]");
-  requireOption(max_bend_blocks >= 0 && max_bend_blocks <= 256, o, "max_bend_blocks", max_bend_blocks,
-                "in [0, 256]");
+  requireOption(std::isfinite(max_curvature) && max_curvature > 0 && max_curvature <= 1, o, "max_curvature",
+                max_curvature, "in (0, 1] (1/m)");
+  requireOption(curvature_steps >= 1 && curvature_steps <= 100, o, "curvature_steps", curvature_steps, "in [1, 100]");
+  requireOption(std::isfinite(adaptive_error_ratio) && adaptive_error_ratio > 1, o, "adaptive_error_ratio",
+                adaptive_error_ratio, "> 1");
+  requireOption(adaptive_stride >= 1 && adaptive_stride <= 64, o, "adaptive_stride", adaptive_stride, "in [1, 64]");
   requireOption(threads >= 0 && threads <= 256, o, "threads", threads, "in [0, 256] (0 = every core)");
   requireOption(min_road_fraction >= 0 && min_road_fraction <= 1, o, "min_road_fraction", min_road_fraction,
                 "in [0, 1]");
@@ -99,6 +103,11 @@ std::vector<Vec3> ClusterPerceptron::trainClusters(const std::uint8_t* rgb, int 
   std::uniform_real_distribution<double> uni(0.0, 255.0);
   means_.assign(static_cast<std::size_t>(n), Vec3::Zero());
   for (Vec3& m : means_) m = Vec3(uni(rng), uni(rng), uni(rng));
+  return clusterFrom(rgb, width, height);
+}
+
+std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int width, int height) {
+  const int n = static_cast<int>(means_.size());
   trained_ = false;
   const int st = opt_.train_stride;
 
@@ -159,7 +168,21 @@ std::vector<Vec3> ClusterPerceptron::trainClusters(const std::uint8_t* rgb, int 
     const Vec3 slope = history.back() - history[history.size() - 2];
     if (slope.cwiseAbs().maxCoeff() < opt_.cluster_slope_threshold) break;
   }
+  train_error_ = history.back().mean();
   return history;
+}
+
+double ClusterPerceptron::reconstructionError(const std::uint8_t* rgb, int width, int height, int stride) const {
+  if (means_.empty() || rgb == nullptr || width <= 0 || height <= 0 || stride < 1) return 0;
+  double err = 0, total = 0;
+  for (int v = 0; v < height; v += stride)
+    for (int u = 0; u < width; u += stride) {
+      const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
+      const Vec3& m = means_[static_cast<std::size_t>(nearest(p[0], p[1], p[2]))];
+      err += (Vec3(p[0], p[1], p[2]) - m).squaredNorm();
+      total += 1;
+    }
+  return err / (3.0 * total);
 }
 
 Image ClusterPerceptron::reconstruct(const std::uint8_t* rgb, int width, int height) const {
@@ -396,6 +419,36 @@ void ClusterPerceptron::setRowWidths(std::vector<double> widths) {
   trained_ = !weights_.empty() && !row_widths_.empty();
 }
 
+void ClusterPerceptron::setCamera(const Camera& camera) {
+  // Pin-hole, tilt only: the ground point (x, y) is at depth Z = (x − cx)·cos φ + h·sin φ and height
+  // Y = −(x − cx)·sin φ + h·cos φ in the camera frame, so its row v = v_c + f·Y/Z depends on x alone,
+  // and its column u = u_c − f·(y − cy)/Z is affine in y at that row: b_r = −f/Z.
+  const int h = camera.height();
+  row_x_.assign(static_cast<std::size_t>(h), std::nan(""));
+  row_b_.assign(static_cast<std::size_t>(h), std::nan(""));
+  for (int v = 0; v < h; ++v) {
+    const auto g = camera.backproject(Vec2(camera.intrinsics().cx, v));
+    if (!g) continue;
+    const auto p0 = camera.projectGround(Vec2(g->x(), 0.0)), p1 = camera.projectGround(Vec2(g->x(), 1.0));
+    if (!p0 || !p1) continue;
+    row_x_[v] = g->x();
+    row_b_[v] = p1->x() - p0->x();
+  }
+}
+
+Polygon2 roadBand(const std::vector<Vec2>& centre, const std::vector<double>& row_widths, int width) {
+  Polygon2 left, right;
+  const long last = static_cast<long>(row_widths.size()) - 1;
+  for (const Vec2& c : centre) {
+    const double hw = 0.5 * row_widths[static_cast<std::size_t>(std::clamp(std::lround(c.y()), 0L, last))];
+    left.emplace_back(std::clamp(c.x() - hw, -0.5, width - 0.5), c.y());
+    right.emplace_back(std::clamp(c.x() + hw, -0.5, width - 0.5), c.y());
+  }
+  Polygon2 band = right;
+  for (auto it = left.rbegin(); it != left.rend(); ++it) band.push_back(*it);
+  return band;
+}
+
 // --- Bootstrap outline ------------------------------------------------------------------------------
 
 Image fillPolygonMask(const std::vector<Polygon2>& polygons, int width, int height) {
@@ -489,15 +542,38 @@ int threadCount(int option) {
 #endif
 }
 
-/// The road model u(t) = a + b t + c t² of the image centre line, t = (v − v0) / (v1 − v0).
+/// The arc model's offset per unit curvature (pixels per 1/m) of the rows: the column of the ground
+/// parabola κ·(x − x0)(x − x1)/2, which vanishes at the rows v0 and v1 (ground distances x0, x1),
+/// so that with it the centre line is an image line through (a, v0), (a + b, v1) plus κ times this.
+/// The parabola differs from κx²/2 by a ground line, whose image is an image line: the same family.
+struct ArcBasis {
+  const std::vector<double>* x = nullptr;  // per image row: ground distance, m
+  const std::vector<double>* b = nullptr;  // per image row: columns per metre of lateral offset
+  double x0 = 0, x1 = 0;
+  static double at(const std::vector<double>& f, double v) {
+    const double c = std::clamp(v, 0.0, static_cast<double>(f.size() - 1));
+    const std::size_t i = std::min(static_cast<std::size_t>(c), f.size() - 2);
+    return f[i] + (c - static_cast<double>(i)) * (f[i + 1] - f[i]);
+  }
+  ArcBasis(const std::vector<double>& xs, const std::vector<double>& bs, double v0, double v1)
+      : x(&xs), b(&bs), x0(at(xs, v0)), x1(at(xs, v1)) {}
+  ArcBasis() = default;
+  double operator()(double v) const {
+    if (x == nullptr) return 0.0;
+    const double xv = at(*x, v);
+    return 0.5 * at(*b, v) * (xv - x0) * (xv - x1);
+  }
+};
+
+/// The road model of the image centre line, t = (v − v0) / (v1 − v0): u = a + b t (the line), or
+/// u = a + b t + κ·arc(v) (the ground arc; p[2] = κ, 1/m).
 struct CentreModel {
   double v0 = 0, v1 = 1;
-  Vec3 p = Vec3::Zero();  // a, b, c
+  Vec3 p = Vec3::Zero();  // a, b, κ
+  ArcBasis arc;
   double t(double v) const { return (v - v0) / (v1 - v0); }
-  double u(double v) const {
-    const double x = t(v);
-    return p[0] + x * (p[1] + x * p[2]);
-  }
+  Vec3 basis(double v) const { return Vec3(1.0, t(v), arc.x ? arc(v) : 0.0); }
+  double u(double v) const { return p[0] + t(v) * p[1] + (arc.x ? p[2] * arc(v) : 0.0); }
 };
 
 /// Least-squares fit of the model's `degree + 1` coefficients to (v, u) samples with Huber
@@ -511,12 +587,11 @@ bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreMod
     for (const Vec2& s : vu) {
       const double r = std::abs(s.y() - model.u(s.x()));
       const double w = r <= k ? 1.0 : k / r;
-      const double t = model.t(s.x());
-      const Vec3 phi(1.0, t, t * t);
+      const Vec3 phi = model.basis(s.x());
       A.topLeftCorner(m, m) += w * phi.head(m) * phi.head(m).transpose();
-      rhs.head(m) += w * phi.head(m) * s.y();
+      rhs.head(m) += w * phi.head(m) * (s.y() - (m < 3 ? model.p[2] * phi[2] : 0.0));
     }
-    Vec3 p = Vec3::Zero();
+    Vec3 p = Vec3(0.0, 0.0, m < 3 ? model.p[2] : 0.0);
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(A.topLeftCorner(m, m));
     if (ldlt.info() != Eigen::Success) return false;
     p.head(m) = ldlt.solve(rhs.head(m));
@@ -677,7 +752,8 @@ int edgeSupport(const std::vector<EdgeCandidate>& cands, const std::vector<doubl
 /// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
 /// candidates in different rows, kept when more candidates support them than support `model`.
 CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths,
-                          const CentreModel& model, int degree, std::uint64_t seed, int iterations, double tol) {
+                          const CentreModel& model, int degree, std::uint64_t seed, int iterations, double tol,
+                          double max_curvature) {
   CentreModel best = model;
   int best_n = edgeSupport(cands, widths, model, tol);
   if (cands.size() < static_cast<std::size_t>(degree + 1)) return best;
@@ -695,15 +771,14 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
       const EdgeCandidate& e = cands[pick(rng)];
       for (int j = 0; j < k; ++j) ok = ok && std::abs(e.v - rows[j]) >= 16;
       rows[k] = e.v;
-      const double t = model.t(e.v);
-      A.row(k) = Eigen::RowVector3d(1.0, t, t * t);
+      A.row(k) = model.basis(e.v).transpose();
       rhs[k] = e.u + (e.left ? 0.5 : -0.5) * widths[e.v];
     }
     if (!ok) continue;
     CentreModel h = model;
     h.p = Vec3::Zero();
     h.p.head(m) = A.topLeftCorner(m, m).partialPivLu().solve(rhs.head(m));
-    if (!h.p.allFinite()) continue;
+    if (!h.p.allFinite() || std::abs(h.p[2]) > max_curvature) continue;
     const int n = edgeSupport(cands, widths, h, tol);
     if (n > best_n) {
       best_n = n;
@@ -806,19 +881,40 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     }
   }
   // Hough: row i (t from 0 at the top road row to 1 at the bottom one) is shifted by
-  // round(s·t + q·4t(1 − t)) blocks and the columns summed: s the bottom row's shift (the line's
-  // angle), q the bend at mid-height (the arc model; 0 for the paper's straight trapezoid).
+  // round(s·t + q·g_i) blocks and the columns summed: s the bottom row's shift (the line's angle),
+  // q the curvature's step (the arc model, g_i the row's arc offset per step; 0 for the paper's
+  // straight trapezoid).
   const int r0 = rr.front(), rl = rr.back();
   const double span = std::max(1, rl - r0);
   std::vector<double> tr(rr.size());
   for (std::size_t i = 0; i < rr.size(); ++i) tr[i] = (rr[i] - r0) / span;
+  // Continuous block coordinate X ↔ pixel u = X · bs − 0.5; rows at their block centres.
+  CentreModel model;
+  model.v0 = r0 * bs + (bs - 1) / 2.0;
+  model.v1 = std::max(model.v0 + 1.0, rl * bs + (bs - 1) / 2.0);
+  const bool arc = opt_.road_model == RoadModel::Arc;
+  const int Q = arc ? opt_.curvature_steps : 0;
+  const double dk = opt_.max_curvature / opt_.curvature_steps;  // curvature per step, 1/m
+  std::vector<double> gb(rr.size(), 0.0);
+  if (arc) {
+    if (static_cast<int>(row_x_.size()) != height) {
+      res.reason = "the arc model needs the camera (setCamera) of the frame's size";
+      return res;
+    }
+    model.arc = ArcBasis(row_x_, row_b_, model.v0, model.v1);
+    for (std::size_t i = 0; i < rr.size(); ++i) gb[i] = dk * model.arc(rr[i] * bs + (bs - 1) / 2.0) / bs;
+    for (int v = rr.front() * bs; v < height; ++v)
+      if (!std::isfinite(row_x_[v]) || !std::isfinite(row_b_[v])) {
+        res.reason = "arc model: the road rows reach the horizon";
+        return res;
+      }
+  }
   const int M = std::min(opt_.max_shift_blocks, 2 * cols);
-  const int Q = opt_.road_model == RoadModel::Arc ? std::min(opt_.max_bend_blocks, cols) : 0;
   std::vector<int> offsets(rr.size() * static_cast<std::size_t>(2 * M + 1) * (2 * Q + 1));
   for (int q = -Q, j = 0; q <= Q; ++q)
     for (int s = -M; s <= M; ++s)
       for (std::size_t i = 0; i < rr.size(); ++i, ++j)
-        offsets[j] = roundToInt(s * tr[i] + q * 4.0 * tr[i] * (1.0 - tr[i]));
+        offsets[j] = roundToInt(s * tr[i] + q * gb[i]);
   const HoughPeak peak = houghSearch(S.data(), static_cast<int>(rr.size()), cols, offsets.data(), 2 * M + 1, 2 * Q + 1);
   const int bx = peak.x, bsft = peak.shift - M, bq = peak.bend - Q;
   const std::int64_t best_fixed = peak.sum;
@@ -845,7 +941,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   auto score = [&](double X, double sft, double bend) {
     double total = 0;
     for (std::size_t i = 0; i < rr.size(); ++i) {
-      const double x = X + sft * tr[i] + bend * 4.0 * tr[i] * (1.0 - tr[i]), hw = 0.5 * wb[rr[i]];
+      const double x = X + sft * tr[i] + bend * gb[i], hw = 0.5 * wb[rr[i]];
       total += (integral(i, x + hw) - integral(i, x - hw)) / (2.0 * hw);
     }
     return total;
@@ -872,15 +968,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     }
   }
   const double fx = f[0], fs = f[1], fq = f[2];
-  // Continuous block coordinate X ↔ pixel u = X · bs − 0.5; rows at their block centres.
-  CentreModel model;
-  model.v0 = r0 * bs + (bs - 1) / 2.0;
-  model.v1 = std::max(model.v0 + 1.0, rl * bs + (bs - 1) / 2.0);
-  model.p = Vec3(fx * bs - 0.5, fs * bs, 0.0);
-  if (Q > 0) {  // s·t + q·4t(1 − t) = (s + 4q) t − 4q t²
-    model.p[1] += 4.0 * fq * bs;
-    model.p[2] = -4.0 * fq * bs;
-  }
+  model.p = Vec3(fx * bs - 0.5, fs * bs, arc ? fq * dk : 0.0);
   res.confidence = std::clamp(best / std::max(1.0, max_possible), 0.0, 1.0);
 
   // Beyond the paper: the Hough answer is good to about a block. Where the road's edges are in the
@@ -896,7 +984,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     // Start from the model that most edge candidates support.
     std::vector<EdgeCandidate> cands;
     for (int v = v_top; v < height; v += 4) rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, 0, width, cands);
-    model = edgeConsensus(cands, row_widths_, model, degree, opt_.seed, 200, 2.0);
+    model = edgeConsensus(cands, row_widths_, model, degree, opt_.seed, 200, 2.0, opt_.max_curvature);
     // Then fit it to the edges that support it: in each row the left and right candidates nearest
     // the model's edges, each turned into a centre estimate (the pair's middle, or one edge plus half
     // the row's width scaled by the widths measured where both show), by robust least squares; twice,
@@ -934,7 +1022,12 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
         else if (r) vu.emplace_back(v, right[v] - hw);
       }
       CentreModel fitted = model;
+      // The arc's curvature within the searched range; else the line part with the curvature kept.
       if (!fitCentreModel(vu, degree, 0.6, fitted)) break;
+      if (degree == 2 && std::abs(fitted.p[2]) > opt_.max_curvature) {
+        fitted = model;
+        if (!fitCentreModel(vu, 1, 0.6, fitted)) break;
+      }
       model = fitted;
       res.refined = true;
       res.edge_rows = static_cast<int>(vu.size());
@@ -947,8 +1040,30 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     res.centerline_curve.emplace_back(model.u(v), v);
     if (v >= v_bot) break;
   }
-  res.bend = -0.25 * model.p[2];  // u(½) minus the chord's middle, pixels
+  res.curvature = arc ? model.p[2] : 0.0;
   res.ok = true;
+  return res;
+}
+
+RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int height, bool want_mask) {
+  if (!opt_.adaptive) return find(rgb, width, height, want_mask);
+  const double err = reconstructionError(rgb, width, height, opt_.adaptive_stride);
+  const double train_err = train_error_;
+  const bool fits = err <= opt_.adaptive_error_ratio * train_err;
+  bool retrained = false;
+  if (!fits && trained_ && !trusted_curve_.empty() && static_cast<int>(row_widths_.size()) == height) {
+    // §9: the clusters no longer describe the scene. Move them (isodata from where they are) to this
+    // frame's colours and retrain the perceptron on the road where it was last found.
+    const Image outline = fillPolygonMask({roadBand(trusted_curve_, row_widths_, width)}, width, height);
+    clusterFrom(rgb, width, height);
+    trainPerceptron(rgb, width, height, outline.data.data());
+    retrained = true;
+  }
+  RoadFinding res = find(rgb, width, height, want_mask);
+  res.reconstruction_error = err;
+  res.training_error = train_err;
+  res.retrained = retrained;
+  if (res.ok && (fits || retrained)) trusted_curve_ = res.centerline_curve;
   return res;
 }
 
@@ -974,8 +1089,14 @@ const std::vector<OptionSpec>& specs() {
       {"trapezoid_top_width", 0.45, false, false, 1e-6, 10, "default trapezoid: top width, fraction of the image width"},
       {"trapezoid_bottom_width", 1.6, false, false, 1e-6, 10, "default trapezoid: bottom width, fraction of the image width"},
       {"arc", 0, true, false, 0, 1,
-       "beyond the paper (9), experimental: the Hough searches bending centre lines too (u = a + b t + c t^2); not yet accurate where the road fills the image"},
-      {"max_bend_blocks", 8, false, true, 0, 256, "arc model: largest bend searched, blocks at mid-height"},
+       "beyond the paper (9): the Hough searches ground arcs y = y0 + theta x + kappa x^2 / 2 too, so that curves are not cut"},
+      {"max_curvature", 0.07, false, false, 1e-6, 1, "arc model: largest curvature searched, 1/m"},
+      {"curvature_steps", 10, false, true, 1, 100, "arc model: curvatures tried on each side of 0 before refining"},
+      {"adaptive", 0, true, false, 0, 1,
+       "beyond the paper (9): retrain clusters and perceptron when a frame's reconstruction error exceeds "
+       "adaptive_error_ratio x the training error, bootstrapped from the last trusted road"},
+      {"adaptive_error_ratio", 3.0, false, false, 1.000001, 1e6, "adaptive: retrain above this multiple of the training error"},
+      {"adaptive_stride", 4, false, true, 1, 64, "adaptive: the reconstruction error uses every n-th pixel each way"},
       {"refine_edges", 1, true, false, 0, 1,
        "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
       {"raw_rgb", 0, true, false, 0, 1,
@@ -1023,9 +1144,10 @@ class ClusterPerceptronPipeline : public VisionPipeline {
       finder_ = ClusterPerceptron(opts_);
       finder_.trainClusters(frame.rgb, w, h);
       finder_.setRowWidths(trapezoidRowWidths(outline));
+      finder_.setCamera(cam);
       finder_.trainPerceptron(frame.rgb, w, h, outline.data.data());
     }
-    const RoadFinding f = finder_.find(frame.rgb, w, h, false);
+    const RoadFinding f = finder_.track(frame.rgb, w, h, false);
     if (!f.ok) {
       DetectedObject d = DetectedObject::failed(f.reason);
       d.timestamp = frame.timestamp;
@@ -1034,21 +1156,22 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     DetectedObject d;
     d.timestamp = frame.timestamp;
     d.confidence = f.confidence;
-    // The road region: the bootstrap trapezoid's widths around the centre line, clipped to the image.
+    // The road region: the bootstrap trapezoid's widths around the centre line (the arc model's
+    // curve), clipped to the image.
     const Segment2& cl = f.centerline_image;
-    const double v0 = cl.a.y(), v1 = cl.b.y();
-    Polygon2 left, right;
-    const int steps = 16;
-    for (int k = 0; k <= steps; ++k) {
-      const double v = v0 + (v1 - v0) * k / steps;
-      const double t = (v - v0) / std::max(1e-9, v1 - v0);
-      const double u = cl.a.x() + t * (cl.b.x() - cl.a.x());
-      const double hw = 0.5 * finder_.rowWidths()[static_cast<std::size_t>(std::clamp(std::lround(v), 0L, h - 1L))];
-      left.emplace_back(std::clamp(u - hw, -0.5, w - 0.5), v);
-      right.emplace_back(std::clamp(u + hw, -0.5, w - 0.5), v);
+    std::vector<Vec2> centre;
+    if (opts_.road_model == RoadModel::Arc) {
+      centre = f.centerline_curve;
+    } else {
+      const double v0 = cl.a.y(), v1 = cl.b.y();
+      const int steps = 16;
+      for (int k = 0; k <= steps; ++k) {
+        const double v = v0 + (v1 - v0) * k / steps;
+        const double t = (v - v0) / std::max(1e-9, v1 - v0);
+        centre.emplace_back(cl.a.x() + t * (cl.b.x() - cl.a.x()), v);
+      }
     }
-    d.region_image = right;
-    for (auto it = left.rbegin(); it != left.rend(); ++it) d.region_image.push_back(*it);
+    d.region_image = roadBand(centre, finder_.rowWidths(), w);
     Polygon2 rv;
     for (const Vec2& p : d.region_image)
       if (const auto g = cam.backproject(p)) rv.push_back(*g);
@@ -1077,7 +1200,11 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.trapezoid_top_width = options_["trapezoid_top_width"];
     o.trapezoid_bottom_width = options_["trapezoid_bottom_width"];
     o.road_model = options_.b("arc") ? RoadModel::Arc : RoadModel::Line;
-    o.max_bend_blocks = options_.i("max_bend_blocks");
+    o.max_curvature = options_["max_curvature"];
+    o.curvature_steps = options_.i("curvature_steps");
+    o.adaptive = options_.b("adaptive");
+    o.adaptive_error_ratio = options_["adaptive_error_ratio"];
+    o.adaptive_stride = options_.i("adaptive_stride");
     o.refine_edges = options_.b("refine_edges");
     o.threads = options_.i("threads");
     o.raw_rgb = options_.b("raw_rgb");

@@ -24,11 +24,14 @@
 
 namespace mapnav {
 
-/// The road model of the Hough (§5): the paper's straight trapezoid, or (§9, "beyond") one that
-/// bends, so that curves are not cut: the centre line u(t) = a + b t + c t² in the image.
-/// EXPERIMENTAL: the image quadratic follows a bend where its edges are seen but extrapolates badly
-/// where the road fills the image (see the disabled test ArcModelFollowsCurves); a ground-plane
-/// arc is the planned replacement.
+/// The road model of the Hough (§5): the paper's straight trapezoid, or (§9, "beyond": "a road model
+/// based on the turn radius of the road ahead") an arc on the ground, so that curves are not cut:
+/// the centre line's lateral offset y(x) = y0 + θ·x + κ·x²/2 in the vehicle frame (x ahead), κ the
+/// curvature (1/m, left positive). A pin-hole over flat ground sees one ground distance x_r in each
+/// image row r and maps lateral offsets to columns affinely there, u = a_r + b_r·y(x_r), so for a
+/// fixed κ the centre line's column is an image line plus a known per-row offset: the Hough over
+/// (intercept, angle) runs for each κ of a grid and the best is kept (the per-row x_r and b_r come
+/// from the camera: ClusterPerceptron::setCamera()).
 enum class RoadModel { Line, Arc };
 std::string toString(RoadModel model);
 /// "line" or "arc"; throws InvalidInput otherwise.
@@ -55,9 +58,19 @@ struct ClusterPerceptronOptions {
   double trapezoid_top = 0.0;
   double trapezoid_top_width = 0.45;
   double trapezoid_bottom_width = 1.6;
-  RoadModel road_model = RoadModel::Line;  ///< straight (the paper) or arc (bends)
-  /// Arc model: the largest bend searched, blocks at mid-height of the road rows.
-  int max_bend_blocks = 8;
+  RoadModel road_model = RoadModel::Line;  ///< straight (the paper) or arc (bends; needs setCamera())
+  /// Arc model: the largest curvature searched, 1/m (the park's tightest bends have a 15 m radius).
+  double max_curvature = 0.07;
+  /// Arc model: the Hough tries the curvatures k·max_curvature/curvature_steps, |k| ≤ curvature_steps,
+  /// then refines the best continuously.
+  int curvature_steps = 10;
+  /// Beyond the paper (§9, adaptive cluster management): track() watches each frame's reconstruction
+  /// error (the clusters' mean squared error per band, on every adaptive_stride-th pixel each way)
+  /// and, when it exceeds adaptive_error_ratio × the training error, retrains clusters (moved from
+  /// where they are) and perceptron on that frame, bootstrapped from the last road it trusted.
+  bool adaptive = false;
+  double adaptive_error_ratio = 3.0;   ///< > 1
+  int adaptive_stride = 4;             ///< in [1, 64]
   /// Beyond the paper: refine the Hough line to the pixel from the road's edges (robust fit).
   bool refine_edges = true;
   /// Beyond the paper (§9): the perceptron's inputs are the pixel's R, G, B (scaled to [-1, 1])
@@ -83,7 +96,12 @@ struct RoadFinding {
   /// The centre line sampled every block row from the top road row down (the arc model's curve;
   /// on the line model, points of the line).
   std::vector<Vec2> centerline_curve;
-  double bend = 0;           ///< arc model: the curve's offset from its chord at mid-height, pixels
+  double curvature = 0;      ///< arc model: κ of the ground arc, 1/m (left positive); 0 on the line model
+  /// track() with the adaptive option: this frame's reconstruction error (mean squared, per band,
+  /// averaged over the bands), the training error it was compared with, and whether it retrained.
+  double reconstruction_error = 0;
+  double training_error = 0;
+  bool retrained = false;
   bool refined = false;      ///< the edge refinement found enough edge rows and moved the line
   int edge_rows = 0;         ///< rows with an edge that the refinement used
   Image mask;                ///< 1 channel, 255 = perceptron output > 0
@@ -108,6 +126,11 @@ class ClusterPerceptron {
   /// (see trapezoidRowWidths()).
   void setRowWidths(std::vector<double> widths);
   const std::vector<double>& rowWidths() const { return row_widths_; }
+  /// The arc model's per-row geometry from the camera (the image size must match the frames'): the
+  /// ground distance each row sees along the principal column and the columns per metre of lateral
+  /// offset there. Exact for a pin-hole without distortion, yaw or roll (each row then sees one
+  /// ground distance); an approximation for other cameras.
+  void setCamera(const Camera& camera);
 
   /// §3.2: every pixel replaced by its cluster's mean (debugging).
   Image reconstruct(const std::uint8_t* rgb, int width, int height) const;
@@ -120,13 +143,26 @@ class ClusterPerceptron {
   double outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const;
   /// §6: classifies a frame and finds the centre line (fast or reference path per options).
   RoadFinding find(const std::uint8_t* rgb, int width, int height, bool want_mask = true) const;
+  /// find(), and with the adaptive option the §9 cluster management: when the frame's reconstruction
+  /// error exceeds adaptive_error_ratio × the training error, retrains on this frame from the last
+  /// trusted road (the centre curve and the row widths) and finds the road again. Without the option,
+  /// the same as find().
+  RoadFinding track(const std::uint8_t* rgb, int width, int height, bool want_mask = true);
+  /// The mean squared reconstruction error per band, averaged over the bands, on every stride-th
+  /// pixel in each direction (the last clustering's is trainingError()).
+  double reconstructionError(const std::uint8_t* rgb, int width, int height, int stride) const;
+  double trainingError() const { return train_error_; }
 
  private:
   int nearest(float r, float g, float b) const;
   std::vector<double> trainRgbPerceptron(const std::uint8_t* rgb, int width, int height, const std::uint8_t* road);
   void buildLut();
   ClusterPerceptronOptions opt_;
+  std::vector<Vec3> clusterFrom(const std::uint8_t* rgb, int width, int height);
   std::vector<Vec3> means_;
+  double train_error_ = 0;
+  std::vector<double> row_x_, row_b_;  // arc model: per image row, ground distance (m) and du/dy (px/m)
+  std::vector<Vec2> trusted_curve_;    // track(): the last centre curve found under a fitting model
   std::vector<double> weights_;
   std::vector<double> row_widths_;
   std::vector<std::uint8_t> lut_;  // 32³ cells of 8³ colours: road certainty 0..240, 255 = ambiguous
@@ -135,6 +171,9 @@ class ClusterPerceptron {
   bool trained_ = false;
 };
 
+/// The road band of a centre curve (image points, top to bottom): each point ± half its row's
+/// width (clamped to the image's columns), right side down then left side up.
+Polygon2 roadBand(const std::vector<Vec2>& centre, const std::vector<double>& row_widths, int width);
 /// Per-row road widths (pixels) of a 1-channel road outline mask: the extent of each row inside it, fitted by a line in v (a flat road of constant width) over the rows where the outline
 /// does not touch the image sides, and extrapolated to every row below its top.
 std::vector<double> trapezoidRowWidths(const Image& outline_mask);
