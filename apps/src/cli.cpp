@@ -17,6 +17,7 @@
 #include "log_command.h"
 #include "pipelines_command.h"
 #include "detect_command.h"
+#include "eval_command.h"
 #include "vision_commands.h"
 #include "bench_command.h"
 #include "mission_commands.h"
@@ -414,6 +415,48 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
         lines.push_back(Segment2{Vec2(v[0], v[1]), Vec2(v[2], v[3])});
       }
       return runCalibrateTilt(tilt_camera, lines.at(0), lines.at(1), tilt_output, out, err);
+    };
+  });
+
+  EvalSegmentationConfig eval_seg;
+  std::string eval_road = "3", eval_ignore;
+  CLI::App* ev = app.add_subcommand("eval", "Score vision pipelines on labelled real photos (docs/eval.md)");
+  ev->require_subcommand(1);
+  CLI::App* es = ev->add_subcommand(
+      "segmentation", "Run a pipeline over labelled photos: road IoU (set, per-image median and worst), precision, recall");
+  es->add_option("--pipeline", eval_seg.pipeline, "Vision pipeline (mapnav pipelines lists them)")->default_val("sidewalk");
+  es->add_option("--options", eval_seg.options_json, "The pipeline's options as a JSON object")->default_val("{}");
+  es->add_option("--plugin", eval_seg.plugins, "Load a vision plug-in first");
+  es->add_option("--images", eval_seg.images, "Folder of RGB photos (PNG)")->required();
+  es->add_option("--labels", eval_seg.labels, "Folder of 1-channel class-index PNGs, one per photo, same file stem")->required();
+  es->add_option("--road-values", eval_road, "Label values that are road, comma-separated (CamVid: 3 road, 4 pavement)")
+      ->default_val("3");
+  es->add_option("--ignore-values", eval_ignore, "Label values left out of the scores (CamVid: 11 unlabelled)");
+  es->add_option("--bootstrap", eval_seg.bootstrap,
+                 "The road region the pipeline trains on: trapezoid (bottom centre, docs/eval.md) or labels-first-frame "
+                 "(the first photo's largest labelled road region)")
+      ->default_val("trapezoid");
+  es->add_option("--camera", eval_seg.camera, "Camera file (default: an assumed level pin-hole of the photos' size, docs/eval.md)")
+      ->check(CLI::ExistingFile);
+  es->add_option("--overlays", eval_seg.overlays, "Folder to write overlays to: true positives green, false positives red, "
+                                                  "false negatives blue, ignored pixels dark");
+  es->add_flag("--json", eval_seg.json, "Print the scores as JSON");
+  es->footer("Exit codes: 0 scored, 1 invalid input (an image without its label, a label of another size, a corrupt PNG), "
+             "2 usage or I/O error (a missing folder).");
+  es->callback([&] {
+    command = [&] {
+      auto values = [](const std::string& option, const std::string& text) {
+        std::vector<int> out;
+        if (text.empty()) return out;
+        for (double v : parseNumbers(option, text, 1, 256, "label values V[,V...] (0-255)")) {
+          if (v != std::floor(v)) throw InvalidInput(option + " \"" + text + "\": label values are whole numbers");
+          out.push_back(static_cast<int>(v));
+        }
+        return out;
+      };
+      eval_seg.classes.road = values("--road-values", eval_road);
+      eval_seg.classes.ignore = values("--ignore-values", eval_ignore);
+      return runEvalSegmentation(eval_seg, out, err);
     };
   });
 

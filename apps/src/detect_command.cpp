@@ -25,26 +25,6 @@ struct Detection {
   DetectedObject detected;
 };
 
-// A prediction made of one region the user gives, in image pixels, for training without a map.
-Prediction fromRegion(const std::vector<Vec2>& polygon, const Camera& camera) {
-  Prediction p;
-  PredictedRegion region;
-  region.id = "train-region";
-  region.kind = "given region";
-  Polygon2 ground;
-  for (const Vec2& pixel : polygon) {
-    if (const auto g = camera.backproject(pixel)) ground.push_back(*g);
-  }
-  if (ground.size() < 3) {
-    throw InvalidInput("--train-region: fewer than 3 of its points see the ground (they are above the horizon)");
-  }
-  region.vehicle = {ground};
-  p.view.regions = {region};
-  const PredictOptions defaults;
-  p.view.footprint = viewFootprint(camera, defaults.near_m, defaults.far_m);
-  return p;
-}
-
 Detection run(const Map* map, const DetectConfig& config) {
   loadPlugins(config.plugins);
   const auto camera = loadCamera(config.camera);
@@ -56,7 +36,7 @@ Detection run(const Map* map, const DetectConfig& config) {
                        " but the camera's is " + std::to_string(camera->width()) + "x" + std::to_string(camera->height()));
   }
   d.prediction = map != nullptr ? predictView(*map, config.at ? toPose(*map, *config.at) : *config.pose, *camera)
-                                : fromRegion(config.train_region, *camera);
+                                : predictionFromImageRegion(config.train_region, *camera);
   const auto pipeline = createPipeline(config.pipeline, config.options_json);
   d.detected = pipeline->detect(VisionFrame{d.image.width, d.image.height, d.image.data.data(), camera.get(), 0.0},
                                 d.prediction.view);
@@ -88,6 +68,25 @@ std::string toJson(const DetectedObject& d) {
 }
 
 }  // namespace
+
+Prediction predictionFromImageRegion(const std::vector<Vec2>& polygon, const Camera& camera) {
+  Prediction p;
+  PredictedRegion region;
+  region.id = "train-region";
+  region.kind = "given region";
+  Polygon2 ground;
+  for (const Vec2& pixel : polygon) {
+    if (const auto g = camera.backproject(pixel)) ground.push_back(*g);
+  }
+  if (ground.size() < 3) {
+    throw InvalidInput("the training region: fewer than 3 of its points see the ground (they are above the horizon)");
+  }
+  region.vehicle = {ground};
+  p.view.regions = {region};
+  const PredictOptions defaults;
+  p.view.footprint = viewFootprint(camera, defaults.near_m, defaults.far_m);
+  return p;
+}
 
 int runDetect(const DetectConfig& config, std::ostream& out, std::ostream& err) {
   return withMap(config.map, err, [&](const Map& map) {

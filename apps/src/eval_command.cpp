@@ -1,0 +1,167 @@
+#include "eval_command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <sstream>
+
+#include "cli.h"
+#include "command_support.h"
+#include "detect_command.h"
+#include "mapnav/core/error.h"
+#include "mapnav/core/json.h"
+#include "mapnav/map/camera_io.h"
+#include "mapnav/sim/image.h"
+#include "mapnav/vision/overlay.h"
+#include "mapnav/vision_iface/pipeline.h"
+#include "pipelines_command.h"
+
+namespace mapnav::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Sample {
+  fs::path image_file, label_file;
+  Image image, label;
+};
+
+// Every image with its label, read and checked before anything runs or is written.
+std::vector<Sample> readSet(const EvalSegmentationConfig& config) {
+  for (const auto& [option, dir] : {std::pair{"--images", config.images}, std::pair{"--labels", config.labels}}) {
+    if (!fs::is_directory(dir)) throw IoError(std::string(option) + " " + dir + ": no such folder");
+  }
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(config.images)) {
+    if (e.is_regular_file() && e.path().extension() == ".png") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InvalidInput(config.images + ": no .png images in the folder");
+  std::vector<Sample> set;
+  for (const fs::path& f : files) {
+    Sample s;
+    s.image_file = f;
+    s.label_file = fs::path(config.labels) / (f.stem().string() + ".png");
+    if (!fs::is_regular_file(s.label_file))
+      throw InvalidInput(f.string() + ": no label " + s.label_file.string() + " (labels are matched by file stem)");
+    s.image = readPng(f);
+    s.label = readPng(s.label_file);
+    if (s.image.channels != 3) throw InvalidInput(f.string() + ": expected an RGB photo");
+    if (s.label.channels != 1) throw InvalidInput(s.label_file.string() + ": expected a 1-channel PNG of class indices");
+    if (s.label.width != s.image.width || s.label.height != s.image.height)
+      throw InvalidInput(s.label_file.string() + ": the label is " + std::to_string(s.label.width) + "x" +
+                         std::to_string(s.label.height) + " but its image is " + std::to_string(s.image.width) + "x" +
+                         std::to_string(s.image.height));
+    if (!set.empty() && (s.image.width != set.front().image.width || s.image.height != set.front().image.height))
+      throw InvalidInput(f.string() + ": every image must have the size of the first (" +
+                         std::to_string(set.front().image.width) + "x" + std::to_string(set.front().image.height) + ")");
+    set.push_back(std::move(s));
+  }
+  return set;
+}
+
+Json number(const std::optional<double>& v) {
+  return v ? Json(std::round(*v * 10000) / 10000) : Json(nullptr);
+}
+
+std::string text(const std::optional<double>& v) {
+  if (!v) return "null";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(4) << *v;
+  return s.str();
+}
+
+}  // namespace
+
+std::unique_ptr<Camera> assumedPhotoCamera(int width, int height) {
+  CameraIntrinsics in;
+  in.width = width;
+  in.height = height;
+  in.fx = in.fy = 0.9 * width;
+  in.cx = (width - 1) / 2.0;
+  in.cy = (height - 1) / 2.0;
+  CameraMount mount;
+  mount.height_m = 1.3;
+  mount.tilt_rad = 0.0;
+  return createCamera(LensModel::Pinhole, in, mount);
+}
+
+int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out, std::ostream& err) {
+  return guarded(err, [&] {
+    config.classes.validate();
+    config.trapezoid.validate();
+    if (config.bootstrap != "trapezoid" && config.bootstrap != "labels-first-frame")
+      throw InvalidInput("--bootstrap \"" + config.bootstrap + "\": expected trapezoid or labels-first-frame");
+    loadPlugins(config.plugins);
+    auto pipeline = createPipeline(config.pipeline, config.options_json);
+    const std::vector<Sample> set = readSet(config);
+    const int w = set.front().image.width, h = set.front().image.height;
+    const std::unique_ptr<Camera> camera = config.camera.empty() ? assumedPhotoCamera(w, h) : loadCamera(config.camera);
+    if (camera->width() != w || camera->height() != h)
+      throw InvalidInput(config.camera + ": the camera's image is " + std::to_string(camera->width()) + "x" +
+                         std::to_string(camera->height()) + " but the photos are " + std::to_string(w) + "x" +
+                         std::to_string(h));
+    const Polygon2 bootstrap = config.bootstrap == "trapezoid"
+                                   ? bottomTrapezoid(w, h, config.trapezoid)
+                                   : largestRegionOutline(roadMask(set.front().label, config.classes));
+    if (bootstrap.size() < 3) throw InvalidInput(set.front().label_file.string() + ": no road labelled to bootstrap from");
+    const Prediction prediction = predictionFromImageRegion(bootstrap, *camera);
+
+    std::vector<PixelCounts> counts;
+    std::vector<std::string> failures;  // per image, empty when the pipeline found a region
+    std::vector<Image> overlays;
+    for (const Sample& s : set) {
+      const DetectedObject d =
+          pipeline->detect(VisionFrame{w, h, s.image.data.data(), camera.get(), 0.0}, prediction.view);
+      const bool ok = d.status == DetectedObject::Status::Ok;
+      const Image mask = ok ? regionMask(d, w, h) : Image(w, h, 1);
+      counts.push_back(countPixels(mask, s.label, config.classes));
+      failures.push_back(ok ? "" : d.reason);
+      if (!config.overlays.empty()) overlays.push_back(drawSegmentationOverlay(s.image, mask, s.label, config.classes));
+    }
+    // No pipeline exposes a per-pixel confidence through DetectedObject (only the region and one
+    // number per frame), so MaxF and AP stay null rather than being made up from the binary mask.
+    const SegmentationScores scores = summarize(counts);
+    if (!config.overlays.empty()) {
+      fs::create_directories(config.overlays);
+      for (std::size_t i = 0; i < set.size(); ++i)
+        writePng(overlays[i], fs::path(config.overlays) / (set[i].image_file.stem().string() + ".png"));
+    }
+    const auto failed = std::count_if(failures.begin(), failures.end(), [](const std::string& f) { return !f.empty(); });
+    if (config.json) {
+      Json per_image = Json::array();
+      for (std::size_t i = 0; i < set.size(); ++i)
+        per_image.push_back({{"image", set[i].image_file.filename().string()},
+                             {"iou", number(counts[i].iou())},
+                             {"failed", failures[i].empty() ? Json(nullptr) : Json(failures[i])}});
+      const Json j = {{"pipeline", config.pipeline}, {"bootstrap", config.bootstrap},
+                      {"images", scores.images},     {"failed", failed},
+                      {"iou", number(scores.iou)},   {"iou_median", number(scores.iou_median)},
+                      {"iou_worst", number(scores.iou_worst)}, {"precision", number(scores.precision)},
+                      {"recall", number(scores.recall)},       {"maxf", number(scores.maxf)},
+                      {"ap", number(scores.ap)},               {"per_image", per_image}};
+      out << dumpJson(j);
+    } else {
+      for (std::size_t i = 0; i < set.size(); ++i) {
+        out << "  " << set[i].image_file.filename().string() << "  IoU " << text(counts[i].iou());
+        if (!failures[i].empty()) out << "  (pipeline failed: " << failures[i] << "; scored as no road)";
+        out << "\n";
+      }
+      out << config.pipeline << " (bootstrap " << config.bootstrap << "): " << scores.images << " images, " << failed
+          << " failed\n"
+          << "  IoU " << text(scores.iou) << " (per image: median " << text(scores.iou_median) << ", worst "
+          << text(scores.iou_worst) << ")\n"
+          << "  precision " << text(scores.precision) << ", recall " << text(scores.recall) << "\n"
+          << "  MaxF null, AP null: the pipeline gives no per-pixel confidence\n";
+      if (!config.overlays.empty()) out << "overlays in " << config.overlays << " (green TP, red FP, blue FN)\n";
+    }
+    return static_cast<int>(kOk);
+  });
+}
+
+}  // namespace mapnav::cli

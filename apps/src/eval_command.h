@@ -1,0 +1,33 @@
+#pragma once
+// `mapnav eval segmentation` (docs/eval.md): a vision pipeline over a labelled photo set, scored
+// as the KITTI road benchmark and CamVid do.
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/camera.h"
+#include "mapnav/vision/segmentation_eval.h"
+
+namespace mapnav::cli {
+
+struct EvalSegmentationConfig {
+  std::string pipeline = "sidewalk";
+  std::string options_json = "{}";
+  std::vector<std::string> plugins;
+  std::string images, labels;          ///< folders; an image's label is the PNG of the same stem
+  LabelClasses classes;
+  std::string bootstrap = "trapezoid";  ///< or "labels-first-frame"
+  TrapezoidOptions trapezoid;
+  std::string camera;                   ///< optional camera file; default: the assumed pin-hole (docs/eval.md)
+  std::string overlays;                 ///< folder for TP/FP/FN overlays, or empty
+  bool json = false;
+};
+
+/// The pin-hole assumed for photos without a camera file: fx = fy = 0.9 × width (a 58° horizontal
+/// field), principal point at the centre, 1.3 m above the ground, level (horizon at mid-height).
+std::unique_ptr<Camera> assumedPhotoCamera(int width, int height);
+
+int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out, std::ostream& err);
+
+}  // namespace mapnav::cli
