@@ -1,0 +1,105 @@
+// Issue 9: "park_loop in closed loop at 1 m/s stays on the path all the way with both park
+// pipelines". The measure (the TRUE position's offset from the nearest road's centre line against
+// half the path's width less half the vehicle's), then a stretch of park_loop with curves driven
+// closed loop with each park pipeline. The whole mission is run by command for the figures:
+//   build/bin/mapnav run --mission maps/missions/park_loop.json --pipeline edge-tracker
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "mapnav/map/map_io.h"
+#include "mapnav/mission/runner.h"
+#include "mapnav/testing/support.h"
+#include "mapnav/vision/pipelines.h"
+
+namespace mapnav {
+namespace {
+
+const Map& parkMap() {
+  static const Map map = loadMap(testing::mapPath("park_path.json"));
+  return map;
+}
+
+// The midpoint of R1's longest centre-line segment and the unit normal to its left.
+void straightPoint(Vec2& point, Vec2& left) {
+  const Polyline2& line = parkMap().road("R1").centerline;
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < line.segmentCount(); ++i)
+    if (line.segment(i).length() > line.segment(best).length()) best = i;
+  const Segment2 s = line.segment(best);
+  point = s.pointAt(0.5);
+  left = leftNormal((s.b - s.a).normalized());
+}
+
+TEST(PathOffset, IsTheDistanceFromTheNearestCentreLineAgainstHalfTheWidthLessHalfTheVehicle) {
+  Vec2 p, n;
+  straightPoint(p, n);
+  // R1 is 3 m wide: a 0.6 m wide vehicle may be 1.5 - 0.3 = 1.2 m off its centre line.
+  for (const double d : {0.0, 0.7, -1.1, 1.4}) {
+    const PathOffset o = pathOffset(parkMap(), p + d * n, 0.6);
+    EXPECT_NEAR(o.offset_m, std::abs(d), 1e-9) << d;
+    EXPECT_DOUBLE_EQ(o.allowed_m, 1.2);
+  }
+  EXPECT_DOUBLE_EQ(pathOffset(parkMap(), p, 0.0).allowed_m, 1.5);
+  // Farther than 5 m from every road: off the map, and no offset is allowed.
+  const PathOffset off = pathOffset(parkMap(), p + 20.0 * n, 0.6);
+  EXPECT_EQ(off.offset_m, PathOffset::kOffMap);
+  EXPECT_EQ(off.allowed_m, 0.0);
+}
+
+TEST(PathOffset, FramesOverTheEdgeAreCountedOnlyWithTruth) {
+  std::vector<FrameRecord> frames(4);
+  const double offsets[] = {0.2, 1.25, 1.19, 3.0};
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    frames[i].truth = Pose2();
+    frames[i].offset_from_centre_m = offsets[i];
+    frames[i].allowed_offset_m = 1.2;
+  }
+  frames[3].truth.reset();  // no truth: not measured
+  MissionMetrics m;
+  accumulateMetrics(frames, Route{}, m);
+  EXPECT_TRUE(m.has_truth);
+  EXPECT_EQ(m.left_path_frames, 1u);
+  EXPECT_DOUBLE_EQ(m.max_offset_from_centre_m, 1.25);
+  EXPECT_NEAR(m.min_path_clearance_m, -0.05, 1e-12);
+  EXPECT_FALSE(m.stayedOnPath());
+  frames[1].offset_from_centre_m = 1.2;  // on the edge is still on the path
+  accumulateMetrics(frames, Route{}, m);
+  EXPECT_EQ(m.left_path_frames, 0u);
+  EXPECT_TRUE(m.stayedOnPath());
+}
+
+// The first kStretchFrames frames of park_loop (2 m apart at 1 m/s and 0.5 Hz) in closed loop: the
+// vehicle steers on the Map's estimate, corrected by the pipeline's detections; the truth must stay
+// on the path at every control step.
+constexpr std::size_t kStretchFrames = 80;
+
+class ParkLoopStretch : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ParkLoopStretch, StaysOnThePathSteeringOnTheEstimate) {
+  registerBuiltinPipelines();
+  const MissionFile mission = loadMission(testing::mapPath("missions/park_loop.json"));
+  RunOptions options;
+  options.pipeline = GetParam();
+  options.max_frames = kStretchFrames;
+  const MissionRun run = runClosedLoop(mission, options);
+  const MissionMetrics& m = run.metrics;
+  std::printf("%s: %zu frames, %.1f m driven, lateral RMS %.3f m, max offset from the centre line %.3f m "
+              "(clearance %.3f m), vision failures %zu\n",
+              run.pipeline.c_str(), m.frames, run.distance_m, m.estimate.lateral_rms_m, m.max_offset_from_centre_m,
+              m.min_path_clearance_m, m.vision_failures);
+  EXPECT_FALSE(run.ended_by_halt) << run.outcome;
+  EXPECT_EQ(m.frames, kStretchFrames) << run.outcome;
+  EXPECT_GT(run.distance_m, 0.9 * 2.0 * (kStretchFrames - 1));  // it kept driving at about 1 m/s
+  EXPECT_TRUE(m.stayedOnPath());
+  EXPECT_EQ(m.left_path_frames, 0u);
+  EXPECT_LE(m.max_offset_from_centre_m, 1.2);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothParkPipelines, ParkLoopStretch, ::testing::Values("cluster-perceptron", "edge-tracker"),
+                         [](const auto& info) {
+                           return std::string(info.param) == "edge-tracker" ? "EdgeTracker" : "ClusterPerceptron";
+                         });
+
+}  // namespace
+}  // namespace mapnav
