@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "mapnav/map/map_io.h"
+#include "mapnav/map/matching.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
@@ -67,6 +68,42 @@ TEST(PathOffset, FramesOverTheEdgeAreCountedOnlyWithTruth) {
   accumulateMetrics(frames, Route{}, m);
   EXPECT_EQ(m.left_path_frames, 0u);
   EXPECT_TRUE(m.stayedOnPath());
+}
+
+// Park mode's centre-line correspondence: the detected (straight) centre line, cut back until the
+// map's chord under it is within sigma of the curve, against that chord.
+TEST(CenterlineCorrespondence, TheNearPieceAgainstTheMapsChordOnACurve) {
+  const Polyline2& line = parkMap().road("R1").centerline;
+  const Segment2 detected{Vec2(2, 0), Vec2(12, 0)};  // vehicle frame: 2 m to 12 m straight ahead
+  auto poseAt = [&](double s) {
+    const Vec2 t = line.tangentAt(s);
+    return Pose2(line.pointAt(s), std::atan2(t.y(), t.x()));
+  };
+  {  // R1 runs straight for its first 39 m: all of it against the road's own line, sigma unchanged.
+    const auto c = centerlineCorrespondence(parkMap(), poseAt(10), detected, 0.1);
+    ASSERT_TRUE(c.has_value());
+    EXPECT_EQ(c->id, "R1.centerline");
+    EXPECT_NEAR((c->detected_vehicle.b - c->detected_vehicle.a).norm(), 10, 1e-9);
+    EXPECT_NEAR((c->map_world.a - line.pointAt(12)).norm(), 0, 1e-6);
+    EXPECT_NEAR((c->map_world.b - line.pointAt(22)).norm(), 0, 1e-6);
+    EXPECT_DOUBLE_EQ(c->sigma_m, 0.1);
+  }
+  {  // On R1's 35 m curve (arc length 155 to 196 m), looking along the tangent at 170 m. All of it
+     // would span 35 atan(12/35) - 35 atan(2/35) = 9.32 m of arc, 35 (1 - cos(9.32 / 70)) = 0.31 m
+     // from its chord. A chord within 0.1 m spans at most sqrt(8 * 35 * 0.1) = 5.29 m of arc: the
+     // piece from 2 m to x with 35 atan(x/35) - 35 atan(2/35) <= 5.29 m, x <= 7.46 m, kept in
+     // 0.25 m steps from 12 m: 7.25 m.
+    const Pose2 prior = poseAt(170);
+    const auto c = centerlineCorrespondence(parkMap(), prior, detected, 0.1);
+    ASSERT_TRUE(c.has_value());
+    EXPECT_NEAR((c->detected_vehicle.a - Vec2(2, 0)).norm(), 0, 1e-9);
+    EXPECT_NEAR(c->detected_vehicle.b.x(), 7.25, 0.26);  // the polyline is not quite a circle
+    EXPECT_GE(c->sigma_m, 0.1);
+    EXPECT_LE(c->sigma_m, std::hypot(0.1, 0.1));
+    const double sa = 170 + 35 * std::atan(2.0 / 35), sb = 170 + 35 * std::atan(c->detected_vehicle.b.x() / 35);
+    EXPECT_NEAR((c->map_world.a - line.pointAt(sa)).norm(), 0, 0.05);
+    EXPECT_NEAR((c->map_world.b - line.pointAt(sb)).norm(), 0, 0.05);
+  }
 }
 
 // The first kStretchFrames frames of park_loop (2 m apart at 1 m/s and 0.5 Hz) in closed loop: the
