@@ -9,6 +9,7 @@
 
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/matching.h"
+#include "mapnav/mission/modules.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
@@ -103,6 +104,40 @@ TEST(CenterlineCorrespondence, TheNearPieceAgainstTheMapsChordOnACurve) {
     const double sa = 170 + 35 * std::atan(2.0 / 35), sb = 170 + 35 * std::atan(c->detected_vehicle.b.x() / 35);
     EXPECT_NEAR((c->map_world.a - line.pointAt(sa)).norm(), 0, 0.05);
     EXPECT_NEAR((c->map_world.b - line.pointAt(sb)).norm(), 0, 0.05);
+  }
+}
+
+// The Map module in park mode: a filter surer of a wrong heading than it should be rejects the
+// correct centre line; after park_reset_after_rejections such frames it widens its covariance and
+// takes it.
+TEST(ParkMapModule, WidensItsCovarianceAfterRejectedCentreLinesAndTakesThem) {
+  const auto camera = testing::terregatorPinhole();
+  const Polyline2& line = parkMap().road("R1").centerline;  // straight for its first 39 m
+  const double road = std::atan2(line.tangentAt(10).y(), line.tangentAt(10).x());
+  const Pose2 wrong(line.pointAt(10), road + 6 * kPi / 180);  // the truth: on the centre line, along it
+  DetectedObject seen;  // from the truth: the centre line straight ahead, 2 to 12 m
+  seen.centerline_vehicle = Segment2{Vec2(2, 0), Vec2(12, 0)};
+  for (const int after : {3, 0}) {
+    SCOPED_TRACE(after);
+    MapModuleOptions options;
+    options.park_reset_after_rejections = after;
+    MapModule map(parkMap(), *camera, wrong, options);  // 1 deg sigma: 6 deg off fails the gate
+    Blackboard board;
+    for (int frame = 1; frame <= 3; ++frame) {
+      const double t = frame;
+      map.predict(board, t, VehicleMotion{});
+      seen.timestamp = t;
+      board.post(Module::Vision, seen);
+      const CurrentPosition& p = map.localize(board, t);
+      if (frame < 3 || after == 0) {
+        EXPECT_EQ(p.status, PositionStatus::Rejected) << frame << ": " << p.reason;
+        EXPECT_NEAR(p.pose.heading(), wrong.heading(), 1e-3);
+      } else {
+        EXPECT_EQ(p.status, PositionStatus::Corrected) << p.reason;
+        EXPECT_NE(p.reason.find("covariance widened"), std::string::npos) << p.reason;
+        EXPECT_NEAR(normalizeAngle(p.pose.heading() - road), 0, 0.5 * kPi / 180);
+      }
+    }
   }
 }
 
