@@ -413,6 +413,7 @@ std::vector<LineCorrespondence> edgeCorrespondences(const Map& map, const Predic
 std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const Pose2& prior,
                                                            const Segment2& centerline_vehicle, double sigma_m,
                                                            double search_radius_m) {
+  constexpr double kMinKeep = 1.0;  // m of the detected line kept at least
   const Vec2 mid = prior.transform(centerline_vehicle.pointAt(0.5));
   const Road* best = nullptr;
   Polyline2::Projection best_projection;
@@ -424,8 +425,42 @@ std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const
     }
   }
   if (best == nullptr || best->centerline.segmentCount() == 0) return std::nullopt;
-  return LineCorrespondence{best->id + ".centerline", centerline_vehicle,
-                            best->centerline.segment(best_projection.segment), sigma_m};
+  // The detected centre line is straight; on a curve the road's centre line over the same stretch
+  // is an arc. Matching it against the one map segment under its midpoint (a tangent there) put
+  // its ends a sagitta off that line: on park_loop's curves the gate then rejected frame after
+  // frame and the estimate drifted off the path on odometry alone. So: the map's chord between the
+  // points the detected ends project to. And the straight model holds near the vehicle only (the
+  // image rows, which the road finder weighs alike, are mostly near: half of them see 2 to 3.7 m
+  // ahead with the Terregator camera), so the detected line is cut back from its far end until
+  // that chord is within sigma_m of the arc; what deviation is left is added to sigma.
+  const Polyline2& line = best->centerline;
+  const bool a_near = centerline_vehicle.a.norm() <= centerline_vehicle.b.norm();
+  const Vec2 near = a_near ? centerline_vehicle.a : centerline_vehicle.b;
+  const Vec2 far = a_near ? centerline_vehicle.b : centerline_vehicle.a;
+  const double length = (far - near).norm();
+  if (length < 1e-9) {
+    return LineCorrespondence{best->id + ".centerline", centerline_vehicle, line.segment(best_projection.segment),
+                              sigma_m};
+  }
+  const double sn = line.project(prior.transform(near)).arc_length;
+  for (double keep = length;; keep = std::max(kMinKeep, keep - 0.25)) {
+    const Vec2 end = near + (far - near) * (keep / length);
+    const double se = line.project(prior.transform(end)).arc_length;
+    if (std::abs(se - sn) < 0.5) {  // no stretch of road under it: the segment under its midpoint
+      return LineCorrespondence{best->id + ".centerline", centerline_vehicle, line.segment(best_projection.segment),
+                                sigma_m};
+    }
+    const Segment2 chord{line.pointAt(sn), line.pointAt(se)};
+    double sagitta = 0;
+    const double lo = std::min(sn, se), hi = std::max(sn, se);
+    const int steps = static_cast<int>(std::ceil((hi - lo) / 0.25));
+    for (int k = 1; k < steps; ++k) {
+      sagitta = std::max(sagitta, chord.distanceTo(line.pointAt(lo + (hi - lo) * k / steps)));
+    }
+    if (sagitta <= sigma_m || keep <= kMinKeep) {
+      return LineCorrespondence{best->id + ".centerline", Segment2{near, end}, chord, std::hypot(sigma_m, sagitta)};
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include "mapnav/navigator/progress.h"
 
 namespace mapnav {
 
@@ -14,6 +17,12 @@ PoseError poseError(const Pose2& estimate, const Pose2& truth, double road_headi
   e.heading_rad = normalizeAngle(estimate.heading() - truth.heading());
   e.distance_m = d.norm();
   return e;
+}
+
+PathOffset pathOffset(const Map& map, const Vec2& position, double vehicle_width_m) {
+  const auto p = projectToRoad(map, Pose2(position, 0.0), PathOffset::kOffMap);
+  if (!p) return PathOffset{PathOffset::kOffMap, 0.0};
+  return PathOffset{p->distance, std::max(0.0, map.road(p->position.road).width / 2 - vehicle_width_m / 2)};
 }
 
 double percentile(std::vector<double> values, double p) {
@@ -68,6 +77,9 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
   std::vector<bool> checked(intersection_s.size(), false);
   into.along_after_intersection_max_m = 0;
   into.vision_failures = 0;
+  into.max_offset_from_centre_m = 0;
+  into.min_path_clearance_m = std::numeric_limits<double>::infinity();
+  into.left_path_frames = 0;
   std::vector<double> latency, vision;
   latency.reserve(frames.size());
   vision.reserve(frames.size());
@@ -77,6 +89,9 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
     if (!f.vision_ok) ++into.vision_failures;
     if (!f.truth) continue;
     into.has_truth = true;
+    into.max_offset_from_centre_m = std::max(into.max_offset_from_centre_m, f.offset_from_centre_m);
+    into.min_path_clearance_m = std::min(into.min_path_clearance_m, f.allowed_offset_m - f.offset_from_centre_m);
+    if (f.offPath()) ++into.left_path_frames;
     estimate.add(f.error);
     odometry.add(f.odometry_error);
     for (std::size_t i = 0; i < intersection_s.size(); ++i) {
@@ -86,6 +101,7 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
       }
     }
   }
+  if (!into.has_truth) into.min_path_clearance_m = 0;
   into.intersections_checked = static_cast<std::size_t>(std::count(checked.begin(), checked.end(), true));
   into.estimate = estimate.finish();
   into.odometry_only = odometry.finish();

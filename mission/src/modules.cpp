@@ -31,6 +31,12 @@ void MapModuleOptions::validate() const {
                 scale_baseline_m, "finite and > 0");
   requireOption(std::isfinite(scale_limit) && scale_limit >= 0 && scale_limit <= 0.5, "MapModuleOptions", "scale_limit",
                 scale_limit, "in [0, 0.5]");
+  requireOption(park_reset_after_rejections >= 0, "MapModuleOptions", "park_reset_after_rejections",
+                park_reset_after_rejections, ">= 0");
+  requireOption(std::isfinite(park_reset_sigma_m) && park_reset_sigma_m > 0, "MapModuleOptions", "park_reset_sigma_m",
+                park_reset_sigma_m, "finite and > 0");
+  requireOption(std::isfinite(park_reset_heading_sigma_deg) && park_reset_heading_sigma_deg > 0, "MapModuleOptions",
+                "park_reset_heading_sigma_deg", park_reset_heading_sigma_deg, "finite and > 0");
 }
 
 namespace {
@@ -98,6 +104,18 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     detected = &none;
   }
   position_ = mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_);
+  const bool park = detected->centerline_vehicle.has_value() &&
+                    std::none_of(detected->lines.begin(), detected->lines.end(),
+                                 [](const DetectedLine& l) { return l.label.has_value(); });
+  park_rejections_ = park && position_.status == PositionStatus::Rejected ? park_rejections_ + 1 : 0;
+  if (options_.park_reset_after_rejections > 0 && park_rejections_ >= options_.park_reset_after_rejections) {
+    // The gate has refused the centre line too often: the filter is surer than it should be.
+    const double s = options_.park_reset_sigma_m, h = degToRad(options_.park_reset_heading_sigma_deg);
+    filter_ = PoseFilter(filter_.pose(), Vec3(s * s, s * s, h * h).asDiagonal(), filter_.options());
+    position_ = mapnav::localize(filter_, VehicleMotion{}, prediction_, *detected, options_.localize, &map_);
+    position_.reason += " (after " + std::to_string(park_rejections_) + " rejected frames, the covariance widened)";
+    park_rejections_ = 0;
+  }
   position_.timestamp = t;
   pending_ = VehicleMotion{};
   calibrate();

@@ -31,6 +31,8 @@ void RunOptions::validate() const {
                 "token_validity_frames", token_validity_frames, "finite and > 0");
   requireOption(std::isfinite(command_validity_frames) && command_validity_frames > 0, "RunOptions",
                 "command_validity_frames", command_validity_frames, "finite and > 0");
+  requireOption(std::isfinite(vehicle_width_m) && vehicle_width_m >= 0, "RunOptions", "vehicle_width_m",
+                vehicle_width_m, "finite and >= 0");
   map.validate();
   navigator.validate();
 }
@@ -95,6 +97,7 @@ class ModuleLoop {
         truth_tracker_(densePath(navigator_.route().line, 0.25),
                        std::max(PathTracker::kDefaultWindowM, 4.0 * mission.speed_mps / mission.frame_rate_hz)) {
     run_.pipeline = vision_.pipelineName();
+    run_.vehicle_width_m = options.vehicle_width_m;
     run_.route = navigator_.route();
     run_.start = routeStart(run_.route);
     run_.goal = Pose2(run_.route.line.back(), run_.route.line.headingAt(run_.route.line.length()));
@@ -127,6 +130,12 @@ class ModuleLoop {
     h.image_height = camera_.height();
     trace_.header(h);
     trace_.route(0, navigator_.route(), "planned");
+  }
+
+  /// The true position between frames (closed loop: every control step), for "stays on the path".
+  void observeTruth(const Vec2& position) {
+    const PathOffset o = pathOffset(map_, position, options_.vehicle_width_m);
+    if (!between_ || o.offset_m - o.allowed_m > between_->offset_m - between_->allowed_m) between_ = o;
   }
 
   /// One frame; false when the mission ends here (a halt with no resume).
@@ -203,7 +212,11 @@ class ModuleLoop {
       }
       r.error = poseError(r.estimate, *truth, road);
       r.odometry_error = poseError(r.odometry_only, *truth, road);
+      observeTruth(truth->translation());
+      r.offset_from_centre_m = between_->offset_m;
+      r.allowed_offset_m = between_->allowed_m;
     }
+    between_.reset();
     run_.frames.push_back(r);
 
     bool go_on = true;
@@ -295,6 +308,7 @@ class ModuleLoop {
   std::vector<Pending> drops_;
   std::size_t replans_seen_ = 0;
   std::size_t last_failure_ = 0, halt_start_ = 0;
+  std::optional<PathOffset> between_;  // the worst offset since the last frame (observeTruth)
 };
 
 void progress(const RunOptions& options, std::size_t frame, std::size_t total, double t) {
@@ -396,7 +410,10 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
         progress(options, index, std::max(total, index), t);
         return go_on;
       },
-      [&](double t) { return loop.motion().control(loop.board(), t, options.control_dt_s); },
+      [&](double t) {
+        loop.observeTruth(vehicle.pose().translation());
+        return loop.motion().control(loop.board(), t, options.control_dt_s);
+      },
       [&] { return loop.motion().arrived(); });
   run.duration_s = driven.duration_s;
   run.distance_m = driven.distance_m;
@@ -448,6 +465,10 @@ std::string runToJson(const MissionRun& run) {
          {"latency_ms_median", round(m.latency_ms_median, 1e3)},
          {"latency_ms_p99", round(m.latency_ms_p99, 1e3)},
          {"along_after_intersection_max_m", err(m.along_after_intersection_max_m, 1e5)},
+         {"max_offset_from_centre_m", err(m.max_offset_from_centre_m, 1e5)},
+         {"min_path_clearance_m", err(m.min_path_clearance_m, 1e5)},
+         {"left_path_frames", m.left_path_frames},
+         {"stayed_on_path", m.has_truth ? Json(m.stayedOnPath()) : Json(nullptr)},
          // More of the same, for people and the report.
          {"mode", run.mode},
          {"mission", run.mission},
@@ -496,6 +517,12 @@ std::string summaryText(const MissionRun& run) {
     std::snprintf(line, sizeof line,
                   "  along-road error within 2 m after each intersection: max %.3f m (%zu of %zu intersections)\n",
                   m.along_after_intersection_max_m, m.intersections_checked, run.route.intersections.size());
+    out += line;
+    std::snprintf(line, sizeof line,
+                  "  on the path: %s (truth at most %.3f m from the centre line, clearance to the edge %.3f m for a "
+                  "%.2f m wide vehicle, %zu frames off the path)\n",
+                  m.stayedOnPath() ? "yes" : "NO", m.max_offset_from_centre_m, m.min_path_clearance_m,
+                  run.vehicle_width_m, m.left_path_frames);
     out += line;
   } else {
     out += "  no ground truth: errors not measured\n";

@@ -260,6 +260,8 @@ void TraceWriter::summary(const MissionRun& run) {
                {"odometry_only", stats(m.odometry_only)},
                {"along_after_intersection_max_m", m.has_truth ? Json(m4(m.along_after_intersection_max_m)) : Json(nullptr)},
                {"intersections_checked", m.intersections_checked},
+               {"max_offset_from_centre_m", m.has_truth ? Json(m4(m.max_offset_from_centre_m)) : Json(nullptr)},
+               {"left_path_frames", m.left_path_frames},
                {"vision_failures", m.vision_failures},
                {"halts", m.halts},
                {"replans", m.replans}};

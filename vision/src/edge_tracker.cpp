@@ -142,6 +142,10 @@ EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& d
       scores[k] = kNaN;
       if (k - h < 0 || k + h > W) continue;
       if (std::abs(k - 0.5 - (W - 1) / 2.0) > params.max_offset_px) continue;
+      // An edge point outside the image is no edge seen: there the profile's columns hold only
+      // their part inside the image, and where that part ends looks like a step.
+      const Vec2 at = centre + (k - 0.5 - (W - 1) / 2.0) * n;
+      if (at.x() < 0 || at.y() < 0 || at.x() > image.width - 1 || at.y() > image.height - 1) continue;
       double l = 0, r = 0;
       bool ok = true;
       for (int i = 1; i <= h && ok; ++i) {
@@ -248,6 +252,8 @@ const std::vector<Spec>& specs() {
       {"gate_search", "false",
        "after the first point search only offsets reachable within max_turn_deg (step x tan); off: the whole window"},
       {"use_carried_edges", "true", "start from advance()'d previous edges when the prediction has no segments"},
+      {"single_edge", "false",
+       "when one edge is lost and the other (labelled) is tracked, report that edge alone instead of failing"},
   };
   return s;
 }
@@ -300,6 +306,9 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
     else if (key == "gate_search") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.gate_search = value.get<bool>();
+    } else if (key == "single_edge") {
+      if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
+      o.single_edge = value.get<bool>();
     } else if (key == "use_carried_edges") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.use_carried_edges = value.get<bool>();
@@ -613,11 +622,41 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
     for (const Vec2& p : e->image)
       if (const auto g = cam.backproject(p)) e->ground.push_back(*g);
 
-  if (static_cast<int>(report_.left.image.size()) < options_.min_points)
-    return fail("left edge lost: " + report_.left.stop_reason);
-  if (static_cast<int>(report_.right.image.size()) < options_.min_points)
-    return fail("right edge lost: " + report_.right.stop_reason);
-  if (report_.left.ground.size() < 2 || report_.right.ground.size() < 2) return fail("edges not on the ground");
+  // The edges' lines for the DetectedObject, labelled with the predicted segment each started from.
+  auto addLines = [&](DetectedObject& d, const TrackedEdge& e) {
+    const std::vector<Vec2> poly = e.image.size() > 2 ? simplifyPolyline(e.image, 1.5) : e.image;
+    for (std::size_t i = 0; i + 1 < poly.size(); ++i) {
+      DetectedLine l;
+      l.label = e.label;
+      l.score = e.label ? e.eval.score : 0;
+      l.image = {poly[i], poly[i + 1]};
+      const auto ga = cam.backproject(poly[i]), gb = cam.backproject(poly[i + 1]);
+      if (ga && gb) l.vehicle = {*ga, *gb};
+      d.lines.push_back(l);
+    }
+  };
+  auto tracked = [&](const TrackedEdge& e) {
+    return static_cast<int>(e.image.size()) >= options_.min_points && e.ground.size() >= 2;
+  };
+  const bool left_ok = tracked(report_.left), right_ok = tracked(report_.right);
+  if (!left_ok && !right_ok) {
+    return fail("both edges lost: left: " + report_.left.stop_reason + "; right: " + report_.right.stop_reason);
+  }
+  if (!left_ok || !right_ok) {
+    const std::string lost = !left_ok ? "left edge lost: " + report_.left.stop_reason
+                                      : "right edge lost: " + report_.right.stop_reason;
+    const TrackedEdge& good = left_ok ? report_.left : report_.right;
+    if (!options_.single_edge || !good.label) return fail(lost);
+    // One edge: lateral position and heading for the Map (its gate against the prediction is the
+    // only check left), no centre line, half the confidence.
+    (left_ok ? last_left_ : last_right_) = Carried{good.ground, good.label};
+    DetectedObject d;
+    d.timestamp = frame.timestamp;
+    addLines(d, good);
+    d.confidence = std::clamp(0.5 * good.eval.score, 0.0, 1.0);
+    d.reason = lost + "; the other edge alone";
+    return d;
+  }
 
   // Ground check: width samples from each edge to the other, parallelism of the fitted lines.
   EdgePairCheck& pc = report_.pair;
@@ -679,18 +718,7 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
 
   DetectedObject d;
   d.timestamp = frame.timestamp;
-  for (const TrackedEdge* e : {&report_.left, &report_.right}) {
-    const std::vector<Vec2> poly = e->image.size() > 2 ? simplifyPolyline(e->image, 1.5) : e->image;
-    for (std::size_t i = 0; i + 1 < poly.size(); ++i) {
-      DetectedLine l;
-      l.label = e->label;
-      l.score = e->label ? e->eval.score : 0;
-      l.image = {poly[i], poly[i + 1]};
-      const auto ga = cam.backproject(poly[i]), gb = cam.backproject(poly[i + 1]);
-      if (ga && gb) l.vehicle = {*ga, *gb};
-      d.lines.push_back(l);
-    }
-  }
+  for (const TrackedEdge* e : {&report_.left, &report_.right}) addLines(d, *e);
   // Region between the edges: left bottom → top, then right top → bottom.
   for (const Vec2& p : report_.left.image) d.region_image.push_back(p);
   for (auto it = report_.right.image.rbegin(); it != report_.right.image.rend(); ++it) d.region_image.push_back(*it);

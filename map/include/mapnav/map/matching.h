@@ -134,8 +134,13 @@ std::vector<LineCorrespondence> edgeCorrespondences(const Map& map, const Predic
                                                     double sigma_m, double min_length_m, double piece_m);
 
 /// Park mode: the detected centre line against the centre line of the road nearest to it (its
-/// midpoint placed in the world by `prior`, roads within `search_radius_m`): the piece of the
-/// polyline it projects onto, as an infinite line. Nothing when no road is that close.
+/// midpoint placed in the world by `prior`, roads within `search_radius_m`). The detection is
+/// straight and the road may curve: the detected line is cut back from its far end (to 1 m at the
+/// least) until the map's chord between the points its ends project to is within sigma_m of the
+/// road's centre line; the correspondence is that piece against that chord, with sigma_m combined
+/// (root sum of squares) with the deviation left. When the ends project less than 0.5 m apart: the
+/// whole line against the polyline's segment under its midpoint, with sigma_m. Nothing when no road
+/// is that close.
 std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const Pose2& prior,
                                                            const Segment2& centerline_vehicle, double sigma_m,
                                                            double search_radius_m = 3.0);

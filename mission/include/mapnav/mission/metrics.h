@@ -9,6 +9,7 @@
 
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
+#include "mapnav/map/map.h"
 #include "mapnav/map/matching.h"
 #include "mapnav/mission/blackboard.h"
 #include "mapnav/navigator/route.h"
@@ -52,7 +53,26 @@ struct FrameRecord {
   double route_s = 0;             ///< the truth's arc length along the planned route, m
   PoseError error;                ///< estimate − truth
   PoseError odometry_error;       ///< odometry_only − truth
+  /// "On the path" (issue 9): the largest |lateral offset| of the TRUE position from the centre line
+  /// of the road nearest to it, over the frame period ending at this frame (closed loop: at every
+  /// control step since the previous frame; replay: this frame's truth), m ...
+  double offset_from_centre_m = 0;
+  /// ... and the most it may be: half that road's width less half the vehicle's (PathOffset).
+  double allowed_offset_m = 0;
+  /// The vehicle's side went over the path's edge during this frame period.
+  bool offPath() const { return truth.has_value() && offset_from_centre_m > allowed_offset_m; }
 };
+
+/// Where a true position is across the path: its offset from the nearest road's centre line, and
+/// the most that offset may be while the whole vehicle stays on the paved path.
+struct PathOffset {
+  double offset_m = 0;   ///< |distance from the centre line|, m; kOffMap when no road is within 5 m
+  double allowed_m = 0;  ///< that road's width / 2 − vehicle_width / 2 (0 off the map)
+  static constexpr double kOffMap = 5.0;
+};
+
+/// The PathOffset of `position` on `map` for a vehicle `vehicle_width_m` wide.
+PathOffset pathOffset(const Map& map, const Vec2& position, double vehicle_width_m);
 
 /// RMS and maximum of a set of pose errors.
 struct ErrorStats {
@@ -73,6 +93,15 @@ struct MissionMetrics {
   /// (truth between the intersection's centre and 2 m past it), m; 0 when no frame fell there.
   double along_after_intersection_max_m = 0;
   std::size_t intersections_checked = 0;  ///< intersections with at least one frame in that window
+  /// "Stays on the path" (issue 9), from the truth: the largest offset of the true position from
+  /// the nearest road's centre line over the run, m (FrameRecord::offset_from_centre_m) ...
+  double max_offset_from_centre_m = 0;
+  /// ... the least room left between the vehicle's side and the path's edge, m (negative: over it) ...
+  double min_path_clearance_m = 0;
+  /// ... and the frames in whose period the vehicle's side went over the path's edge.
+  std::size_t left_path_frames = 0;
+  /// There was truth and no frame left the path.
+  bool stayedOnPath() const { return has_truth && left_path_frames == 0; }
   std::size_t vision_failures = 0;
   std::size_t halts = 0;          ///< halt periods (consecutive failures count once)
   std::size_t replans = 0;

@@ -68,6 +68,16 @@ struct MapModuleOptions {
   double scale_gain = 0.5;
   double scale_baseline_m = 10.0;  ///< m (> 0)
   double scale_limit = 0.05;       ///< relative, in [0, 0.5]
+  /// Park mode (a centre line, no labelled lines): after this many consecutive frames whose centre
+  /// line the gate rejected, the filter's covariance is widened to park_reset_sigma_m and
+  /// park_reset_heading_sigma_deg and the frame matched again (0: never). The straight centre line
+  /// observes lateral position and heading but not the position along the road; on a tight curve an
+  /// along-road error of d gives a heading error of d / radius that the filter does not know of
+  /// (park_loop's 15 m hairpin: 1.1 m, 4 deg, growing to 7 deg), and out of the curve the gate then
+  /// rejects every correct measurement while the estimate runs off the path on odometry.
+  int park_reset_after_rejections = 3;
+  double park_reset_sigma_m = 0.5;            ///< m (> 0)
+  double park_reset_heading_sigma_deg = 10.0; ///< degrees (> 0)
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
@@ -119,6 +129,7 @@ class MapModule {
   double scale_ = 1.0;
   double since_fix_m_ = 0;  // driven since the last frame that observed the along direction
   bool in_fix_ = false;     // the previous frame observed it
+  int park_rejections_ = 0; // consecutive park-mode frames the gate rejected
   double fix_base_m_ = 0;   // driven before the fix under way began
   double fix_sum_m_ = 0;    // its along corrections so far
 };

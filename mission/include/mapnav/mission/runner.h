@@ -67,6 +67,10 @@ struct RunOptions {
   double command_validity_frames = 2.5;
   /// Write the JSONL trace here ("": none). Written atomically at the end of the run.
   std::filesystem::path trace;
+  /// The vehicle's width, m (>= 0), for "stays on the path": its side must stay on the paved path,
+  /// so the true position may be at most (road width − vehicle_width_m) / 2 from the centre line
+  /// (MissionMetrics::left_path_frames). 0.6 m: a small sidewalk robot.
+  double vehicle_width_m = 0.6;
   MapModuleOptions map;
   /// The Navigator's options; the steering speed is the mission's speed_mps.
   NavigatorOptions navigator;
@@ -94,6 +98,7 @@ struct MissionRun {
   double distance_m = 0;      ///< driven: closed loop the truth, replay the odometry
   bool ended_by_halt = false; ///< a halt with no resume ended the mission
   bool stopped_early = false; ///< max_frames ended it
+  double vehicle_width_m = 0; ///< RunOptions::vehicle_width_m, for "stays on the path"
   double odometry_scale = 1;  ///< the Map's odometry scale calibration at the end (MapModuleOptions::scale_gain)
   std::string outcome;        ///< one line: "goal reached", "halted at frame 12: ...", ...
 };
@@ -108,7 +113,7 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options =
 
 /// `--json`: {"frames","reached_goal","lateral_rms_m","along_rms_m","heading_rms_deg","max_error_m",
 /// "odometry_only_max_error_m","vision_failures","replans","latency_ms_median","latency_ms_p99",
-/// "along_after_intersection_max_m", ...more}; errors are null without truth. One line.
+/// "along_after_intersection_max_m", "max_offset_from_centre_m", "left_path_frames", ...more}; errors are null without truth. One line.
 std::string runToJson(const MissionRun& run);
 
 /// The summary a person reads at the end: outcome, errors of the estimate and of odometry alone,

@@ -100,6 +100,13 @@ struct EdgeTrackerOptions {
   double max_width_sd_m = 0.4;        ///< spread of the width along the edges
   bool gate_search = false;           ///< search only offsets reachable within max_turn_deg (see OrientedEdgeParams::max_offset_px)
   bool use_carried_edges = true;      ///< use advance()'d edges when the prediction has no segments
+  /// When one edge is lost and the other, labelled, is tracked: report that edge alone (its lines,
+  /// no centre line, half the confidence) instead of failing. On a 3 m park path the pin-hole sees
+  /// the edges only in the image's upper corners, and on a curve one of them leaves the image; one
+  /// edge still gives the Map the lateral position and the heading. Off by default: without the
+  /// pair's width and parallelism check, a shadow edge is reported as the road's (the heavy-shadow
+  /// test: 20 and 49 px off the true edge), and only the Map's gate stands in its way.
+  bool single_edge = false;
 
   /// Throws InvalidInput naming the field.
   void validate() const;
