@@ -46,21 +46,32 @@ void erodeRows(const cv::Mat& src, cv::Mat& dst, const std::vector<int>& half, b
   // Horizontal erosions, one image per distinct half-width.
   std::vector<cv::Mat> eroded(levels.size());
   for (cv::Mat& m : eroded) m.create(h, w, CV_8UC1);
-  std::vector<std::uint8_t> row(static_cast<std::size_t>(w + 2 * widest), 255);  // padded: outside = set
-  std::uint8_t* const mid = row.data() + widest;
+  // The row padded by `widest` on both sides (outside = set), then ANDs of runs of 2, 4, 8, ...
+  // pixels: a run of any length is the AND of two overlapping power-of-two runs.
+  const int padded = w + 2 * widest;
+  int steps = 0;
+  while ((2 << steps) <= 2 * widest + 1) ++steps;
+  std::vector<std::vector<std::uint8_t>> runs(static_cast<std::size_t>(steps) + 1,
+                                              std::vector<std::uint8_t>(static_cast<std::size_t>(padded), 255));
   const std::uint8_t on = invert ? 0 : 255, off = invert ? 255 : 0;
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* s = src.ptr<std::uint8_t>(y);
-    for (int x = 0; x < w; ++x) mid[x] = s[x] != 0 ? on : off;
+    std::uint8_t* __restrict base = runs[0].data() + widest;
+    for (int x = 0; x < w; ++x) base[x] = s[x] != 0 ? on : off;
+    for (int k = 1; k <= steps; ++k) {
+      const std::uint8_t* __restrict a = runs[static_cast<std::size_t>(k - 1)].data();
+      std::uint8_t* __restrict b = runs[static_cast<std::size_t>(k)].data();
+      const int half_run = 1 << (k - 1);
+      for (int i = 0; i + 2 * half_run <= padded; ++i) b[i] = a[i] & a[i + half_run];
+    }
     for (std::size_t l = 0; l < levels.size(); ++l) {
       const int t = levels[l];
       std::uint8_t* __restrict o = eroded[l].ptr<std::uint8_t>(y);
-      const std::uint8_t* __restrict first = mid - t;
-      for (int x = 0; x < w; ++x) o[x] = first[x];
-      for (int d = -t + 1; d <= t; ++d) {
-        const std::uint8_t* __restrict p = mid + d;
-        for (int x = 0; x < w; ++x) o[x] &= p[x];
-      }
+      int k = 0;
+      while ((2 << k) <= 2 * t + 1) ++k;
+      const std::uint8_t* __restrict lo = runs[static_cast<std::size_t>(k)].data() + widest - t;
+      const std::uint8_t* __restrict hi = runs[static_cast<std::size_t>(k)].data() + widest + t - (1 << k) + 1;
+      for (int x = 0; x < w; ++x) o[x] = lo[x] & hi[x];
     }
   }
   std::vector<const cv::Mat*> of_row(half.size());
