@@ -97,6 +97,42 @@ bool isPixelChain(const std::vector<Vec2>& points, std::unordered_map<std::uint6
   return true;
 }
 
+// CGAL::squared_distance(Segment_2(s, t), p) for Epick, operation for operation (CGAL 5.5's
+// internal::squared_distance(Point_2, Segment_2) and line_from_pointsC2), so that the costs, and with
+// them the queue's order, are bit for bit CGAL's; inline, with the segment's terms computed once.
+struct SegmentDistance {
+  double sx, sy, tx, ty, ex, ey, e, a, b, c, ab;
+  SegmentDistance(double sx_, double sy_, double tx_, double ty_) : sx(sx_), sy(sy_), tx(tx_), ty(ty_) {
+    ex = tx - sx, ey = ty - sy;
+    e = ex * ex + ey * ey;
+    if (sy == ty) {  // line_from_pointsC2: horizontal and vertical lines exactly
+      a = 0;
+      b = tx > sx ? 1 : (tx == sx ? 0 : -1);
+      c = tx > sx ? -sy : (tx == sx ? 0 : sy);
+    } else if (tx == sx) {
+      b = 0;
+      a = ty > sy ? -1 : 1;
+      c = ty > sy ? sx : -sx;
+    } else {
+      a = sy - ty;
+      b = tx - sx;
+      c = -sx * a - sy * b;
+    }
+    ab = a * a + b * b;
+  }
+  double operator()(double px, double py) const {
+    const double dx = px - sx, dy = py - sy;
+    const double d = dx * ex + dy * ey;
+    if (d <= 0) return dx * dx + dy * dy;
+    if (d > e) {
+      const double fx = px - tx, fy = py - ty;
+      return fx * fx + fy * fy;
+    }
+    const double n = a * px + b * py + c;
+    return (n * n) / ab;
+  }
+};
+
 }  // namespace
 
 std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tolerance) {
@@ -139,9 +175,10 @@ std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tol
   // CGAL's Squared_distance_cost: the largest squared distance of the original points between the
   // neighbours to the segment joining them.
   const auto costOf = [&](std::size_t q) {
-    const K::Segment_2 seg(pt[prev[q]], pt[next[q]]);
+    const Vec2 &s = points[prev[q]], &t = points[next[q]];
+    const SegmentDistance distance(s.x(), s.y(), t.x(), t.y());
     double d = 0.0;
-    for (std::size_t i = prev[q] + 1; i < next[q]; ++i) d = (std::max)(d, CGAL::squared_distance(seg, pt[i]));
+    for (std::size_t i = prev[q] + 1; i < next[q]; ++i) d = (std::max)(d, distance(points[i].x(), points[i].y()));
     return d;
   };
   // CGAL's removal test (Polyline_simplification_2::is_removable) on these chains.

@@ -62,6 +62,15 @@ GaussianClass blendClass(const GaussianClass& old, const GaussianClass& fresh, d
   return g;
 }
 
+// colorFeature, inline here (the per-pixel loops call it without going through the library's PLT).
+inline Vec3 feature(ColorSpace space, const std::uint8_t* p) {
+  const double r = p[0], g = p[1], b = p[2];
+  if (space == ColorSpace::RGB) return Vec3(r, g, b);
+  // +1 per channel: black stays neutral (1/3, 1/3) instead of dividing by zero.
+  const double s = r + g + b + 3.0;
+  return Vec3((r + 1.0) / s, (g + 1.0) / s, 0.0);
+}
+
 // The log-odds of one pixel on the fast path (the same arithmetic, lane by lane, as quadraticRow).
 inline float quadratic(const LogOddsQuadratic& q, bool rg, float r, float g, float b) {
   float u0, u1, u2;
@@ -108,13 +117,7 @@ void ColorClassifierOptions::validate() const {
 
 int featureDims(ColorSpace space) { return space == ColorSpace::NormalizedRG ? 2 : 3; }
 
-Vec3 colorFeature(ColorSpace space, const std::uint8_t* p) {
-  const double r = p[0], g = p[1], b = p[2];
-  if (space == ColorSpace::RGB) return Vec3(r, g, b);
-  // +1 per channel: black stays neutral (1/3, 1/3) instead of dividing by zero.
-  const double s = r + g + b + 3.0;
-  return Vec3((r + 1.0) / s, (g + 1.0) / s, 0.0);
-}
+Vec3 colorFeature(ColorSpace space, const std::uint8_t* p) { return feature(space, p); }
 
 ColorClassifier::ColorClassifier(ColorClassifierOptions options) : options_(options) {
   options_.validate();
@@ -134,7 +137,7 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
     for (int u = 0; u < width; u += s) {
       const std::size_t i = static_cast<std::size_t>(v) * width + u;
       if (road[i] == 0 && nonroad[i] == 0) continue;
-      const Vec3 x = colorFeature(options_.space, rgb + 3 * i);
+      const Vec3 x = feature(options_.space, rgb + 3 * i);
       if (road[i] != 0) ar.add(x);
       else an.add(x);
     }
@@ -194,7 +197,7 @@ float ColorClassifier::logOdds(const std::uint8_t* pixel) const {
 }
 
 float ColorClassifier::logOddsReference(const std::uint8_t* pixel) const {
-  const Vec3 x = colorFeature(options_.space, pixel);
+  const Vec3 x = feature(options_.space, pixel);
   const Vec3 dr = x - road_.mean, dn = x - nonroad_.mean;
   const double lr = -0.5 * (dr.dot(road_inv_ * dr) + road_logdet_);
   const double ln = -0.5 * (dn.dot(nonroad_inv_ * dn) + nonroad_logdet_);

@@ -147,19 +147,20 @@ class BasePipeline : public VisionPipeline {
     const Image& valid = ground(cam);
     const std::size_t n = static_cast<std::size_t>(w) * h;
 
-    // Exposure.
-    double sum = 0;
+    // Exposure (integer sums: no division per pixel).
+    std::uint64_t sum = 0;
     std::size_t count = 0, saturated = 0;
     const int sat = static_cast<int>(opts_["saturated_level"]);
     for (std::size_t i = 0; i < n; ++i) {
-      if (valid.data[i] == 0) continue;
       const std::uint8_t* p = frame.rgb + 3 * i;
-      sum += (p[0] + p[1] + p[2]) / 3.0;
-      ++count;
-      if (p[0] >= sat && p[1] >= sat && p[2] >= sat) ++saturated;
+      const unsigned in = valid.data[i] != 0;
+      sum += in * static_cast<unsigned>(p[0] + p[1] + p[2]);
+      count += in;
+      saturated += in & static_cast<unsigned>(std::min({p[0], p[1], p[2]}) >= sat);
     }
     if (count == 0) return fail(frame, "no ground in view");
-    if (sum / count < opts_["dark_level"]) return fail(frame, "frame too dark");
+    if (static_cast<double>(sum) / 3.0 / static_cast<double>(count) < opts_["dark_level"])
+      return fail(frame, "frame too dark");
     if (static_cast<double>(saturated) / count > opts_["overexposed_fraction"]) return fail(frame, "frame over-exposed");
 
     // The prediction in the image.
