@@ -109,10 +109,7 @@ TEST(ColorClassifierFastPath, LogOddsAgreesWithTheDoublePrecisionReference) {
       for (int b = 0; b < 256; b += 3) cube.insert(cube.end(), {std::uint8_t(r), std::uint8_t(g), std::uint8_t(b)});
   const int cube_px = static_cast<int>(cube.size() / 3);
   for (ColorSpace space : {ColorSpace::NormalizedRG, ColorSpace::RGB}) {
-    ColorClassifierOptions o;
-    o.space = space;
-    o.min_pixels = 50;
-    ColorClassifier c(o);
+    ColorClassifier c(ColorClassifierOptions{.space = space, .min_pixels = 50});
     c.update(rgb.data(), w, h, road.data(), non.data());
     ASSERT_TRUE(c.trained());
     for (const auto& [pixels, count] : {std::pair{&rgb, w * h}, std::pair{&cube, cube_px}}) {
