@@ -76,6 +76,19 @@ TEST(BinaryMorph, ErodeDilateAndCloseOpenEqualOpenCvs) {
     }
   }
   EXPECT_EQ(cases, 36);
+  // All set and all clear: unchanged by both (the shortcut), as OpenCV has it.
+  const cv::Mat disk = kernels.front();
+  for (const int value : {0, 255}) {
+    const cv::Mat flat(30, 40, CV_8UC1, cv::Scalar(value));
+    cv::Mat ours, theirs;
+    detail::erodeBinary(flat, ours, disk);
+    cv::erode(flat, theirs, disk, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    EXPECT_TRUE(same(ours, theirs)) << value;
+    detail::dilateBinary(flat, ours, disk);
+    cv::dilate(flat, theirs, disk);
+    EXPECT_TRUE(same(ours, theirs)) << value;
+    EXPECT_EQ(cv::countNonZero(ours), value == 0 ? 0 : 30 * 40);
+  }
   // In place, into a view of other memory, as the pipeline calls it.
   const cv::Mat m = randomMask(64, 48, 9, 0.01);
   std::vector<std::uint8_t> pixels(64 * 48);

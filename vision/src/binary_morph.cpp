@@ -92,6 +92,15 @@ void erodeRows(const cv::Mat& src, cv::Mat& dst, const std::vector<int>& half, b
   out.copyTo(dst);  // into dst's own pixels when it already has the size (a view of an Image)
 }
 
+// A mask that is all set or all clear stays as it is (outside pixels being ignored).
+bool uniform(const cv::Mat& src, cv::Mat& dst) {
+  const int set = cv::countNonZero(src);
+  if (set != 0 && static_cast<std::size_t>(set) != src.total()) return false;
+  dst.create(src.size(), CV_8UC1);
+  dst.setTo(cv::Scalar(set == 0 ? 0 : 255));
+  return true;
+}
+
 }  // namespace
 
 void erodeBinary(const cv::Mat& src, cv::Mat& dst, const cv::Mat& kernel) {
@@ -100,7 +109,7 @@ void erodeBinary(const cv::Mat& src, cv::Mat& dst, const cv::Mat& kernel) {
     cv::erode(src, dst, kernel, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
     return;
   }
-  erodeRows(src, dst, *half, false);
+  if (!uniform(src, dst)) erodeRows(src, dst, *half, false);
 }
 
 void dilateBinary(const cv::Mat& src, cv::Mat& dst, const cv::Mat& kernel) {
@@ -109,7 +118,7 @@ void dilateBinary(const cv::Mat& src, cv::Mat& dst, const cv::Mat& kernel) {
     cv::dilate(src, dst, kernel);
     return;
   }
-  erodeRows(src, dst, *half, true);  // dilate(M) = ~erode(~M) for a symmetric kernel
+  if (!uniform(src, dst)) erodeRows(src, dst, *half, true);  // dilate(M) = ~erode(~M), symmetric kernel
 }
 
 void closeOpenBinary(cv::Mat& mask, const cv::Mat& kernel) {
