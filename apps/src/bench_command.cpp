@@ -15,7 +15,10 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/map/map_io.h"
+#include "mapnav/vision/pipelines.h"
+#include "mapnav/vision_iface/pipeline.h"
 #include "park_scene.h"
+#include "sidewalk_scene.h"
 
 namespace mapnav::cli {
 
@@ -124,6 +127,49 @@ std::string pad(const std::string& text, std::size_t width) {
 }
 
 Json number(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
+
+// The default Vision pipeline ("sidewalk") per frame at 512 x 480 on the campus scene: the fast
+// paths, the reference paths (the same answers) and a memcpy of the frame, one thread.
+struct SidewalkTimes {
+  int width = 0, height = 0;
+  Measured fast, reference, copy;
+  double ms() const { return 1e3 * fast.s_per_frame; }
+  double memcpyRatio() const { return fast.s_per_frame / copy.s_per_frame; }
+  double referenceRatio() const { return reference.s_per_frame / fast.s_per_frame; }
+};
+
+SidewalkTimes timeSidewalk(double min_time_s) {
+  const SidewalkScene scene = makeSidewalkScene();
+  registerBuiltinPipelines();
+  SidewalkTimes t;
+  t.width = scene.camera->width();
+  t.height = scene.camera->height();
+  const auto timeDetect = [&](const char* options) {
+    auto pipeline = createPipeline("sidewalk", options);
+    std::size_t k = 0;
+    return measure(
+        [&] {
+          const std::size_t i = k++ % scene.frames.size();
+          const Image& rgb = scene.frames[i].rgb;
+          const VisionFrame frame{rgb.width, rgb.height, rgb.data.data(), scene.camera.get(), static_cast<double>(k)};
+          const DetectedObject d = pipeline->detect(frame, scene.predictions[i]);
+          keep(d.confidence);
+        },
+        min_time_s);
+  };
+  t.fast = timeDetect("{}");
+  t.reference = timeDetect(R"({"reference": true})");
+  std::vector<std::uint8_t> dst(scene.frames.front().rgb.data.size());
+  std::size_t k = 0;
+  t.copy = measure(
+      [&] {
+        const Image& f = scene.frames[k++ % scene.frames.size()].rgb;
+        std::memcpy(dst.data(), f.data.data(), f.data.size());
+        keep(dst.front());
+      },
+      min_time_s);
+  return t;
+}
 
 }  // namespace
 
@@ -252,8 +298,17 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
       }
     }
 
+    const SidewalkTimes sidewalk = timeSidewalk(config.min_time_s);
     if (config.json) {
       Json doc = Json::object();
+      doc["sidewalk"] = {{"width", sidewalk.width},
+                         {"height", sidewalk.height},
+                         {"ms", number(sidewalk.ms())},
+                         {"fps", number(1e3 / sidewalk.ms())},
+                         {"memcpy_ratio", number(sidewalk.memcpyRatio())},
+                         {"reference_ratio", number(sidewalk.referenceRatio())},
+                         {"reference_ms", number(1e3 * sidewalk.reference.s_per_frame)},
+                         {"memcpy_ms", number(1e3 * sidewalk.copy.s_per_frame)}};
       Json runtime = Json::array();
       for (const Row& r : rows) {
         runtime.push_back({{"size", r.size},
@@ -307,6 +362,10 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     out << "training at " << train.size << "x" << train.size
         << " (clustering + perceptron on the first frame, one thread): " << sig(train.ms()) << " ms (clustering "
         << sig(train.cluster_ms) << ", perceptron " << sig(train.perceptron_ms) << ")\n";
+    out << "sidewalk pipeline (the default Vision, issue 9's loop) at " << sidewalk.width << "x" << sidewalk.height
+        << " on the campus scene, one thread: " << sig(sidewalk.ms()) << " ms/frame, memcpy_ratio "
+        << sig(sidewalk.memcpyRatio()) << ", reference_ratio " << sig(sidewalk.referenceRatio()) << " (reference "
+        << sig(1e3 * sidewalk.reference.s_per_frame) << " ms)\n";
     return static_cast<int>(kOk);
   });
 }

@@ -462,7 +462,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
 
   BenchConfig bench;
   std::string bench_sizes = "64,128,256,512,1024", bench_min_time = "0.2";
-  CLI::App* bn = app.add_subcommand("bench", "Time the park road finder's runtime per frame on this machine (Jochem & Baluja 1993, section 6)");
+  CLI::App* bn = app.add_subcommand("bench", "Time the park road finder's runtime per frame on this machine (Jochem & Baluja 1993, section 6) and the sidewalk pipeline at 512x480");
   bn->add_flag("--json", bench.json, "Print one JSON object instead of the table");
   bn->add_option("--sizes", bench_sizes, "Square frame sizes, pixels a side, comma-separated, each in [16, 4096]")
       ->default_str("64,128,256,512,1024");

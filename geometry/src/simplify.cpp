@@ -1,10 +1,14 @@
 #include "mapnav/geometry/simplify.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Constrained_triangulation_plus_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Modifiable_priority_queue.h>
 #include <CGAL/Polyline_simplification_2/simplify.h>
 
 namespace mapnav {
@@ -43,6 +47,201 @@ std::vector<Vec2> simplifyPolyline(const std::vector<Vec2>& points, double toler
   for (auto it = ct.vertices_in_constraint_begin(cid); it != ct.vertices_in_constraint_end(cid); ++it) {
     const Point& p = (*it)->point();
     out.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()));
+  }
+  return out;
+}
+
+}  // namespace mapnav
+
+namespace mapnav {
+
+namespace {
+
+std::uint64_t pixelKey(long x, long y) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) | static_cast<std::uint32_t>(y);
+}
+
+// A chain that simplifyPixelChain handles itself: integer coordinates of moderate size, 8-neighbour
+// steps, no repeated point but a ring's closing one, no two diagonal steps crossing in a pixel square.
+// Then every vertex of CGAL's triangulation is a chain point with two constrained edges, no constraint
+// passes through another vertex, and CGAL's removal test is "no other vertex in the closed triangle".
+bool isPixelChain(const std::vector<Vec2>& points, std::unordered_map<std::uint64_t, std::size_t>& index) {
+  const std::size_t n = points.size();
+  const bool closed = points.front() == points.back();
+  index.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& p = points[i];
+    if (!(std::abs(p.x()) < 1e6 && std::abs(p.y()) < 1e6) || p.x() != std::floor(p.x()) || p.y() != std::floor(p.y()))
+      return false;
+    if (i + 1 < n) {
+      const Vec2 d = points[i + 1] - p;
+      if (std::abs(d.x()) > 1 || std::abs(d.y()) > 1 || (d.x() == 0 && d.y() == 0)) return false;
+    }
+    if (closed && i == n - 1) break;  // the closing point is the first one
+    if (!index.emplace(pixelKey(std::lround(p.x()), std::lround(p.y())), i).second) return false;
+  }
+  const auto at = [&](double x, double y) -> long {
+    const auto it = index.find(pixelKey(std::lround(x), std::lround(y)));
+    return it == index.end() ? -1 : static_cast<long>(it->second);
+  };
+  const long m = closed ? static_cast<long>(n) - 1 : static_cast<long>(n);
+  if (closed && m < 3) return false;  // a ring of two points runs one edge twice
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const Vec2 a = points[i], b = points[i + 1];
+    if (a.x() == b.x() || a.y() == b.y()) continue;
+    const long c = at(a.x(), b.y()), d = at(b.x(), a.y());  // the other diagonal of the square
+    if (c < 0 || d < 0) continue;
+    const long gap = std::abs(c - d);
+    if (gap == 1 || (closed && gap == m - 1)) return false;
+  }
+  return true;
+}
+
+// CGAL::squared_distance(Segment_2(s, t), p) for Epick, operation for operation (CGAL 5.5's
+// internal::squared_distance(Point_2, Segment_2) and line_from_pointsC2), so that the costs, and with
+// them the queue's order, are bit for bit CGAL's; inline, with the segment's terms computed once.
+struct SegmentDistance {
+  double sx, sy, tx, ty, ex, ey, e, a, b, c, ab;
+  SegmentDistance(double sx_, double sy_, double tx_, double ty_) : sx(sx_), sy(sy_), tx(tx_), ty(ty_) {
+    ex = tx - sx, ey = ty - sy;
+    e = ex * ex + ey * ey;
+    if (sy == ty) {  // line_from_pointsC2: horizontal and vertical lines exactly
+      a = 0;
+      b = tx > sx ? 1 : (tx == sx ? 0 : -1);
+      c = tx > sx ? -sy : (tx == sx ? 0 : sy);
+    } else if (tx == sx) {
+      b = 0;
+      a = ty > sy ? -1 : 1;
+      c = ty > sy ? sx : -sx;
+    } else {
+      a = sy - ty;
+      b = tx - sx;
+      c = -sx * a - sy * b;
+    }
+    ab = a * a + b * b;
+  }
+  double operator()(double px, double py) const {
+    const double dx = px - sx, dy = py - sy;
+    const double d = dx * ex + dy * ey;
+    if (d <= 0) return dx * dx + dy * dy;
+    if (d > e) {
+      const double fx = px - tx, fy = py - ty;
+      return fx * fx + fy * fy;
+    }
+    const double n = a * px + b * py + c;
+    return (n * n) / ab;
+  }
+};
+
+}  // namespace
+
+std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tolerance) {
+  if (points.size() < 3 || !(tolerance >= 0) || !std::isfinite(tolerance)) return points;
+  std::unordered_map<std::uint64_t, std::size_t> index;
+  if (!isPixelChain(points, index)) return simplifyPolyline(points, tolerance);
+
+  const std::size_t n = points.size();
+  const bool closed = points.front() == points.back();
+  std::vector<Point> pt;
+  pt.reserve(n);
+  for (const Vec2& p : points) pt.emplace_back(p.x(), p.y());
+  // A ring's last point is its first vertex.
+  const auto vertex = [&](std::size_t i) { return closed && i == n - 1 ? std::size_t{0} : i; };
+
+  // The remaining vertices in a grid of 8-pixel cells (removed ones are skipped, not erased).
+  constexpr long kCell = 8;
+  long x0 = std::lround(points[0].x()), y0 = std::lround(points[0].y()), x1 = x0, y1 = y0;
+  for (const Vec2& p : points) {
+    x0 = std::min(x0, std::lround(p.x())), x1 = std::max(x1, std::lround(p.x()));
+    y0 = std::min(y0, std::lround(p.y())), y1 = std::max(y1, std::lround(p.y()));
+  }
+  const long gw = (x1 - x0) / kCell + 1, gh = (y1 - y0) / kCell + 1;
+  const auto cellOf = [&](long x, long y) { return static_cast<std::size_t>(((y - y0) / kCell) * gw + (x - x0) / kCell); };
+  const std::size_t m = closed ? n - 1 : n;
+  std::vector<std::size_t> start(static_cast<std::size_t>(gw * gh) + 1, 0), members(m);
+  for (std::size_t i = 0; i < m; ++i) ++start[cellOf(std::lround(points[i].x()), std::lround(points[i].y())) + 1];
+  for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < m; ++i) members[fill[cellOf(std::lround(points[i].x()), std::lround(points[i].y()))]++] = i;
+  }
+
+  std::vector<std::size_t> prev(n), next(n);
+  for (std::size_t i = 0; i < n; ++i) prev[i] = i == 0 ? 0 : i - 1, next[i] = i + 1 == n ? n - 1 : i + 1;
+  std::vector<char> alive(n, 1);
+  std::vector<double> cost(n, 0.0);
+  const auto removable = [&](std::size_t i) { return i != 0 && i != n - 1; };
+
+  // CGAL's Squared_distance_cost: the largest squared distance of the original points between the
+  // neighbours to the segment joining them.
+  const auto costOf = [&](std::size_t q) {
+    const Vec2 &s = points[prev[q]], &t = points[next[q]];
+    const SegmentDistance distance(s.x(), s.y(), t.x(), t.y());
+    double d = 0.0;
+    for (std::size_t i = prev[q] + 1; i < next[q]; ++i) d = (std::max)(d, distance(points[i].x(), points[i].y()));
+    return d;
+  };
+  // CGAL's removal test (Polyline_simplification_2::is_removable) on these chains.
+  const auto canRemove = [&](std::size_t q) {
+    const std::size_t u = prev[q], w = next[q];
+    const CGAL::Orientation o = CGAL::orientation(pt[u], pt[q], pt[w]);
+    if (o == CGAL::COLLINEAR) return true;
+    if (vertex(next[w]) == vertex(u) || vertex(prev[u]) == vertex(w)) return false;  // u-w is a constraint
+    const long bx0 = std::lround(std::min({points[u].x(), points[q].x(), points[w].x()}));
+    const long bx1 = std::lround(std::max({points[u].x(), points[q].x(), points[w].x()}));
+    const long by0 = std::lround(std::min({points[u].y(), points[q].y(), points[w].y()}));
+    const long by1 = std::lround(std::max({points[u].y(), points[q].y(), points[w].y()}));
+    const CGAL::Orientation away = o == CGAL::LEFT_TURN ? CGAL::RIGHT_TURN : CGAL::LEFT_TURN;
+    for (long cy = (by0 - y0) / kCell; cy <= (by1 - y0) / kCell; ++cy) {
+      for (long cx = (bx0 - x0) / kCell; cx <= (bx1 - x0) / kCell; ++cx) {
+        const std::size_t c = static_cast<std::size_t>(cy * gw + cx);
+        for (std::size_t k = start[c]; k < start[c + 1]; ++k) {
+          const std::size_t x = members[k];
+          if (!alive[x] || x == vertex(u) || x == q || x == vertex(w)) continue;
+          const Vec2& p = points[x];
+          if (p.x() < bx0 || p.x() > bx1 || p.y() < by0 || p.y() > by1) continue;
+          if (CGAL::orientation(pt[u], pt[q], pt[x]) != away && CGAL::orientation(pt[q], pt[w], pt[x]) != away &&
+              CGAL::orientation(pt[w], pt[u], pt[x]) != away)
+            return false;  // in the closed triangle
+        }
+      }
+    }
+    return true;
+  };
+
+  struct ByCost {
+    const std::vector<double>* cost;
+    bool operator()(std::size_t a, std::size_t b) const { return (*cost)[a] < (*cost)[b]; }
+  };
+  CGAL::Modifiable_priority_queue<std::size_t, ByCost, boost::identity_property_map> queue(n, ByCost{&cost});
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!removable(i)) continue;
+    cost[i] = costOf(i);
+    if (!queue.contains(i)) queue.push(i);
+  }
+  const double stop = tolerance * tolerance;  // Stop_above_cost_threshold
+  const auto refresh = [&](std::size_t i) {
+    if (!removable(i)) return;
+    cost[i] = costOf(i);
+    if (queue.contains(i)) queue.update(i);
+    else queue.push(i);
+  };
+  while (!queue.empty()) {
+    const std::size_t q = queue.top();
+    queue.pop();
+    if (cost[q] >= stop) break;
+    if (!canRemove(q)) continue;
+    const std::size_t u = prev[q], w = next[q];
+    alive[q] = 0;
+    next[u] = w;
+    prev[w] = u;
+    refresh(u);
+    refresh(w);
+  }
+  std::vector<Vec2> out;
+  for (std::size_t i = 0;; i = next[i]) {
+    out.push_back(points[i]);
+    if (i == n - 1) break;
   }
   return out;
 }

@@ -408,12 +408,27 @@ TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
   for (const auto& row : j["runtime"]) ++rows_per_size[row["size"] == 64 ? 0 : 1];
   EXPECT_EQ(rows_per_size[0], 2);
   EXPECT_EQ(rows_per_size[1], 2);
+  // The sidewalk pipeline at the Terregator camera's 512 x 480, with its ratios from the same run.
+  ASSERT_TRUE(j.contains("sidewalk")) << r.out;
+  const auto& sw = j["sidewalk"];
+  EXPECT_EQ(sw["width"], 512);
+  EXPECT_EQ(sw["height"], 480);
+  for (const char* key : {"ms", "fps", "memcpy_ratio", "reference_ratio", "reference_ms", "memcpy_ms"}) {
+    ASSERT_TRUE(sw.contains(key) && sw[key].is_number()) << key << " in " << sw.dump();
+    EXPECT_GT(sw[key].get<double>(), 0.0) << key;
+  }
+  const double sw_ms = sw["ms"].get<double>();
+  EXPECT_NEAR(sw["fps"].get<double>(), 1000.0 / sw_ms, 1e-9 * sw["fps"].get<double>());
+  EXPECT_NEAR(sw["memcpy_ratio"].get<double>(), sw_ms / sw["memcpy_ms"].get<double>(), 1e-9 * sw["memcpy_ratio"].get<double>());
+  EXPECT_NEAR(sw["reference_ratio"].get<double>(), sw["reference_ms"].get<double>() / sw_ms,
+              1e-9 * sw["reference_ratio"].get<double>());
 }
 
 TEST(Cli, BenchPrintsATableWithTheRatios) {
   const auto r = runCli({"bench", "--sizes", "32,64", "--min-time", "0.01", "--threads", "2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* text : {"cores", "memcpy_ratio", "reference_ratio", "frames/s", "cost per pixel growth", "training at 64x64"}) {
+  for (const char* text : {"cores", "memcpy_ratio", "reference_ratio", "frames/s", "cost per pixel growth", "training at 64x64",
+                           "sidewalk pipeline", "at 512x480"}) {
     EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
   }
   const auto help = runCli({"bench", "--help"});

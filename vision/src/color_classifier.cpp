@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <opencv2/core.hpp>
+
 #include "mapnav/core/options.h"
 
 namespace mapnav {
@@ -14,18 +16,21 @@ namespace {
 double minVariance(ColorSpace space) { return space == ColorSpace::NormalizedRG ? 4e-6 : 1.0; }
 
 struct Accum {
-  Vec3 sum = Vec3::Zero();
-  Mat3 sq = Mat3::Zero();
+  double s0 = 0, s1 = 0, s2 = 0;                          // sums of the feature
+  double q00 = 0, q01 = 0, q02 = 0, q11 = 0, q12 = 0, q22 = 0;  // sums of its products
   double n = 0;
   void add(const Vec3& x) {
-    sum += x;
-    sq += x * x.transpose();
+    s0 += x[0], s1 += x[1], s2 += x[2];
+    q00 += x[0] * x[0], q01 += x[0] * x[1], q02 += x[0] * x[2];
+    q11 += x[1] * x[1], q12 += x[1] * x[2], q22 += x[2] * x[2];
     n += 1;
   }
   GaussianClass estimate(ColorSpace space) const {
     GaussianClass g;
     if (n < 2) return g;
-    g.mean = sum / n;
+    Mat3 sq;
+    sq << q00, q01, q02, q01, q11, q12, q02, q12, q22;
+    g.mean = Vec3(s0, s1, s2) / n;
     g.cov = sq / n - g.mean * g.mean.transpose();
     g.count = n;
     g.valid = true;
@@ -57,6 +62,49 @@ GaussianClass blendClass(const GaussianClass& old, const GaussianClass& fresh, d
   return g;
 }
 
+// colorFeature, inline here (the per-pixel loops call it without going through the library's PLT).
+inline Vec3 feature(ColorSpace space, const std::uint8_t* p) {
+  const double r = p[0], g = p[1], b = p[2];
+  if (space == ColorSpace::RGB) return Vec3(r, g, b);
+  // +1 per channel: black stays neutral (1/3, 1/3) instead of dividing by zero.
+  const double s = r + g + b + 3.0;
+  return Vec3((r + 1.0) / s, (g + 1.0) / s, 0.0);
+}
+
+// The log-odds of one pixel on the fast path (the same arithmetic, lane by lane, as quadraticRow).
+inline float quadratic(const LogOddsQuadratic& q, bool rg, float r, float g, float b) {
+  float u0, u1, u2;
+  if (rg) {
+    const float inv = 1.0f / (r + g + b + 3.0f);
+    u0 = (r + 1.0f) * inv - q.c0;
+    u1 = (g + 1.0f) * inv - q.c1;
+    u2 = 0.0f - q.c2;
+  } else {
+    u0 = r - q.c0, u1 = g - q.c1, u2 = b - q.c2;
+  }
+  const float v = q.k + u0 * (q.l0 + q.q00 * u0 + q.q01 * u1 + q.q02 * u2) + u1 * (q.l1 + q.q11 * u1 + q.q12 * u2) +
+                  u2 * (q.l2 + q.q22 * u2);
+  return v < -1e4f ? -1e4f : (v > 1e4f ? 1e4f : v);
+}
+
+// One run of planar pixels: plain loops the vectoriser turns into SIMD (this file is built with -O3).
+void quadraticRow(const LogOddsQuadratic& q, bool rg, const std::uint8_t* __restrict R, const std::uint8_t* __restrict G,
+                  const std::uint8_t* __restrict B, const std::uint8_t* __restrict where, float* __restrict out,
+                  int n) {
+  const LogOddsQuadratic c = q;
+  if (rg) {
+    for (int i = 0; i < n; ++i) {
+      const float v = quadratic(c, true, R[i], G[i], B[i]);
+      out[i] = where[i] != 0 ? v : 0.0f;
+    }
+  } else {
+    for (int i = 0; i < n; ++i) {
+      const float v = quadratic(c, false, R[i], G[i], B[i]);
+      out[i] = where[i] != 0 ? v : 0.0f;
+    }
+  }
+}
+
 }  // namespace
 
 void ColorClassifierOptions::validate() const {
@@ -69,13 +117,7 @@ void ColorClassifierOptions::validate() const {
 
 int featureDims(ColorSpace space) { return space == ColorSpace::NormalizedRG ? 2 : 3; }
 
-Vec3 colorFeature(ColorSpace space, const std::uint8_t* p) {
-  const double r = p[0], g = p[1], b = p[2];
-  if (space == ColorSpace::RGB) return Vec3(r, g, b);
-  // +1 per channel: black stays neutral (1/3, 1/3) instead of dividing by zero.
-  const double s = r + g + b + 3.0;
-  return Vec3((r + 1.0) / s, (g + 1.0) / s, 0.0);
-}
+Vec3 colorFeature(ColorSpace space, const std::uint8_t* p) { return feature(space, p); }
 
 ColorClassifier::ColorClassifier(ColorClassifierOptions options) : options_(options) {
   options_.validate();
@@ -95,7 +137,7 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
     for (int u = 0; u < width; u += s) {
       const std::size_t i = static_cast<std::size_t>(v) * width + u;
       if (road[i] == 0 && nonroad[i] == 0) continue;
-      const Vec3 x = colorFeature(options_.space, rgb + 3 * i);
+      const Vec3 x = feature(options_.space, rgb + 3 * i);
       if (road[i] != 0) ar.add(x);
       else an.add(x);
     }
@@ -137,10 +179,25 @@ void ColorClassifier::refreshCache() {
   nonroad_inv_ = nonroad_.cov.inverse();
   road_logdet_ = std::log(std::max(road_.cov.determinant(), 1e-300));
   nonroad_logdet_ = std::log(std::max(nonroad_.cov.determinant(), 1e-300));
+  // The fast path: both quadratic forms in one, centred between the means so that single precision
+  // keeps the cancellation near the decision boundary small.
+  const Vec3 c = 0.5 * (road_.mean + nonroad_.mean);
+  const Vec3 ar = road_.mean - c, an = nonroad_.mean - c;
+  const Mat3 q = -0.5 * (road_inv_ - nonroad_inv_);
+  const Vec3 l = road_inv_ * ar - nonroad_inv_ * an;
+  const double k = -0.5 * (ar.dot(road_inv_ * ar) - an.dot(nonroad_inv_ * an)) - 0.5 * (road_logdet_ - nonroad_logdet_) +
+                   std::log(prior_road_ / (1 - prior_road_));
+  const auto f = [](double x) { return static_cast<float>(x); };
+  quad_ = {f(c[0]), f(c[1]), f(c[2]), f(q(0, 0)), f(q(0, 1) + q(1, 0)), f(q(0, 2) + q(2, 0)), f(q(1, 1)),
+           f(q(1, 2) + q(2, 1)), f(q(2, 2)), f(l[0]), f(l[1]), f(l[2]), f(k)};
 }
 
 float ColorClassifier::logOdds(const std::uint8_t* pixel) const {
-  const Vec3 x = colorFeature(options_.space, pixel);
+  return quadratic(quad_, options_.space == ColorSpace::NormalizedRG, pixel[0], pixel[1], pixel[2]);
+}
+
+float ColorClassifier::logOddsReference(const std::uint8_t* pixel) const {
+  const Vec3 x = feature(options_.space, pixel);
   const Vec3 dr = x - road_.mean, dn = x - nonroad_.mean;
   const double lr = -0.5 * (dr.dot(road_inv_ * dr) + road_logdet_);
   const double ln = -0.5 * (dn.dot(nonroad_inv_ * dn) + nonroad_logdet_);
@@ -151,10 +208,37 @@ float ColorClassifier::logOdds(const std::uint8_t* pixel) const {
 std::vector<float> ColorClassifier::logOdds(const std::uint8_t* rgb, int width, int height,
                                             const std::uint8_t* where) const {
   std::vector<float> out(static_cast<std::size_t>(width) * height, 0.0f);
+  if (!trained() || out.empty()) return out;
+  const bool rg = options_.space == ColorSpace::NormalizedRG;
+  // Planar colour, a band of rows at a time (small enough to stay in cache).
+  constexpr int kBand = 16;
+  std::vector<std::uint8_t> planes(static_cast<std::size_t>(3) * kBand * width);
+  const std::vector<std::uint8_t> everywhere(where == nullptr ? static_cast<std::size_t>(width) * kBand : 0, 1);
+  for (int v0 = 0; v0 < height; v0 += kBand) {
+    const int rows = std::min(kBand, height - v0);
+    const std::size_t first = static_cast<std::size_t>(v0) * width, count = static_cast<std::size_t>(rows) * width;
+    const std::uint8_t* mask = where != nullptr ? where + first : everywhere.data();
+    std::uint8_t any = 0;
+    for (std::size_t i = 0; i < count; ++i) any |= mask[i];
+    if (any == 0) continue;  // e.g. the sky: nothing asked for
+    const cv::Mat interleaved(1, static_cast<int>(count), CV_8UC3, const_cast<std::uint8_t*>(rgb + 3 * first));
+    cv::Mat channels[3] = {cv::Mat(1, static_cast<int>(count), CV_8UC1, planes.data()),
+                           cv::Mat(1, static_cast<int>(count), CV_8UC1, planes.data() + count),
+                           cv::Mat(1, static_cast<int>(count), CV_8UC1, planes.data() + 2 * count)};
+    cv::split(interleaved, channels);
+    quadraticRow(quad_, rg, planes.data(), planes.data() + count, planes.data() + 2 * count, mask, out.data() + first,
+                 static_cast<int>(count));
+  }
+  return out;
+}
+
+std::vector<float> ColorClassifier::logOddsReference(const std::uint8_t* rgb, int width, int height,
+                                                     const std::uint8_t* where) const {
+  std::vector<float> out(static_cast<std::size_t>(width) * height, 0.0f);
   if (!trained()) return out;
   for (std::size_t i = 0; i < out.size(); ++i) {
     if (where != nullptr && where[i] == 0) continue;
-    out[i] = logOdds(rgb + 3 * i);
+    out[i] = logOddsReference(rgb + 3 * i);
   }
   return out;
 }

@@ -30,7 +30,8 @@ std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camer
   if (contour.size() < 3) return lines;
   std::vector<Vec2> ring = contour;
   ring.push_back(contour.front());
-  std::vector<Vec2> poly = simplifyPolyline(ring, options.simplify_tolerance_px);
+  std::vector<Vec2> poly = options.reference ? simplifyPolyline(ring, options.simplify_tolerance_px)
+                                             : simplifyPixelChain(ring, options.simplify_tolerance_px);
   // The ring's start is an arbitrary contour point: drop it when it lies on a straight edge.
   if (poly.size() >= 4 && (poly.front() - poly.back()).norm() < 1e-9) {
     poly.pop_back();
@@ -42,20 +43,32 @@ std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camer
   }
   if (poly.size() < 2) return lines;
 
-  // Distance of each pixel to the nearest pixel that does not see the ground (or lies outside).
-  cv::Mat dist;
+  // A point is near the frame edge when a pixel that does not see the ground (or lies outside)
+  // is within frame_edge_px + 1 of it. Reference: the distance transform of the whole of `valid`;
+  // fast: the pixels of the disk around each of the few points asked about (the same test).
+  const double near_px = options.frame_edge_px + 1.0;
   const int w = valid.width, h = valid.height;
-  if (!valid.empty()) {
+  cv::Mat dist;
+  if (options.reference && !valid.empty()) {
     cv::Mat v(h, w, CV_8UC1, const_cast<std::uint8_t*>(valid.data.data()));
     cv::Mat padded;
     cv::copyMakeBorder(v != 0, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
     cv::distanceTransform(padded, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   }
-  const auto edgeDistance = [&](const Vec2& p) -> double {
-    if (dist.empty()) return 1e9;
+  const int reach = static_cast<int>(std::floor(near_px));
+  const auto nearEdge = [&](const Vec2& p) -> bool {
+    if (valid.empty()) return false;
     const int u = std::clamp(static_cast<int>(std::lround(p.x())), 0, w - 1);
     const int v = std::clamp(static_cast<int>(std::lround(p.y())), 0, h - 1);
-    return dist.at<float>(v + 1, u + 1);
+    if (options.reference) return dist.at<float>(v + 1, u + 1) <= near_px;
+    for (int dv = -reach; dv <= reach; ++dv) {
+      for (int du = -reach; du <= reach; ++du) {
+        if (std::sqrt(static_cast<float>(du * du + dv * dv)) > near_px) continue;
+        const int x = u + du, y = v + dv;
+        if (x < 0 || y < 0 || x >= w || y >= h || valid.data[static_cast<std::size_t>(y) * w + x] == 0) return true;
+      }
+    }
+    return false;
   };
 
   const std::size_t n = poly.size();
@@ -66,7 +79,7 @@ std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camer
     int near = 0;
     constexpr int kSamples = 11;
     for (int k = 0; k < kSamples; ++k) {
-      if (edgeDistance(line.image.pointAt(k / double(kSamples - 1))) <= options.frame_edge_px + 1.0) ++near;
+      if (nearEdge(line.image.pointAt(k / double(kSamples - 1)))) ++near;
     }
     line.frame_edge = near >= 9;
     const auto a = camera.backproject(line.image.a);

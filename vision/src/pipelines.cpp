@@ -1,6 +1,7 @@
 // The built-in pipelines: "sidewalk" (normalised rg), "color-rgb" and "blue-band".
 #include "mapnav/vision/pipelines.h"
 
+#include "binary_morph.h"
 #include "pipeline_options.h"
 
 #include <algorithm>
@@ -57,6 +58,9 @@ std::vector<OptionSpec> commonSpecs() {
       {"min_overlap", 0.5, false, false, 0, 1, "label match: this fraction of the line overlaps the predicted segment"},
       {"relation_tolerance_m", 0.5, false, false, 1e-6, 100,
        "a labelled parallel pair must be within this of the predicted separation"},
+      {"reference", 0, true, false, 0, 1,
+       "run the reference implementations (double-precision per-pixel log-odds, OpenCV morphology and distance "
+       "transform, CGAL simplification): the same answers, several times slower; for tests and benchmarks"},
   };
 }
 
@@ -143,19 +147,20 @@ class BasePipeline : public VisionPipeline {
     const Image& valid = ground(cam);
     const std::size_t n = static_cast<std::size_t>(w) * h;
 
-    // Exposure.
-    double sum = 0;
+    // Exposure (integer sums: no division per pixel).
+    std::uint64_t sum = 0;
     std::size_t count = 0, saturated = 0;
     const int sat = static_cast<int>(opts_["saturated_level"]);
     for (std::size_t i = 0; i < n; ++i) {
-      if (valid.data[i] == 0) continue;
       const std::uint8_t* p = frame.rgb + 3 * i;
-      sum += (p[0] + p[1] + p[2]) / 3.0;
-      ++count;
-      if (p[0] >= sat && p[1] >= sat && p[2] >= sat) ++saturated;
+      const unsigned in = valid.data[i] != 0;
+      sum += in * static_cast<unsigned>(p[0] + p[1] + p[2]);
+      count += in;
+      saturated += in & static_cast<unsigned>(std::min({p[0], p[1], p[2]}) >= sat);
     }
     if (count == 0) return fail(frame, "no ground in view");
-    if (sum / count < opts_["dark_level"]) return fail(frame, "frame too dark");
+    if (static_cast<double>(sum) / 3.0 / static_cast<double>(count) < opts_["dark_level"])
+      return fail(frame, "frame too dark");
     if (static_cast<double>(saturated) / count > opts_["overexposed_fraction"]) return fail(frame, "frame over-exposed");
 
     // The prediction in the image.
@@ -180,6 +185,7 @@ class BasePipeline : public VisionPipeline {
     ro.refine_margin_blocks = opts_.i("refine_margin_blocks");
     ro.pixel_morph_px = opts_.i("pixel_morph_px");
     ro.fill_holes = opts_.b("fill_holes");
+    ro.reference = opts_.b("reference");
     RegionResult region = reproduceRegion(*road, valid, predicted, ro);
     if (!region.found || region.area_px < opts_["min_region_fraction"] * predicted_px)
       return fail(frame, "no road-coloured region");
@@ -189,7 +195,7 @@ class BasePipeline : public VisionPipeline {
     {
       std::vector<Vec2> ring = region.contour;
       ring.push_back(ring.front());
-      std::vector<Vec2> poly = simplifyRing(ring, opts_["region_tolerance_px"]);
+      std::vector<Vec2> poly = simplifyRing(ring, opts_["region_tolerance_px"], opts_.b("reference"));
       d.region_image = poly;
       for (const Vec2& p : poly)
         if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
@@ -202,6 +208,7 @@ class BasePipeline : public VisionPipeline {
     lo.max_distance_m = opts_["max_distance_m"];
     lo.min_overlap = opts_["min_overlap"];
     lo.relation_tolerance_m = opts_["relation_tolerance_m"];
+    lo.reference = opts_.b("reference");
     d.lines = fitLines(region.contour, cam, valid, lo);
     labelLines(d.lines, prediction, lo);
 
@@ -228,7 +235,7 @@ class BasePipeline : public VisionPipeline {
     return out;
   }
 
-  static std::vector<Vec2> simplifyRing(const std::vector<Vec2>& ring, double tol);
+  static std::vector<Vec2> simplifyRing(const std::vector<Vec2>& ring, double tol, bool reference);
 
   std::string name_;
   PipelineOptions opts_;
@@ -263,8 +270,8 @@ class BasePipeline : public VisionPipeline {
 namespace mapnav {
 namespace {
 
-std::vector<Vec2> BasePipeline::simplifyRing(const std::vector<Vec2>& ring, double tol) {
-  std::vector<Vec2> poly = simplifyPolyline(ring, tol);
+std::vector<Vec2> BasePipeline::simplifyRing(const std::vector<Vec2>& ring, double tol, bool reference) {
+  std::vector<Vec2> poly = reference ? simplifyPolyline(ring, tol) : simplifyPixelChain(ring, tol);
   if (poly.size() >= 2 && (poly.front() - poly.back()).norm() < 1e-9) poly.pop_back();
   return poly;
 }
@@ -301,22 +308,33 @@ class ClassifierPipeline : public BasePipeline {
     const int e = opts_.i("label_erosion_px");
     const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * e + 1, 2 * e + 1));
     cv::Mat pm(h, w, CV_8UC1, const_cast<std::uint8_t*>(predicted.data.data()));
-    cv::erode(pm, wrap(road_lab), k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
-    cv::Mat grown;
-    cv::dilate(pm, grown, k);
-    cv::Mat vm_eroded;
-    cv::erode(vm, vm_eroded, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    const bool reference = opts_.b("reference");
+    cv::Mat road_view = wrap(road_lab), grown, vm_eroded;
+    if (reference) {
+      cv::erode(pm, road_view, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+      cv::dilate(pm, grown, k);
+      cv::erode(vm, vm_eroded, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    } else {  // the same masks, a fraction of the cost
+      detail::erodeBinary(pm, road_view, k);
+      detail::dilateBinary(pm, grown, k);
+      detail::erodeBinary(vm, vm_eroded, k);
+    }
     cv::bitwise_and(vm_eroded, ~grown, wrap(non_lab));
 
     if (!opts_.b("adaptive")) reset();
     if (classifier_.trained()) {
-      // Adaptive: keep only labelled pixels the current model does not strongly contradict.
+      // Adaptive: keep only labelled pixels the current model does not strongly contradict. The
+      // update reads every stride-th pixel of every stride-th row, so only those are looked at.
       const float out = static_cast<float>(opts_["outlier_llr"]);
-      for (std::size_t i = 0; i < road_lab.data.size(); ++i) {
-        if (road_lab.data[i] == 0 && non_lab.data[i] == 0) continue;
-        const float l = classifier_.logOdds(frame.rgb + 3 * i);
-        if (road_lab.data[i] != 0 && l < -out) road_lab.data[i] = 0;
-        if (non_lab.data[i] != 0 && l > out) non_lab.data[i] = 0;
+      const int s = reference ? 1 : classifier_.options().stride;
+      for (int v = 0; v < h; v += s) {
+        for (int u = 0; u < w; u += s) {
+          const std::size_t i = static_cast<std::size_t>(v) * w + u;
+          if (road_lab.data[i] == 0 && non_lab.data[i] == 0) continue;
+          const float l = reference ? classifier_.logOddsReference(frame.rgb + 3 * i) : classifier_.logOdds(frame.rgb + 3 * i);
+          if (road_lab.data[i] != 0 && l < -out) road_lab.data[i] = 0;
+          if (non_lab.data[i] != 0 && l > out) non_lab.data[i] = 0;
+        }
       }
     }
     classifier_.update(frame.rgb, w, h, road_lab.data.data(), non_lab.data.data());
@@ -324,7 +342,8 @@ class ClassifierPipeline : public BasePipeline {
       why = "no road-coloured region";
       return std::nullopt;
     }
-    std::vector<float> llr = classifier_.logOdds(frame.rgb, w, h, valid.data.data());
+    std::vector<float> llr = reference ? classifier_.logOddsReference(frame.rgb, w, h, valid.data.data())
+                                       : classifier_.logOdds(frame.rgb, w, h, valid.data.data());
     for (float& v : llr) v = std::clamp(v, -20.0f, 20.0f);
     return threshold(llr, w, h, valid, opts_["llr_threshold"]);
   }

@@ -1,11 +1,13 @@
 #include "mapnav/vision/region.h"
 
 #include <algorithm>
+#include <climits>
 #include <tuple>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "binary_morph.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
 
@@ -119,8 +121,12 @@ RegionResult reproduceRegion(const Image& road_pixels, const Image& valid, const
   if (options.pixel_morph_px > 0) {
     const int k = 2 * options.pixel_morph_px + 1;
     const cv::Mat ke = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k));
-    cv::morphologyEx(px, px, cv::MORPH_CLOSE, ke, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
-    cv::morphologyEx(px, px, cv::MORPH_OPEN, ke, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    if (options.reference) {
+      cv::morphologyEx(px, px, cv::MORPH_CLOSE, ke, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+      cv::morphologyEx(px, px, cv::MORPH_OPEN, ke, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    } else {
+      detail::closeOpenBinary(px, ke);
+    }
     cv::bitwise_and(px, view(valid) != 0, px);
   }
   std::vector<std::vector<cv::Point>> contours;
@@ -134,10 +140,13 @@ RegionResult reproduceRegion(const Image& road_pixels, const Image& valid, const
   std::size_t pick = 0;
   double pick_score = -1;
   for (std::size_t i = 0; i < contours.size(); ++i) {
-    cv::Mat one = cv::Mat::zeros(h, w, CV_8UC1);
-    cv::drawContours(one, contours, static_cast<int>(i), cv::Scalar(255), cv::FILLED);
+    // Filled inside its bounding box only (a contour lies within it).
+    const cv::Rect box = cv::boundingRect(contours[i]);
+    cv::Mat one = cv::Mat::zeros(box.height, box.width, CV_8UC1);
+    cv::drawContours(one, contours, static_cast<int>(i), cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), INT_MAX,
+                     -box.tl());
     cv::Mat both;
-    cv::bitwise_and(one, core_px, both);
+    cv::bitwise_and(one, core_px(box), both);
     const double score = cv::countNonZero(both) + 1e-3 * cv::contourArea(contours[i]);
     if (score > pick_score) {
       pick_score = score;

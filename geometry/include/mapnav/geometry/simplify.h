@@ -12,4 +12,11 @@ namespace mapnav {
 /// polyline crosses or touches itself, the meeting point becomes a vertex that is never removed.
 std::vector<Vec2> simplifyPolyline(const std::vector<Vec2>& points, double tolerance);
 
+/// The same answer as simplifyPolyline, point for point, fast for a chain of pixel centres (a
+/// contour traced in an image: integer coordinates, each step to one of the 8 neighbours, no point
+/// repeated except a ring's closing point, no two diagonal steps crossing). It runs CGAL's greedy
+/// loop — the same priority queue, cost and order — without the triangulation, testing a removal
+/// against the remaining vertices in a grid instead. Any other input goes to simplifyPolyline.
+std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tolerance);
+
 }  // namespace mapnav

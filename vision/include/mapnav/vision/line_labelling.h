@@ -21,6 +21,9 @@ struct LineOptions {
   double max_distance_m = 0.4;         ///< ... and both end points within this of the predicted line. > 0
   double min_overlap = 0.5;            ///< ... and this fraction of the line overlaps the segment. [0, 1]
   double relation_tolerance_m = 0.5;   ///< parallel pairs: separation within this of the predicted. > 0
+  /// The reference implementations (CGAL's simplification; a distance transform of `valid` for the
+  /// frame edges) instead of the fast ones with the same answers (tested).
+  bool reference = false;
 
   void validate() const;
 };

@@ -19,6 +19,7 @@ struct RegionOptions {
   int refine_margin_blocks = 1;  ///< the pixel region may reach this many blocks beyond the block region. ≥ 0
   int pixel_morph_px = 2;        ///< pixel-level closing then opening radius, pixels. ≥ 0
   bool fill_holes = true;        ///< fill holes inside the region (leaves, cracks, slab gaps)
+  bool reference = false;        ///< OpenCV's morphology instead of the fast binary one (same answer)
 
   void validate() const;
 };

@@ -1,0 +1,63 @@
+// Google Benchmark: the default Vision pipeline ("sidewalk": colour classification, region
+// reproduction, polygon fitting, line labelling) per frame at 512 x 480 on the campus scene of
+// apps/src/sidewalk_scene.h — the fast paths, the reference paths (option "reference": the same
+// answers), a plain memcpy of the frame for scale, and the Map's prediction plus Vision, the two
+// costly steps of the mission loop (issue 9's latency).
+#include <benchmark/benchmark.h>
+
+#include <cstring>
+#include <vector>
+
+#include "mapnav/map/predict.h"
+#include "mapnav/vision/pipelines.h"
+#include "mapnav/vision_iface/pipeline.h"
+#include "sidewalk_scene.h"  // the scene `mapnav bench` times too (apps/src)
+
+namespace {
+
+const mapnav::cli::SidewalkScene& scene() {
+  static const mapnav::cli::SidewalkScene s = mapnav::cli::makeSidewalkScene();
+  return s;
+}
+
+void runSidewalk(benchmark::State& state, const char* options, bool predict) {
+  const auto& s = scene();
+  mapnav::registerBuiltinPipelines();
+  auto pipeline = mapnav::createPipeline("sidewalk", options);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const std::size_t i = k++ % s.frames.size();
+    const mapnav::Image& rgb = s.frames[i].rgb;
+    const mapnav::VisionFrame frame{rgb.width, rgb.height, rgb.data.data(), s.camera.get(), static_cast<double>(k)};
+    if (predict) {
+      const mapnav::Prediction p = mapnav::predictView(s.map, s.poses[i], *s.camera);
+      benchmark::DoNotOptimize(pipeline->detect(frame, p.view).lines.data());
+    } else {
+      benchmark::DoNotOptimize(pipeline->detect(frame, s.predictions[i]).lines.data());
+    }
+  }
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_SidewalkFrame(benchmark::State& state) { runSidewalk(state, "{}", false); }
+void BM_SidewalkFrameReference(benchmark::State& state) { runSidewalk(state, R"({"reference": true})", false); }
+void BM_SidewalkPredictAndFrame(benchmark::State& state) { runSidewalk(state, "{}", true); }
+
+void BM_SidewalkMemcpy(benchmark::State& state) {
+  const auto& s = scene();
+  std::vector<std::uint8_t> dst(s.frames.front().rgb.data.size());
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const mapnav::Image& f = s.frames[k++ % s.frames.size()].rgb;
+    std::memcpy(dst.data(), f.data.data(), f.data.size());
+    benchmark::DoNotOptimize(dst.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_SidewalkFrame)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SidewalkFrameReference)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SidewalkPredictAndFrame)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SidewalkMemcpy)->Unit(benchmark::kMicrosecond);

@@ -1,0 +1,237 @@
+// The sidewalk pipeline's fast paths against their reference implementations (issue 9: the loop
+// latency): binary morphology against OpenCV's, the single-precision log-odds against the
+// double-precision one, the pixel-chain simplification against CGAL's, and the whole pipeline with
+// option "reference" on and off over a drive of rendered frames.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "../../vision/src/binary_morph.h"
+#include "eval_common.h"
+#include "mapnav/geometry/simplify.h"
+#include "mapnav/map/predict.h"
+#include "mapnav/sim/world.h"
+#include "mapnav/vision/color_classifier.h"
+#include "mapnav/vision/pipelines.h"
+#include "mapnav/vision_iface/pipeline.h"
+
+namespace mapnav {
+namespace {
+
+// Blobs (filled ellipses and rectangles) with salt-and-pepper noise: 0 / 255.
+cv::Mat randomMask(int w, int h, std::uint32_t seed, double noise) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> x(0, w), y(0, h), r(2, 0.3 * std::min(w, h)), a(0, 180), u(0, 1);
+  cv::Mat m = cv::Mat::zeros(h, w, CV_8UC1);
+  for (int i = 0; i < 6; ++i) {
+    const cv::Point c(static_cast<int>(x(rng)), static_cast<int>(y(rng)));
+    if (i % 2 == 0) {
+      cv::ellipse(m, c, cv::Size(static_cast<int>(r(rng)), static_cast<int>(r(rng))), a(rng), 0, 360, cv::Scalar(255),
+                  cv::FILLED);
+    } else {
+      cv::rectangle(m, cv::Rect(c.x, c.y, static_cast<int>(r(rng)), static_cast<int>(r(rng))), cv::Scalar(255), cv::FILLED);
+    }
+  }
+  for (int v = 0; v < h; ++v)
+    for (int k = 0; k < w; ++k)
+      if (u(rng) < noise) m.at<std::uint8_t>(v, k) ^= 255;
+  return m;
+}
+
+bool same(const cv::Mat& a, const cv::Mat& b) { return a.size() == b.size() && cv::countNonZero(a != b) == 0; }
+
+TEST(BinaryMorph, ErodeDilateAndCloseOpenEqualOpenCvs) {
+  const std::vector<cv::Mat> kernels = {
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(13, 13)),
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)),
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)),
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(7, 5)),
+      cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(5, 5)),
+      (cv::Mat_<std::uint8_t>(3, 3) << 1, 1, 0, 1, 1, 0, 0, 0, 0),  // not symmetric: OpenCV's path
+  };
+  int cases = 0;
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    const cv::Mat m = randomMask(seed % 2 ? 97 : 40, seed % 3 ? 61 : 130, seed, seed % 2 ? 0.02 : 0.0);
+    for (const cv::Mat& k : kernels) {
+      cv::Mat ours, theirs;
+      detail::erodeBinary(m, ours, k);
+      cv::erode(m, theirs, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+      EXPECT_TRUE(same(ours, theirs)) << "erode, seed " << seed << ", kernel " << k;
+      detail::dilateBinary(m, ours, k);
+      cv::dilate(m, theirs, k);
+      EXPECT_TRUE(same(ours, theirs)) << "dilate, seed " << seed << ", kernel " << k;
+      cv::Mat replicated;
+      cv::dilate(m, replicated, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+      EXPECT_TRUE(same(ours, replicated)) << "dilate (replicated border), seed " << seed << ", kernel " << k;
+      ours = m.clone();
+      detail::closeOpenBinary(ours, k);
+      cv::morphologyEx(m, theirs, cv::MORPH_CLOSE, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+      cv::morphologyEx(theirs, theirs, cv::MORPH_OPEN, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+      EXPECT_TRUE(same(ours, theirs)) << "close-open, seed " << seed << ", kernel " << k;
+      ++cases;
+    }
+  }
+  EXPECT_EQ(cases, 36);
+  // All set and all clear: unchanged by both (the shortcut), as OpenCV has it.
+  const cv::Mat disk = kernels.front();
+  for (const int value : {0, 255}) {
+    const cv::Mat flat(30, 40, CV_8UC1, cv::Scalar(value));
+    cv::Mat ours, theirs;
+    detail::erodeBinary(flat, ours, disk);
+    cv::erode(flat, theirs, disk, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    EXPECT_TRUE(same(ours, theirs)) << value;
+    detail::dilateBinary(flat, ours, disk);
+    cv::dilate(flat, theirs, disk);
+    EXPECT_TRUE(same(ours, theirs)) << value;
+    EXPECT_EQ(cv::countNonZero(ours), value == 0 ? 0 : 30 * 40);
+  }
+  // In place, into a view of other memory, as the pipeline calls it.
+  const cv::Mat m = randomMask(64, 48, 9, 0.01);
+  std::vector<std::uint8_t> pixels(64 * 48);
+  cv::Mat view(48, 64, CV_8UC1, pixels.data());
+  m.copyTo(view);
+  const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(13, 13));
+  detail::erodeBinary(view, view, k);
+  cv::Mat theirs;
+  cv::erode(m, theirs, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+  EXPECT_TRUE(same(cv::Mat(48, 64, CV_8UC1, pixels.data()), theirs));
+}
+
+TEST(ColorClassifierFastPath, LogOddsAgreesWithTheDoublePrecisionReference) {
+  // Concrete-grey road and green grass with noise; then every 3rd value of each channel.
+  const int w = 80, h = 40;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0, 6);
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3), road(w * h, 0), non(w * h, 0);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const bool is_road = u < w / 2;
+      const double c[3] = {is_road ? 170.0 : 75.0, is_road ? 168.0 : 125.0, is_road ? 160.0 : 55.0};
+      for (int k = 0; k < 3; ++k)
+        rgb[(static_cast<std::size_t>(v) * w + u) * 3 + k] = static_cast<std::uint8_t>(std::clamp(c[k] + n(rng), 0.0, 255.0));
+      (is_road ? road : non)[v * w + u] = 255;
+    }
+  }
+  std::vector<std::uint8_t> cube;
+  for (int r = 0; r < 256; r += 3)
+    for (int g = 0; g < 256; g += 3)
+      for (int b = 0; b < 256; b += 3) cube.insert(cube.end(), {std::uint8_t(r), std::uint8_t(g), std::uint8_t(b)});
+  const int cube_px = static_cast<int>(cube.size() / 3);
+  for (ColorSpace space : {ColorSpace::NormalizedRG, ColorSpace::RGB}) {
+    ColorClassifier c(ColorClassifierOptions{.space = space, .min_pixels = 50});
+    c.update(rgb.data(), w, h, road.data(), non.data());
+    ASSERT_TRUE(c.trained());
+    for (const auto& [pixels, count] : {std::pair{&rgb, w * h}, std::pair{&cube, cube_px}}) {
+      const std::vector<float> fast = c.logOdds(pixels->data(), count, 1);
+      const std::vector<float> ref = c.logOddsReference(pixels->data(), count, 1);
+      int sign_flips = 0;
+      double worst = 0;
+      for (int i = 0; i < count; ++i) {
+        worst = std::max(worst, std::abs(fast[i] - ref[i]) / (1.0 + std::abs(ref[i])));
+        if (std::abs(ref[i]) > 1e-3 && (fast[i] > 0) != (ref[i] > 0)) ++sign_flips;
+        EXPECT_EQ(c.logOdds(pixels->data() + 3 * i), fast[i]);  // one pixel = the vectorised row
+      }
+      EXPECT_LT(worst, 1e-4) << (space == ColorSpace::RGB ? "RGB" : "rg");
+      EXPECT_EQ(sign_flips, 0);
+    }
+    // Only where asked.
+    std::vector<std::uint8_t> where(w * h, 0);
+    where[7] = 1;
+    const std::vector<float> some = c.logOdds(rgb.data(), w, h, where.data());
+    EXPECT_EQ(std::count(some.begin(), some.end(), 0.0f), w * h - 1);
+    EXPECT_NE(some[7], 0.0f);
+  }
+}
+
+TEST(SimplifyPixelChain, SameVerticesAsCgalOnTracedContours) {
+  int rings = 0, distinct = 0;
+  for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+    cv::Mat m = randomMask(160, 120, 100 + seed, seed % 3 == 0 ? 0.01 : 0.0);
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(m, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
+    for (const auto& c : contours) {
+      if (c.size() < 3) continue;
+      std::vector<Vec2> ring;
+      for (const cv::Point& p : c) ring.emplace_back(p.x, p.y);
+      std::set<std::pair<int, int>> seen;
+      for (const cv::Point& p : c) seen.insert({p.x, p.y});
+      distinct += seen.size() == c.size();
+      const std::vector<Vec2> open = ring;
+      ring.push_back(ring.front());
+      for (double tol : {0.75, 1.5, 3.0}) {
+        EXPECT_EQ(simplifyPixelChain(ring, tol), simplifyPolyline(ring, tol)) << "seed " << seed << " tol " << tol;
+        EXPECT_EQ(simplifyPixelChain(open, tol), simplifyPolyline(open, tol)) << "seed " << seed << " tol " << tol;
+      }
+      ++rings;
+    }
+  }
+  EXPECT_GT(rings, 40);
+  EXPECT_GT(distinct, 20);  // contours the fast path takes (no pixel visited twice)
+  // What it does not take goes to CGAL: a repeated point, a non-integer one, a long step.
+  const std::vector<Vec2> spike = {Vec2(0, 0), Vec2(1, 0), Vec2(2, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 0)};
+  const std::vector<Vec2> halves = {Vec2(0, 0), Vec2(1, 0.5), Vec2(2, 0), Vec2(3, 0.5)};
+  const std::vector<Vec2> jump = {Vec2(0, 0), Vec2(5, 1), Vec2(10, 0)};
+  for (const auto* p : {&spike, &halves, &jump}) EXPECT_EQ(simplifyPixelChain(*p, 0.8), simplifyPolyline(*p, 0.8));
+  // A square ring of side 4: the corners stay.
+  std::vector<Vec2> square;
+  for (int i = 0; i < 4; ++i) square.emplace_back(i, 0);
+  for (int i = 0; i < 4; ++i) square.emplace_back(4, i);
+  for (int i = 4; i > 0; --i) square.emplace_back(i, 4);
+  for (int i = 4; i > 0; --i) square.emplace_back(0, i);
+  square.push_back(square.front());
+  EXPECT_EQ(simplifyPixelChain(square, 0.5),
+            (std::vector<Vec2>{Vec2(0, 0), Vec2(4, 0), Vec2(4, 4), Vec2(0, 4), Vec2(0, 0)}));
+}
+
+// Compares every answer the pipeline gives.
+void expectSameDetection(const DetectedObject& a, const DetectedObject& b, std::size_t frame) {
+  EXPECT_EQ(a.status, b.status) << frame;
+  EXPECT_EQ(a.reason, b.reason) << frame;
+  EXPECT_NEAR(a.confidence, b.confidence, 1e-12) << frame;
+  EXPECT_EQ(a.region_image, b.region_image) << frame;
+  ASSERT_EQ(a.lines.size(), b.lines.size()) << frame;
+  for (std::size_t i = 0; i < a.lines.size(); ++i) {
+    EXPECT_EQ(a.lines[i].image.a, b.lines[i].image.a) << frame;
+    EXPECT_EQ(a.lines[i].image.b, b.lines[i].image.b) << frame;
+    EXPECT_EQ(a.lines[i].label, b.lines[i].label) << frame;
+    EXPECT_EQ(a.lines[i].frame_edge, b.lines[i].frame_edge) << frame;
+    EXPECT_EQ(a.lines[i].score, b.lines[i].score) << frame;
+  }
+}
+
+TEST(SidewalkFastPaths, SameDetectionsAsTheReferenceAlongADrive) {
+  // Consecutive frames 0.5 m apart down R1 and on through its intersection, with shadows, so that
+  // the adaptive models carry over from frame to frame in both pipelines.
+  registerBuiltinPipelines();
+  WorldOptions wo;
+  wo.shadow_density = 0.2;
+  const World world(visiontest::campus(), wo);
+  const Camera& cam = visiontest::pinhole();
+  const RayTable rays(cam);
+  auto fast = createPipeline("sidewalk");
+  auto reference = createPipeline("sidewalk", R"({"reference": true})");
+  const Road& road = visiontest::campus().roads().front();
+  const Polyline2& line = road.centerline;
+  int ok = 0;
+  std::size_t frame = 0;
+  for (double s = 1.0; s < line.length() - 1.0 && frame < 24; s += 0.5, ++frame) {
+    const Vec2 t = line.tangentAt(s);
+    const Pose2 pose(line.pointAt(s) + 0.1 * std::sin(s) * Vec2(-t.y(), t.x()), std::atan2(t.y(), t.x()) + 0.03 * std::cos(s));
+    const Prediction pred = predictView(visiontest::campus(), pose, cam);
+    if (pred.empty()) continue;
+    const Frame f = world.render(rays, pose, s);
+    const VisionFrame vf{f.rgb.width, f.rgb.height, f.rgb.data.data(), &cam, s};
+    const DetectedObject a = fast->detect(vf, pred.view);
+    const DetectedObject b = reference->detect(vf, pred.view);
+    expectSameDetection(a, b, frame);
+    ok += a.status == DetectedObject::Status::Ok;
+  }
+  EXPECT_GE(ok, 10);
+}
+
+}  // namespace
+}  // namespace mapnav
