@@ -39,7 +39,10 @@ std::vector<std::string> evalArgs(const fs::path& dir, const std::vector<std::st
 TEST(EvalCli, ScoresThreeCamVidPhotosWithOverlays) {
   ASSERT_TRUE(fs::is_directory(testing::realDataPath("camvid"))) << "no ../shared/data/real/camvid";
   const fs::path dir = threeImages();
-  const auto r = runCli(evalArgs(dir, {"--json", "--overlays", (dir / "overlays").string()}));
+  // The sidewalk pipeline's options for photos (docs/eval.md): its defaults are for the campus
+  // simulation and give up on most CamVid photos.
+  const auto r = runCli(evalArgs(dir, {"--json", "--overlays", (dir / "overlays").string(), "--options",
+                                       R"({"adaptive":false,"min_separation":0,"llr_threshold":-10})"}));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["images"], 3);
@@ -55,8 +58,8 @@ TEST(EvalCli, ScoresThreeCamVidPhotosWithOverlays) {
   EXPECT_DOUBLE_EQ(j["iou_worst"].get<double>(), ious[0]);
   // IoU ≤ min(precision, recall) always: TP/(TP+FP+FN) has the larger denominator.
   EXPECT_LE(j["iou"].get<double>(), std::min(j["precision"].get<double>(), j["recall"].get<double>()) + 1e-4);
-  // The road is found, if not perfectly (the figures of docs/eval.md).
-  EXPECT_GT(j["iou"].get<double>(), 0.5) << r.out;
+  // The road is found, if not perfectly (0.876 over all 30 photos, docs/eval.md).
+  EXPECT_GT(j["iou"].get<double>(), 0.75) << r.out;
   // One overlay per photo, the photo's size; an unlabelled (11) pixel is the photo darkened to a third.
   for (const std::string& s : kStems) {
     const Image o = readPng(dir / "overlays" / (s + ".png"));
