@@ -597,26 +597,33 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
     inliers.push_back(lines[i]);
     inliers.back().map_world = fit->map_lines[i];
   }
+  //    The measurement is used only in the observed directions U (J projected onto U): a direction
+  //    the lines determine worse than min_information allows (a line a few degrees off the road's
+  //    direction "observes" the along-road position through its slant alone, where a few
+  //    centimetres of map or detection error become decimetres) gets no correction.
   Problem problem(inliers, mo.reassociate_max_angle_deg);
   const std::vector<PointObs>& pts = problem.pts;
   const std::vector<char> all(inliers.size(), 1);
   const Mat3 prior_information = covariance_.inverse();
+  const Mat3 project = u * u.transpose();
   Vec3 x = prior;
   for (int it = 0; it < options_.update_iterations; ++it) {
     if (it > 0) problem.reassociate(x);  // the first iterate is the prior: keep the fit's association
-    Mat3 a = prior_information;
-    Vec3 b = -prior_information * difference(x, prior);
+    Mat3 a = Mat3::Zero();
+    Vec3 g = Vec3::Zero();
     for (const PointObs& p : pts) {
       const Vec3 j = jacobian(p, x);
       a += j * j.transpose() / (p.sigma * p.sigma);
-      b -= j * residual(p, x) / (p.sigma * p.sigma);
+      g += j * residual(p, x) / (p.sigma * p.sigma);
     }
-    const Vec3 step = a.ldlt().solve(b);
+    const Vec3 step = (prior_information + project * a * project)
+                          .ldlt()
+                          .solve(-prior_information * difference(x, prior) - project * g);
     x += step;
     x.z() = normalizeAngle(x.z());
     if (step.norm() < mo.step_tolerance) break;
   }
-  const Mat3 information = informationOf(pts, all, x);
+  const Mat3 information = project * informationOf(pts, all, x) * project;
   Mat3 posterior = (prior_information + information).inverse();
   posterior = 0.5 * (posterior + posterior.transpose());
 

@@ -500,6 +500,36 @@ TEST(MatchingOnCurve, PiecewiseEdgesFollowTheCurveWhereThePredictedChordsDoNot) 
   EXPECT_THROW(options.validate(), InvalidInput);
 }
 
+TEST(MatchingFilter, ALineAFewDegreesOffTheRoadDoesNotMoveTheAlongRoadPosition) {
+  // Both road edges, exact, and a 1.5 m corner line 3.8 degrees off the road's direction whose
+  // painted boundary runs straight along the road (5 cm off the map's line at its ends): its slant
+  // carries along-road information of about 2 sin^2(3.8 deg) / 0.05^2 = 3.5 /m^2 (1 sigma 0.5 m),
+  // which a few centimetres of map error turn into decimetres along the road.
+  const Pose2 truth(10.0, 0.0, 0.0);
+  std::vector<LineCorrespondence> lines = roadEdges(truth, 0.05);
+  lines.push_back(detect("I1.corner.0", truth, {{20, 1.55}, {21.5, 1.55}}, Segment2{{20, 1.5}, {21.5, 1.6}}, 0.05));
+  const Mat3 p = diagonalCovariance(1.0, 1.0);  // 1 m along: e.g. 40 m after the last fix
+
+  FilterOptions loose;  // min_information 1: the corner's along information counts
+  PoseFilter moved(truth, p, loose);
+  ASSERT_EQ(moved.update(lines).status, PositionStatus::Corrected);
+  const double loose_move = std::abs(moved.pose().x() - truth.x());
+  EXPECT_GT(loose_move, 0.05);  // measured 0.078 m
+
+  // min_information 100: along is not observed, so (up to the along component the corner gives the
+  // observed lateral / heading directions) not corrected.
+  FilterOptions strict;
+  strict.match.min_information = 100;
+  PoseFilter kept(truth, p, strict);
+  const CurrentPosition out = kept.update(lines);
+  ASSERT_EQ(out.status, PositionStatus::Corrected);
+  EXPECT_FALSE(out.observed_along);
+  // Measured 0.015 m: the projection removes the unobserved eigen-direction, but the observed
+  // ones (heading, in mixed units with the corner 20 m ahead) keep a small along component.
+  EXPECT_LT(std::abs(kept.pose().x() - truth.x()), 0.25 * loose_move);
+  EXPECT_GT(kept.covariance()(0, 0), 0.85 * p(0, 0));  // little along information fused
+}
+
 // ---------------------------------------------------------------------------------------------
 // Re-association
 
