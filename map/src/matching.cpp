@@ -64,6 +64,8 @@ void LineMatchOptions::validate() const {
   require(std::isfinite(step_tolerance) && step_tolerance > 0, "step_tolerance", step_tolerance, "finite and > 0");
   require(std::isfinite(min_information) && min_information >= 0, "min_information", min_information,
           "finite and >= 0");
+  require(reassociate_max_angle_deg > 0 && reassociate_max_angle_deg <= 90, "reassociate_max_angle_deg",
+          reassociate_max_angle_deg, "in (0, 90]");
 }
 
 void MotionNoiseOptions::validate() const {
@@ -135,20 +137,67 @@ Vec3 jacobian(const PointObs& o, const Vec3& s) {
   return {o.n.x(), o.n.y(), o.n.dot(leftNormal(rv))};
 }
 
-std::vector<PointObs> samplePoints(const std::vector<LineCorrespondence>& lines) {
-  std::vector<PointObs> out;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const LineCorrespondence& l = lines[i];
-    if (!(std::isfinite(l.sigma_m) && l.sigma_m > 0)) {
-      throw InvalidInput("line correspondence " + l.id + ": sigma_m must be finite and > 0");
+// The sample points of correspondences (two per line: points 2i and 2i + 1 are line i's) and the
+// map line each is matched against, which re-association may change.
+struct Problem {
+  const std::vector<LineCorrespondence>& lines;
+  double max_angle_rad;
+  std::vector<PointObs> pts;
+  std::vector<Segment2> map_lines;
+
+  Problem(const std::vector<LineCorrespondence>& l, double max_angle_deg) : lines(l), max_angle_rad(degToRad(max_angle_deg)) {
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const LineCorrespondence& c = lines[i];
+      if (!(std::isfinite(c.sigma_m) && c.sigma_m > 0)) {
+        throw InvalidInput("line correspondence " + c.id + ": sigma_m must be finite and > 0");
+      }
+      pts.push_back({c.detected_vehicle.a, Vec2::Zero(), 0, c.sigma_m, i});
+      pts.push_back({c.detected_vehicle.b, Vec2::Zero(), 0, c.sigma_m, i});
+      map_lines.push_back(c.map_world);
+      setLine(i, c.map_world);
     }
-    const Vec2 n = leftNormal(l.map_world.direction());
-    const double c = n.dot(l.map_world.a);
-    out.push_back({l.detected_vehicle.a, n, c, l.sigma_m, i});
-    out.push_back({l.detected_vehicle.b, n, c, l.sigma_m, i});
   }
-  return out;
-}
+
+  void setLine(std::size_t i, const Segment2& line) {
+    map_lines[i] = line;
+    const Vec2 n = leftNormal(line.direction());
+    for (PointObs* p : {&pts[2 * i], &pts[2 * i + 1]}) {
+      p->n = n;
+      p->c = n.dot(line.a);
+    }
+  }
+
+  // Each correspondence with candidates takes the one nearest to its detected midpoint placed in
+  // the world by s, among those within the angle (all when none is). Whether any line changed.
+  bool reassociate(const Vec3& s) {
+    const Pose2 pose = toPose(s);
+    bool changed = false;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const LineCorrespondence& c = lines[i];
+      if (c.candidates.empty()) continue;
+      const Segment2 placed{pose.transform(c.detected_vehicle.a), pose.transform(c.detected_vehicle.b)};
+      const Vec2 mid = placed.pointAt(0.5);
+      const Segment2* best = nullptr;
+      bool best_aligned = false;
+      double best_distance = 0;
+      for (const Segment2& candidate : c.candidates) {
+        if (candidate.length() < 1e-9) continue;
+        const bool aligned = angleBetweenLines(placed, candidate) <= max_angle_rad;
+        const double d = candidate.distanceTo(mid);
+        if (best == nullptr || (aligned && !best_aligned) || (aligned == best_aligned && d < best_distance)) {
+          best = &candidate;
+          best_aligned = aligned;
+          best_distance = d;
+        }
+      }
+      if (best != nullptr && !(map_lines[i].a == best->a && map_lines[i].b == best->b)) {
+        setLine(i, *best);
+        changed = true;
+      }
+    }
+    return changed;
+  }
+};
 
 // The loss of a normalised residual u, and its IRLS weight rho'(u)/u.
 double lossValue(RobustLoss loss, double k, double u) {
@@ -210,8 +259,10 @@ struct SolveResult {
 // Minimises sum rho(r_i / sigma_i) over the used points by Gauss-Newton with IRLS weights and
 // Levenberg damping, starting at `s`. Steps stay in the span of the observed directions of the
 // unweighted information, so that unobserved directions keep their starting value.
-SolveResult solve(const std::vector<PointObs>& pts, const std::vector<char>& used, Vec3 s, RobustLoss loss,
+// Re-associates (Problem::reassociate) at every iterate.
+SolveResult solve(Problem& problem, const std::vector<char>& used, Vec3 s, RobustLoss loss,
                   const LineMatchOptions& o) {
+  const std::vector<PointObs>& pts = problem.pts;
   const double k = o.loss_scale;
   auto cost = [&](const Vec3& state) {
     double sum = 0;
@@ -221,6 +272,7 @@ SolveResult solve(const std::vector<PointObs>& pts, const std::vector<char>& use
     return sum;
   };
   SolveResult result{s, 0, false};
+  problem.reassociate(s);
   double current = cost(s);
   for (int it = 0; it < o.max_iterations; ++it) {
     // The observed subspace U, from the unweighted information at s.
@@ -255,6 +307,8 @@ SolveResult solve(const std::vector<PointObs>& pts, const std::vector<char>& use
         s = next;
         current = next_cost;
         accepted = true;
+        // The new iterate may lie nearer other candidates: the cost to beat is theirs then.
+        if (problem.reassociate(s)) current = cost(s);
         break;
       }
       mu = mu == 0 ? 1e-4 * scale : 10 * mu;
@@ -301,17 +355,18 @@ std::optional<LineFit> fitPoseToLines(const Pose2& prior, const std::vector<Line
                                       const LineMatchOptions& options) {
   options.validate();
   if (lines.empty()) return std::nullopt;
-  const std::vector<PointObs> pts = samplePoints(lines);
+  Problem problem(lines, options.reassociate_max_angle_deg);
+  const std::vector<PointObs>& pts = problem.pts;
   std::vector<char> used(lines.size(), 1);
   LineFit fit;
 
   // Robust stage: Huber (convex) first; Cauchy from the Huber solution.
   Vec3 s = toVec(prior);
   const RobustLoss first = options.loss == RobustLoss::None ? RobustLoss::None : RobustLoss::Huber;
-  SolveResult r = solve(pts, used, s, first, options);
+  SolveResult r = solve(problem, used, s, first, options);
   fit.iterations += r.iterations;
   if (options.loss == RobustLoss::Cauchy) {
-    r = solve(pts, used, r.state, RobustLoss::Cauchy, options);
+    r = solve(problem, used, r.state, RobustLoss::Cauchy, options);
     fit.iterations += r.iterations;
   }
 
@@ -320,7 +375,7 @@ std::optional<LineFit> fitPoseToLines(const Pose2& prior, const std::vector<Line
   used = inliersAt(pts, lines.size(), r.state, options.inlier_threshold);
   for (int round = 0;; ++round) {
     if (std::find(used.begin(), used.end(), 1) == used.end()) return std::nullopt;
-    r = solve(pts, used, r.state, RobustLoss::None, options);
+    r = solve(problem, used, r.state, RobustLoss::None, options);
     fit.iterations += r.iterations;
     if (round == 4) break;
     std::vector<char> next = inliersAt(pts, lines.size(), r.state, options.inlier_threshold);
@@ -338,6 +393,7 @@ std::optional<LineFit> fitPoseToLines(const Pose2& prior, const std::vector<Line
   }
 
   fit.pose = toPose(r.state);
+  fit.map_lines = problem.map_lines;
   fit.information = informationOf(pts, used, r.state);
   double sum = 0;
   int n = 0;
@@ -375,7 +431,7 @@ std::vector<LineCorrespondence> labelledCorrespondences(const Prediction& predic
                                                         double sigma_m, double min_length_m) {
   std::vector<LineCorrespondence> out;
   forEachLabelledLine(prediction, detected, min_length_m, [&](const DetectedLine& line, std::size_t i) {
-    out.push_back({*line.label, line.vehicle, prediction.segments_world[i], sigma_m});
+    out.push_back({*line.label, line.vehicle, prediction.segments_world[i], sigma_m, {}});
   });
   return out;
 }
@@ -390,7 +446,7 @@ std::vector<LineCorrespondence> edgeCorrespondences(const Map& map, const Predic
     const Road* road = (segment.side == "left" || segment.side == "right") ? map.findRoad(segment.owner) : nullptr;
     const Polyline2* edge = road == nullptr ? nullptr : &(segment.side == "left" ? map.leftEdge(*road) : map.rightEdge(*road));
     if (edge == nullptr || edge->segmentCount() == 0 || !(piece_m > 0)) {
-      out.push_back({*line.label, line.vehicle, chord, sigma_m});
+      out.push_back({*line.label, line.vehicle, chord, sigma_m, {}});
       return;
     }
     // The stretch of the edge the predicted segment covers: the edge does not go on inside the
@@ -399,12 +455,16 @@ std::vector<LineCorrespondence> edgeCorrespondences(const Map& map, const Predic
     const double lo = std::min(sa, sb) - 0.25, hi = std::max(sa, sb) + 0.25;
     const int pieces = std::max(1, static_cast<int>(std::ceil(line.vehicle.length() / piece_m)));
     const double sigma = sigma_m * std::sqrt(static_cast<double>(pieces));
+    // Re-association candidates: the segments of that stretch.
+    const Polyline2 stretch = edge->slice(lo, hi);
+    std::vector<Segment2> candidates;
+    for (std::size_t k = 0; k < stretch.segmentCount(); ++k) candidates.push_back(stretch.segment(k));
     for (int k = 0; k < pieces; ++k) {
       const Segment2 piece{line.vehicle.pointAt(static_cast<double>(k) / pieces),
                            line.vehicle.pointAt(static_cast<double>(k + 1) / pieces)};
       const Polyline2::Projection p = edge->project(prior.transform(piece.pointAt(0.5)));
       if (p.arc_length < lo || p.arc_length > hi) continue;
-      out.push_back({*line.label, piece, edge->segment(p.segment), sigma});
+      out.push_back({*line.label, piece, edge->segment(p.segment), sigma, candidates});
     }
   });
   return out;
@@ -440,7 +500,7 @@ std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const
   const double length = (far - near).norm();
   if (length < 1e-9) {
     return LineCorrespondence{best->id + ".centerline", centerline_vehicle, line.segment(best_projection.segment),
-                              sigma_m};
+                              sigma_m, {}};
   }
   const double sn = line.project(prior.transform(near)).arc_length;
   for (double keep = length;; keep = std::max(kMinKeep, keep - 0.25)) {
@@ -448,7 +508,7 @@ std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const
     const double se = line.project(prior.transform(end)).arc_length;
     if (std::abs(se - sn) < 0.5) {  // no stretch of road under it: the segment under its midpoint
       return LineCorrespondence{best->id + ".centerline", centerline_vehicle, line.segment(best_projection.segment),
-                                sigma_m};
+                                sigma_m, {}};
     }
     const Segment2 chord{line.pointAt(sn), line.pointAt(se)};
     double sagitta = 0;
@@ -458,7 +518,7 @@ std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const
       sagitta = std::max(sagitta, chord.distanceTo(line.pointAt(lo + (hi - lo) * k / steps)));
     }
     if (sagitta <= sigma_m || keep <= kMinKeep) {
-      return LineCorrespondence{best->id + ".centerline", Segment2{near, end}, chord, std::hypot(sigma_m, sagitta)};
+      return LineCorrespondence{best->id + ".centerline", Segment2{near, end}, chord, std::hypot(sigma_m, sagitta), {}};
     }
   }
 }
@@ -564,29 +624,41 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
 
   // 3. Iterated EKF update with the inliers' point-to-line distances (measured 0) as the
   //    measurement: Gauss-Newton on |x - prior|^2_{P^-1} + sum r_i(x)^2 / sigma_i^2.
+  //    Lines with candidates start from the fit's association and are re-associated at every iterate.
   std::vector<LineCorrespondence> inliers;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const auto& out = fit->outlier_indices;
-    if (std::find(out.begin(), out.end(), i) == out.end()) inliers.push_back(lines[i]);
+    if (std::find(out.begin(), out.end(), i) != out.end()) continue;
+    inliers.push_back(lines[i]);
+    inliers.back().map_world = fit->map_lines[i];
   }
-  const std::vector<PointObs> pts = samplePoints(inliers);
+  //    The measurement is used only in the observed directions U (J projected onto U): a direction
+  //    the lines determine worse than min_information allows (a line a few degrees off the road's
+  //    direction "observes" the along-road position through its slant alone, where a few
+  //    centimetres of map or detection error become decimetres) gets no correction.
+  Problem problem(inliers, mo.reassociate_max_angle_deg);
+  const std::vector<PointObs>& pts = problem.pts;
   const std::vector<char> all(inliers.size(), 1);
   const Mat3 prior_information = covariance_.inverse();
+  const Mat3 project = u * u.transpose();
   Vec3 x = prior;
   for (int it = 0; it < options_.update_iterations; ++it) {
-    Mat3 a = prior_information;
-    Vec3 b = -prior_information * difference(x, prior);
+    if (it > 0) problem.reassociate(x);  // the first iterate is the prior: keep the fit's association
+    Mat3 a = Mat3::Zero();
+    Vec3 g = Vec3::Zero();
     for (const PointObs& p : pts) {
       const Vec3 j = jacobian(p, x);
       a += j * j.transpose() / (p.sigma * p.sigma);
-      b -= j * residual(p, x) / (p.sigma * p.sigma);
+      g += j * residual(p, x) / (p.sigma * p.sigma);
     }
-    const Vec3 step = a.ldlt().solve(b);
+    const Vec3 step = (prior_information + project * a * project)
+                          .ldlt()
+                          .solve(-prior_information * difference(x, prior) - project * g);
     x += step;
     x.z() = normalizeAngle(x.z());
     if (step.norm() < mo.step_tolerance) break;
   }
-  const Mat3 information = informationOf(pts, all, x);
+  const Mat3 information = project * informationOf(pts, all, x) * project;
   Mat3 posterior = (prior_information + information).inverse();
   posterior = 0.5 * (posterior + posterior.transpose());
 

@@ -39,7 +39,7 @@ LineCorrespondence detect(const std::string& id, const Pose2& truth, const Segme
     v.a += Vec2(noise(*rng), noise(*rng));
     v.b += Vec2(noise(*rng), noise(*rng));
   }
-  return {id, v, line, sigma};
+  return {id, v, line, sigma, {}};
 }
 
 // Both road edges seen from 2 to 8 m ahead of the vehicle (x along the road).
@@ -498,6 +498,119 @@ TEST(MatchingOnCurve, PiecewiseEdgesFollowTheCurveWhereThePredictedChordsDoNot) 
   EXPECT_EQ(options.curve_piece_m, 0.0);  // opt-in: the chords unless asked
   options.curve_piece_m = -1;
   EXPECT_THROW(options.validate(), InvalidInput);
+}
+
+TEST(MatchingFilter, ALineAFewDegreesOffTheRoadDoesNotMoveTheAlongRoadPosition) {
+  // Both road edges, exact, and a 1.5 m corner line 3.8 degrees off the road's direction whose
+  // painted boundary runs straight along the road (5 cm off the map's line at its ends): its slant
+  // carries along-road information of about 2 sin^2(3.8 deg) / 0.05^2 = 3.5 /m^2 (1 sigma 0.5 m),
+  // which a few centimetres of map error turn into decimetres along the road.
+  const Pose2 truth(10.0, 0.0, 0.0);
+  std::vector<LineCorrespondence> lines = roadEdges(truth, 0.05);
+  lines.push_back(detect("I1.corner.0", truth, {{20, 1.55}, {21.5, 1.55}}, Segment2{{20, 1.5}, {21.5, 1.6}}, 0.05));
+  const Mat3 p = diagonalCovariance(1.0, 1.0);  // 1 m along: e.g. 40 m after the last fix
+
+  FilterOptions loose;  // min_information 1: the corner's along information counts
+  PoseFilter moved(truth, p, loose);
+  ASSERT_EQ(moved.update(lines).status, PositionStatus::Corrected);
+  const double loose_move = std::abs(moved.pose().x() - truth.x());
+  EXPECT_GT(loose_move, 0.05);  // measured 0.078 m
+
+  // min_information 100: along is not observed, so (up to the along component the corner gives the
+  // observed lateral / heading directions) not corrected.
+  FilterOptions strict;
+  strict.match.min_information = 100;
+  PoseFilter kept(truth, p, strict);
+  const CurrentPosition out = kept.update(lines);
+  ASSERT_EQ(out.status, PositionStatus::Corrected);
+  EXPECT_FALSE(out.observed_along);
+  // Measured 0.015 m: the projection removes the unobserved eigen-direction, but the observed
+  // ones (heading, in mixed units with the corner 20 m ahead) keep a small along component.
+  EXPECT_LT(std::abs(kept.pose().x() - truth.x()), 0.25 * loose_move);
+  EXPECT_GT(kept.covariance()(0, 0), 0.85 * p(0, 0));  // little along information fused
+}
+
+// ---------------------------------------------------------------------------------------------
+// Re-association
+
+// A left road edge with a notch (as where a road meets a narrower one): y = 1, a recess to
+// y = 1.3 for 10 <= x <= 12, y = 1 again up to the crossing at x = 19.
+const Polyline2 kNotchedLeft({{-5, 1}, {10, 1}, {10, 1.3}, {12, 1.3}, {12, 1}, {19, 1}});
+
+std::vector<Segment2> segmentsOf(const Polyline2& line) {
+  std::vector<Segment2> out;
+  for (std::size_t i = 0; i < line.segmentCount(); ++i) out.push_back(line.segment(i));
+  return out;
+}
+
+// The notched edge seen before, in and after the notch, the right edge and the crossing; the
+// left pieces carry the notched edge's segments as candidates and, as their first map line, the
+// segment nearest to their midpoint placed by `prior` (as edgeCorrespondences picks it).
+std::vector<LineCorrespondence> notchScene(const Pose2& truth, const Pose2& prior) {
+  std::vector<LineCorrespondence> lines;
+  const std::vector<Segment2> candidates = segmentsOf(kNotchedLeft);
+  for (const auto& [id, seen] : {std::pair<const char*, Segment2>{"R1.left.0", {{4, 1}, {9.6, 1}}},
+                                 std::pair<const char*, Segment2>{"R1.left.1", {{10.3, 1.3}, {11.7, 1.3}}},
+                                 std::pair<const char*, Segment2>{"R1.left.2", {{12.3, 1}, {16, 1}}}}) {
+    LineCorrespondence c = detect(id, truth, seen, Segment2{}, 0.05);
+    const Vec2 mid = prior.transform(c.detected_vehicle.pointAt(0.5));
+    c.map_world = kNotchedLeft.segment(kNotchedLeft.project(mid).segment);
+    c.candidates = candidates;
+    lines.push_back(c);
+  }
+  lines.push_back(detect("R1.right.0", truth, {{4, -1}, {16, -1}}, kRight, 0.05));
+  for (const LineCorrespondence& c : crossingEdges(truth, 0.05)) lines.push_back(c);
+  return lines;
+}
+
+const Pose2 kNotchTruth(3.0, 0.1, degToRad(2.0));
+// 2 m along, 0.1 m across and 1 degree off: the notch piece (midpoint at x = 11 in truth) lands at
+// x = 13, 0.34 m from the edge after the notch and 1 m from the notch.
+const Pose2 kNotchPrior(5.0, 0.0, degToRad(3.0));
+
+TEST(LineMatchingReassociation, APieceOnTheWrongSegmentOfANotchedEdgeMovesToTheRightOne) {
+  const std::vector<LineCorrespondence> lines = notchScene(kNotchTruth, kNotchPrior);
+  // The prior's association is wrong: the notch piece is matched against the edge after it.
+  ASSERT_EQ(lines[1].map_world.a, Vec2(12, 1));
+
+  const std::optional<LineFit> fit = fitPoseToLines(kNotchPrior, lines);
+  ASSERT_TRUE(fit);
+  const Vec3 e = poseError(fit->pose, kNotchTruth);
+  EXPECT_LT(e.head<2>().norm(), 1e-6);
+  EXPECT_LT(std::abs(e.z()), 1e-8);
+  EXPECT_TRUE(fit->outliers.empty());
+  EXPECT_EQ(fit->map_lines[1].a, Vec2(10, 1.3));  // the notch
+  EXPECT_EQ(fit->map_lines[1].b, Vec2(12, 1.3));
+  EXPECT_LT(fit->rms_m, 1e-6);
+
+  // Without candidates the prior's association stays: the notch piece, 0.3 m off its line at the
+  // true pose, is rejected as an outlier (or, kept, would bend the pose).
+  std::vector<LineCorrespondence> fixed = lines;
+  for (LineCorrespondence& c : fixed) c.candidates.clear();
+  const std::optional<LineFit> plain = fitPoseToLines(kNotchPrior, fixed);
+  ASSERT_TRUE(plain);
+  EXPECT_EQ(plain->outliers, std::vector<std::string>{"R1.left.1"});
+}
+
+TEST(LineMatchingReassociation, TheFilterUpdateReassociatesToo) {
+  const Mat3 p = diagonalCovariance(1.0, 2.0);
+  PoseFilter filter(kNotchPrior, p);
+  const CurrentPosition out = filter.update(notchScene(kNotchTruth, kNotchPrior));
+  ASSERT_EQ(out.status, PositionStatus::Corrected) << out.reason;
+  EXPECT_EQ(out.lines_used, 7);
+  EXPECT_TRUE(out.outliers.empty());
+  // Noise-free lines of 5 cm sigma against a 1 m prior: the prior pulls by a few millimetres.
+  const Vec3 e = poseError(filter.pose(), kNotchTruth);
+  EXPECT_LT(e.head<2>().norm(), 5e-3);
+  EXPECT_LT(std::abs(radToDeg(e.z())), 0.02);
+  // The same as the update given the right association from the start, without candidates.
+  std::vector<LineCorrespondence> right = notchScene(kNotchTruth, kNotchPrior);
+  right[1].map_world = Segment2{{10, 1.3}, {12, 1.3}};
+  for (LineCorrespondence& c : right) c.candidates.clear();
+  PoseFilter reference(kNotchPrior, p);
+  ASSERT_EQ(reference.update(right).status, PositionStatus::Corrected);
+  EXPECT_LT(poseError(filter.pose(), reference.pose()).norm(), 1e-9);
+  EXPECT_LT((filter.covariance() - reference.covariance()).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 }  // namespace

@@ -55,6 +55,14 @@ struct LineCorrespondence {
   Segment2 detected_vehicle;    ///< metres on the ground, vehicle frame (x forward, y left)
   Segment2 map_world;           ///< world frame; only its infinite line is used
   double sigma_m = 0.05;        ///< 1-sigma perpendicular error of each detected end point, m (> 0)
+  /// The map lines (finite segments, world frame) the detected segment may lie on, for
+  /// re-association: when not empty, the solvers pick `map_world` among them anew at every
+  /// Gauss-Newton iterate — the candidate nearest to the detected segment's midpoint placed in the
+  /// world by the iterate, among those within `LineMatchOptions::reassociate_max_angle_deg` of its
+  /// direction (all of them when none is) — so that a piece whose prior-pose projection fell on the
+  /// wrong segment of a bent or notched edge moves to the right one as the pose converges. Empty:
+  /// `map_world` is fixed.
+  std::vector<Segment2> candidates;
 };
 
 struct LineMatchOptions {
@@ -74,6 +82,10 @@ struct LineMatchOptions {
   /// (1/m^2 or 1/rad^2: a standard deviation above 1 m or 1 rad at the default). The solve leaves
   /// the pose unchanged along unobserved directions.
   double min_information = 1.0;
+  /// Re-association (LineCorrespondence::candidates): a candidate whose line makes more than this
+  /// angle with the detected segment placed in the world is only taken when no candidate is closer
+  /// in angle, degrees (in (0, 90]).
+  double reassociate_max_angle_deg = 30.0;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
@@ -105,6 +117,9 @@ struct LineFit {
   std::vector<std::string> outliers;  ///< ids of the correspondences rejected...
   std::vector<std::size_t> outlier_indices;  ///< ... and their indices in the input
   Observability observed;             ///< of `information`, at `pose`
+  /// Per input correspondence: the map line it was matched against at `pose` (its `map_world`, or
+  /// the candidate re-association chose).
+  std::vector<Segment2> map_lines;
 };
 
 /// The pose that puts each detected segment on its map line, starting from `prior` (world frame).
