@@ -43,7 +43,9 @@ render::Canvas renderRoute(const Map& map, const Route& route, const MapRenderOp
   char text[160];
   std::snprintf(text, sizeof text, "route %s to %s: %.1f m, %zu turns", toString(route.from).c_str(),
                 toString(route.to).c_str(), route.length_m, route.intersections.size());
-  canvas.text(Vec2(canvas.width() - options.margin_px, 30), text, caption);
+  // Bottom right, across from the scale bar: the top left holds the map's title, which a long
+  // route caption would run into (seen on a 660-road OSM import).
+  canvas.text(Vec2(canvas.width() - options.margin_px, canvas.height() - 12), text, caption);
   return std::move(picture.canvas);
 }
 
