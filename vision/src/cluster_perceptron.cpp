@@ -5,6 +5,7 @@
 #include "pipeline_options.h"
 
 #include <algorithm>
+#include <functional>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -234,12 +235,7 @@ std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, 
       (road[i] != 0 ? pos : neg)[k] += 1;
       total += 1;
     }
-  weights_.assign(static_cast<std::size_t>(n) + 1, 0.0);
-  std::vector<double> history;
-  double prev = std::numeric_limits<double>::max();
-  int calm = 0;
-  for (int it = 0; it < opt_.max_perceptron_iterations; ++it) {
-    std::vector<double> grad(static_cast<std::size_t>(n) + 1, 0.0);
+  return runLms(static_cast<std::size_t>(n) + 1, total, [&](std::vector<double>& grad) {
     double err = 0;
     for (int k = 0; k < n; ++k) {
       const double y = std::tanh(netFor(weights_, k));
@@ -248,7 +244,19 @@ std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, 
       for (int j = 0; j < n; ++j) grad[j] += e * (j == k ? 1.0 : -1.0);
       grad[n] += e;  // bias input 1
     }
-    err /= total;
+    return err;
+  });
+}
+
+std::vector<double> ClusterPerceptron::runLms(std::size_t inputs, double total,
+                                              const std::function<double(std::vector<double>&)>& pass) {
+  weights_.assign(inputs, 0.0);
+  std::vector<double> history;
+  double prev = std::numeric_limits<double>::max();
+  int calm = 0;
+  for (int it = 0; it < opt_.max_perceptron_iterations; ++it) {
+    std::vector<double> grad(inputs, 0.0);
+    const double err = pass(grad) / total;
     history.push_back(err);
     for (std::size_t j = 0; j < grad.size(); ++j) weights_[j] += opt_.perceptron_rate * grad[j] / total;
     // Stop when the mean error has changed by less than the tolerance for 3 iterations running
@@ -286,12 +294,7 @@ std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rg
     }
   std::vector<std::pair<std::uint32_t, std::pair<double, double>>> colours(counts.begin(), counts.end());
   std::sort(colours.begin(), colours.end());  // a fixed summation order: the same weights every run
-  weights_.assign(4, 0.0);
-  std::vector<double> history;
-  double prev = std::numeric_limits<double>::max();
-  int calm = 0;
-  for (int it = 0; it < opt_.max_perceptron_iterations; ++it) {
-    std::array<double, 4> grad{};
+  return runLms(4, total, [&](std::vector<double>& grad) {
     double err = 0;
     for (const auto& [key, pn] : colours) {
       const std::uint8_t r = key >> 16, g = (key >> 8) & 255, b = key & 255;
@@ -303,16 +306,8 @@ std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rg
       grad[2] += e * rgbInput(b);
       grad[3] += e;
     }
-    err /= total;
-    history.push_back(err);
-    for (std::size_t j = 0; j < 4; ++j) weights_[j] += opt_.perceptron_rate * grad[j] / total;
-    calm = std::abs(prev - err) < opt_.perceptron_tolerance ? calm + 1 : 0;
-    if (calm >= 3) break;
-    prev = err;
-  }
-  buildLut();
-  trained_ = !row_widths_.empty();
-  return history;
+    return err;
+  });
 }
 
 double ClusterPerceptron::outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const {

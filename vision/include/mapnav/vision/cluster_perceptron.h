@@ -11,6 +11,7 @@
 // The fast runtime path collapses clusters + perceptron into a 32×32×32 colour lookup table; the
 // reference path classifies every pixel by float distance and std::tanh.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <optional>
@@ -156,6 +157,11 @@ class ClusterPerceptron {
  private:
   int nearest(float r, float g, float b) const;
   std::vector<double> trainRgbPerceptron(const std::uint8_t* rgb, int width, int height, const std::uint8_t* road);
+  /// The LMS loop both perceptrons share: `pass` adds one iteration's gradient (Σ (target − output)
+  /// · input, over the pixels) into its argument and returns the summed absolute error; the weights
+  /// (`inputs` of them, from 0) move by rate · gradient / total until the mean error has been calm for
+  /// 3 iterations. Builds the lookup table. Returns the mean error per iteration.
+  std::vector<double> runLms(std::size_t inputs, double total, const std::function<double(std::vector<double>&)>& pass);
   void buildLut();
   ClusterPerceptronOptions opt_;
   std::vector<Vec3> clusterFrom(const std::uint8_t* rgb, int width, int height);
