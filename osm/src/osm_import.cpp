@@ -82,6 +82,17 @@ struct RawWay {
   std::vector<NodeId> refs;
 };
 
+/// The level a way is on, so that ways on different levels (a bridge over a path) cross without
+/// meeting: the `layer` tag when it is an integer, else 1 for a bridge, -1 for a tunnel, 0.
+int layerOf(const std::string& layer, const std::string& bridge, const std::string& tunnel) {
+  char* end = nullptr;
+  const long parsed = std::strtol(layer.c_str(), &end, 10);
+  if (!layer.empty() && *end == '\0') return static_cast<int>(parsed);
+  if (!bridge.empty() && bridge != "no") return 1;
+  if (!tunnel.empty() && tunnel != "no") return -1;
+  return 0;
+}
+
 /// Collects the nodes and the kept ways of the file.
 class Collector : public osmium::handler::Handler {
  public:
@@ -108,13 +119,7 @@ class Collector : public osmium::handler::Handler {
     w.name = tag("name");
     w.oneway = tag("oneway");
     w.area = tag("area");
-    // Ways on different levels (a bridge over a path) cross without meeting.
-    const std::string layer = tag("layer");
-    char* end = nullptr;
-    const long parsed = layer.empty() ? 0 : std::strtol(layer.c_str(), &end, 10);
-    w.layer = (!layer.empty() && end != nullptr && *end == '\0') ? static_cast<int>(parsed)
-              : tag("bridge").empty() || tag("bridge") == "no" ? (tag("tunnel").empty() || tag("tunnel") == "no" ? 0 : -1)
-                                                               : 1;
+    w.layer = layerOf(tag("layer"), tag("bridge"), tag("tunnel"));
     for (const osmium::NodeRef& ref : way.nodes()) w.refs.push_back(ref.ref());
     ways.push_back(std::move(w));
   }
