@@ -70,4 +70,16 @@ Image drawDetection(const Image& frame, const PredictedObject& prediction, const
   return out;
 }
 
+Image drawDetection(const Image& frame, const PredictedObject& prediction, const DetectedObject& detection,
+                    const Camera& camera) {
+  Image out = drawDetection(frame, prediction, detection);
+  if (!detection.centerline_vehicle) return out;
+  const auto a = camera.projectGround(detection.centerline_vehicle->a);
+  const auto b = camera.projectGround(detection.centerline_vehicle->b);
+  if (!a || !b) return out;
+  cv::Mat rgb(out.height, out.width, CV_8UC3, out.data.data());
+  cv::line(rgb, fixed(*a), fixed(*b), cv::Scalar(255, 0, 255), 3, cv::LINE_AA, 4);
+  return out;
+}
+
 }  // namespace mapnav
