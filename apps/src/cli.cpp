@@ -264,6 +264,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   lt->add_option("--row", log_track.row, "Image row where the edges and the centre line are measured (default: 85 % of the height)");
   lt->add_option("--max-frames", log_track.max_frames, "Stop after this many frames (0: all)")->default_val(0);
   lt->add_option("--overlays", log_track.overlays, "Folder to write one overlay per frame to");
+  lt->add_option("--contact-sheet", log_track.contact_sheet, "PNG of 8 overlays spread over the run, half size, two a row");
   lt->add_flag("--json", log_track.json, "Print the per-frame measurements as JSON");
   lt->footer("Exit codes: 0 ran (the frames where the pipeline failed are listed), 1 invalid input, 2 usage or I/O error.");
   lt->callback([&] {

@@ -167,7 +167,8 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
         if (edges.size() == 2) carried = edges;
       }
       frames.push_back(r);
-      if (!config.overlays.empty()) overlays.push_back(drawDetection(rgb, prediction, det, *camera));
+      if (!config.overlays.empty() || !config.contact_sheet.empty())
+        overlays.push_back(drawDetection(rgb, prediction, det, *camera));
     }
     if (!config.overlays.empty()) {
       fs::create_directories(config.overlays);
@@ -176,6 +177,20 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
         name << std::setw(6) << std::setfill('0') << i << ".png";
         writePng(overlays[i], fs::path(config.overlays) / name.str());
       }
+    }
+
+    if (!config.contact_sheet.empty() && !overlays.empty()) {
+      // Eight frames evenly spread from the first to the last, at half size, two a row.
+      constexpr std::size_t kTiles = 8;
+      std::vector<Image> tiles;
+      std::vector<std::string> captions;
+      const std::size_t n = std::min(kTiles, overlays.size());
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = n == 1 ? 0 : (k * (overlays.size() - 1) + (n - 1) / 2) / (n - 1);
+        tiles.push_back(overlays[i]);
+        captions.push_back(config.pipeline + ", frame " + std::to_string(i));
+      }
+      writePng(contactSheet(tiles, captions, 2, 0.5), config.contact_sheet);
     }
 
     const auto tracked = std::count_if(frames.begin(), frames.end(), [](const TrackedFrame& t) { return t.ok; });
@@ -212,6 +227,7 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
           << row << ": left " << text(jump_left) << " px, right " << text(jump_right) << " px, centre "
           << text(jump_centre) << " px\n";
       if (!config.overlays.empty()) out << "overlays in " << config.overlays << "\n";
+      if (!config.contact_sheet.empty()) out << "contact sheet " << config.contact_sheet << "\n";
     }
     return static_cast<int>(kOk);
   });

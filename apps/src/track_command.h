@@ -22,6 +22,7 @@ struct LogTrackConfig {
   std::string camera;                    ///< a camera file instead of the log's own; "" = the log's
   TrapezoidOptions trapezoid;            ///< the first frame's road outline (docs/eval.md)
   std::string overlays;                  ///< folder for one overlay per frame, or ""
+  std::string contact_sheet;             ///< a PNG of 8 overlays evenly spread over the run, or ""
   /// The image row where the edges and the centre line are measured, pixels; −1 = 85 % of the
   /// height (KITTI: row 314, about 9 m ahead).
   double row = -1;

@@ -85,7 +85,8 @@ TEST_F(RealKittiSequence, ImportsTruthFromThePoses) {
 // Where the road is on row 314 (9 m ahead) in every frame, read off the images by hand: the grass
 // verge's edge (the left kerb) between columns 440 and 500, the right kerb between 770 and 840.
 TEST_F(RealKittiSequence, EdgeTrackerFollowsTheVergeSmoothly) {
-  const auto j = track({"--pipeline", "edge-tracker", "--trapezoid", "0.4,0.1,0.6,0.98"});
+  const fs::path sheet = *dir_ / "edges.png";
+  const auto j = track({"--pipeline", "edge-tracker", "--trapezoid", "0.4,0.1,0.6,0.98", "--contact-sheet", sheet.string()});
   EXPECT_EQ(j["frames"], 51);
   EXPECT_GE(j["tracked"].get<int>(), 48) << j.dump();
   for (const auto& f : j["per_frame"]) {
@@ -94,6 +95,10 @@ TEST_F(RealKittiSequence, EdgeTrackerFollowsTheVergeSmoothly) {
     EXPECT_LT(f["left_u"].get<double>(), 500) << f.dump();
   }
   EXPECT_LE(j["max_jump_px"]["left"].get<double>(), 12) << j.dump();
+  // Eight overlays at half size (613 x 185), two a row 4 px apart: 2 x 613 + 4 by 4 x 185 + 3 x 4.
+  const Image s = readPng(sheet);
+  EXPECT_EQ(s.width, 1230);
+  EXPECT_EQ(s.height, 752);
 }
 
 TEST_F(RealKittiSequence, HoughRoadFinderHoldsTheCentreLine) {
