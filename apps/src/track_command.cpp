@@ -85,6 +85,17 @@ std::optional<std::pair<double, double>> rowExtent(const Polygon2& polygon, doub
   return extent;
 }
 
+/// Where the lines labelled `label` cross image row v (the first that does); nothing when none does.
+std::optional<double> edgeColumn(const DetectedObject& d, const std::string& label, double v) {
+  for (const DetectedLine& l : d.lines) {
+    if (!l.label || *l.label != label) continue;
+    const Vec2 &a = l.image.a, &b = l.image.b;
+    if ((a.y() - v) * (b.y() - v) > 0 || a.y() == b.y()) continue;
+    return a.x() + (b.x() - a.x()) * (v - a.y()) / (b.y() - a.y());
+  }
+  return std::nullopt;
+}
+
 /// The centre line's column on row v: its ground ends projected (a pin-hole images a ground line
 /// as a straight line), the image line through them.
 std::optional<double> centreColumn(const DetectedObject& d, const Camera& camera, double v) {
@@ -134,7 +145,7 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
         config.max_frames > 0 ? std::min(config.max_frames, log.frames().size()) : log.frames().size();
     std::vector<TrackedFrame> frames;
     std::vector<Image> overlays;
-    // The edges carried from the last frame that found them, in the current vehicle frame.
+    // The edges the last frame found, moved into the current vehicle frame.
     std::map<std::string, Segment2> carried;
     for (std::size_t i = 0; i < total; ++i) {
       const LogFrame& f = log.frames()[i];
@@ -147,10 +158,10 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
       const double d = f.odometry.distance_m, dh = f.odometry.dheading_rad;
       const Pose2 motion(d * std::cos(0.5 * dh), d * std::sin(0.5 * dh), dh);
       for (auto& entry : carried) entry.second = Segment2{motion.inverseTransform(entry.second.a), motion.inverseTransform(entry.second.b)};
+      // Each edge: where the last frame found it, else the bootstrap's.
       PredictedObject prediction = bootstrap;
-      if (carried.count(kLeft) && carried.count(kRight)) {
-        prediction.segments = {edgeSegment(kLeft, carried[kLeft], *camera), edgeSegment(kRight, carried[kRight], *camera)};
-      }
+      for (InterestSegment& s : prediction.segments)
+        if (const auto it = carried.find(s.id); it != carried.end()) s = edgeSegment(s.id, it->second, *camera);
       prediction.timestamp = f.t;
       const DetectedObject det = pipeline->detect(VisionFrame{w, h, rgb.data.data(), camera.get(), f.t}, prediction);
 
@@ -162,10 +173,13 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
           r.left_u = e->first;
           r.right_u = e->second;
         }
+        // The edge lines, where the pipeline reports them (the edge tracker), are the sides.
+        if (const auto u = edgeColumn(det, kLeft, row)) r.left_u = u;
+        if (const auto u = edgeColumn(det, kRight, row)) r.right_u = u;
         r.centre_u = centreColumn(det, *camera, row);
-        const auto edges = detectedEdges(det);
-        if (edges.size() == 2) carried = edges;
       }
+      // An edge not found in this frame is not carried on: a lost edge's last place drifts.
+      carried = detectedEdges(det);
       frames.push_back(r);
       if (!config.overlays.empty() || !config.contact_sheet.empty())
         overlays.push_back(drawDetection(rgb, prediction, det, *camera));

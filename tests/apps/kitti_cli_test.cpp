@@ -82,34 +82,28 @@ TEST_F(RealKittiSequence, ImportsTruthFromThePoses) {
   EXPECT_LT(driven, 59.84 + 0.1);  // ... and the road is straight
 }
 
-// Where the road is on row 314 (9 m ahead) in every frame, read off the images by hand: the grass
-// verge's edge (the left kerb) between columns 440 and 500, the right kerb between 770 and 840.
+// The grass verge's edge (grass → kerb) on row 314 (about 9 m ahead), read off the images by hand
+// (the grey levels along the row): column 436 in frame 0, 442 in frame 25, 462 in frame 50. The right
+// kerb is lost behind parked cars and driveways in most frames, so the tracker reports the left
+// edge alone (single_edge) there.
 TEST_F(RealKittiSequence, EdgeTrackerFollowsTheVergeSmoothly) {
   const fs::path sheet = *dir_ / "edges.png";
-  const auto j = track({"--pipeline", "edge-tracker", "--trapezoid", "0.4,0.1,0.6,0.98", "--contact-sheet", sheet.string()});
+  const auto j = track({"--pipeline", "edge-tracker", "--trapezoid", "0.36,0.1,0.6,0.98", "--options",
+                        R"({"single_edge":true})", "--contact-sheet", sheet.string()});
   EXPECT_EQ(j["frames"], 51);
-  EXPECT_GE(j["tracked"].get<int>(), 48) << j.dump();
+  EXPECT_GE(j["tracked"].get<int>(), 43) << j.dump();  // 45 when written
   for (const auto& f : j["per_frame"]) {
     if (!f["ok"].get<bool>()) continue;
-    EXPECT_GT(f["left_u"].get<double>(), 440) << f.dump();
-    EXPECT_LT(f["left_u"].get<double>(), 500) << f.dump();
+    ASSERT_FALSE(f["left_u"].is_null()) << f.dump();
+    EXPECT_GT(f["left_u"].get<double>(), 420) << f.dump();
+    EXPECT_LT(f["left_u"].get<double>(), 475) << f.dump();
   }
-  EXPECT_LE(j["max_jump_px"]["left"].get<double>(), 12) << j.dump();
+  EXPECT_GT(j["per_frame"][50]["left_u"].get<double>(), j["per_frame"][0]["left_u"].get<double>() + 10);
+  EXPECT_LE(j["max_jump_px"]["left"].get<double>(), 6) << j.dump();  // 3.0 when written
   // Eight overlays at half size (613 x 185), two a row 4 px apart: 2 x 613 + 4 by 4 x 185 + 3 x 4.
   const Image s = readPng(sheet);
   EXPECT_EQ(s.width, 1230);
   EXPECT_EQ(s.height, 752);
-}
-
-TEST_F(RealKittiSequence, HoughRoadFinderHoldsTheCentreLine) {
-  const auto j = track({"--pipeline", "cluster-perceptron", "--trapezoid", "0.4,0.1,0.6,0.98"});
-  EXPECT_GE(j["tracked"].get<int>(), 48) << j.dump();
-  for (const auto& f : j["per_frame"]) {
-    if (!f["ok"].get<bool>()) continue;
-    EXPECT_GT(f["centre_u"].get<double>(), 600) << f.dump();
-    EXPECT_LT(f["centre_u"].get<double>(), 680) << f.dump();
-  }
-  EXPECT_LE(j["max_jump_px"]["centre"].get<double>(), 20) << j.dump();
 }
 
 }  // namespace
