@@ -18,6 +18,7 @@
 #include "pipelines_command.h"
 #include "detect_command.h"
 #include "eval_command.h"
+#include "track_command.h"
 #include "vision_commands.h"
 #include "bench_command.h"
 #include "mission_commands.h"
@@ -237,6 +238,44 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   lf->add_option("index", log_frame.index, "Frame number, from 0")->required();
   lf->add_option("-o,--output", log_frame.output, "PNG to write")->required();
   lf->callback([&] { command = [&] { return runLogFrame(log_frame, out, err); }; });
+  LogImportKittiConfig log_kitti;
+  CLI::App* lk = log->add_subcommand("import-kitti", "Turn a KITTI odometry sequence (images, poses.txt, calib.txt) into a log with truth (docs/kitti.md)");
+  lk->add_option("dir", log_kitti.dir, "KITTI sequence folder")->required()->check(CLI::ExistingDirectory);
+  lk->add_option("-o,--output", log_kitti.output, "Log folder to write (must not exist, or be empty)")->required();
+  lk->add_option("--camera-height", log_kitti.options.camera_height_m, "Camera height above the road, m")->default_val(1.65);
+  lk->add_option("--camera-tilt", log_kitti.options.camera_tilt_deg, "Camera pitch below the horizon, degrees")->default_val(0.0);
+  lk->add_option("--frame-rate", log_kitti.options.frame_rate_hz, "Frame rate when there is no times.txt, Hz")->default_val(10.0);
+  lk->add_option("--images", log_kitti.options.images, "Image folder inside the sequence (default: the first image_* folder)");
+  lk->add_option("--name", log_kitti.options.name, "The log's name (default: KITTI and the folder's name)");
+  lk->footer("Exit codes: 0 written, 1 invalid input (a malformed poses.txt line, fewer poses than images; the file and "
+             "line are named and nothing is written), 2 usage or I/O error (a missing poses.txt or calib.txt).");
+  lk->callback([&] { command = [&] { return runLogImportKitti(log_kitti, out, err); }; });
+  LogTrackConfig log_track;
+  std::string track_trapezoid;
+  CLI::App* lt = log->add_subcommand("track", "Run a vision pipeline over a log without a map, tracking the road's edges and centre line frame to frame (docs/kitti.md)");
+  lt->add_option("dir", log_track.dir, "Log folder")->required()->check(CLI::ExistingDirectory);
+  lt->add_option("--pipeline", log_track.pipeline, "Vision pipeline (mapnav pipelines lists them)")->default_val("edge-tracker");
+  lt->add_option("--options", log_track.options_json, "The pipeline's options as a JSON object")->default_val("{}");
+  lt->add_option("--plugin", log_track.plugins, "Load a vision plug-in first");
+  lt->add_option("--camera", log_track.camera, "Camera file instead of the log's own")->check(CLI::ExistingFile);
+  lt->add_option("--trapezoid", track_trapezoid,
+                 "The first frame's road outline as BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions of the image's width "
+                 "and height; default 0.5,0.2,0.7,0.98)");
+  lt->add_option("--row", log_track.row, "Image row where the edges and the centre line are measured (default: 85 % of the height)");
+  lt->add_option("--max-frames", log_track.max_frames, "Stop after this many frames (0: all)")->default_val(0);
+  lt->add_option("--overlays", log_track.overlays, "Folder to write one overlay per frame to");
+  lt->add_option("--contact-sheet", log_track.contact_sheet, "PNG of 8 overlays spread over the run, half size, two a row");
+  lt->add_flag("--json", log_track.json, "Print the per-frame measurements as JSON");
+  lt->footer("Exit codes: 0 ran (the frames where the pipeline failed are listed), 1 invalid input, 2 usage or I/O error.");
+  lt->callback([&] {
+    command = [&] {
+      if (!track_trapezoid.empty()) {
+        const auto v = parseNumbers("--trapezoid", track_trapezoid, 4, 4, "BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions)");
+        log_track.trapezoid = TrapezoidOptions{v[0], v[1], v[2], v[3]};
+      }
+      return runLogTrack(log_track, out, err);
+    };
+  });
 
   // replay and run share their options.
   const bool stderr_is_tty = ::isatty(STDERR_FILENO) == 1;

@@ -49,14 +49,7 @@ std::string presence(std::size_t count, std::size_t frames) {
 /// Blends road pixels 40 % towards magenta and draws the road's outline (road pixels with a
 /// non-road 4-neighbour) in magenta.
 Image overlayMask(const Image& frame, const Image& mask) {
-  Image rgb(frame.width, frame.height, 3);
-  for (int y = 0; y < frame.height; ++y) {
-    for (int x = 0; x < frame.width; ++x) {
-      const std::uint8_t* p = frame.pixel(x, y);
-      std::uint8_t* q = rgb.pixel(x, y);
-      for (int c = 0; c < 3; ++c) q[c] = frame.channels == 3 ? p[c] : p[0];
-    }
-  }
+  Image rgb = toRgb(frame);
   auto road = [&](int x, int y) { return mask.pixel(x, y)[0] >= 128; };
   constexpr std::uint8_t kMagenta[3] = {255, 0, 255};
   for (int y = 0; y < frame.height; ++y) {
@@ -149,6 +142,25 @@ int runLogFrame(const LogFrameConfig& config, std::ostream& out, std::ostream& e
     }
     out << "wrote " << config.output << " (frame " << config.index << ", t = " << log.frames()[config.index].t
         << " s" << (mask ? ", road mask overlaid" : "") << ")\n";
+    return static_cast<int>(kOk);
+  });
+}
+
+int runLogImportKitti(const LogImportKittiConfig& config, std::ostream& out, std::ostream& err) {
+  if (config.output.empty()) {
+    err << "mapnav: error: log import-kitti: an output folder is required (-o LOGDIR)\n";
+    return kUsage;
+  }
+  return guarded(err, [&] {
+    const KittiImportResult r = importKitti(config.dir, config.output, config.options);
+    std::ostringstream text;
+    text.precision(4);
+    text << "wrote " << config.output << ": " << r.frames << " frames (" << r.width << "x" << r.height << ", "
+         << (r.channels == 1 ? "grey" : "RGB") << ", from " << r.images.string() << "), " << r.duration_s << " s, "
+         << r.distance_m << " m driven; camera from calib.txt " << r.calib_row << ", " << config.options.camera_height_m
+         << " m up, tilt " << config.options.camera_tilt_deg << " deg (also in " << config.output
+         << "/camera.json); truth and odometry from poses.txt\n";
+    out << text.str();
     return static_cast<int>(kOk);
   });
 }

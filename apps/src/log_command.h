@@ -4,6 +4,8 @@
 #include <iosfwd>
 #include <string>
 
+#include "mapnav/sim/kitti_import.h"
+
 namespace mapnav::cli {
 
 struct LogInfoConfig {
@@ -27,5 +29,16 @@ struct LogFrameConfig {
 /// without a mask is written as it is, with a note on `err` (exit 0). Exit 1 when N is out of range
 /// or the log is invalid, 2 on I/O errors or without an output.
 int runLogFrame(const LogFrameConfig& config, std::ostream& out, std::ostream& err);
+
+struct LogImportKittiConfig {
+  std::string dir;             ///< the KITTI sequence folder
+  std::string output;          ///< the log folder to write (required; must not exist or be empty)
+  KittiImportOptions options;
+};
+
+/// `mapnav log import-kitti DIR -o LOGDIR` (docs/kitti.md): a KITTI odometry sequence as a replay
+/// log with truth and odometry, and LOGDIR/camera.json. Exit 0; 1 when the sequence is invalid
+/// (the file and line on `err`, nothing written); 2 when it cannot be read or the log not written.
+int runLogImportKitti(const LogImportKittiConfig& config, std::ostream& out, std::ostream& err);
 
 }  // namespace mapnav::cli

@@ -59,18 +59,6 @@ std::string absolutePath(const std::filesystem::path& p) {
   return ec ? p.string() : c.string();
 }
 
-// A grey frame (a log may hold them) as RGB, for the pipelines.
-Image toRgb(Image image) {
-  if (image.channels == 3) return image;
-  Image rgb(image.width, image.height, 3);
-  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t v = image.data[i * image.channels];
-    rgb.data[3 * i] = rgb.data[3 * i + 1] = rgb.data[3 * i + 2] = v;
-  }
-  return rgb;
-}
-
 // Where the mission starts: the route's first point, facing along it (a road position says where,
 // the route which way: "R1@I1+3" with a route back through I1 faces I1, as simulate() drives it).
 Pose2 routeStart(const Route& route) { return Pose2(route.line.front(), route.line.headingAt(0)); }

@@ -26,6 +26,17 @@ cv::Mat toMat(const Image& image) {
 
 }  // namespace
 
+Image toRgb(Image image) {
+  if (image.channels == 3) return image;
+  Image rgb(image.width, image.height, 3);
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t v = image.data[i * image.channels];
+    rgb.data[3 * i] = rgb.data[3 * i + 1] = rgb.data[3 * i + 2] = v;
+  }
+  return rgb;
+}
+
 std::vector<std::uint8_t> encodePng(const Image& image) {
   if (image.empty() || (image.channels != 1 && image.channels != 3)) {
     throw InvalidInput("encodePng: an image needs 1 or 3 channels and a size, got " + std::to_string(image.width) +

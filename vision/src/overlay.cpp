@@ -2,6 +2,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "mapnav/core/error.h"
+
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -67,6 +70,55 @@ Image drawDetection(const Image& frame, const PredictedObject& prediction, const
   cv::putText(rgb, status, cv::Point(6, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
   Image out(frame.width, frame.height, 3);
   std::memcpy(out.data.data(), rgb.data, out.data.size());
+  return out;
+}
+
+Image drawDetection(const Image& frame, const PredictedObject& prediction, const DetectedObject& detection,
+                    const Camera& camera) {
+  Image out = drawDetection(frame, prediction, detection);
+  if (!detection.centerline_vehicle) return out;
+  const auto a = camera.projectGround(detection.centerline_vehicle->a);
+  const auto b = camera.projectGround(detection.centerline_vehicle->b);
+  if (!a || !b) return out;
+  cv::Mat rgb(out.height, out.width, CV_8UC3, out.data.data());
+  cv::line(rgb, fixed(*a), fixed(*b), cv::Scalar(255, 0, 255), 3, cv::LINE_AA, 4);
+  return out;
+}
+
+Image contactSheet(const std::vector<Image>& tiles, const std::vector<std::string>& captions, int columns,
+                   double scale) {
+  if (tiles.empty()) throw InvalidInput("contactSheet: no tiles");
+  if (captions.size() != tiles.size()) throw InvalidInput("contactSheet: one caption per tile");
+  if (columns < 1 || !(scale > 0)) throw InvalidInput("contactSheet: columns must be >= 1 and scale > 0");
+  constexpr int kGap = 4;
+  std::vector<cv::Mat> scaled;
+  int cell_w = 1, cell_h = 1;
+  for (const Image& t : tiles) {
+    cv::Mat m(t.height, t.width, t.channels == 1 ? CV_8UC1 : CV_8UC3, const_cast<std::uint8_t*>(t.data.data()));
+    cv::Mat rgb;
+    if (t.channels == 1) {
+      cv::cvtColor(m, rgb, cv::COLOR_GRAY2RGB);
+    } else {
+      rgb = m;
+    }
+    cv::Mat small;
+    cv::resize(rgb, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    cell_w = std::max(cell_w, small.cols);
+    cell_h = std::max(cell_h, small.rows);
+    scaled.push_back(small);
+  }
+  const int n = static_cast<int>(tiles.size());
+  const int cols = std::min(columns, n), rows = (n + columns - 1) / columns;
+  cv::Mat sheet(rows * cell_h + (rows - 1) * kGap, cols * cell_w + (cols - 1) * kGap, CV_8UC3, cv::Scalar(0, 0, 0));
+  for (int i = 0; i < n; ++i) {
+    const cv::Rect cell((i % columns) * (cell_w + kGap), (i / columns) * (cell_h + kGap), scaled[i].cols, scaled[i].rows);
+    scaled[i].copyTo(sheet(cell));
+    const cv::Point at(cell.x + 6, cell.y + scaled[i].rows - 8);
+    cv::putText(sheet, captions[i], at, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
+    cv::putText(sheet, captions[i], at, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 0), 1, cv::LINE_AA);
+  }
+  Image out(sheet.cols, sheet.rows, 3);
+  std::memcpy(out.data.data(), sheet.data, out.data.size());
   return out;
 }
 

@@ -23,6 +23,10 @@ struct Image {
   bool operator==(const Image&) const = default;
 };
 
+/// An RGB copy of a grey image (each level copied to R, G and B); an RGB image as it is. The
+/// vision pipelines take RGB; logs and real sequences may hold grey frames.
+Image toRgb(Image image);
+
 /// Reads a PNG (8-bit grey or RGB; RGBA loses its alpha). Throws IoError when the file cannot be
 /// read, InvalidInput naming the file when it is not a decodable PNG.
 Image readPng(const std::filesystem::path& path);

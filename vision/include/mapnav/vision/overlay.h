@@ -1,6 +1,10 @@
 #pragma once
 // The paper's Figure 2 for one frame: predicted interest segments thin, detected lines bold
 // (matched ones green and labelled, unmatched red, frame edges grey), the road region outlined.
+#include <string>
+#include <vector>
+
+#include "mapnav/geometry/camera.h"
 #include "mapnav/sim/image.h"
 #include "mapnav/vision_iface/detected_object.h"
 #include "mapnav/vision_iface/predicted_object.h"
@@ -8,6 +12,17 @@
 namespace mapnav {
 
 Image drawDetection(const Image& frame, const PredictedObject& prediction, const DetectedObject& detection);
+/// The same, and the detection's centre line (when it has one) projected with `camera` onto the
+/// image, thick magenta.
+Image drawDetection(const Image& frame, const PredictedObject& prediction, const DetectedObject& detection,
+                    const Camera& camera);
+
+/// One picture of several (a run's overlays for a report): each tile scaled by `scale` (> 0), its
+/// caption written at its bottom left, laid out left to right in rows of `columns`, 4 px apart on black.
+/// Tiles may differ in size (each cell is the largest tile's); grey tiles become RGB. Throws
+/// InvalidInput for no tiles, captions not one per tile, columns < 1 or scale ≤ 0.
+Image contactSheet(const std::vector<Image>& tiles, const std::vector<std::string>& captions, int columns,
+                   double scale);
 
 /// The road region as a 1-channel mask (255 inside), the size of `like`.
 Image regionMask(const DetectedObject& detection, int width, int height);
