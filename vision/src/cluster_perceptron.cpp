@@ -59,8 +59,6 @@ void ClusterPerceptronOptions::validate() const {
                 adaptive_error_ratio, "> 1");
   requireOption(adaptive_stride >= 1 && adaptive_stride <= 64, o, "adaptive_stride", adaptive_stride, "in [1, 64]");
   requireOption(adaptive_window >= 1 && adaptive_window <= 1000, o, "adaptive_window", adaptive_window, "in [1, 1000]");
-  requireOption(std::isfinite(adaptive_add_gain) && adaptive_add_gain > 0 && adaptive_add_gain < 1, o,
-                "adaptive_add_gain", adaptive_add_gain, "in (0, 1)");
   requireOption(adaptive_max_clusters >= 1 && adaptive_max_clusters <= 30, o, "adaptive_max_clusters",
                 adaptive_max_clusters, "in [1, 30]");
   requireOption(threads >= 0 && threads <= 256, o, "threads", threads, "in [0, 256] (0 = every core)");
@@ -1264,7 +1262,7 @@ RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int hei
     // §9: the clusters no longer describe the scene. Adapt them to this frame's colours and retrain
     // the perceptron on the road where it was last found.
     const Image outline = fillPolygonMask({roadBand(trusted_curve_, row_widths_, width)}, width, height);
-    added = adaptClusters(rgb, width, height);
+    added = adaptClusters(rgb, width, height, opt_.adaptive_error_ratio * reference);
     trainPerceptron(rgb, width, height, outline.data.data());
     recent_errors_.assign(1, train_error_);
     retrained = true;
@@ -1282,12 +1280,13 @@ RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int hei
   return res;
 }
 
-int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int height) {
-  clusterFrom(rgb, width, height);  // moved from where they are
+int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int height, double threshold) {
+  // A new colour: the mean of the 2 % of pixels the clusters explain worst, when it is itself
+  // unexplained (its mean squared error per band to the nearest cluster above the threshold). Added
+  // as a cluster, one at a time, before the clusters move, so that no cluster has to leave its own
+  // colour for it (a colour nearest the road's cluster would share its output).
   int added = 0;
   while (static_cast<int>(means_.size()) < opt_.adaptive_max_clusters) {
-    // A candidate at the mean colour of the 2 % of pixels the clusters explain worst: on a new
-    // surface, which no moved cluster reaches without leaving its own colour.
     std::vector<std::pair<double, Vec3>> px;
     for (int v = 0; v < height; v += opt_.adaptive_stride)
       for (int u = 0; u < width; u += opt_.adaptive_stride) {
@@ -1300,18 +1299,13 @@ int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int hei
                      [](const auto& a, const auto& b) { return a.first > b.first; });
     Vec3 candidate = Vec3::Zero();
     for (std::size_t i = 0; i < worst; ++i) candidate += px[i].second / static_cast<double>(worst);
-    // Kept when the clusters with it (moved again) leave at most 1 − gain of the error.
-    const std::vector<Vec3> before = means_;
-    const double before_error = train_error_;
+    const Vec3& near = means_[static_cast<std::size_t>(nearest(static_cast<float>(candidate.x()), static_cast<float>(candidate.y()),
+                                                               static_cast<float>(candidate.z())))];
+    if ((candidate - near).squaredNorm() / 3.0 <= threshold) break;
     means_.push_back(candidate);
-    clusterFrom(rgb, width, height);
-    if (train_error_ > (1.0 - opt_.adaptive_add_gain) * before_error) {
-      means_ = before;
-      train_error_ = before_error;
-      break;
-    }
     ++added;
   }
+  clusterFrom(rgb, width, height);  // all moved from where they are to this frame's colours
   return added;
 }
 
@@ -1341,13 +1335,11 @@ const std::vector<OptionSpec>& specs() {
       {"max_curvature", 0.07, false, false, 1e-6, 1, "arc model: largest curvature searched, 1/m"},
       {"curvature_steps", 10, false, true, 1, 100, "arc model: curvatures tried on each side of 0 before refining"},
       {"adaptive", 0, true, false, 0, 1,
-       "beyond the paper (9): move and add clusters and retrain the perceptron when a frame's reconstruction error "
+       "beyond the paper (9): add clusters for new colours, move them and retrain the perceptron when a frame's reconstruction error "
        "exceeds adaptive_error_ratio x the recent frames' median, bootstrapped from the last trusted road"},
       {"adaptive_error_ratio", 3.0, false, false, 1.000001, 1e6, "adaptive: retrain above this multiple of the recent frames' median error"},
       {"adaptive_stride", 4, false, true, 1, 64, "adaptive: the reconstruction error uses every n-th pixel each way"},
       {"adaptive_window", 9, false, true, 1, 1000, "adaptive: the reference is the median error of this many recent frames"},
-      {"adaptive_add_gain", 0.2, false, false, 1e-6, 0.999999,
-       "adaptive: a cluster is added when it removes this fraction of the error the moved clusters leave"},
       {"adaptive_max_clusters", 30, false, true, 1, 30, "adaptive: clusters at most after additions"},
       {"refine_edges", 1, true, false, 0, 1,
        "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
@@ -1458,7 +1450,6 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.adaptive_error_ratio = options_["adaptive_error_ratio"];
     o.adaptive_stride = options_.i("adaptive_stride");
     o.adaptive_window = options_.i("adaptive_window");
-    o.adaptive_add_gain = options_["adaptive_add_gain"];
     o.adaptive_max_clusters = options_.i("adaptive_max_clusters");
     o.refine_edges = options_.b("refine_edges");
     o.threads = options_.i("threads");

@@ -71,16 +71,15 @@ struct ClusterPerceptronOptions {
   /// Beyond the paper (§9, adaptive cluster management): track() watches each frame's reconstruction
   /// error (the clusters' mean squared error per band, on every adaptive_stride-th pixel each way)
   /// and, when it exceeds adaptive_error_ratio × the median error of the recent frames (the last
-  /// adaptive_window that fitted, and the training error), adapts the clusters to that frame: moves
-  /// them (isodata from where they are) and adds one at the colour the clusters explain worst for as
-  /// long as each added cluster removes adaptive_add_gain of the error that moving leaves (a new
-  /// surface in view), up to adaptive_max_clusters; then retrains the perceptron there,
-  /// bootstrapped from the last road it trusted.
+  /// adaptive_window that fitted, and the training error), adapts the clusters to that frame: adds
+  /// a cluster at the mean colour of the 2 % of pixels they explain worst for as long as that colour
+  /// is itself unexplained (its error above the same threshold: a new surface in view), up to
+  /// adaptive_max_clusters, then moves them all (isodata from where they are) and retrains the
+  /// perceptron there, bootstrapped from the last road it trusted.
   bool adaptive = false;
   double adaptive_error_ratio = 3.0;   ///< > 1
   int adaptive_stride = 4;             ///< in [1, 64]
   int adaptive_window = 9;             ///< recent frames whose median error is the reference, in [1, 1000]
-  double adaptive_add_gain = 0.2;      ///< in (0, 1)
   int adaptive_max_clusters = 30;      ///< in [1, 30]
   /// Beyond the paper: refine the Hough line to the pixel from the road's edges (robust fit).
   bool refine_edges = true;
@@ -183,9 +182,9 @@ class ClusterPerceptron {
   std::vector<double> row_x_, row_a_, row_b_;
   std::vector<Vec2> trusted_curve_;    // track(): the last centre curve found under a fitting model
   std::vector<double> recent_errors_;  // track(): the training error, then the frames that fitted
-  /// track()'s cluster adaptation to a frame: moves the clusters, then adds while it pays; returns
-  /// the clusters added.
-  int adaptClusters(const std::uint8_t* rgb, int width, int height);
+  /// track()'s cluster adaptation to a frame: adds clusters for colours whose error exceeds
+  /// `threshold`, then moves them all; returns the clusters added.
+  int adaptClusters(const std::uint8_t* rgb, int width, int height, double threshold);
   std::vector<double> weights_;
   std::vector<double> row_widths_;
   std::vector<std::uint8_t> lut_;  // 32³ cells of 8³ colours: road certainty 0..240, 255 = ambiguous
