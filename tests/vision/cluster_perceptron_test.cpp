@@ -311,10 +311,11 @@ double quantile(std::vector<double> v, double q) {
 
 // Beyond the paper (§9): with the ground-arc model the found centre curve follows bends of radius
 // >= 15 m far better than the paper's straight model, which cuts them. Measured per frame: the
-// worst column error over the block rows where the road's centre is in the image. NOT YET the
-// issue's target (within a couple of pixels everywhere): the road (3 m) fills the image (1.4 m wide
-// at the bottom), so mostly one edge, at the top, fixes the curve, and frames with few edge rows
-// still miss by tens of pixels. The figures are printed; the bounds below are what is met.
+// worst column error over the block rows where the road's centre is in the image. The circle fitted
+// to the edges on the ground puts the median frame within 4 px (the image parabola of the Hough
+// basis: 9.4 px). NOT YET the target everywhere: the road (3 m) fills the image (1.4 m wide
+// at the bottom), so edges show only in the upper rows, and frames with few edge rows (a quarter)
+// still miss the bottom rows by tens of pixels. The figures are printed; the bounds are what is met.
 TEST(ClusterPerceptron, ArcModelFollowsCurves) {
   const auto poses = curvePoses(3.0);
   ASSERT_GE(poses.size(), 100u);
@@ -330,14 +331,14 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
               "<= 3 px on %td, <= 5 px on %td, <= 10 px on %td; straight model median %.2f px; the arc is better on %d\n",
               n, quantile(e.arc, 0.5), quantile(e.arc, 0.75), within(3.0), within(5.0), within(10.0),
               quantile(e.line, 0.5), better);
-  EXPECT_LE(quantile(e.arc, 0.5), 10.0);
-  EXPECT_GE(quantile(e.line, 0.5), 5.0 * quantile(e.arc, 0.5)) << "the straight model cuts the curves";
+  EXPECT_LE(quantile(e.arc, 0.5), 4.5);
+  EXPECT_GE(within(5.0), static_cast<std::ptrdiff_t>(n / 2));
+  EXPECT_GE(quantile(e.line, 0.5), 15.0 * quantile(e.arc, 0.5)) << "the straight model cuts the curves";
   EXPECT_GE(better, static_cast<int>(0.8 * static_cast<double>(n)));
 }
 
-// On straight stretches: NOT YET the target (the arc model no worse than the straight one):
-// where few edge rows show, the arc's third parameter lets the curve wander. Printed, with the bound
-// that is met: the median frame's worst error within 3 px of the straight model's.
+// On straight stretches the arc model is no worse than the straight one: where the curvature does
+// not pay for its parameter (BIC on the edges' residuals) the line on the ground is kept.
 TEST(ClusterPerceptron, ArcModelOnStraightStretches) {
   const auto poses = straightPoses(8.0);
   ASSERT_GE(poses.size(), 20u);
@@ -348,7 +349,8 @@ TEST(ClusterPerceptron, ArcModelOnStraightStretches) {
               "straight model median %.2f px, worst %.2f px; the arc within 1 px of the line on %d\n",
               e.arc.size(), quantile(e.arc, 0.5), quantile(e.arc, 1.0), quantile(e.line, 0.5), quantile(e.line, 1.0),
               as_good);
-  EXPECT_LE(quantile(e.arc, 0.5), quantile(e.line, 0.5) + 3.0);
+  EXPECT_LE(quantile(e.arc, 0.5), quantile(e.line, 0.5));
+  EXPECT_GE(as_good, static_cast<int>(0.8 * static_cast<double>(e.arc.size())));
 }
 
 TEST(ClusterPerceptron, ArcModelFastPathEqualsReference) {
@@ -380,10 +382,60 @@ TEST(ClusterPerceptron, ArcModelFastPathEqualsReference) {
   EXPECT_NE(r.reason.find("setCamera"), std::string::npos) << r.reason;
 }
 
+double maskIoU(const Image& found, const Image& truth) {
+  double tp = 0, fp = 0, fn = 0;
+  for (std::size_t k = 0; k < found.data.size(); ++k) {
+    const bool d = found.data[k] != 0, t = truth.data[k] != 0;
+    tp += d && t;
+    fp += d && !t;
+    fn += !d && t;
+  }
+  return tp / (tp + fp + fn);
+}
+
+/// Adaptive cluster management along the first straight road, 1.5 m a frame: `frames` frames of
+/// `before`, the first `change` of them, then of `after`; the adaptive finder (track()) against the
+/// frozen model of the paper (find()), both trained on frame 0. Per frame: the adaptive result, the
+/// cluster count after it, the masks' IoU against the simulator's truth.
+struct SceneChangeRun {
+  std::vector<RoadFinding> adaptive;
+  std::vector<std::size_t> clusters;
+  std::vector<double> iou_adaptive, iou_frozen;
+  double training_error = 0;  // the frozen model's (the adaptive one's before any retraining)
+};
+SceneChangeRun runSceneChange(const World& before, const World& after, std::size_t change, std::size_t frames) {
+  std::vector<StraightPose> poses;
+  const auto all = straightPoses(1.5);
+  for (const StraightPose& sp : all)
+    if (sp.road == all.front().road && poses.size() < frames) poses.push_back(sp);
+  EXPECT_EQ(poses.size(), frames);
+  ClusterPerceptronOptions o;
+  o.adaptive = true;
+  ClusterPerceptron adaptive = trainedOn(before, poses[0].pose, 0.0, o);
+  const ClusterPerceptron frozen = adaptive;
+  SceneChangeRun run;
+  run.training_error = frozen.trainingError();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Frame f = (i < change ? before : after).render(cam(), poses[i].pose, static_cast<double>(i));
+    RoadFinding a = adaptive.track(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
+    const RoadFinding z = frozen.find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
+    run.iou_adaptive.push_back(maskIoU(a.mask, f.mask));
+    run.iou_frozen.push_back(maskIoU(z.mask, f.mask));
+    run.clusters.push_back(adaptive.means().size());
+    std::printf("frame %zu%s: reconstruction error %.1f (reference %.1f, training %.1f)%s, %zu clusters, IoU "
+                "adaptive %.4f, frozen %.4f\n",
+                i, i < change ? "" : " (new scene)", a.reconstruction_error, a.training_error, run.training_error,
+                a.retrained ? " RETRAINED" : "", run.clusters.back(), run.iou_adaptive.back(), run.iou_frozen.back());
+    run.adaptive.push_back(std::move(a));
+  }
+  return run;
+}
+
 // Beyond the paper (§9, adaptive cluster management): the scene changes under the vehicle (another
 // world seed, a camera whose colours turn: the TV transmission's hue shift). The clusters trained
-// before no longer reconstruct the frames: the error rises past the threshold on the first new frame,
-// the finder retrains there from the road it last trusted, and finds the road afterwards, where the
+// before no longer reconstruct the frames: the error rises past the threshold (3x the recent
+// frames' median) on the first or second new frame (2.4x on the first, 3.3x on the second), the
+// finder retrains there from the road it last trusted, and finds the road afterwards, where the
 // frozen model of the paper degrades.
 TEST(ClusterPerceptron, AdaptiveClustersRetrainOnASceneChange) {
   const World before(park(), parkWorld());
@@ -393,52 +445,82 @@ TEST(ClusterPerceptron, AdaptiveClustersRetrainOnASceneChange) {
   wo.tv_hue_shift_rad = 1.5;
   wo.shadow_density = 0.7;
   const World after(park(), wo);
-  std::vector<StraightPose> poses;
-  for (const StraightPose& sp : straightPoses(1.5))
-    if (sp.road == straightPoses(1.5).front().road && poses.size() < 14) poses.push_back(sp);
-  ASSERT_EQ(poses.size(), 14u);
-  ClusterPerceptronOptions o;
-  o.adaptive = true;
-  ClusterPerceptron adaptive = trainedOn(before, poses[0].pose, 0.0, o);
-  const ClusterPerceptron frozen = adaptive;
-  auto iouOf = [](const Image& found, const Image& truth) {
-    double tp = 0, fp = 0, fn = 0;
-    for (std::size_t k = 0; k < found.data.size(); ++k) {
-      const bool d = found.data[k] != 0, t = truth.data[k] != 0;
-      tp += d && t;
-      fp += d && !t;
-      fn += !d && t;
-    }
-    return tp / (tp + fp + fn);
-  };
-  const std::size_t change = 5;
+  const std::size_t change = 5, frames = 14;
+  const SceneChangeRun run = runSceneChange(before, after, change, frames);
+  std::size_t retrained_at = frames;
   int retrains = 0;
-  double iou_adaptive = 1, iou_frozen = 1;  // the worst after the change
-  double sum_adaptive = 0, sum_frozen = 0;
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const Frame f = (i < change ? before : after).render(cam(), poses[i].pose, static_cast<double>(i));
-    const RoadFinding a = adaptive.track(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
-    const RoadFinding z = frozen.find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
-    const double ia = iouOf(a.mask, f.mask), iz = iouOf(z.mask, f.mask);
-    std::printf("frame %zu%s: reconstruction error %.1f (training %.1f)%s, IoU adaptive %.4f, frozen %.4f\n", i,
-                i < change ? "" : " (new scene)", a.reconstruction_error, a.training_error,
-                a.retrained ? " RETRAINED" : "", ia, iz);
-    retrains += a.retrained;
-    EXPECT_EQ(a.retrained, i == change) << "frame " << i;
-    if (i >= change) {
-      iou_adaptive = std::min(iou_adaptive, ia);
-      iou_frozen = std::min(iou_frozen, iz);
-      sum_adaptive += ia;
-      sum_frozen += iz;
+  for (std::size_t i = 0; i < frames; ++i)
+    if (run.adaptive[i].retrained) {
+      retrained_at = std::min(retrained_at, i);
+      ++retrains;
     }
-  }
-  const double frames = static_cast<double>(poses.size() - change);
-  std::printf("after the change: IoU adaptive mean %.4f worst %.4f; frozen mean %.4f worst %.4f\n",
-              sum_adaptive / frames, iou_adaptive, sum_frozen / frames, iou_frozen);
   EXPECT_EQ(retrains, 1);
-  EXPECT_GE(iou_adaptive, 0.92);
-  EXPECT_LT(iou_frozen, 0.9) << "the frozen model degrades on the new scene";
-  EXPECT_GE(sum_adaptive, sum_frozen + 0.03 * frames);
+  EXPECT_TRUE(retrained_at == change || retrained_at == change + 1) << "retrained at frame " << retrained_at;
+  double worst_adaptive = 1, worst_frozen = 1, sum_adaptive = 0, sum_frozen = 0;
+  for (std::size_t i = retrained_at; i < frames; ++i) {
+    worst_adaptive = std::min(worst_adaptive, run.iou_adaptive[i]);
+    worst_frozen = std::min(worst_frozen, run.iou_frozen[i]);
+    sum_adaptive += run.iou_adaptive[i];
+    sum_frozen += run.iou_frozen[i];
+  }
+  const double n = static_cast<double>(frames - std::min(retrained_at, frames - 1));
+  std::printf("from the retraining on: IoU adaptive mean %.4f worst %.4f; frozen mean %.4f worst %.4f\n",
+              sum_adaptive / n, worst_adaptive, sum_frozen / n, worst_frozen);
+  EXPECT_GE(worst_adaptive, 0.92);
+  EXPECT_LT(worst_frozen, 0.9) << "the frozen model degrades on the new scene";
+  EXPECT_GE(sum_adaptive, sum_frozen + 0.03 * n);
+}
+
+// Adaptive cluster management adds a cluster when a new colour enters: after the change the path's
+// left shoulder is a blue flower bed, far from every colour the clusters were trained on, while every
+// old surface stays in view. The first new frame's error is 3.8x the recent median: the finder adds
+// one cluster at the new colour (the clusters then move) and retrains once. NOT a demonstration of
+// a better mask: the frozen model already calls this blue not road (its IoU after the change is
+// the adaptive one's within 0.002), so the test asserts the cluster count and that the adaptation
+// costs nothing.
+TEST(ClusterPerceptron, AdaptiveClustersAddOneForANewColour) {
+  const World before(park(), parkWorld());
+  MapData data = park().data();
+  data.surfaces.emplace_back("flowers", Appearance{Vec3(40, 45, 110), Vec3(8, 8, 10)});
+  for (Road& road : data.roads)
+    if (&road - data.roads.data() == straightPoses(1.5).front().road - park().roads().data()) road.left = "flowers";
+  const Map changed(data, "park with a flower bed");
+  const World after(changed, parkWorld());
+  const std::size_t change = 5, frames = 12;
+  const SceneChangeRun run = runSceneChange(before, after, change, frames);
+  double worst_adaptive = 1, sum_adaptive = 0, sum_frozen = 0;
+  for (std::size_t i = 0; i < frames; ++i) {
+    EXPECT_EQ(run.adaptive[i].retrained, i == change) << "frame " << i;
+    EXPECT_EQ(run.clusters[i], i < change ? 5u : 6u) << "frame " << i;
+    if (i < change) continue;
+    worst_adaptive = std::min(worst_adaptive, run.iou_adaptive[i]);
+    sum_adaptive += run.iou_adaptive[i];
+    sum_frozen += run.iou_frozen[i];
+  }
+  const double n = static_cast<double>(frames - change);
+  std::printf("new colour: %d cluster(s) added; IoU after the change: adaptive mean %.4f worst %.4f, frozen mean %.4f\n",
+              run.adaptive[change].clusters_added, sum_adaptive / n, worst_adaptive, sum_frozen / n);
+  EXPECT_EQ(run.adaptive[change].clusters_added, 1);
+  EXPECT_GE(worst_adaptive, 0.89);
+  EXPECT_GE(sum_adaptive, sum_frozen - 0.005 * n);
+}
+
+// The trigger on an unchanged world: frames differ from the training frame (another mix of
+// surfaces and shadows), so their error is a multiple of the training error; against the recent
+// frames' median it stays well inside the threshold, and nothing is retrained.
+TEST(ClusterPerceptron, AdaptiveTriggerQuietOnAnUnchangedWorld) {
+  const World world(park(), parkWorld());
+  const std::size_t frames = 20;
+  const SceneChangeRun run = runSceneChange(world, world, frames, frames);
+  double vs_training = 0, vs_reference = 0;
+  for (std::size_t i = 0; i < frames; ++i) {
+    EXPECT_FALSE(run.adaptive[i].retrained) << "frame " << i;
+    vs_training = std::max(vs_training, run.adaptive[i].reconstruction_error / run.training_error);
+    vs_reference = std::max(vs_reference, run.adaptive[i].reconstruction_error / run.adaptive[i].training_error);
+  }
+  std::printf("unchanged world, %zu frames: error at most %.2fx the training error, %.2fx the recent median\n",
+              frames, vs_training, vs_reference);
+  EXPECT_LT(vs_reference, 0.75 * ClusterPerceptronOptions{}.adaptive_error_ratio);
 }
 
 // Beyond the paper (§9): the perceptron on raw R, G, B. On the park, asphalt is bluer than grass,

@@ -58,6 +58,9 @@ void ClusterPerceptronOptions::validate() const {
   requireOption(std::isfinite(adaptive_error_ratio) && adaptive_error_ratio > 1, o, "adaptive_error_ratio",
                 adaptive_error_ratio, "> 1");
   requireOption(adaptive_stride >= 1 && adaptive_stride <= 64, o, "adaptive_stride", adaptive_stride, "in [1, 64]");
+  requireOption(adaptive_window >= 1 && adaptive_window <= 1000, o, "adaptive_window", adaptive_window, "in [1, 1000]");
+  requireOption(adaptive_max_clusters >= 1 && adaptive_max_clusters <= 30, o, "adaptive_max_clusters",
+                adaptive_max_clusters, "in [1, 30]");
   requireOption(threads >= 0 && threads <= 256, o, "threads", threads, "in [0, 256] (0 = every core)");
   requireOption(min_road_fraction >= 0 && min_road_fraction <= 1, o, "min_road_fraction", min_road_fraction,
                 "in [0, 1]");
@@ -102,6 +105,7 @@ std::vector<Vec3> ClusterPerceptron::trainClusters(const std::uint8_t* rgb, int 
   const int n = opt_.clusters;
   std::mt19937_64 rng(opt_.seed);
   std::uniform_real_distribution<double> uni(0.0, 255.0);
+  recent_errors_.clear();
   means_.assign(static_cast<std::size_t>(n), Vec3::Zero());
   for (Vec3& m : means_) m = Vec3(uni(rng), uni(rng), uni(rng));
   return clusterFrom(rgb, width, height);
@@ -420,6 +424,7 @@ void ClusterPerceptron::setCamera(const Camera& camera) {
   // and its column u = u_c − f·(y − cy)/Z is affine in y at that row: b_r = −f/Z.
   const int h = camera.height();
   row_x_.assign(static_cast<std::size_t>(h), std::nan(""));
+  row_a_.assign(static_cast<std::size_t>(h), std::nan(""));
   row_b_.assign(static_cast<std::size_t>(h), std::nan(""));
   for (int v = 0; v < h; ++v) {
     const auto g = camera.backproject(Vec2(camera.intrinsics().cx, v));
@@ -427,6 +432,7 @@ void ClusterPerceptron::setCamera(const Camera& camera) {
     const auto p0 = camera.projectGround(Vec2(g->x(), 0.0)), p1 = camera.projectGround(Vec2(g->x(), 1.0));
     if (!p0 || !p1) continue;
     row_x_[v] = g->x();
+    row_a_[v] = p0->x();
     row_b_[v] = p1->x() - p0->x();
   }
 }
@@ -785,6 +791,185 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
   return best;
 }
 
+
+/// The arc model's road on the ground (vehicle frame: x ahead, y left): the centre line is the
+/// circle (a line when κ = 0) through (0, y0) with heading θ and curvature κ (1/m, left positive);
+/// the road's edges are the concentric circles half the road's width to either side.
+struct GroundArc {
+  double y0 = 0, th = 0, k = 0;
+  /// The signed perpendicular offset of the ground point (x, y) from the centre line (left
+  /// positive), ℓ = N / (1 + D) with N = 2n − κa, D = √(1 − κN) (n the offset from the tangent
+  /// line, a the squared distance to (0, y0)): exact for circles and lines alike. With its
+  /// derivatives by y0, θ and κ when `jac` is given: (κ·dy − cos θ)/D, −along/D and (ℓ² − a)/(2D).
+  double offset(double x, double y, double c, double s, Vec3* jac = nullptr) const {
+    const double dy = y - y0, along = c * x + s * dy, n = -s * x + c * dy, a = x * x + dy * dy;
+    const double N = 2.0 * n - k * a, D = std::sqrt(std::max(1e-12, 1.0 - k * N)), l = N / (1.0 + D);
+    if (jac != nullptr) *jac = Vec3((k * dy - c) / D, -along / D, (l * l - a) / (2.0 * D));
+    return l;
+  }
+  /// The centre line's lateral offset at ground distance x: y0 + x(κx + 2 sin θ) / (cos θ + √(1 − s²)),
+  /// s = κx + sin θ; NaN where the circle turns back before x.
+  double at(double x) const {
+    const double s = k * x + std::sin(th);
+    if (std::abs(s) >= 1.0) return std::nan("");
+    return y0 + x * (k * x + 2.0 * std::sin(th)) / (std::cos(th) + std::sqrt(1.0 - s * s));
+  }
+};
+
+/// An edge candidate on the ground: its point, the road side it would bound (+1 left, −1 right), its
+/// image row, and the row's columns per metre of lateral offset (a residual in metres there, × this,
+/// is one in pixels: rows weigh by their ground resolution).
+struct GroundEdge {
+  double x, y, side, px_per_m;
+  int v;
+};
+
+/// The residuals (pixels) of edges from the road of centre line `arc` and width w, and with `jac`
+/// their derivatives by (y0, θ, κ).
+double edgeResidual(const GroundArc& arc, double w, const GroundEdge& e, double c, double s, Vec3* jac = nullptr) {
+  const double r = (arc.offset(e.x, e.y, c, s, jac) - 0.5 * e.side * w) * e.px_per_m;
+  if (jac != nullptr) *jac *= e.px_per_m;
+  return r;
+}
+
+/// Robust Gauss-Newton (Huber weights, `huber` pixels) of the arc's y0, θ and, when `curved`, κ (else
+/// κ stays as it is) to the edges. False when the edges are too few or the system is singular.
+bool fitGroundArc(const std::vector<GroundEdge>& edges, double w, bool curved, double huber, GroundArc& arc) {
+  const int m = curved ? 3 : 2;
+  if (static_cast<int>(edges.size()) < 4 * m) return false;
+  for (int it = 0; it < 10; ++it) {
+    const double c = std::cos(arc.th), s = std::sin(arc.th);
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Vec3 g = Vec3::Zero(), J;
+    for (const GroundEdge& e : edges) {
+      const double r = edgeResidual(arc, w, e, c, s, &J);
+      const double wt = std::abs(r) <= huber ? 1.0 : huber / std::abs(r);
+      A += wt * J * J.transpose();
+      g += wt * r * J;
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(A.topLeftCorner(m, m));
+    if (ldlt.info() != Eigen::Success) return false;
+    Vec3 delta = Vec3::Zero();
+    delta.head(m) = -ldlt.solve(g.head(m));
+    if (!delta.allFinite()) return false;
+    arc.y0 += delta[0];
+    arc.th += delta[1];
+    arc.k += delta[2];
+    if (std::abs(delta[0]) < 1e-5 && std::abs(delta[1]) < 1e-6 && std::abs(delta[2]) < 1e-7) break;
+  }
+  return std::isfinite(arc.y0) && std::abs(arc.th) < 1.4 && std::isfinite(arc.k);
+}
+
+/// Σ r² of the edges (pixels²).
+double sumSquares(const std::vector<GroundEdge>& edges, double w, const GroundArc& arc) {
+  const double c = std::cos(arc.th), s = std::sin(arc.th);
+  double sum = 0;
+  for (const GroundEdge& e : edges) sum += std::pow(edgeResidual(arc, w, e, c, s), 2);
+  return sum;
+}
+
+/// The camera's per-row geometry for the arc model (ClusterPerceptron::setCamera()).
+struct RowGeometry {
+  const std::vector<double>& x;  // ground distance, m
+  const std::vector<double>& a;  // column of lateral offset 0
+  const std::vector<double>& b;  // columns per metre of lateral offset
+};
+
+/// The arc model's edge refinement on the ground. From the Hough's (image-basis) model: the edge
+/// candidates of every road row taken to the ground, the circle fitted to them by robust Gauss-Newton
+/// (in each row the left and right candidates nearest the model's edges, within a tolerance that
+/// narrows from 4 to 1 px; the width from the rows where both edges show, else the bootstrap's),
+/// then the straight line fitted to the same edges and kept when the curvature does not pay for its
+/// parameter (BIC: n ln(RSS/n) + p ln n). False when too few edges support a fit.
+bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top, const CentreModel& model,
+                     const RowGeometry& rows, const std::vector<double>& row_widths, double max_curvature,
+                     GroundArc& arc, int& edge_rows) {
+  // The bootstrap's road width on the ground (a flat road of constant width: rows agree).
+  std::vector<double> ws;
+  for (int v = v_top; v < height; ++v)
+    if (row_widths[v] > 0) ws.push_back(row_widths[v] / std::abs(rows.b[v]));
+  if (ws.empty()) return false;
+  std::nth_element(ws.begin(), ws.begin() + ws.size() / 2, ws.end());
+  const double w0 = ws[ws.size() / 2];
+  // The start: the model's centre columns on the ground, fitted by y = y0 + t·x + c·x²/2.
+  {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Vec3 rhs = Vec3::Zero();
+    for (int v = v_top; v < height; v += 4) {
+      const Vec3 phi(1.0, rows.x[v], 0.5 * rows.x[v] * rows.x[v]);
+      A += phi * phi.transpose();
+      rhs += phi * ((model.u(v) - rows.a[v]) / rows.b[v]);
+    }
+    const Vec3 p = A.ldlt().solve(rhs);
+    if (!p.allFinite()) return false;
+    arc.y0 = p[0];
+    arc.th = std::atan(p[1]);
+    arc.k = std::clamp(p[2] * std::pow(std::cos(arc.th), 3), -max_curvature, max_curvature);
+  }
+  std::vector<GroundEdge> all;
+  std::vector<EdgeCandidate> cands;
+  for (int v = v_top; v < height; ++v) {
+    cands.clear();
+    rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, 0, width, cands);
+    for (const EdgeCandidate& e : cands)
+      all.push_back({rows.x[v], (e.u - rows.a[v]) / rows.b[v], e.left ? 1.0 : -1.0, std::abs(rows.b[v]), v});
+  }
+  double w = w0;
+  int rows_used = 0;
+  std::vector<GroundEdge> sel;
+  std::vector<int> best(2 * static_cast<std::size_t>(height), -1);
+  std::vector<double> best_r(2 * static_cast<std::size_t>(height));
+  for (const double tol : {4.0, 2.5, 1.5, 1.0}) {
+    // In each row and side, the candidate nearest the model's edge, within the tolerance.
+    std::fill(best.begin(), best.end(), -1);
+    const double c = std::cos(arc.th), s = std::sin(arc.th);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      const double r = std::abs(edgeResidual(arc, w, all[i], c, s));
+      const std::size_t slot = 2 * static_cast<std::size_t>(all[i].v) + (all[i].side > 0 ? 0 : 1);
+      if (r <= tol && (best[slot] < 0 || r < best_r[slot])) {
+        best[slot] = static_cast<int>(i);
+        best_r[slot] = r;
+      }
+    }
+    sel.clear();
+    rows_used = 0;
+    std::vector<double> widths;  // the rows where both edges show: their offsets' difference
+    for (int v = v_top; v < height; ++v) {
+      const int l = best[2 * static_cast<std::size_t>(v)], r = best[2 * static_cast<std::size_t>(v) + 1];
+      rows_used += l >= 0 || r >= 0;
+      if (l >= 0) sel.push_back(all[static_cast<std::size_t>(l)]);
+      if (r >= 0) sel.push_back(all[static_cast<std::size_t>(r)]);
+      if (l >= 0 && r >= 0) {
+        const GroundEdge &el = all[static_cast<std::size_t>(l)], &er = all[static_cast<std::size_t>(r)];
+        widths.push_back(arc.offset(el.x, el.y, c, s) - arc.offset(er.x, er.y, c, s));
+      }
+    }
+    if (widths.size() >= 8) {
+      std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
+      w = std::clamp(widths[widths.size() / 2], 0.8 * w0, 1.25 * w0);
+    }
+    GroundArc fitted = arc;
+    if (!fitGroundArc(sel, w, true, 0.6, fitted)) return false;
+    if (std::abs(fitted.k) > max_curvature) {
+      // Beyond the searched range: the line part with the curvature at its bound.
+      fitted = arc;
+      fitted.k = std::clamp(fitted.k, -max_curvature, max_curvature);
+      if (!fitGroundArc(sel, w, false, 0.6, fitted)) return false;
+    }
+    arc = fitted;
+  }
+  GroundArc line = arc;
+  line.k = 0;
+  if (fitGroundArc(sel, w, false, 0.6, line)) {
+    const double n = static_cast<double>(sel.size());
+    const double bic_arc = n * std::log(sumSquares(sel, w, arc) / n + 1e-12) + 3.0 * std::log(n);
+    const double bic_line = n * std::log(sumSquares(sel, w, line) / n + 1e-12) + 2.0 * std::log(n);
+    if (bic_line <= bic_arc) arc = line;
+  }
+  edge_rows = rows_used;
+  return true;
+}
+
 }  // namespace
 
 RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int height, bool want_mask) const {
@@ -972,6 +1157,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   // where both edges show), and fit the model to those by robust least squares. Twice: the second
   // time in narrower windows around the first fit.
   const int v_top = r0 * bs;
+  std::optional<GroundArc> ground;  // the arc model's refined road on the ground
   if (opt_.refine_edges) {
     const int degree = Q > 0 ? 2 : 1;
     // The Hough line counts road-coloured area, which shaded shoulders of road colour can pull; the
@@ -980,11 +1166,23 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     std::vector<EdgeCandidate> cands;
     for (int v = v_top; v < height; v += 4) rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, 0, width, cands);
     model = edgeConsensus(cands, row_widths_, model, degree, opt_.seed, 200, 2.0, opt_.max_curvature);
+    if (arc) {
+      // The arc model: the circle on the ground, or the line where the curvature does not pay.
+      GroundArc g;
+      int edge_rows = 0;
+      if (refineGroundArc(cimg, width, height, v_top, model, RowGeometry{row_x_, row_a_, row_b_}, row_widths_,
+                          opt_.max_curvature, g, edge_rows)) {
+        res.refined = true;
+        res.edge_rows = edge_rows;
+        ground = g;
+      }
+    }
     // Then fit it to the edges that support it: in each row the left and right candidates nearest
     // the model's edges, each turned into a centre estimate (the pair's middle, or one edge plus half
     // the row's width scaled by the widths measured where both show), by robust least squares; twice,
     // each time with the edges nearer the last fit.
     for (const double tol : {2.0, 1.5, 1.0}) {
+      if (ground) break;
       // Every row's candidates near the model's two edges.
       cands.clear();
       for (int v = v_top; v < height; ++v)
@@ -1028,14 +1226,21 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       res.edge_rows = static_cast<int>(vu.size());
     }
   }
-  const double v_bot = height - 1.0;
-  res.centerline_image = Segment2{Vec2(model.u(v_top), v_top), Vec2(model.u(v_bot), v_bot)};
   res.centerline_curve.clear();
-  for (double v = v_top;; v = std::min(v_bot, v + bs)) {
-    res.centerline_curve.emplace_back(model.u(v), v);
-    if (v >= v_bot) break;
+  for (int v = v_top;; v = std::min(height - 1, v + bs)) {
+    if (!ground) {
+      res.centerline_curve.emplace_back(model.u(v), v);
+    } else if (const double y = ground->at(row_x_[v]); std::isfinite(y)) {
+      res.centerline_curve.emplace_back(row_a_[v] + row_b_[v] * y, v);
+    }
+    if (v >= height - 1) break;
   }
-  res.curvature = arc ? model.p[2] : 0.0;
+  if (res.centerline_curve.size() < 2) {
+    res.reason = "arc model: the circle turns back above the bottom rows";
+    return res;
+  }
+  res.centerline_image = Segment2{res.centerline_curve.front(), res.centerline_curve.back()};
+  res.curvature = ground ? ground->k : arc ? model.p[2] : 0.0;
   res.ok = true;
   return res;
 }
@@ -1043,23 +1248,65 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
 RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int height, bool want_mask) {
   if (!opt_.adaptive) return find(rgb, width, height, want_mask);
   const double err = reconstructionError(rgb, width, height, opt_.adaptive_stride);
-  const double train_err = train_error_;
-  const bool fits = err <= opt_.adaptive_error_ratio * train_err;
+  // The reference: the median error of the training frame and the recent frames that fitted. Frames
+  // differ from the one the clusters were trained on (another mix of surfaces and shadows), so the
+  // typical runtime error, not the training error, is what a changed world stands out against.
+  if (recent_errors_.empty()) recent_errors_.push_back(train_error_);
+  std::vector<double> sorted = recent_errors_;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double reference = sorted[sorted.size() / 2];
+  const bool fits = err <= opt_.adaptive_error_ratio * reference;
   bool retrained = false;
+  int added = 0;
   if (!fits && trained_ && !trusted_curve_.empty() && static_cast<int>(row_widths_.size()) == height) {
-    // §9: the clusters no longer describe the scene. Move them (isodata from where they are) to this
-    // frame's colours and retrain the perceptron on the road where it was last found.
+    // §9: the clusters no longer describe the scene. Adapt them to this frame's colours and retrain
+    // the perceptron on the road where it was last found.
     const Image outline = fillPolygonMask({roadBand(trusted_curve_, row_widths_, width)}, width, height);
-    clusterFrom(rgb, width, height);
+    added = adaptClusters(rgb, width, height, opt_.adaptive_error_ratio * reference);
     trainPerceptron(rgb, width, height, outline.data.data());
+    recent_errors_.assign(1, train_error_);
     retrained = true;
+  } else if (fits) {
+    recent_errors_.push_back(err);
+    if (static_cast<int>(recent_errors_.size()) > opt_.adaptive_window + 1)  // + the training error
+      recent_errors_.erase(recent_errors_.begin() + 1);
   }
   RoadFinding res = find(rgb, width, height, want_mask);
   res.reconstruction_error = err;
-  res.training_error = train_err;
+  res.training_error = reference;
   res.retrained = retrained;
+  res.clusters_added = added;
   if (res.ok && (fits || retrained)) trusted_curve_ = res.centerline_curve;
   return res;
+}
+
+int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int height, double threshold) {
+  // A new colour: the mean of the 2 % of pixels the clusters explain worst, when it is itself
+  // unexplained (its mean squared error per band to the nearest cluster above the threshold). Added
+  // as a cluster, one at a time, before the clusters move, so that no cluster has to leave its own
+  // colour for it (a colour nearest the road's cluster would share its output).
+  int added = 0;
+  while (static_cast<int>(means_.size()) < opt_.adaptive_max_clusters) {
+    std::vector<std::pair<double, Vec3>> px;
+    for (int v = 0; v < height; v += opt_.adaptive_stride)
+      for (int u = 0; u < width; u += opt_.adaptive_stride) {
+        const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
+        const Vec3 c(p[0], p[1], p[2]);
+        px.emplace_back((c - means_[static_cast<std::size_t>(nearest(p[0], p[1], p[2]))]).squaredNorm(), c);
+      }
+    const std::size_t worst = std::max<std::size_t>(1, px.size() / 50);
+    std::nth_element(px.begin(), px.begin() + static_cast<std::ptrdiff_t>(worst), px.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    Vec3 candidate = Vec3::Zero();
+    for (std::size_t i = 0; i < worst; ++i) candidate += px[i].second / static_cast<double>(worst);
+    const Vec3& near = means_[static_cast<std::size_t>(nearest(static_cast<float>(candidate.x()), static_cast<float>(candidate.y()),
+                                                               static_cast<float>(candidate.z())))];
+    if ((candidate - near).squaredNorm() / 3.0 <= threshold) break;
+    means_.push_back(candidate);
+    ++added;
+  }
+  clusterFrom(rgb, width, height);  // all moved from where they are to this frame's colours
+  return added;
 }
 
 // --- The "cluster-perceptron" pipeline ----------------------------------------------------------------
@@ -1088,10 +1335,12 @@ const std::vector<OptionSpec>& specs() {
       {"max_curvature", 0.07, false, false, 1e-6, 1, "arc model: largest curvature searched, 1/m"},
       {"curvature_steps", 10, false, true, 1, 100, "arc model: curvatures tried on each side of 0 before refining"},
       {"adaptive", 0, true, false, 0, 1,
-       "beyond the paper (9): retrain clusters and perceptron when a frame's reconstruction error exceeds "
-       "adaptive_error_ratio x the training error, bootstrapped from the last trusted road"},
-      {"adaptive_error_ratio", 3.0, false, false, 1.000001, 1e6, "adaptive: retrain above this multiple of the training error"},
+       "beyond the paper (9): add clusters for new colours, move them and retrain the perceptron when a frame's reconstruction error "
+       "exceeds adaptive_error_ratio x the recent frames' median, bootstrapped from the last trusted road"},
+      {"adaptive_error_ratio", 3.0, false, false, 1.000001, 1e6, "adaptive: retrain above this multiple of the recent frames' median error"},
       {"adaptive_stride", 4, false, true, 1, 64, "adaptive: the reconstruction error uses every n-th pixel each way"},
+      {"adaptive_window", 9, false, true, 1, 1000, "adaptive: the reference is the median error of this many recent frames"},
+      {"adaptive_max_clusters", 30, false, true, 1, 30, "adaptive: clusters at most after additions"},
       {"refine_edges", 1, true, false, 0, 1,
        "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
       {"raw_rgb", 0, true, false, 0, 1,
@@ -1200,6 +1449,8 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.adaptive = options_.b("adaptive");
     o.adaptive_error_ratio = options_["adaptive_error_ratio"];
     o.adaptive_stride = options_.i("adaptive_stride");
+    o.adaptive_window = options_.i("adaptive_window");
+    o.adaptive_max_clusters = options_.i("adaptive_max_clusters");
     o.refine_edges = options_.b("refine_edges");
     o.threads = options_.i("threads");
     o.raw_rgb = options_.b("raw_rgb");

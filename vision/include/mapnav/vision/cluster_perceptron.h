@@ -32,7 +32,10 @@ namespace mapnav {
 /// image row r and maps lateral offsets to columns affinely there, u = a_r + b_r·y(x_r), so for a
 /// fixed κ the centre line's column is an image line plus a known per-row offset: the Hough over
 /// (intercept, angle) runs for each κ of a grid and the best is kept (the per-row x_r and b_r come
-/// from the camera: ClusterPerceptron::setCamera()).
+/// from the camera: ClusterPerceptron::setCamera()). The edge refinement then fits the exact circle
+/// to the road's edges on the ground (the parabola is its small-angle form, and cuts 15 m bends by
+/// decimetres at 8 m), and keeps the straight line instead where the curvature does not pay for its
+/// parameter (BIC), so straight paths get the straight answer.
 enum class RoadModel { Line, Arc };
 std::string toString(RoadModel model);
 /// "line" or "arc"; throws InvalidInput otherwise.
@@ -67,11 +70,17 @@ struct ClusterPerceptronOptions {
   int curvature_steps = 10;
   /// Beyond the paper (§9, adaptive cluster management): track() watches each frame's reconstruction
   /// error (the clusters' mean squared error per band, on every adaptive_stride-th pixel each way)
-  /// and, when it exceeds adaptive_error_ratio × the training error, retrains clusters (moved from
-  /// where they are) and perceptron on that frame, bootstrapped from the last road it trusted.
+  /// and, when it exceeds adaptive_error_ratio × the median error of the recent frames (the last
+  /// adaptive_window that fitted, and the training error), adapts the clusters to that frame: adds
+  /// a cluster at the mean colour of the 2 % of pixels they explain worst for as long as that colour
+  /// is itself unexplained (its error above the same threshold: a new surface in view), up to
+  /// adaptive_max_clusters, then moves them all (isodata from where they are) and retrains the
+  /// perceptron there, bootstrapped from the last road it trusted.
   bool adaptive = false;
   double adaptive_error_ratio = 3.0;   ///< > 1
   int adaptive_stride = 4;             ///< in [1, 64]
+  int adaptive_window = 9;             ///< recent frames whose median error is the reference, in [1, 1000]
+  int adaptive_max_clusters = 30;      ///< in [1, 30]
   /// Beyond the paper: refine the Hough line to the pixel from the road's edges (robust fit).
   bool refine_edges = true;
   /// Beyond the paper (§9): the perceptron's inputs are the pixel's R, G, B (scaled to [-1, 1])
@@ -101,8 +110,9 @@ struct RoadFinding {
   /// track() with the adaptive option: this frame's reconstruction error (mean squared, per band,
   /// averaged over the bands), the training error it was compared with, and whether it retrained.
   double reconstruction_error = 0;
-  double training_error = 0;
+  double training_error = 0;   ///< the reference: the recent frames' median error (and the training error)
   bool retrained = false;
+  int clusters_added = 0;       ///< clusters the retraining added (a new colour in view)
   bool refined = false;      ///< the edge refinement found enough edge rows and moved the line
   int edge_rows = 0;         ///< rows with an edge that the refinement used
   Image mask;                ///< 1 channel, 255 = perceptron output > 0
@@ -145,7 +155,8 @@ class ClusterPerceptron {
   /// §6: classifies a frame and finds the centre line (fast or reference path per options).
   RoadFinding find(const std::uint8_t* rgb, int width, int height, bool want_mask = true) const;
   /// find(), and with the adaptive option the §9 cluster management: when the frame's reconstruction
-  /// error exceeds adaptive_error_ratio × the training error, retrains on this frame from the last
+  /// error exceeds adaptive_error_ratio × the recent frames' median error, moves and adds clusters
+  /// (see ClusterPerceptronOptions::adaptive), retrains the perceptron on this frame from the last
   /// trusted road (the centre curve and the row widths) and finds the road again. Without the option,
   /// the same as find().
   RoadFinding track(const std::uint8_t* rgb, int width, int height, bool want_mask = true);
@@ -167,8 +178,13 @@ class ClusterPerceptron {
   std::vector<Vec3> clusterFrom(const std::uint8_t* rgb, int width, int height);
   std::vector<Vec3> means_;
   double train_error_ = 0;
-  std::vector<double> row_x_, row_b_;  // arc model: per image row, ground distance (m) and du/dy (px/m)
+  // arc model: per image row, the ground distance (m), the column of lateral offset 0 and du/dy (px/m)
+  std::vector<double> row_x_, row_a_, row_b_;
   std::vector<Vec2> trusted_curve_;    // track(): the last centre curve found under a fitting model
+  std::vector<double> recent_errors_;  // track(): the training error, then the frames that fitted
+  /// track()'s cluster adaptation to a frame: adds clusters for colours whose error exceeds
+  /// `threshold`, then moves them all; returns the clusters added.
+  int adaptClusters(const std::uint8_t* rgb, int width, int height, double threshold);
   std::vector<double> weights_;
   std::vector<double> row_widths_;
   std::vector<std::uint8_t> lut_;  // 32³ cells of 8³ colours: road certainty 0..240, 255 = ambiguous
