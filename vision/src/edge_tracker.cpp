@@ -415,7 +415,15 @@ TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const 
   };
   Vec2 dir = e.start_direction;
   if (dir.y() > 0) dir = -dir;  // trace up the image
-  EdgeMatch m = orientedEdge(image, start, dir, p, expected_polarity);
+  // The start point and, when no step is found there, the next few predicted points along the
+  // start direction: a start clipped into an image corner has most of its window outside.
+  EdgeMatch m;
+  for (int k = 0; k < 4; ++k) {
+    const Vec2 at = start + k * step * dir;
+    if (!inside(at)) break;
+    m = orientedEdge(image, at, dir, p, expected_polarity);
+    if (m.found && std::abs(m.contrast) >= options_.min_contrast) break;
+  }
   if (!m.found || std::abs(m.contrast) < options_.min_contrast) {
     e.stop_reason = "no step edge at the start point";
     return e;
@@ -730,9 +738,17 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
         break;
       }
     }
+    // Else a parallel relation of one of them with a segment on the road's other side (a relation
+    // with a segment of its own side is a few centimetres: two pieces of the same edge).
+    auto sideOf = [&](const std::string& id) -> std::string {
+      for (const InterestSegment& s : prediction.segments)
+        if (s.id == id) return s.side;
+      return "";
+    };
     if (pc.expected_width_m <= 0)
       for (const SegmentRelation& r : prediction.relations)
-        if (r.type == SegmentRelation::Type::Parallel && (r.a == lid || r.b == lid || r.a == rid || r.b == rid)) {
+        if (r.type == SegmentRelation::Type::Parallel && (r.a == lid || r.b == lid || r.a == rid || r.b == rid) &&
+            sideOf(r.a) != sideOf(r.b)) {
           pc.expected_width_m = r.separation_m;
           break;
         }
