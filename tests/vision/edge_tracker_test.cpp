@@ -160,6 +160,29 @@ TEST(OrientedEdgeOperator, FindsASyntheticStepWithin1PxAnd2Deg) {
   }
 }
 
+// The park map's colours (maps/park_path.json) and the simulator's tree shadow (WorldOptions:
+// shadow_k 0.45, shadow_blue_shift 0.12: a colour times (0.45 x 0.88, 0.45, 0.45 x 1.12)).
+TEST(GreyBand, NormalizedGreenSeparatesGrassFromAsphaltAndIgnoresTreeShadow) {
+  const Vec3 asphalt(74, 74, 78), grass(70, 120, 50), shade(0.45 * 0.88, 0.45, 0.45 * 1.12);
+  const Vec3 asphalt_shaded = asphalt.cwiseProduct(shade), grass_shaded = grass.cwiseProduct(shade);
+  auto level = [](const Vec3& c, GreyBand band) { return bandLevel(c.x(), c.y(), c.z(), band); };
+  // 255 (G + 1) / (R + G + B + 3): asphalt 255 x 75 / 229, grass 255 x 121 / 243.
+  EXPECT_NEAR(level(asphalt, GreyBand::NormalizedGreen), 83.515, 1e-3);
+  EXPECT_NEAR(level(grass, GreyBand::NormalizedGreen), 126.975, 1e-3);
+  // Shaded asphalt (29.304, 33.3, 39.312): 255 x 34.3 / 104.916 = 83.367.
+  EXPECT_NEAR(level(asphalt_shaded, GreyBand::NormalizedGreen), 83.367, 1e-3);
+  // Shaded grass (27.72, 54, 25.2): 255 x 55 / 109.92 = 127.592.
+  EXPECT_NEAR(level(grass_shaded, GreyBand::NormalizedGreen), 127.592, 1e-3);
+  // In luminance the shadow's step on the asphalt (74.456 - 32.791 = 41.7) is four times the
+  // shaded grass-to-asphalt step (42.859 - 32.791 = 10.1), the failure of the luminance tracker.
+  EXPECT_NEAR(level(asphalt, GreyBand::Luminance) - level(asphalt_shaded, GreyBand::Luminance), 41.665, 1e-3);
+  EXPECT_NEAR(level(grass_shaded, GreyBand::Luminance) - level(asphalt_shaded, GreyBand::Luminance), 10.069, 1e-3);
+  EXPECT_DOUBLE_EQ(level(asphalt, GreyBand::Blue), 78);
+  // A grey, black included, is at a third of 255.
+  EXPECT_DOUBLE_EQ(level(Vec3(0, 0, 0), GreyBand::NormalizedGreen), 85);
+  EXPECT_DOUBLE_EQ(level(Vec3(200, 200, 200), GreyBand::NormalizedGreen), 85);
+}
+
 TEST(EdgeTracker, FollowsBothEdgesOfACurvingPathToTheTop) {
   // shadow_density 0.2 puts no tree shadow in these views; 0.4 shades about a tenth of the ground in
   // the views 0 and 4 m into the curve (and 40 % further on: see HeavyShadowFailsRatherThanMisleads).

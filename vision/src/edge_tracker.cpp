@@ -93,6 +93,15 @@ bool clipSegment(Vec2& a, Vec2& b, const Vec2& lo, const Vec2& hi) {
 
 // --- Grey image and the oriented operator ------------------------------------------------------------
 
+double bandLevel(double r, double g, double b, GreyBand band) {
+  switch (band) {
+    case GreyBand::Blue: return b;
+    case GreyBand::Luminance: return 0.299 * r + 0.587 * g + 0.114 * b;
+    case GreyBand::NormalizedGreen: return 255.0 * (g + 1) / (r + g + b + 3);
+  }
+  return 0;
+}
+
 GreyImage toGrey(const std::uint8_t* rgb, int width, int height, GreyBand band) {
   GreyImage g;
   g.width = width;
@@ -101,8 +110,7 @@ GreyImage toGrey(const std::uint8_t* rgb, int width, int height, GreyBand band) 
   g.data.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint8_t* p = rgb + 3 * i;
-    g.data[i] = band == GreyBand::Blue ? static_cast<float>(p[2])
-                                       : static_cast<float>(0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2]);
+    g.data[i] = static_cast<float>(bandLevel(p[0], p[1], p[2], band));
   }
   return g;
 }
@@ -217,6 +225,7 @@ void EdgeTrackerOptions::validate() const {
   if (!(width_tolerance > 0)) bad("width_tolerance", width_tolerance, "> 0");
   if (!(parallel_tolerance_deg > 0)) bad("parallel_tolerance_deg", parallel_tolerance_deg, "> 0");
   if (!(max_width_sd_m > 0)) bad("max_width_sd_m", max_width_sd_m, "> 0");
+  if (!(max_range_m > 0)) bad("max_range_m", max_range_m, "> 0");
 }
 
 namespace {
@@ -229,7 +238,9 @@ struct Spec {
 
 const std::vector<Spec>& specs() {
   static const std::vector<Spec> s = {
-      {"band", "\"luminance\"", "grey image: \"luminance\" (0.299 R + 0.587 G + 0.114 B) or \"blue\" (the blue band of the Warp runs, 3.6.3)"},
+      {"band", "\"normalized_green\"",
+       "grey image: \"luminance\" (0.299 R + 0.587 G + 0.114 B), \"blue\" (the blue band of the Warp runs, 3.6.3) or "
+       "\"normalized_green\" (255 G / (R + G + B), the normalised colour of 3.4.3: blind to shadows)"},
       {"window_rows", "64", "search window length along the edge at 480 rows (scaled with the image height)"},
       {"window_cols", "128", "search window width across the edge at 512 columns (scaled with the image width)"},
       {"step_fraction", "0.5", "the next point is predicted this x window_rows ahead along theta"},
@@ -249,6 +260,7 @@ const std::vector<Spec>& specs() {
       {"width_tolerance", "0.15", "ground width must be within this fraction of the expected width"},
       {"parallel_tolerance_deg", "10", "the two edges' ground lines must be within this angle"},
       {"max_width_sd_m", "0.4", "the spread of the width along the edges must be within this"},
+      {"max_range_m", "15", "an edge ends at its first point farther than this on the ground (or above the horizon), m"},
       {"gate_search", "false",
        "after the first point search only offsets reachable within max_turn_deg (step x tan); off: the whole window"},
       {"use_carried_edges", "true", "start from advance()'d previous edges when the prediction has no segments"},
@@ -283,7 +295,8 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
     if (key == "band") {
       if (value == "blue") o.band = GreyBand::Blue;
       else if (value == "luminance") o.band = GreyBand::Luminance;
-      else throw InvalidInput(bad + ": must be \"blue\" or \"luminance\"");
+      else if (value == "normalized_green") o.band = GreyBand::NormalizedGreen;
+      else throw InvalidInput(bad + ": must be \"blue\", \"luminance\" or \"normalized_green\"");
     } else if (key == "window_rows") o.window_rows = integer();
     else if (key == "window_cols") o.window_cols = integer();
     else if (key == "step_fraction") o.step_fraction = num();
@@ -303,6 +316,7 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
     else if (key == "width_tolerance") o.width_tolerance = num();
     else if (key == "parallel_tolerance_deg") o.parallel_tolerance_deg = num();
     else if (key == "max_width_sd_m") o.max_width_sd_m = num();
+    else if (key == "max_range_m") o.max_range_m = num();
     else if (key == "gate_search") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.gate_search = value.get<bool>();
@@ -401,7 +415,15 @@ TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const 
   };
   Vec2 dir = e.start_direction;
   if (dir.y() > 0) dir = -dir;  // trace up the image
-  EdgeMatch m = orientedEdge(image, start, dir, p, expected_polarity);
+  // The start point and, when no step is found there, the next few predicted points along the
+  // start direction: a start clipped into an image corner has most of its window outside.
+  EdgeMatch m;
+  for (int k = 0; k < 4; ++k) {
+    const Vec2 at = start + k * step * dir;
+    if (!inside(at)) break;
+    m = orientedEdge(image, at, dir, p, expected_polarity);
+    if (m.found && std::abs(m.contrast) >= options_.min_contrast) break;
+  }
   if (!m.found || std::abs(m.contrast) < options_.min_contrast) {
     e.stop_reason = "no step edge at the start point";
     return e;
@@ -474,9 +496,6 @@ struct Start {
   int polarity = 0;
 };
 
-double greyOf(const Vec3& rgb, GreyBand band) {
-  return band == GreyBand::Blue ? rgb.z() : 0.299 * rgb.x() + 0.587 * rgb.y() + 0.114 * rgb.z();
-}
 
 /// The near end of an image segment clipped to the image, directed up the image.
 /// The start is kept `margin` px from the image's sides, so that the step model fits in the image.
@@ -504,15 +523,18 @@ std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& ca
   }
   st.label = s.id;
   const bool colours = s.left_rgb.norm() > 0 || s.right_rgb.norm() > 0;
-  const double diff = (greyOf(s.right_rgb, band) - greyOf(s.left_rgb, band)) * (forward ? 1 : -1);
+  const double diff = (bandLevel(s.right_rgb.x(), s.right_rgb.y(), s.right_rgb.z(), band) -
+                       bandLevel(s.left_rgb.x(), s.left_rgb.y(), s.left_rgb.z(), band)) * (forward ? 1 : -1);
   if (colours && std::abs(diff) >= 3) st.polarity = diff > 0 ? 1 : -1;
   return st;
 }
 
 /// Start points from the prediction: the road whose edge comes nearest the vehicle, its nearest
-/// segment on each side; returns {vehicle-left, vehicle-right}.
-bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, GreyBand band, Start& left,
-                          Start& right, std::string& left_id, std::string& right_id) {
+/// segment on each side, as {vehicle-left, vehicle-right}; false when neither is in the image. On a
+/// tight curve a narrow lens sees one edge only: the other is then left empty.
+bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, GreyBand band,
+                          std::optional<Start>& left, std::optional<Start>& right, std::string& left_id,
+                          std::string& right_id) {
   const InterestSegment* nearest = nullptr;
   double best = std::numeric_limits<double>::infinity();
   for (const InterestSegment& s : pred.segments) {
@@ -538,21 +560,20 @@ bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w,
       side[k] = &s;
     }
   }
-  if (side[0] == nullptr || side[1] == nullptr) return false;
-  auto s0 = startFromSegment(*side[0], cam, w, h, band);
-  auto s1 = startFromSegment(*side[1], cam, w, h, band);
-  // Vehicle left = larger y at the segments' midpoints.
-  const double y0 = side[0]->vehicle.pointAt(0.5).y(), y1 = side[1]->vehicle.pointAt(0.5).y();
-  if (y0 >= y1) {
-    left = *s0;
-    right = *s1;
-    left_id = side[0]->id;
-    right_id = side[1]->id;
+  // Which is the vehicle's left: with both, the larger y at the segments' midpoints; with one, the
+  // road's left is the vehicle's when the road runs forward (its segments point a → b along it).
+  bool road_left_is_vehicle_left = true;
+  if (side[0] != nullptr && side[1] != nullptr) {
+    road_left_is_vehicle_left = side[0]->vehicle.pointAt(0.5).y() >= side[1]->vehicle.pointAt(0.5).y();
   } else {
-    left = *s1;
-    right = *s0;
-    left_id = side[1]->id;
-    right_id = side[0]->id;
+    const InterestSegment* one = side[0] != nullptr ? side[0] : side[1];
+    road_left_is_vehicle_left = (one->vehicle.b - one->vehicle.a).x() >= 0;
+  }
+  for (int k = 0; k < 2; ++k) {
+    if (side[k] == nullptr) continue;
+    const bool vehicle_left = (k == 0) == road_left_is_vehicle_left;
+    (vehicle_left ? left : right) = startFromSegment(*side[k], cam, w, h, band);
+    (vehicle_left ? left_id : right_id) = side[k]->id;
   }
   return true;
 }
@@ -592,8 +613,14 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
 
   Start ls, rs;
   std::string lid, rid;
-  if (startsFromPrediction(prediction, cam, w, h, options_.band, ls, rs, lid, rid)) {
+  std::optional<Start> pl, pr;
+  bool trace_left = true, trace_right = true;
+  if (startsFromPrediction(prediction, cam, w, h, options_.band, pl, pr, lid, rid)) {
     report_.start_source = "prediction";
+    trace_left = pl.has_value();
+    trace_right = pr.has_value();
+    if (pl) ls = *pl;
+    if (pr) rs = *pr;
   } else if (options_.use_carried_edges && carried_left_ && carried_right_ &&
              startFromCarried(carried_left_->ground, carried_left_->label, cam, w, h) &&
              startFromCarried(carried_right_->ground, carried_right_->label, cam, w, h)) {
@@ -614,13 +641,32 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   carried_right_.reset();
 
   const GreyImage grey = toGrey(frame.rgb, w, h, options_.band);
-  report_.left = trace(grey, ls.point, ls.direction, ls.polarity);
-  report_.right = trace(grey, rs.point, rs.direction, rs.polarity);
+  auto traceIf = [&](bool predicted, const Start& st) {
+    if (predicted) return trace(grey, st.point, st.direction, st.polarity);
+    TrackedEdge none;
+    none.stop_reason = "not predicted in the image";
+    return none;
+  };
+  report_.left = traceIf(trace_left, ls);
+  report_.right = traceIf(trace_right, rs);
   report_.left.label = ls.label;
   report_.right.label = rs.label;
-  for (TrackedEdge* e : {&report_.left, &report_.right})
-    for (const Vec2& p : e->image)
-      if (const auto g = cam.backproject(p)) e->ground.push_back(*g);
+  // Every edge point to the ground; the trace ends at the first one above the horizon or beyond
+  // max_range_m (near the horizon a pixel spans metres of ground, and a wide lens sees the trace
+  // run on into the far distance, where it would swing the fitted ground lines).
+  for (TrackedEdge* e : {&report_.left, &report_.right}) {
+    for (std::size_t i = 0; i < e->image.size(); ++i) {
+      const auto g = cam.backproject(e->image[i]);
+      if (!g || g->norm() > options_.max_range_m) {
+        e->image.resize(i);
+        e->matches.resize(i);
+        e->stop_reason = "beyond max_range_m";
+        e->reached_top = false;
+        break;
+      }
+      e->ground.push_back(*g);
+    }
+  }
 
   // The edges' lines for the DetectedObject, labelled with the predicted segment each started from.
   auto addLines = [&](DetectedObject& d, const TrackedEdge& e) {
@@ -692,9 +738,17 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
         break;
       }
     }
+    // Else a parallel relation of one of them with a segment on the road's other side (a relation
+    // with a segment of its own side is a few centimetres: two pieces of the same edge).
+    auto sideOf = [&](const std::string& id) -> std::string {
+      for (const InterestSegment& s : prediction.segments)
+        if (s.id == id) return s.side;
+      return "";
+    };
     if (pc.expected_width_m <= 0)
       for (const SegmentRelation& r : prediction.relations)
-        if (r.type == SegmentRelation::Type::Parallel && (r.a == lid || r.b == lid || r.a == rid || r.b == rid)) {
+        if (r.type == SegmentRelation::Type::Parallel && (r.a == lid || r.b == lid || r.a == rid || r.b == rid) &&
+            sideOf(r.a) != sideOf(r.b)) {
           pc.expected_width_m = r.separation_m;
           break;
         }

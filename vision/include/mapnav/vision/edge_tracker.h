@@ -43,9 +43,16 @@ struct GreyImage {
   float at(int u, int v) const { return data[static_cast<std::size_t>(v) * width + u]; }
 };
 
-enum class GreyBand { Blue, Luminance };
+enum class GreyBand { Blue, Luminance, NormalizedGreen };
 
-/// The blue band (the paper's Warp runs, 3.6.3) or the luminance (0.299 R + 0.587 G + 0.114 B).
+/// The band's level of one colour: the blue band (the paper's Warp runs, 3.6.3), the luminance
+/// (0.299 R + 0.587 G + 0.114 B), or the normalised green g = G / (R + G + B) of the paper's 3.4.3
+/// scaled by 255 (a grey surface is at 85; (G + 1) / (R + G + B + 3), so that black is grey too).
+/// A shadow scales a colour by k, which the normalised green does not see: on the park path the
+/// tree shadows' steps on the asphalt vanish while grass (g = 0.50) against asphalt (g = 0.33)
+/// stays a step of ~44 levels, sunlit or shaded.
+double bandLevel(double r, double g, double b, GreyBand band);
+/// The image in that band.
 GreyImage toGrey(const std::uint8_t* rgb, int width, int height, GreyBand band);
 
 /// Parameters of one application of the oriented operator.
@@ -78,7 +85,11 @@ EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& d
                        const OrientedEdgeParams& params, int polarity = 0);
 
 struct EdgeTrackerOptions {
-  GreyBand band = GreyBand::Luminance;  // blue is the paper's Warp band; the simulated grass is bright in blue
+  /// The band the edges are traced in. Normalised green (the paper's 3.4.3): in luminance the
+  /// park path's grass-to-asphalt step is 8-10 levels under the trees while tree-shadow steps on the
+  /// asphalt reach 40, so shadow edges won the windows; blue is the paper's Warp band, but the
+  /// simulated grass is bright in blue.
+  GreyBand band = GreyBand::NormalizedGreen;
   int window_rows = 64;               ///< at 480 rows; scaled with the image height
   int window_cols = 128;              ///< at 512 columns; scaled with the image width
   double step_fraction = 0.5;         ///< the next point is predicted this × window_rows ahead
@@ -98,6 +109,10 @@ struct EdgeTrackerOptions {
   double width_tolerance = 0.15;      ///< fraction of the expected width
   double parallel_tolerance_deg = 10; ///< angle between the two edges' ground lines
   double max_width_sd_m = 0.4;        ///< spread of the width along the edges
+  /// An edge ends at its first point that back-projects farther than this (or not at all: above the
+  /// horizon), metres. Near the horizon a pixel spans metres of ground: with a wide lens the trace
+  /// runs on toward the vanishing point, and those points would swing the edges' ground lines.
+  double max_range_m = 15;
   bool gate_search = false;           ///< search only offsets reachable within max_turn_deg (see OrientedEdgeParams::max_offset_px)
   bool use_carried_edges = true;      ///< use advance()'d edges when the prediction has no segments
   /// When one edge is lost and the other, labelled, is tracked: report that edge alone (its lines,
