@@ -89,6 +89,47 @@ TEST(BlueBand, FixedThresholdOption) {
   EXPECT_EQ(p->detect(f, pred.view).status, DetectedObject::Status::Ok);
 }
 
+// How far ahead (m) the detected road region reaches along the vehicle-frame line y = `lateral`:
+// the farthest crossing of the region's outline with that line.
+double regionReach(const DetectedObject& d, double lateral) {
+  double reach = 0;
+  const Polygon2& ring = d.region_vehicle;
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+    if ((a.y() > lateral) == (b.y() > lateral)) continue;
+    reach = std::max(reach, a.x() + (lateral - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+  }
+  return reach;
+}
+
+TEST(BrickRoadMeetsConcreteT, TheRegionReachesTheFarEdgeOfTheConcreteRoadAcross) {
+  // campus_tour at I15: up the 3 m brick road R22 (x = 100, heading north) to the T where the
+  // concrete R6/R23 (y = 119 .. 121) runs across it. The pipeline learns brick on the way up; the
+  // concrete across the top is road too, so the region ends at the T's far edge, y = 121, not at
+  // the brick's end. The world is the mission's (seed 2, shadows 0.10, leaves 0.03).
+  WorldOptions wo;
+  wo.seed = 2;
+  wo.shadow_density = 0.10;
+  wo.leaf_density = 0.03;
+  const World world(campus(), wo);
+  registerBuiltinPipelines();
+  auto pipeline = createPipeline("sidewalk");
+  DetectedObject d;
+  for (int y = 100; y <= 115; ++y) {
+    const Pose2 pose(100, y, degToRad(90));
+    const Frame frame = world.render(pinhole(), pose, y - 100.0);
+    const Prediction pred = predictView(campus(), pose, pinhole());
+    VisionFrame f{frame.rgb.width, frame.rgb.height, frame.rgb.data.data(), &pinhole(), y - 100.0};
+    d = pipeline->detect(f, pred.view);
+    ASSERT_EQ(d.status, DetectedObject::Status::Ok) << "at y = " << y << ": " << d.reason;
+  }
+  // From y = 115, the far edge (R23's left edge, y = 121) is 6.0 m ahead, 0.5 m right of the centre
+  // line (x = 100.5); the brick alone would end 5.0 m ahead there (R22's end, y = 120).
+  EXPECT_NEAR(regionReach(d, -0.5), 6.0, 0.15);
+  // On the left (x = 98.8) it is R6's far edge, y = 120.9: 5.9 m ahead.
+  EXPECT_NEAR(regionReach(d, 1.2), 5.9, 0.15);
+}
+
 class FailedFrames : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FailedFrames, AllGrassFrame) {
