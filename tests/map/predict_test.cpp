@@ -197,21 +197,23 @@ TEST(TIntersectionAhead, StemAndTopCrossAtNinetyDegrees) {
 }
 
 TEST(TIntersectionAhead, IsPavedLikeItsWidestRoadWhateverTheRoadOrder) {
-  // A 2 m concrete road along x meets a 3 m brick road ending at it from the south; the concrete
-  // road comes first in the file, yet the junction is brick (the simulator paints it so).
+  // A 2 m concrete road along x meets a 3 m brick road ending at it from the north. The junction's
+  // roads are listed by heading (east 0°, north 90°, west 180°), so the concrete comes first, yet the
+  // junction is brick: the simulator paints it so.
   MapData m;
   m.intersections = {node("W", IntersectionKind::End, {-30, 0}), node("T", IntersectionKind::T, {0, 0}),
-                     node("E", IntersectionKind::End, {30, 0}), node("S", IntersectionKind::End, {0, -30})};
+                     node("E", IntersectionKind::End, {30, 0}), node("N", IntersectionKind::End, {0, 30})};
   m.roads = {road("RW", "W", "T", {{-30, 0}, {0, 0}}), road("RE", "T", "E", {{0, 0}, {30, 0}}),
-             road("RS", "S", "T", {{0, -30}, {0, 0}}, 3.0)};
+             road("RN", "N", "T", {{0, 30}, {0, 0}}, 3.0)};
   m.roads[2].surface = "brick";
   m = withSurfaces(m);
   m.surfaces.push_back({"brick", {Vec3(150, 72, 56), Vec3(16, 11, 10)}});
   const Map map(m);
+  ASSERT_EQ(map.roadsAt("T").front().road->id, "RE");
   EXPECT_EQ(intersectionSurface(map, map.intersection("T")), "brick");
   EXPECT_EQ(intersectionSurface(map, map.intersection("W")), "concrete");
-  // Looking north up the brick road from 6 m short of the junction.
-  const Prediction p = predictView(map, Pose2(0, -6, degToRad(90)), *pinhole());
+  // Looking south down the brick road from 6 m short of the junction.
+  const Prediction p = predictView(map, Pose2(0, 6, degToRad(-90)), *pinhole());
   const auto t = std::find_if(p.view.regions.begin(), p.view.regions.end(),
                               [](const PredictedRegion& r) { return r.id == "T"; });
   ASSERT_NE(t, p.view.regions.end());
