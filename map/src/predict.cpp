@@ -50,6 +50,14 @@ std::string regionKind(IntersectionKind kind) {
   return "junction";
 }
 
+std::string intersectionSurface(const Map& map, const Intersection& intersection) {
+  const Road* widest = nullptr;
+  for (const auto& end : map.roadsAt(intersection.id)) {
+    if (widest == nullptr || end.road->width > widest->width) widest = end.road;
+  }
+  return widest == nullptr ? std::string() : widest->surface;
+}
+
 namespace {
 
 // An interest segment in the world, before the view clips it.
@@ -124,7 +132,7 @@ class Predictor {
     };
     // What is paved here, and the shoulder most of its roads have.
     const auto ends = map_.roadsAt(x.id);
-    const std::string paved = ends.empty() ? std::string() : ends.front().road->surface;
+    const std::string paved = intersectionSurface(map_, x);
     std::map<std::string, int> votes;
     for (const auto& e : ends) {
       ++votes[e.road->left];
@@ -305,9 +313,8 @@ Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, 
               predictor.roadSegments(*road));
   }
   for (const Intersection* x : map.intersectionsMeeting(footprint)) {
-    const auto ends = map.roadsAt(x->id);
-    addRegion(x->id, regionKind(x->kind), ends.empty() ? std::string() : ends.front().road->surface,
-              map.intersectionShape(*x), predictor.cornerSegments(*x));
+    addRegion(x->id, regionKind(x->kind), intersectionSurface(map, *x), map.intersectionShape(*x),
+              predictor.cornerSegments(*x));
   }
   addRelations(out.view, options);
   return out;

@@ -19,6 +19,7 @@
 #include <string>
 
 #include "mapnav/core/options.h"
+#include "mapnav/map/predict.h"  // intersectionSurface
 
 namespace mapnav {
 
@@ -369,20 +370,13 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
     }
   }
   for (const Intersection& in : map.intersections()) {
-    // The widest road meeting here decides the intersection's look.
-    int surface = -1;
-    double widest = -1;
-    for (const auto& end : map.roadsAt(in.id)) {
-      if (end.road->width > widest) {
-        widest = end.road->width;
-        surface = roads[static_cast<std::size_t>(end.road - map.roads().data())].surface;
-      }
-    }
+    // Paved as the prediction expects it (the widest road meeting here decides the look).
+    const std::string surface = intersectionSurface(map, in);
     const Polygon2& shape = map.intersectionShape(in);
     if (shape.size() < 3) continue;
     PavedPolygon poly;
     poly.ring = shape;
-    poly.surface = surface >= 0 ? surface : lawn;
+    poly.surface = surface.empty() ? lawn : surfaceIndex(map, surface);
     polys.push_back(std::move(poly));
   }
   for (PavedPolygon& poly : polys) {

@@ -196,6 +196,31 @@ TEST(TIntersectionAhead, StemAndTopCrossAtNinetyDegrees) {
   for (double a : angles) EXPECT_NEAR(a, 90.0, 1e-6);
 }
 
+TEST(TIntersectionAhead, IsPavedLikeItsWidestRoadWhateverTheRoadOrder) {
+  // A 2 m concrete road along x meets a 3 m brick road ending at it from the north. The junction's
+  // roads are listed by heading (east 0°, north 90°, west 180°), so the concrete comes first, yet the
+  // junction is brick: the simulator paints it so.
+  MapData m;
+  m.intersections = {node("W", IntersectionKind::End, {-30, 0}), node("T", IntersectionKind::T, {0, 0}),
+                     node("E", IntersectionKind::End, {30, 0}), node("N", IntersectionKind::End, {0, 30})};
+  m.roads = {road("RW", "W", "T", {{-30, 0}, {0, 0}}), road("RE", "T", "E", {{0, 0}, {30, 0}}),
+             road("RN", "N", "T", {{0, 30}, {0, 0}}, 3.0)};
+  m.roads[2].surface = "brick";
+  m = withSurfaces(m);
+  m.surfaces.push_back({"brick", {Vec3(150, 72, 56), Vec3(16, 11, 10)}});
+  const Map map(m);
+  ASSERT_EQ(map.roadsAt("T").front().road->id, "RE");
+  EXPECT_EQ(intersectionSurface(map, map.intersection("T")), "brick");
+  EXPECT_EQ(intersectionSurface(map, map.intersection("W")), "concrete");
+  // Looking south down the brick road from 6 m short of the junction.
+  const Prediction p = predictView(map, Pose2(0, 6, degToRad(-90)), *pinhole());
+  const auto t = std::find_if(p.view.regions.begin(), p.view.regions.end(),
+                              [](const PredictedRegion& r) { return r.id == "T"; });
+  ASSERT_NE(t, p.view.regions.end());
+  EXPECT_EQ(t->surface, "brick");
+  EXPECT_EQ(t->rgb, Vec3(150, 72, 56));
+}
+
 TEST(YIntersectionAhead, BranchesSixtyDegreesApartCrossAtSixtyAndThirtyDegrees) {
   const Map map(junction(IntersectionKind::Y, {30, -30}));
   const Prediction p = predictView(map, Pose2(0, 0, 0), *pinhole());

@@ -304,5 +304,23 @@ TEST(RunnerCampusDialogue, ReplayAndClosedLoopReachTheGoalWithinTheTargets) {
   }
 }
 
+// campus_tour's I15 on its own: west along the concrete R23, straight through the T past the brick
+// R22. The along-road error the encoders' 2 % pile up on the way (0.6 m) is taken out when R22's
+// edges, across the road, come into view.
+TEST(RunnerBrickTee, TheBrickBranchFixesTheAlongRoadErrorOnTheConcreteRoad) {
+  registerBuiltinPipelines();
+  const fs::path dir = testing::freshTempDir();
+  const MissionFile mission = loadMission(testing::fixturePath("missions/brick_tee.json"));
+  simulate(mission, dir / "log");
+  const MissionRun run = runReplay(mission, dir / "log");
+  const MissionMetrics& m = run.metrics;
+  EXPECT_TRUE(m.reached_goal) << run.outcome;
+  EXPECT_EQ(m.intersections_checked, 1u);
+  EXPECT_GT(m.odometry_only.max_error_m, 0.5);
+  EXPECT_LE(m.along_after_intersection_max_m, 0.15);
+  EXPECT_LE(m.estimate.lateral_rms_m, 0.05);
+  EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
+}
+
 }  // namespace
 }  // namespace mapnav

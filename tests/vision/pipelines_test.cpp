@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
 #include <set>
+#include <utility>
 
 #include "eval_common.h"
 #include "mapnav/core/error.h"
@@ -87,6 +89,55 @@ TEST(BlueBand, FixedThresholdOption) {
   auto p = createPipeline("blue-band", R"({"threshold": 110})");
   VisionFrame f{frame.rgb.width, frame.rgb.height, frame.rgb.data.data(), &pinhole(), 0.0};
   EXPECT_EQ(p->detect(f, pred.view).status, DetectedObject::Status::Ok);
+}
+
+// Where the detected road region's outline crosses the vehicle-frame line y = `lateral`: the
+// nearest and farthest crossing ahead, or nothing when the region does not reach that line.
+std::optional<std::pair<double, double>> regionSpan(const DetectedObject& d, double lateral) {
+  std::optional<std::pair<double, double>> span;
+  const Polygon2& ring = d.region_vehicle;
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+    if ((a.y() > lateral) == (b.y() > lateral)) continue;
+    const double x = a.x() + (lateral - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
+    span = span ? std::make_pair(std::min(span->first, x), std::max(span->second, x)) : std::make_pair(x, x);
+  }
+  return span;
+}
+
+TEST(ConcreteRoadPastABrickBranch, TheBrickRoadIsRoadAndItsEdgesAreLabelled) {
+  // campus_tour at I15 on its way back: west along the 2 m concrete R23 (y = 120, heading 180°)
+  // past the T where the 3 m brick R22 (x = 98.5 .. 101.5) leaves to the left. The pipeline learns
+  // concrete on the way; the brick is road too, and its two edges are the lines across the road
+  // that fix the along-road position. The world is the mission's (seed 2, shadows 0.10, leaves 0.03).
+  WorldOptions wo;
+  wo.seed = 2;
+  wo.shadow_density = 0.10;
+  wo.leaf_density = 0.03;
+  const World world(campus(), wo);
+  registerBuiltinPipelines();
+  auto pipeline = createPipeline("sidewalk", R"({"max_distance_m": 1.0})");  // the mission's
+  DetectedObject d;
+  for (int x = 125; x >= 107; --x) {
+    const Pose2 pose(x, 120, degToRad(180));
+    const Frame frame = world.render(pinhole(), pose, 125.0 - x);
+    const Prediction pred = predictView(campus(), pose, pinhole());
+    VisionFrame f{frame.rgb.width, frame.rgb.height, frame.rgb.data.data(), &pinhole(), 125.0 - x};
+    d = pipeline->detect(f, pred.view);
+    ASSERT_EQ(d.status, DetectedObject::Status::Ok) << "at x = " << x << ": " << d.reason;
+  }
+  // From x = 107, 1.5 m to the left (y = 118.5) is brick only, from R22's east edge (x = 101.5,
+  // 5.5 m ahead) to its west edge (x = 98.5, 8.5 m ahead). A concrete-only road class saw none of it.
+  const auto span = regionSpan(d, 1.5);
+  ASSERT_TRUE(span.has_value());
+  EXPECT_NEAR(span->first, 5.5, 0.1);
+  EXPECT_NEAR(span->second, 8.5, 0.1);
+  std::set<std::string> labels;
+  for (const DetectedLine& l : d.lines) {
+    if (l.label) labels.insert(*l.label);
+  }
+  EXPECT_TRUE(labels.contains("R22.left.0"));
+  EXPECT_TRUE(labels.contains("R22.right.0"));
 }
 
 class FailedFrames : public ::testing::TestWithParam<std::string> {};

@@ -286,16 +286,13 @@ class ClassifierPipeline : public BasePipeline {
     BasePipeline::configure(options_json);
     reset();
   }
-  void reset() override {
-    ColorClassifierOptions co;
-    co.space = space_;
-    co.blend = opts_["blend"];
-    co.max_mean_shift_sigma = opts_["max_mean_shift_sigma"];
-    co.min_pixels = opts_.i("min_training_pixels");
-    classifier_ = ColorClassifier(co);
-  }
+  void reset() override { classifiers_.clear(); }
 
  protected:
+  // One road class per paved surface the prediction has in view (Wallace 1985, 3.4: several
+  // classes), each against the non-road class: a brick road meeting a concrete one is road in
+  // both colours, and a model learnt on one surface is not dragged onto the other. A pixel is road
+  // by the best of the surfaces' log-odds.
   std::optional<Image> classify(const VisionFrame& frame, const PredictedObject& prediction, const Image& valid,
                                 const Image& predicted, std::string& why) override {
     const int w = frame.width, h = frame.height;
@@ -304,53 +301,93 @@ class ClassifierPipeline : public BasePipeline {
     Image view_mask = prediction.footprint.size() >= 3 ? fillRings({prediction.footprint}, cam, w, h) : valid;
     cv::Mat vm = wrap(view_mask);
     cv::bitwise_and(vm, cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(valid.data.data())), vm);
-    Image road_lab(w, h, 1), non_lab(w, h, 1);
+    Image non_lab(w, h, 1);
     const int e = opts_.i("label_erosion_px");
     const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * e + 1, 2 * e + 1));
     cv::Mat pm(h, w, CV_8UC1, const_cast<std::uint8_t*>(predicted.data.data()));
     const bool reference = opts_.b("reference");
-    cv::Mat road_view = wrap(road_lab), grown, vm_eroded;
-    if (reference) {
-      cv::erode(pm, road_view, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
-      cv::dilate(pm, grown, k);
-      cv::erode(vm, vm_eroded, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
-    } else {  // the same masks, a fraction of the cost
-      detail::erodeBinary(pm, road_view, k);
-      detail::dilateBinary(pm, grown, k);
-      detail::erodeBinary(vm, vm_eroded, k);
-    }
+    auto erode = [&](const cv::Mat& in, cv::Mat& out) {
+      if (reference) cv::erode(in, out, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+      else detail::erodeBinary(in, out, k);  // the same mask, a fraction of the cost
+    };
+    cv::Mat grown, vm_eroded;
+    if (reference) cv::dilate(pm, grown, k);
+    else detail::dilateBinary(pm, grown, k);
+    erode(vm, vm_eroded);
     cv::bitwise_and(vm_eroded, ~grown, wrap(non_lab));
 
+    std::map<std::string, std::vector<Polygon2>> by_surface;
+    for (const PredictedRegion& r : prediction.regions) {
+      auto& rings = by_surface[r.surface];
+      rings.insert(rings.end(), r.vehicle.begin(), r.vehicle.end());
+    }
     if (!opts_.b("adaptive")) reset();
-    if (classifier_.trained()) {
-      // Adaptive: keep only labelled pixels the current model does not strongly contradict. The
-      // update reads every stride-th pixel of every stride-th row, so only those are looked at.
+    std::vector<float> best;
+    for (const auto& [surface, rings] : by_surface) {
+      // The surface's training pixels: its own predicted area, less where another surface's overlaps it.
+      Image own = predicted;
+      if (by_surface.size() > 1) {
+        own = fillRings(rings, cam, w, h);
+        cv::bitwise_and(wrap(own), pm, wrap(own));
+        for (const auto& [other, other_rings] : by_surface) {
+          if (other == surface) continue;
+          Image theirs = fillRings(other_rings, cam, w, h);
+          cv::bitwise_and(wrap(own), ~wrap(theirs), wrap(own));
+        }
+      }
+      Image road_lab(w, h, 1), nonroad_lab = non_lab;
+      cv::Mat road_view = wrap(road_lab);
+      erode(wrap(own), road_view);
+      ColorClassifier& classifier = classifiers_.try_emplace(surface, classifierOptions()).first->second;
+      train(classifier, frame, road_lab, nonroad_lab);
+      if (!classifier.trained() || classifier.separation() < opts_["min_separation"]) continue;
+      std::vector<float> llr = reference ? classifier.logOddsReference(frame.rgb, w, h, valid.data.data())
+                                         : classifier.logOdds(frame.rgb, w, h, valid.data.data());
+      if (best.empty()) best = std::move(llr);
+      else for (std::size_t i = 0; i < best.size(); ++i) best[i] = std::max(best[i], llr[i]);
+    }
+    if (best.empty()) {
+      why = "no road-coloured region";
+      return std::nullopt;
+    }
+    for (float& v : best) v = std::clamp(v, -20.0f, 20.0f);
+    return threshold(best, w, h, valid, opts_["llr_threshold"]);
+  }
+
+ private:
+  ColorClassifierOptions classifierOptions() const {
+    ColorClassifierOptions co;
+    co.space = space_;
+    co.blend = opts_["blend"];
+    co.max_mean_shift_sigma = opts_["max_mean_shift_sigma"];
+    co.min_pixels = opts_.i("min_training_pixels");
+    return co;
+  }
+
+  // Updates one surface's classifier from its labels; adaptive: keeping only the labelled pixels the
+  // current model does not strongly contradict.
+  void train(ColorClassifier& classifier, const VisionFrame& frame, Image& road_lab, Image& non_lab) const {
+    const int w = frame.width, h = frame.height;
+    const bool reference = opts_.b("reference");
+    if (classifier.trained()) {
+      // The update reads every stride-th pixel of every stride-th row, so only those are looked at.
       const float out = static_cast<float>(opts_["outlier_llr"]);
-      const int s = reference ? 1 : classifier_.options().stride;
+      const int s = reference ? 1 : classifier.options().stride;
       for (int v = 0; v < h; v += s) {
         for (int u = 0; u < w; u += s) {
           const std::size_t i = static_cast<std::size_t>(v) * w + u;
           if (road_lab.data[i] == 0 && non_lab.data[i] == 0) continue;
-          const float l = reference ? classifier_.logOddsReference(frame.rgb + 3 * i) : classifier_.logOdds(frame.rgb + 3 * i);
+          const float l = reference ? classifier.logOddsReference(frame.rgb + 3 * i) : classifier.logOdds(frame.rgb + 3 * i);
           if (road_lab.data[i] != 0 && l < -out) road_lab.data[i] = 0;
           if (non_lab.data[i] != 0 && l > out) non_lab.data[i] = 0;
         }
       }
     }
-    classifier_.update(frame.rgb, w, h, road_lab.data.data(), non_lab.data.data());
-    if (!classifier_.trained() || classifier_.separation() < opts_["min_separation"]) {
-      why = "no road-coloured region";
-      return std::nullopt;
-    }
-    std::vector<float> llr = reference ? classifier_.logOddsReference(frame.rgb, w, h, valid.data.data())
-                                       : classifier_.logOdds(frame.rgb, w, h, valid.data.data());
-    for (float& v : llr) v = std::clamp(v, -20.0f, 20.0f);
-    return threshold(llr, w, h, valid, opts_["llr_threshold"]);
+    classifier.update(frame.rgb, w, h, road_lab.data.data(), non_lab.data.data());
   }
 
- private:
   ColorSpace space_;
-  ColorClassifier classifier_;
+  std::map<std::string, ColorClassifier> classifiers_;  ///< by road surface name
 };
 
 class BlueBandPipeline : public BasePipeline {
@@ -388,13 +425,14 @@ void registerBuiltinPipelines() {
                       "grass dark; then region reproduction and line labelling",
                       optionInfos(blueSpecs()), [] { return std::make_unique<BlueBandPipeline>(); }});
     registerPipeline({"color-rgb",
-                      "Gaussian road/non-road classes in RGB (3.4), trained from the prediction, adaptive; region "
+                      "Gaussian road/non-road classes in RGB (3.4), one road class per surface in view, trained from "
+                      "the prediction, adaptive; region "
                       "reproduction (2.2.1) and line labelling (2.2.2)",
                       optionInfos(classifierSpecs()),
                       [] { return std::make_unique<ClassifierPipeline>("color-rgb", ColorSpace::RGB); }});
     registerPipeline({"sidewalk",
-                      "The default: Gaussian classes in normalised colour rg (3.4.3, robust to shadows), trained "
-                      "from the prediction, adaptive with a drift guard; region reproduction (2.2.1) and line "
+                      "The default: Gaussian classes in normalised colour rg (3.4.3, robust to shadows), one road "
+                      "class per surface in view, trained from the prediction, adaptive with a drift guard; region reproduction (2.2.1) and line "
                       "labelling (2.2.2)",
                       optionInfos(classifierSpecs()),
                       [] { return std::make_unique<ClassifierPipeline>("sidewalk", ColorSpace::NormalizedRG); }});

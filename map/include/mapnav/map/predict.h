@@ -63,6 +63,11 @@ Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, 
 /// The prediction as `mapnav predict --json` prints it.
 std::string predictionToJson(const Prediction& prediction);
 
+/// The surface an intersection is paved with: that of the widest road meeting there (the first in
+/// the map's order among equals); empty when no road meets it. The simulator paints it and the
+/// prediction expects it, so the two agree on what Vision should see.
+std::string intersectionSurface(const Map& map, const Intersection& intersection);
+
 /// "cross intersection", "T intersection", "Y intersection", "L turn", "dead end", "plaza", "junction".
 std::string regionKind(IntersectionKind kind);
 
