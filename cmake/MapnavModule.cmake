@@ -11,7 +11,9 @@ if(MAPNAV_WERROR)
   list(APPEND MAPNAV_WARNINGS -Werror)
 endif()
 if(MAPNAV_SANITIZERS)
-  add_compile_options(-fsanitize=${MAPNAV_SANITIZERS} -fno-omit-frame-pointer)
+  # No recovery: the first sanitizer report aborts the program, so a finding fails its test (UBSan
+  # would otherwise print and carry on, and the test would pass).
+  add_compile_options(-fsanitize=${MAPNAV_SANITIZERS} -fno-sanitize-recover=all -fno-omit-frame-pointer)
   add_link_options(-fsanitize=${MAPNAV_SANITIZERS})
 endif()
 
