@@ -140,7 +140,8 @@ void clearEarlierLog(const fs::path& log) {
 }  // namespace
 
 int runReplayCommand(const ReplayConfig& config, std::ostream& out, std::ostream& err) {
-  return runMissionCommand(config, out, err, [&](const MissionFile& mission, const RunOptions& options) {
+  return runMissionCommand(config, out, err, [&](const MissionFile& mission, RunOptions options) {
+    options.strict = config.strict;
     return runReplay(mission, config.log, options);
   });
 }
