@@ -1,6 +1,7 @@
-// Atomic outputs (issue 11, item 4), end to end on the built `mapnav`: a command that fails midway,
-// or is interrupted by Ctrl-C (SIGINT) or SIGTERM while it works, leaves the previous outputs
-// byte-identical and no temporary file or folder behind.
+// Atomic outputs and damaged logs (issue 11, items 3 and 4), end to end on the built `mapnav`: a
+// command that fails midway, or is interrupted by Ctrl-C (SIGINT) or SIGTERM while it works, leaves
+// the previous outputs byte-identical and no temporary file or folder behind; `replay --strict` names
+// the damaged log's file and line.
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,6 +16,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "mapnav/core/io.h"
 #include "mapnav/testing/support.h"
@@ -95,6 +98,27 @@ TEST(CtrlC, DuringSimulateLeavesNeitherTheLogNorItsPartialFolder) {
   fs::remove_all(dir);
 }
 
+TEST(CtrlC, DuringTheDemoKeepsTheEarlierDemosLog) {
+  const fs::path dir = testing::freshTempDir();
+  const fs::path out = dir / "demo";
+  const auto first = testing::runCli({"demo", "-o", out.string(), "--max-frames", "3"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const std::string frames = readFile(out / "log" / "frames.jsonl");
+  const std::string report = readFile(out / "report.html");
+  const std::vector<std::string> before = listing(out);
+  // The second demo simulates beside the earlier log; interrupted, it must leave that log alone.
+  const Exit e = interruptWhen(
+      {"demo", "-o", out.string()},
+      [&](pid_t pid) { return out / ("log.new.partial-" + std::to_string(pid)) / "images" / "000002.png"; }, SIGINT,
+      dir / "err.txt");
+  EXPECT_FALSE(e.signaled) << "the handler did not run";
+  EXPECT_EQ(e.code, 128 + SIGINT) << e.err;
+  EXPECT_EQ(listing(out), before);
+  EXPECT_EQ(readFile(out / "log" / "frames.jsonl"), frames);
+  EXPECT_EQ(readFile(out / "report.html"), report);
+  fs::remove_all(dir);
+}
+
 TEST(CtrlC, DuringARunKeepsThePreviousTraceAndReport) {
   const fs::path dir = testing::freshTempDir();
   const fs::path out = dir / "out";
@@ -112,6 +136,29 @@ TEST(CtrlC, DuringARunKeepsThePreviousTraceAndReport) {
   EXPECT_EQ(readFile(out / "trace.jsonl"), "previous trace\n");
   EXPECT_EQ(readFile(out / "report" / "report.html"), "previous report\n");
   EXPECT_TRUE(listing(started).empty());
+  fs::remove_all(dir);
+}
+
+// The lenient replay counts the fault in --json; --strict names the file and line and exits 1.
+TEST(DamagedLog, StrictReplayNamesTheFileAndLine) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string mission = testing::fixturePath("missions/short_crossing.json").string();
+  const fs::path log = dir / "log";
+  const auto sim = testing::runCli({"simulate", "--mission", mission, "-o", log.string(), "--max-frames", "6"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  fs::remove(log / "images" / "000003.png");
+  const auto lenient = testing::runCli({"replay", "--mission", mission, "--log", log.string(), "--json"});
+  EXPECT_FALSE(lenient.signaled);
+  const auto json = nlohmann::json::parse(lenient.out);
+  EXPECT_EQ(json["log_faults"]["missing_image"], 1);
+  EXPECT_EQ(json["log_faults"]["total"], 1);
+  EXPECT_EQ(json["frames"], 5);
+  const auto strict = testing::runCli({"replay", "--mission", mission, "--log", log.string(), "--strict"});
+  EXPECT_EQ(strict.exit_code, 1);
+  EXPECT_NE(strict.err.find((log / "frames.jsonl").string() + ":4:1: error: log.missing_image: /image:"),
+            std::string::npos)
+      << strict.err;
+  EXPECT_TRUE(strict.out.empty()) << strict.out;
   fs::remove_all(dir);
 }
 
