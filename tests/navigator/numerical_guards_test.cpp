@@ -123,6 +123,15 @@ TEST(DegenerateGeometry, CollinearIntersectionShapeIsReported) {
   EXPECT_NE(errors[0].message.find("encloses no area"), std::string::npos) << errors[0].message;
 }
 
+TEST(DegenerateGeometry, ABowTieShapeWithZeroSignedAreaCrossesItself) {
+  MapData m = star(Vec2(0, 0), {0, 90, 180, 270}, IntersectionKind::Cross);
+  m.intersections[0].shape = Polygon2{Vec2(-1, -1), Vec2(1, 1), Vec2(1, -1), Vec2(-1, 1)};  // area +2 − 2 = 0
+  const auto errors = errorsOf(m);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].check, "intersections.self_intersecting_shape");
+  EXPECT_NE(errors[0].message.find("crosses itself"), std::string::npos) << errors[0].message;
+}
+
 TEST(DegenerateGeometry, CollinearPointsOnAShapesEdgeAreFine) {
   MapData m = star(Vec2(0, 0), {0, 90, 180, 270}, IntersectionKind::Cross);
   // A 2 m square with extra points on two of its edges.
