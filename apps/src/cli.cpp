@@ -306,6 +306,9 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   rp->add_option("--log", replay.log, "Replay log folder (mapnav simulate, docs/replay-log-format.md)")
       ->required()
       ->check(CLI::ExistingDirectory);
+  rp->add_flag("--strict", replay.strict,
+               "Stop at the first fault of the log (missing or corrupt frame, time order, odometry spike, cut line) "
+               "with an error naming frames.jsonl and the line; by default faults are skipped, counted and traced");
   rp->footer(kMissionFooter);
   rp->callback([&] { command = [&] { return runReplayCommand(replay, out, err); }; });
 

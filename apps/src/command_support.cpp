@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "mapnav/core/error.h"
+#include "mapnav/core/interrupt.h"
 #include "mapnav/core/io.h"
 #include "mapnav/map/geojson.h"
 #include "mapnav/map/map_io.h"
@@ -45,9 +46,18 @@ std::optional<Map> readAndValidate(const std::string& file, Issues& issues) {
 }
 
 // Runs a command body, turning every exception into the message and exit code the CLI promises.
+// Interrupted by SIGINT / SIGTERM (core/interrupt.h): 128 + the signal.
 int guarded(std::ostream& err, const std::function<int()>& body) {
   try {
-    return body();
+    const int code = body();
+    if (const int signal = interruptSignal(); signal != 0) {  // it finished before a check saw the signal
+      err << "mapnav: interrupted by signal " << signal << "\n";
+      return 128 + signal;
+    }
+    return code;
+  } catch (const Interrupted& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    return 128 + e.signalNumber();
   } catch (const ValidationError& e) {
     printIssues(e.issues(), e.file(), err);
     err << "mapnav: error: " << e.file() << ": invalid (" << countSeverity(e.issues(), Severity::Error) << " errors)\n";

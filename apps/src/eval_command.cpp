@@ -13,6 +13,7 @@
 #include "command_support.h"
 #include "detect_command.h"
 #include "mapnav/core/error.h"
+#include "mapnav/core/interrupt.h"
 #include "mapnav/core/json.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/sim/image.h"
@@ -116,6 +117,7 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
     std::vector<std::string> failures;  // per image, empty when the pipeline found a region
     std::vector<Image> overlays;
     for (const Sample& s : set) {
+      throwIfInterrupted();  // Ctrl-C: stop before the overlays are written
       const DetectedObject d =
           pipeline->detect(VisionFrame{w, h, s.image.data.data(), camera.get(), 0.0}, prediction.view);
       const bool ok = d.status == DetectedObject::Status::Ok;

@@ -120,9 +120,9 @@ int runMissionCommand(const MissionRunConfig& config, std::ostream& out, std::os
   });
 }
 
-// The demo's log folder, ready for simulate(): a replay log an earlier demo left there is removed;
-// anything else there is an error (the demo never deletes what it did not write).
-void clearEarlierLog(const fs::path& log) {
+// The demo's log folder may hold a replay log an earlier demo left there (it is replaced); anything
+// else there is an error (the demo never deletes what it did not write).
+void checkEarlierLog(const fs::path& log) {
   std::error_code ec;
   if (!fs::exists(log, ec)) return;
   bool ours = fs::is_directory(log, ec) && fs::is_regular_file(log / "log.json", ec);
@@ -133,14 +133,22 @@ void clearEarlierLog(const fs::path& log) {
   if (!ours || ec) {
     throw IoError(log.string() + ": exists and is not a replay log of an earlier demo; remove it or choose another -o");
   }
+}
+
+// Puts the freshly simulated log `fresh` in the place of `log` (an earlier demo's, checked).
+void replaceLog(const fs::path& fresh, const fs::path& log) {
+  std::error_code ec;
   fs::remove_all(log, ec);
   if (ec) throw IoError(log.string() + ": cannot remove the earlier demo's log: " + ec.message());
+  fs::rename(fresh, log, ec);
+  if (ec) throw IoError(log.string() + ": cannot move the new log into place: " + ec.message());
 }
 
 }  // namespace
 
 int runReplayCommand(const ReplayConfig& config, std::ostream& out, std::ostream& err) {
-  return runMissionCommand(config, out, err, [&](const MissionFile& mission, const RunOptions& options) {
+  return runMissionCommand(config, out, err, [&](const MissionFile& mission, RunOptions options) {
+    options.strict = config.strict;
     return runReplay(mission, config.log, options);
   });
 }
@@ -162,11 +170,17 @@ int runDemo(const DemoConfig& config, std::ostream& out, std::ostream& err) {
     run.progress = config.progress;
     const MissionFile mission = loadMission(run.mission);
     const fs::path log = fs::path(config.output) / "log";
-    clearEarlierLog(log);
+    checkEarlierLog(log);
+    // Simulated beside the earlier log, which is replaced only once the new one is complete: a
+    // failure or Ctrl-C while simulating leaves it as it was.
+    const fs::path fresh = fs::path(config.output) / "log.new";
+    std::error_code ec;
+    fs::remove_all(fresh, ec);  // a leftover of a crash
     out << "simulating \"" << mission.name << "\" (" << run.mission << ") to " << log.string() << " ..." << std::endl;
     SimulateOptions simulation;
     simulation.max_frames = config.max_frames;
-    const SimulateResult s = simulate(mission, log, simulation);
+    const SimulateResult s = simulate(mission, fresh, simulation);
+    replaceLog(fresh, log);
     char line[200];
     std::snprintf(line, sizeof line, "  %zu frames, %.1f s, %.1f m driven through %zu intersections\n", s.frames,
                   s.duration_s, s.distance_m, s.intersections.size());

@@ -25,6 +25,7 @@ struct MissionRunConfig {
 
 struct ReplayConfig : MissionRunConfig {
   std::string log;  ///< the replay log folder (`mapnav simulate`)
+  bool strict = false;  ///< stop at the first fault of the log (RunOptions::strict)
 };
 
 struct RunConfig : MissionRunConfig {

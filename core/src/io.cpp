@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/interrupt.h"
 
 namespace mapnav {
 namespace fs = std::filesystem;
@@ -38,6 +39,7 @@ void writeFileAtomic(const fs::path& path, const std::function<void(const fs::pa
   const fs::path tmp = temporaryPathFor(path);
   try {
     write(tmp);
+    throwIfInterrupted();  // Ctrl-C while writing: the previous file stays
     std::error_code ec;
     fs::rename(tmp, path, ec);
     if (ec) throw IoError(path.string() + ": cannot write: " + ec.message());

@@ -147,6 +147,10 @@ class Validator {
       if (x.shape->size() < 3) {
         error("intersections.too_few_points", ptr, "a shape needs at least 3 points, it has " + std::to_string(x.shape->size()));
         intersection_geometry_ok_[i] = false;
+      } else if (convexHull(*x.shape).size() < 3) {  // all on one line: the outline folds back on itself
+        error("intersections.self_intersecting_shape", ptr,
+              "the outline of intersection \"" + x.id + "\" encloses no area: its points lie on one line");
+        intersection_geometry_ok_[i] = false;
       } else if (!isSimple(*x.shape)) {
         error("intersections.self_intersecting_shape", ptr, "the outline of intersection \"" + x.id + "\" crosses itself");
         intersection_geometry_ok_[i] = false;

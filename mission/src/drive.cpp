@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/interrupt.h"
 #include "mapnav/sim/world_io.h"
 
 namespace mapnav::detail {
@@ -83,6 +84,7 @@ DriveLoopResult driveLoop(SkidSteerVehicle& vehicle, const DriveLoopOptions& opt
   double t = 0, next_frame = 0, last_frame_t = 0;
   TrueMotion motion;
   while (true) {
+    throwIfInterrupted();  // Ctrl-C: unwind, so that the log writer removes its temporary folder
     if (t >= next_frame - 1e-9) {
       motion.dt_s = t - last_frame_t;
       const bool go_on = on_frame(t, vehicle.pose(), motion);

@@ -25,6 +25,26 @@ PathOffset pathOffset(const Map& map, const Vec2& position, double vehicle_width
   return PathOffset{p->distance, std::max(0.0, map.road(p->position.road).width / 2 - vehicle_width_m / 2)};
 }
 
+namespace {
+constexpr std::array<std::string_view, kLogFaultKinds> kLogFaultNames = {
+    "missing_image", "corrupt_image", "image_size", "time_order", "odometry_spike", "truncated", "bad_line"};
+}  // namespace
+
+std::string toString(LogFaultKind kind) { return std::string(kLogFaultNames[static_cast<std::size_t>(kind)]); }
+
+std::optional<LogFaultKind> logFaultKindFromString(std::string_view text) {
+  for (std::size_t i = 0; i < kLogFaultNames.size(); ++i) {
+    if (kLogFaultNames[i] == text) return static_cast<LogFaultKind>(i);
+  }
+  return std::nullopt;
+}
+
+std::size_t LogFaultCounts::total() const {
+  std::size_t n = 0;
+  for (const std::size_t c : by_kind) n += c;
+  return n;
+}
+
 double percentile(std::vector<double> values, double p) {
   if (values.empty()) return 0;
   std::sort(values.begin(), values.end());

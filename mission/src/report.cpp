@@ -478,12 +478,28 @@ std::string metricsTable(const MissionRun& run) {
       std::to_string(run.route.intersections.size()) + " intersections");
   row("vision failures", std::to_string(m.vision_failures), std::to_string(m.halts) + " halts");
   row("replans", std::to_string(m.replans));
+  if (run.mode == "replay") {
+    row("log faults", std::to_string(m.log_faults.total()),
+        m.log_faults.total() == 0 ? std::string("none") : escape(logFaultsText(m.log_faults)) + ", skipped or repaired");
+  }
   row("loop latency (" + std::to_string(run.image_width) + "x" + std::to_string(run.image_height) + ")",
       format("median %.2f ms", m.latency_ms_median) + format(", p99 %.2f ms", m.latency_ms_p99),
       format("Vision alone: median %.2f ms", m.vision_ms_median));
   row("odometry scale", format("%.4f", run.odometry_scale));
   out += "</table>\n";
   return out;
+}
+
+// The replayed log's faults, one item each: where (frames.jsonl line, t), what, what was done.
+std::string logFaultList(const MissionRun& run) {
+  if (run.faults.empty()) return "<p>None: every line of the log was read and used.</p>\n";
+  std::string out = "<ul id=\"log-fault-list\">\n";
+  for (const LogFault& f : run.faults) {
+    out += "<li class=\"" + toString(f.kind) + "\">frames.jsonl line " + std::to_string(f.line) +
+           (f.t ? " (t " + format("%.3f", *f.t) + " s)" : std::string()) + ": <b>" + toString(f.kind) + "</b> &mdash; " +
+           escape(f.message) + "; " + escape(f.action) + "</li>\n";
+  }
+  return out + "</ul>\n";
 }
 
 std::string failureList(const MissionRun& run) {
@@ -558,6 +574,9 @@ std::string reportHtml(const MissionRun& run, const Map& map, const std::vector<
   html += errorPlots(run, options) + "</section>\n";
 
   html += "<section id=\"failures\">\n<h2>Vision failures and halts</h2>\n" + failureList(run) + "</section>\n";
+  if (run.mode == "replay") {
+    html += "<section id=\"log-faults\">\n<h2>Faults of the log</h2>\n" + logFaultList(run) + "</section>\n";
+  }
 
   html += "<section id=\"thumbnails\">\n<h2>Frames</h2>\n<p class=\"legend\">" +
           swatch(Rgb{255, 224, 0}, 1, false, "predicted segments", "predicted") +

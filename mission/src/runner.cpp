@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/interrupt.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/options.h"
 #include "mapnav/map/camera_io.h"
@@ -31,6 +33,10 @@ void RunOptions::validate() const {
                 "token_validity_frames", token_validity_frames, "finite and > 0");
   requireOption(std::isfinite(command_validity_frames) && command_validity_frames > 0, "RunOptions",
                 "command_validity_frames", command_validity_frames, "finite and > 0");
+  requireOption(std::isfinite(max_odometry_speed_mps) && max_odometry_speed_mps > 0, "RunOptions",
+                "max_odometry_speed_mps", max_odometry_speed_mps, "finite and > 0");
+  requireOption(std::isfinite(max_odometry_turn_rate_deg_s) && max_odometry_turn_rate_deg_s > 0, "RunOptions",
+                "max_odometry_turn_rate_deg_s", max_odometry_turn_rate_deg_s, "finite and > 0");
   requireOption(std::isfinite(vehicle_width_m) && vehicle_width_m >= 0, "RunOptions", "vehicle_width_m",
                 vehicle_width_m, "finite and >= 0");
   map.validate();
@@ -225,6 +231,14 @@ class ModuleLoop {
     return go_on;
   }
 
+  /// A fault of the replayed log: recorded, counted and traced (before the next frame's records).
+  void fault(const LogFault& f) {
+    flush();
+    if (tracing()) trace_.fault(run_.frames.empty() ? 0.0 : run_.frames.back().t, f);
+    ++run_.metrics.log_faults[f.kind];
+    run_.faults.push_back(f);
+  }
+
   void finish() {
     flush();
     run_.metrics.replans = navigator_.replans();
@@ -299,6 +313,35 @@ class ModuleLoop {
   std::optional<PathOffset> between_;  // the worst offset since the last frame (observeTruth)
 };
 
+// The fault a line the reader skipped is, by its check (docs/replay-log-format.md).
+LogFaultKind faultKind(const std::string& check) {
+  if (check == "log.missing_image") return LogFaultKind::MissingImage;
+  if (check == "log.corrupt_image") return LogFaultKind::CorruptImage;
+  if (check == "log.image_size") return LogFaultKind::ImageSize;
+  if (check == "log.time_order") return LogFaultKind::TimeOrder;
+  if (check == "log.truncated") return LogFaultKind::Truncated;
+  return LogFaultKind::BadLine;
+}
+
+// Strict replay: a fault the runner found, as the error the reader gives for a bad line.
+[[noreturn]] void throwLogFault(const std::filesystem::path& frames_file, const LogFault& f, const char* check,
+                                const char* pointer) {
+  Issue issue;
+  issue.severity = Severity::Error;
+  issue.check = check;
+  issue.where = pointer;
+  issue.message = std::string(pointer) + ": " + f.message;
+  issue.line = f.line;
+  issue.column = 1;
+  throw ValidationError(frames_file.string(), {issue});
+}
+
+// The motion of two consecutive intervals as one.
+void carry(Odometry& into, const Odometry& more) {
+  into.distance_m += more.distance_m;
+  into.dheading_rad += more.dheading_rad;
+}
+
 void progress(const RunOptions& options, std::size_t frame, std::size_t total, double t) {
   if (options.progress) options.progress(RunProgress{frame, total, t});
 }
@@ -307,7 +350,9 @@ void progress(const RunOptions& options, std::size_t frame, std::size_t total, d
 
 MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& log_dir, const RunOptions& options) {
   options.validate();
-  const ReplayLog log = ReplayLog::open(log_dir);
+  ReadOptions read;
+  read.skip_bad_frames = !options.strict;  // strict: the reader throws at the first bad line
+  const ReplayLog log = ReplayLog::open(log_dir, read);
   const Map map = loadMap(mission.map);
   const Camera& camera = *log.header().camera;
   MissionRun run;
@@ -319,22 +364,92 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
   ModuleLoop loop(mission, map, camera, options, false, limits, run);
   loop.header(absolutePath(log_dir));
 
+  const std::filesystem::path frames_file = log_dir / "frames.jsonl";
+  // A fault the runner finds itself: an error in strict mode, else recorded and the run goes on.
+  auto fault = [&](const LogFault& f, const char* check, const char* pointer) {
+    if (options.strict) throwLogFault(frames_file, f, check, pointer);
+    loop.fault(f);
+  };
+  // The lines the reader skipped, up to (not including) `line`. A frame skipped for its image still
+  // moved the vehicle: its odometry goes to the next frame. A line out of time order is dropped whole.
+  const std::vector<SkippedLine>& skipped = log.skippedLines();
+  std::size_t next_skipped = 0;
+  Odometry carried;
+  auto faultsBefore = [&](int line) {
+    for (; next_skipped < skipped.size() && skipped[next_skipped].line < line; ++next_skipped) {
+      const SkippedLine& s = skipped[next_skipped];
+      LogFault f{faultKind(s.check), s.line, s.t, "", "skipped", s.message};
+      if (f.kind == LogFaultKind::MissingImage && s.odometry) {
+        carry(carried, *s.odometry);
+        f.action = "skipped; its odometry goes to the next frame";
+      }
+      loop.fault(f);
+    }
+  };
+
   const std::vector<LogFrame>& frames = log.frames();
   const std::size_t total = options.max_frames > 0 ? std::min(options.max_frames, frames.size()) : frames.size();
+  std::optional<double> last_t;       // the previous frame the modules saw
+  std::optional<Odometry> last_rate;  // its odometry per second, to replace a spike
+  bool ended = true;                  // the log was read to its end
   for (std::size_t i = 0; i < total; ++i) {
+    throwIfInterrupted();
     const LogFrame& f = frames[i];
-    const Image rgb = toRgb(log.image(i));
-    if (rgb.width != camera.width() || rgb.height != camera.height()) {
-      throw InvalidInput(f.image + ": the image is " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) +
-                         " but the log's camera is " + std::to_string(camera.width()) + "x" +
-                         std::to_string(camera.height()));
+    const int line = log.lineOf(i);
+    faultsBefore(line);
+    // The image: a frame whose PNG does not decode, or is not the camera's size, is skipped.
+    Image rgb;
+    try {
+      rgb = toRgb(log.image(i));
+    } catch (const Error& e) {
+      carry(carried, f.odometry);
+      fault(LogFault{LogFaultKind::CorruptImage, line, f.t, f.image, "skipped; its odometry goes to the next frame",
+                     "image \"" + f.image + "\" is not a readable PNG: " + e.what()},
+            "log.corrupt_image", "/image");
+      continue;
     }
-    run.distance_m += f.odometry.distance_m;
-    const VehicleMotion odometry{f.odometry.distance_m, f.odometry.dheading_rad};
+    if (rgb.width != camera.width() || rgb.height != camera.height()) {
+      carry(carried, f.odometry);
+      fault(LogFault{LogFaultKind::ImageSize, line, f.t, f.image, "skipped; its odometry goes to the next frame",
+                     "image \"" + f.image + "\" is " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) +
+                         "; the log's camera takes " + std::to_string(camera.width()) + "x" +
+                         std::to_string(camera.height())},
+            "log.image_size", "/image");
+      continue;
+    }
+    // The odometry since the previous frame the modules saw (with that of the frames skipped since):
+    // faster than a vehicle goes, it is a spike and the previous rate stands in for it.
+    Odometry odo = carried;
+    carry(odo, f.odometry);
+    carried = Odometry{};
+    const double dt = last_t ? f.t - *last_t : 1.0 / log.header().frame_rate_hz;
+    if (std::abs(odo.distance_m) > options.max_odometry_speed_mps * dt ||
+        std::abs(odo.dheading_rad) > degToRad(options.max_odometry_turn_rate_deg_s) * dt) {
+      char text[300];
+      std::snprintf(text, sizeof text,
+                    "odometry %.3f m, %.1f deg in %.3f s is faster than %.2f m/s or %.0f deg/s "
+                    "(RunOptions::max_odometry_speed_mps, max_odometry_turn_rate_deg_s)",
+                    odo.distance_m, radToDeg(odo.dheading_rad), dt, options.max_odometry_speed_mps,
+                    options.max_odometry_turn_rate_deg_s);
+      fault(LogFault{LogFaultKind::OdometrySpike, line, f.t, f.image,
+                     last_rate ? "odometry replaced by the previous frame's rate" : "odometry replaced by no motion",
+                     text},
+            "log.odometry_spike", "/odometry");
+      odo = last_rate ? Odometry{last_rate->distance_m * dt, last_rate->dheading_rad * dt} : Odometry{};
+    } else {
+      last_rate = Odometry{odo.distance_m / dt, odo.dheading_rad / dt};
+    }
+    last_t = f.t;
+    run.distance_m += odo.distance_m;
+    const VehicleMotion odometry{odo.distance_m, odo.dheading_rad};
     const bool go_on = loop.frame(i, f.t, rgb, odometry, f.truth, f.image);
     progress(options, i + 1, total, f.t);
-    if (!go_on) break;
+    if (!go_on) {
+      ended = false;
+      break;
+    }
   }
+  if (ended && total == frames.size()) faultsBefore(std::numeric_limits<int>::max());  // after the last frame
   run.stopped_early = !run.ended_by_halt && total < frames.size();
   if (!run.frames.empty()) run.duration_s = run.frames.back().t - run.frames.front().t;
   loop.finish();
@@ -436,7 +551,25 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
 
 namespace {
 double round(double x, double scale) { return std::round(x * scale) / scale + 0.0; }
+
+// {"missing_image":N, ..., "total":N}: every kind, also the ones that did not happen.
+Json logFaultsJson(const LogFaultCounts& counts) {
+  Json j = Json::object();
+  for (std::size_t k = 0; k < kLogFaultKinds; ++k) j[toString(static_cast<LogFaultKind>(k))] = counts.by_kind[k];
+  j["total"] = counts.total();
+  return j;
+}
 }  // namespace
+
+std::string logFaultsText(const LogFaultCounts& counts) {
+  std::string kinds;
+  for (std::size_t k = 0; k < kLogFaultKinds; ++k) {
+    const auto kind = static_cast<LogFaultKind>(k);
+    if (counts[kind] == 0) continue;
+    kinds += (kinds.empty() ? "" : ", ") + toString(kind) + " " + std::to_string(counts[kind]);
+  }
+  return std::to_string(counts.total()) + " (" + kinds + ")";
+}
 
 std::string runToJson(const MissionRun& run) {
   const MissionMetrics& m = run.metrics;
@@ -477,7 +610,8 @@ std::string runToJson(const MissionRun& run) {
          {"odometry_scale", round(run.odometry_scale, 1e6)},
          {"image_size", std::to_string(run.image_width) + "x" + std::to_string(run.image_height)},
          {"duration_s", round(run.duration_s, 1e3)},
-         {"distance_m", round(run.distance_m, 1e3)}};
+         {"distance_m", round(run.distance_m, 1e3)},
+         {"log_faults", logFaultsJson(m.log_faults)}};
   return j.dump() + "\n";
 }
 
@@ -517,6 +651,9 @@ std::string summaryText(const MissionRun& run) {
   }
   std::snprintf(line, sizeof line, "  vision failures %zu, halts %zu, replans %zu\n", m.vision_failures, m.halts, m.replans);
   out += line;
+  if (m.log_faults.total() > 0) {
+    out += "  log faults skipped or repaired: " + logFaultsText(m.log_faults) + "\n";
+  }
   std::snprintf(line, sizeof line,
                 "  loop latency (%dx%d): median %.2f ms, p99 %.2f ms, max %.2f ms (Vision alone: median %.2f ms)\n",
                 run.image_width, run.image_height, m.latency_ms_median, m.latency_ms_p99, m.latency_ms_max,

@@ -201,6 +201,16 @@ void TraceWriter::frame(const TraceFrame& f) {
   line(f.t, "Sensors", "Frame", payload.dump());
 }
 
+void TraceWriter::fault(double t, const LogFault& f) {
+  Json payload{{"kind", toString(f.kind)},
+               {"line", f.line},
+               {"line_t", f.t ? Json(fixed(*f.t, 1e6)) : Json(nullptr)},
+               {"image", f.image.empty() ? Json(nullptr) : Json(f.image)},
+               {"action", f.action},
+               {"message", f.message}};
+  line(t, "Sensors", "LogFault", payload.dump());
+}
+
 void TraceWriter::posting(const Posting& p) {
   const double t = tokenTime(p.token);
   const std::string_view module = toString(p.from), type = toString(tokenType(p.token));
@@ -264,7 +274,8 @@ void TraceWriter::summary(const MissionRun& run) {
                {"left_path_frames", m.left_path_frames},
                {"vision_failures", m.vision_failures},
                {"halts", m.halts},
-               {"replans", m.replans}};
+               {"replans", m.replans},
+               {"log_faults", m.log_faults.total()}};
   line(run.frames.empty() ? 0 : run.frames.back().t, "Mission", "Summary", payload.dump());
 }
 
@@ -402,6 +413,10 @@ std::string say(const std::string& module, const std::string& type, const Fields
     while (!dialogue.empty() && dialogue.back() == ' ') dialogue.pop_back();
     return "Navigator: Route " + p.str("why") + ", " + format("%.1f", p.num("length_m")) + " m: " + dialogue;
   }
+  if (type == "LogFault") {
+    return "Sensors: frames.jsonl line " + format("%.0f", p.num("line")) + ": " + p.str("kind") + " (" +
+           p.str("message") + "); " + p.str("action") + ".";
+  }
   if (type == "Frame") {
     return "[frame " + (frame ? std::to_string(*frame) : std::string("?")) + ", " + format("%.1f", t) + " s]";
   }
@@ -504,7 +519,11 @@ std::string say(const std::string& module, const std::string& type, const Fields
               format("%.2f", e.num("heading_rms_deg")) + " degrees";
     }
     text += "; " + format("%.0f", p.num("vision_failures")) + " vision failures, " + format("%.0f", p.num("replans")) +
-            " replans.";
+            " replans";
+    if (p.has("log_faults") && p.num("log_faults") > 0) {
+      text += "; " + format("%.0f", p.num("log_faults")) + " faults of the log skipped or repaired";
+    }
+    text += ".";
     return text;
   }
   (void)module;
@@ -515,7 +534,7 @@ std::string say(const std::string& module, const std::string& type, const Fields
 bool knownType(const std::string& module, const std::string& type) {
   static const std::vector<std::pair<std::string, std::string>> known = {
       {"User", "Mission"},          {"User", "Resume"},        {"Navigator", "Route"},     {"Navigator", "MotionCommand"},
-      {"Sensors", "Frame"},         {"Map", "PredictedObject"}, {"Map", "CurrentPosition"}, {"Vision", "DetectedObject"},
+      {"Sensors", "Frame"},         {"Sensors", "LogFault"},   {"Map", "PredictedObject"}, {"Map", "CurrentPosition"}, {"Vision", "DetectedObject"},
       {"Vision", "VisionFailure"},  {"Vision", "Halt"},        {"MotionControl", "Executing"},
       {"Blackboard", "Dropped"},    {"Mission", "Summary"}};
   for (const auto& [m, t] : known) {

@@ -127,16 +127,24 @@ std::string lineCheck(const std::string& check) {
   return check;
 }
 
+/// One frames.jsonl line as read: the frame when the line is good, else what could be read of it.
+struct ParsedLine {
+  std::optional<LogFrame> frame;
+  std::optional<double> t;
+  std::optional<Odometry> odometry;
+};
+
 /// Reads one frames.jsonl line. Every issue found is appended to `issues` (errors, with their JSON
 /// Pointer in `where`, not yet with the line number).
-std::optional<LogFrame> parseFrame(std::string_view text, const fs::path& dir, const ReadOptions& options,
-                                   const std::optional<double>& last_t, const Camera& camera, Issues& issues) {
+ParsedLine parseFrame(std::string_view text, const fs::path& dir, const ReadOptions& options,
+                      const std::optional<double>& last_t, const Camera& camera, Issues& issues) {
+  ParsedLine parsed;
   Issues found;
   const auto json = parseJson(text, found);
   if (!json) {
     for (Issue& issue : found) issue.check = lineCheck(issue.check);
     issues.insert(issues.end(), found.begin(), found.end());
-    return std::nullopt;
+    return parsed;
   }
   LogFrame frame;
   bool ok = true;
@@ -176,6 +184,8 @@ std::optional<LogFrame> parseFrame(std::string_view text, const fs::path& dir, c
       ok = ok && frame.gnss.has_value();
     }
     top.rejectUnknownMembers();
+    parsed.t = t;
+    parsed.odometry = odometry;
     ok = ok && t && image && odometry && (mask || !top.has("mask"));
     for (Issue& issue : found) issue.check = lineCheck(issue.check);
     if (t) {
@@ -238,8 +248,8 @@ std::optional<LogFrame> parseFrame(std::string_view text, const fs::path& dir, c
   }
   ok = ok && !hasErrors(found);
   issues.insert(issues.end(), found.begin(), found.end());
-  if (!ok) return std::nullopt;
-  return frame;
+  if (ok) parsed.frame = std::move(frame);
+  return parsed;
 }
 
 Json frameToJson(const LogFrame& frame) {
@@ -411,27 +421,36 @@ ReplayLog ReplayLog::open(const fs::path& dir, const ReadOptions& options) {
     if (line.find_first_not_of(" \t") == std::string_view::npos) continue;  // blank lines carry nothing
 
     Issues found;
-    std::optional<LogFrame> frame;
+    ParsedLine parsed;
     if (line.size() > options.max_line_bytes) {
       addIssue(found, Severity::Error, "log.line_too_long", "",
                "the line is " + std::to_string(line.size()) + " bytes long; at most " +
                    std::to_string(options.max_line_bytes) + " are read (ReadOptions::max_line_bytes)");
     } else {
-      frame = parseFrame(line, dir, options, last_t, *log.header_.camera, found);
+      parsed = parseFrame(line, dir, options, last_t, *log.header_.camera, found);
+    }
+    // The last line, without its newline and not JSON: the log was cut while this line was written.
+    const bool last_unterminated = end == text.size();
+    if (last_unterminated && !found.empty() && found.front().check == "log.not_json") {
+      found.front().check = "log.truncated";
+      found.front().message = "the last line is cut short (no newline at its end, incomplete JSON): " + found.front().message;
     }
     for (Issue& issue : found) {  // FILE:LINE:COL locates it; the pointer goes into the message
       issue.line = line_number;
       if (issue.column <= 0) issue.column = 1;
       if (!issue.where.empty()) issue.message = issue.where + ": " + issue.message;
     }
-    if (frame) {
-      last_t = frame->t;
-      log.frames_.push_back(std::move(*frame));
+    if (parsed.frame) {
+      last_t = parsed.frame->t;
+      log.frames_.push_back(std::move(*parsed.frame));
+      log.frame_lines_.push_back(line_number);
       continue;
     }
     if (found.empty()) addIssue(found, Severity::Error, "log.field", "", "the frame is invalid");  // not expected
     if (!options.skip_bad_frames) throw ValidationError(frames_path.string(), std::move(found));
     ++log.skipped_;
+    log.skipped_lines_.push_back(SkippedLine{line_number, found.front().check, found.front().message,
+                                             found.front().where, parsed.t, parsed.odometry});
     for (Issue& issue : found) {
       issue.severity = Severity::Warning;
       log.issues_.push_back(std::move(issue));
@@ -444,6 +463,11 @@ std::optional<fs::path> ReplayLog::mapPath() const {
   if (header_.map.empty()) return std::nullopt;
   const fs::path map(header_.map);
   return map.is_absolute() ? map : dir_ / map;
+}
+
+int ReplayLog::lineOf(std::size_t i) const {
+  frame(i);  // the range check
+  return frame_lines_[i];
 }
 
 const LogFrame& ReplayLog::frame(std::size_t i) const {

@@ -236,7 +236,16 @@ TEST(ReplayLog, NotJsonLine) {
 TEST(ReplayLog, TruncatedLastLine) {
   const std::string full = line(2, "images/000002.png");
   const auto dir = logWithFrames(goodLines(2) + full.substr(0, full.size() / 2));
-  expectBadLine(dir, "log.not_json", 3);
+  expectBadLine(dir, "log.truncated", 3);
+  // Skipped, it keeps what could be read of it (nothing: it is not JSON) and its line.
+  ReadOptions skip;
+  skip.skip_bad_frames = true;
+  const ReplayLog log = ReplayLog::open(dir, skip);
+  ASSERT_EQ(log.skippedLines().size(), 1u);
+  EXPECT_EQ(log.skippedLines()[0].line, 3);
+  EXPECT_EQ(log.skippedLines()[0].check, "log.truncated");
+  EXPECT_FALSE(log.skippedLines()[0].t);
+  EXPECT_EQ(log.lineOf(1), 2);
 }
 
 TEST(ReplayLog, LastLineWithoutNewlineIsFine) {

@@ -2,9 +2,11 @@
 // What a mission run measured, frame by frame and in total: the estimate and odometry alone against
 // the truth (lateral and along the road at the true pose, heading), vision failures, halts, replans,
 // and the module loop's latency.
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mapnav/geometry/pose2.h"
@@ -82,6 +84,32 @@ struct ErrorStats {
   double max_error_m = 0;  ///< largest |position error|
 };
 
+/// What can be wrong with a recorded log that a replay skips or repairs (docs/replay-log-format.md,
+/// "Faults in replay").
+enum class LogFaultKind {
+  MissingImage,   ///< a frame's image (or mask) file is not in the log folder: the frame is skipped
+  CorruptImage,   ///< a frame's PNG does not decode: the frame is skipped
+  ImageSize,      ///< a frame's image is not the camera's size: the frame is skipped
+  TimeOrder,      ///< a repeated or backwards `t`: the line is skipped (its odometry with it)
+  OdometrySpike,  ///< odometry faster than RunOptions allows: replaced by the previous rate
+  Truncated,      ///< the last line is cut short (the recording stopped mid-line): skipped
+  BadLine,        ///< any other unreadable line (not JSON, a field missing, a bad path): skipped
+};
+inline constexpr std::size_t kLogFaultKinds = 7;
+
+/// "missing_image", "corrupt_image", "image_size", "time_order", "odometry_spike", "truncated",
+/// "bad_line".
+std::string toString(LogFaultKind kind);
+std::optional<LogFaultKind> logFaultKindFromString(std::string_view text);
+
+/// How many faults of each kind a replay met.
+struct LogFaultCounts {
+  std::array<std::size_t, kLogFaultKinds> by_kind{};
+  std::size_t& operator[](LogFaultKind kind) { return by_kind[static_cast<std::size_t>(kind)]; }
+  std::size_t operator[](LogFaultKind kind) const { return by_kind[static_cast<std::size_t>(kind)]; }
+  std::size_t total() const;
+};
+
 struct MissionMetrics {
   std::size_t frames = 0;
   bool has_truth = false;         ///< the errors below mean something
@@ -105,6 +133,7 @@ struct MissionMetrics {
   std::size_t vision_failures = 0;
   std::size_t halts = 0;          ///< halt periods (consecutive failures count once)
   std::size_t replans = 0;
+  LogFaultCounts log_faults;      ///< replay: the log's faults met, by kind (MissionRun::faults)
   double latency_ms_median = 0, latency_ms_p99 = 0, latency_ms_max = 0;
   double vision_ms_median = 0;    ///< the Vision module's part (the pipeline)
 };

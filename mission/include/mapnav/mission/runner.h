@@ -48,6 +48,16 @@ struct FrameView {
   const DetectedObject* detected = nullptr;    ///< Vision's answer (lines labelled with predicted segment ids)
 };
 
+/// A fault of the replayed log and what the replay did about it (RunOptions::strict = false).
+struct LogFault {
+  LogFaultKind kind = LogFaultKind::BadLine;
+  int line = 0;              ///< 1-based line of frames.jsonl
+  std::optional<double> t;   ///< the line's `t`, when it could be read
+  std::string image;         ///< the frame's image path, when known
+  std::string action;        ///< "skipped", "skipped; its odometry goes to the next frame", ...
+  std::string message;       ///< what is wrong, as the strict mode's error says it
+};
+
 struct RunOptions {
   /// The vision pipeline by name (registry: createPipeline); "" keeps the mission's `vision.pipeline`,
   /// and "" there means kDefaultPipelineName.
@@ -56,6 +66,14 @@ struct RunOptions {
   std::optional<std::string> pipeline_options_json;
   /// Stop after this many frames (0: to the end of the log / the goal).
   std::size_t max_frames = 0;
+  /// Replay: false skips (or repairs) every fault of the log, counts it (MissionMetrics::log_faults)
+  /// and records it (MissionRun::faults, a `Sensors/LogFault` trace line); true stops at the first
+  /// with a ValidationError naming frames.jsonl and the line.
+  bool strict = false;
+  /// Replay: odometry faster than this over the time since the previous frame is a spike, m/s (> 0).
+  double max_odometry_speed_mps = 5.0;
+  /// Replay: ... or turning faster than this, deg/s (> 0).
+  double max_odometry_turn_rate_deg_s = 360.0;
   /// Closed loop: overrides the world's seed and the odometry's (seed + 1), as `mapnav simulate --seed`.
   std::optional<std::uint64_t> seed;
   /// Closed loop: the control period of Motion Control and the vehicle, s, in (0, 0.5].
@@ -100,6 +118,7 @@ struct MissionRun {
   bool stopped_early = false; ///< max_frames ended it
   double vehicle_width_m = 0; ///< RunOptions::vehicle_width_m, for "stays on the path"
   double odometry_scale = 1;  ///< the Map's odometry scale calibration at the end (MapModuleOptions::scale_gain)
+  std::vector<LogFault> faults;  ///< replay: the log's faults met, in file order (counted in metrics.log_faults)
   std::string outcome;        ///< one line: "goal reached", "halted at frame 12: ...", ...
 };
 
@@ -113,8 +132,12 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options =
 
 /// `--json`: {"frames","reached_goal","lateral_rms_m","along_rms_m","heading_rms_deg","max_error_m",
 /// "odometry_only_max_error_m","vision_failures","replans","latency_ms_median","latency_ms_p99",
-/// "along_after_intersection_max_m", "max_offset_from_centre_m", "left_path_frames", ...more}; errors are null without truth. One line.
+/// "along_after_intersection_max_m", "max_offset_from_centre_m", "left_path_frames", ...more,
+/// "log_faults":{"missing_image":N,...,"total":N}}; errors are null without truth. One line.
 std::string runToJson(const MissionRun& run);
+
+/// "3 (missing_image 1, time_order 2)": the total and the kinds that happened, for people.
+std::string logFaultsText(const LogFaultCounts& counts);
 
 /// The summary a person reads at the end: outcome, errors of the estimate and of odometry alone,
 /// failures, replans, latency.

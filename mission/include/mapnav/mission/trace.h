@@ -60,6 +60,9 @@ class TraceWriter {
   /// The Navigator's route: `why` is "planned" or "replanned".
   void route(double t, const Route& route, std::string_view why);
   void frame(const TraceFrame& frame);
+  /// A fault of the replayed log (`Sensors/LogFault`), at time `t` (the last frame's: the trace's
+  /// time never goes back; the line's own is in the payload).
+  void fault(double t, const LogFault& fault);
   void posting(const Posting& posting);
   void drop(const Drop& drop);
   /// Motion Control's acknowledgement of the command it holds (null: none).

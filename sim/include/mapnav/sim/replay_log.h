@@ -119,6 +119,16 @@ struct ReadOptions {
   void validate() const;
 };
 
+/// A frames.jsonl line that ReadOptions::skip_bad_frames skipped, with what could be read of it.
+struct SkippedLine {
+  int line = 0;                      ///< 1-based line number in frames.jsonl
+  std::string check;                 ///< its first issue's check ("log.missing_image", "log.time_order", ...)
+  std::string message;               ///< that issue's message (the JSON Pointer first, as in issues())
+  std::string where;                 ///< that issue's JSON Pointer inside the line ("/image", "/t", "")
+  std::optional<double> t;           ///< the line's `t`, when it could be read
+  std::optional<Odometry> odometry;  ///< the line's odometry, when it could be read (the vehicle still moved)
+};
+
 /// A log folder, read and checked. The images are read on demand.
 class ReplayLog {
  public:
@@ -136,6 +146,10 @@ class ReplayLog {
   /// Warnings: with skip_bad_frames, the issues of every skipped line (with their line numbers, in
   /// frames.jsonl).
   const Issues& issues() const { return issues_; }
+  /// With skip_bad_frames, every skipped line in file order (skipped() of them).
+  const std::vector<SkippedLine>& skippedLines() const { return skipped_lines_; }
+  /// The 1-based frames.jsonl line of frame i. Throws InvalidInput when i is out of range.
+  int lineOf(std::size_t i) const;
 
   /// The header's map path resolved against the log folder; nothing when the log names no map.
   std::optional<std::filesystem::path> mapPath() const;
@@ -153,7 +167,9 @@ class ReplayLog {
   std::filesystem::path dir_;
   LogHeader header_;
   std::vector<LogFrame> frames_;
+  std::vector<int> frame_lines_;  ///< frames_[i]'s line in frames.jsonl
   std::size_t skipped_ = 0;
+  std::vector<SkippedLine> skipped_lines_;
   Issues issues_;
 };
 
