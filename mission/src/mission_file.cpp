@@ -6,9 +6,8 @@
 
 namespace mapnav {
 
-MissionFile loadMission(const std::filesystem::path& path) {
-  const std::string text = readFile(path);
-  Issues issues;
+std::optional<MissionFile> parseMission(std::string_view text, const std::filesystem::path& path, Issues& issues) {
+  const std::size_t before = countSeverity(issues, Severity::Error);
   const auto json = parseJson(text, issues);
   MissionFile m;
   if (json) {
@@ -91,8 +90,16 @@ MissionFile loadMission(const std::filesystem::path& path) {
     }
     top.rejectUnknownMembers();
   }
-  if (hasErrors(issues)) throw ValidationError(path.string(), std::move(issues));
+  if (!json || countSeverity(issues, Severity::Error) != before) return std::nullopt;
   return m;
+}
+
+MissionFile loadMission(const std::filesystem::path& path) {
+  const std::string text = readFile(path);
+  Issues issues;
+  auto mission = parseMission(text, path, issues);
+  if (!mission) throw ValidationError(path.string(), std::move(issues));
+  return std::move(*mission);
 }
 
 }  // namespace mapnav

@@ -43,15 +43,19 @@ void writePng(const Image& image, const std::filesystem::path& path) {
 
 Image readPng(const std::filesystem::path& path) {
   const std::string bytes = readFile(path);
+  return decodePng(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), path.string());
+}
+
+Image decodePng(std::span<const std::uint8_t> bytes, std::string_view source) {
   cv::Mat decoded;
   try {
-    decoded = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
+    decoded = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<std::uint8_t*>(bytes.data())),
                            cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception&) {
     decoded = cv::Mat();
   }
   if (decoded.empty() || decoded.depth() != CV_8U) {
-    throw InvalidInput(path.string() + ": not a readable 8-bit PNG image (corrupt or another format)");
+    throw InvalidInput(std::string(source) + ": not a readable 8-bit PNG image (corrupt or another format)");
   }
   cv::Mat rgb;
   int channels = 3;
@@ -62,7 +66,7 @@ Image readPng(const std::filesystem::path& path) {
       break;
     case 3: cv::cvtColor(decoded, rgb, cv::COLOR_BGR2RGB); break;
     case 4: cv::cvtColor(decoded, rgb, cv::COLOR_BGRA2RGB); break;
-    default: throw InvalidInput(path.string() + ": unsupported number of channels " + std::to_string(decoded.channels()));
+    default: throw InvalidInput(std::string(source) + ": unsupported number of channels " + std::to_string(decoded.channels()));
   }
   Image image(rgb.cols, rgb.rows, channels);
   for (int y = 0; y < rgb.rows; ++y) {

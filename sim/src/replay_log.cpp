@@ -127,10 +127,10 @@ std::string lineCheck(const std::string& check) {
   return check;
 }
 
-/// Reads one frames.jsonl line. Every issue found is appended to `issues` (errors, with their JSON
-/// Pointer in `where`, not yet with the line number).
-std::optional<LogFrame> parseFrame(std::string_view text, const fs::path& dir, const ReadOptions& options,
-                                   const std::optional<double>& last_t, const Camera& camera, Issues& issues) {
+}  // namespace
+
+std::optional<LogFrame> parseLogFrame(std::string_view text, const fs::path& dir, const ReadOptions& options,
+                                      const std::optional<double>& last_t, const Camera& camera, Issues& issues) {
   Issues found;
   const auto json = parseJson(text, found);
   if (!json) {
@@ -241,6 +241,8 @@ std::optional<LogFrame> parseFrame(std::string_view text, const fs::path& dir, c
   if (!ok) return std::nullopt;
   return frame;
 }
+
+namespace {
 
 Json frameToJson(const LogFrame& frame) {
   Json line = Json::object();
@@ -417,7 +419,7 @@ ReplayLog ReplayLog::open(const fs::path& dir, const ReadOptions& options) {
                "the line is " + std::to_string(line.size()) + " bytes long; at most " +
                    std::to_string(options.max_line_bytes) + " are read (ReadOptions::max_line_bytes)");
     } else {
-      frame = parseFrame(line, dir, options, last_t, *log.header_.camera, found);
+      frame = parseLogFrame(line, dir, options, last_t, *log.header_.camera, found);
     }
     for (Issue& issue : found) {  // FILE:LINE:COL locates it; the pointer goes into the message
       issue.line = line_number;

@@ -34,5 +34,19 @@ TEST(Png, CorruptOrMissingFilesAreNamedErrors) {
   EXPECT_THROW(readPng(dir / "missing.png"), IoError);
 }
 
+TEST(Png, BytesInMemoryDecodeAsTheFileWouldAndErrorsNameTheGivenSource) {
+  Image rgb(3, 2, 3);
+  for (std::size_t i = 0; i < rgb.data.size(); ++i) rgb.data[i] = static_cast<std::uint8_t>(200 - i * 9);
+  EXPECT_EQ(decodePng(encodePng(rgb), "memory"), rgb);
+  const std::string_view text = "not a PNG";
+  try {
+    decodePng(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "frame 7");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("frame 7: not a readable 8-bit PNG", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(decodePng({}, "empty"), InvalidInput);
+}
+
 }  // namespace
 }  // namespace mapnav

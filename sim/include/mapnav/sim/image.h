@@ -3,6 +3,8 @@
 // any public header.
 #include <cstdint>
 #include <filesystem>
+#include <span>
+#include <string_view>
 #include <vector>
 
 namespace mapnav {
@@ -23,8 +25,11 @@ struct Image {
   bool operator==(const Image&) const = default;
 };
 
-/// Reads a PNG (8-bit grey or RGB; RGBA loses its alpha). Throws IoError when the file cannot be
-/// read, InvalidInput naming the file when it is not a decodable PNG.
+/// Decodes PNG bytes (8-bit grey or RGB; RGBA loses its alpha). Throws InvalidInput starting with
+/// `source` (the file name, for messages) when they are not a decodable PNG.
+Image decodePng(std::span<const std::uint8_t> bytes, std::string_view source);
+/// decodePng on a file. Throws IoError when the file cannot be read, InvalidInput naming the file
+/// when it is not a decodable PNG.
 Image readPng(const std::filesystem::path& path);
 /// Writes a PNG atomically (deterministic bytes for the same image). Throws IoError.
 void writePng(const Image& image, const std::filesystem::path& path);
