@@ -25,8 +25,12 @@ struct Image {
   bool operator==(const Image&) const = default;
 };
 
+/// The largest image decodePng accepts, in pixels (2^26: 8192 x 8192).
+inline constexpr std::uint64_t kMaxPngPixels = std::uint64_t{1} << 26;
+
 /// Decodes PNG bytes (8-bit grey or RGB; RGBA loses its alpha). Throws InvalidInput starting with
-/// `source` (the file name, for messages) when they are not a decodable PNG.
+/// `source` (the file name, for messages) when they are not a decodable PNG, or when its header
+/// claims more than kMaxPngPixels pixels (refused before any decoding).
 Image decodePng(std::span<const std::uint8_t> bytes, std::string_view source);
 /// decodePng on a file. Throws IoError when the file cannot be read, InvalidInput naming the file
 /// when it is not a decodable PNG.
