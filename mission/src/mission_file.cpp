@@ -1,5 +1,7 @@
 #include "mapnav/mission/mission_file.h"
 
+#include <system_error>
+
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
@@ -21,9 +23,10 @@ std::optional<MissionFile> parseMission(std::string_view text, const std::filesy
     for (const auto& [key, target] : {std::pair{"map", &m.map}, std::pair{"camera", &m.camera}}) {
       if (const auto file = top.string(key)) {
         *target = folder / *file;
-        if (!std::filesystem::is_regular_file(*target)) {
+        std::error_code ec;  // a name the file system refuses (too long) is a missing file, not a throw
+        if (!std::filesystem::is_regular_file(*target, ec)) {
           addIssue(issues, Severity::Error, "mission.missing_file", top.pointer(key),
-                   "\"" + *file + "\" (" + target->string() + ") does not exist");
+                   "\"" + *file + "\" (" + target->string() + ") does not exist" + (ec ? ": " + ec.message() : ""));
         }
       }
     }
