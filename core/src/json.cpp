@@ -63,11 +63,46 @@ void findNonFinite(const Json& root, Issues& issues) {
   }
 }
 
+// How deep arrays and objects may nest (json.h says so).
+constexpr std::size_t kMaxJsonDepth = 512;
+
+// Where the first array or object nested deeper than kMaxJsonDepth opens; npos when none does.
+// Parsing is iterative, but writing (dump) and copying a value recurse once per level, so a hostile
+// document nested 100 000 deep would overflow the stack later, far from here.
+std::size_t tooDeep(std::string_view text) {
+  std::size_t depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') {
+        ++i;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) return i;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return std::string_view::npos;
+}
+
 }  // namespace
 
 std::optional<Json> parseJson(std::string_view text, Issues& issues) {
   if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
     issues.push_back(Issue{Severity::Error, "json.syntax", "", "the file is empty", 1, 1});
+    return std::nullopt;
+  }
+  if (const std::size_t at = tooDeep(text); at != std::string_view::npos) {
+    Issue issue{Severity::Error, "json.too_deep", "",
+                "arrays and objects nested more than " + std::to_string(kMaxJsonDepth) + " deep"};
+    lineColumn(text, at, issue.line, issue.column);
+    issues.push_back(std::move(issue));
     return std::nullopt;
   }
   try {

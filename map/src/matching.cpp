@@ -341,7 +341,7 @@ Observability observability(const Mat3& information, double heading, double min_
   // A direction is observed when its component in the unobserved span is below sin 45°.
   auto isObserved = [&](const Vec3& d) {
     double hidden = 0;
-    for (const Vec3& n : unobserved) hidden += n.dot(d) * n.dot(d);
+    for (const Vec3& n : out.unobserved) hidden += n.dot(d) * n.dot(d);
     return hidden < 0.5;
   };
   const Vec2 f = unitVector(heading);

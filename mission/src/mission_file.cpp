@@ -1,14 +1,15 @@
 #include "mapnav/mission/mission_file.h"
 
+#include <system_error>
+
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 
 namespace mapnav {
 
-MissionFile loadMission(const std::filesystem::path& path) {
-  const std::string text = readFile(path);
-  Issues issues;
+std::optional<MissionFile> parseMission(std::string_view text, const std::filesystem::path& path, Issues& issues) {
+  const std::size_t before = countSeverity(issues, Severity::Error);
   const auto json = parseJson(text, issues);
   MissionFile m;
   if (json) {
@@ -22,9 +23,10 @@ MissionFile loadMission(const std::filesystem::path& path) {
     for (const auto& [key, target] : {std::pair{"map", &m.map}, std::pair{"camera", &m.camera}}) {
       if (const auto file = top.string(key)) {
         *target = folder / *file;
-        if (!std::filesystem::is_regular_file(*target)) {
+        std::error_code ec;  // a name the file system refuses (too long) is a missing file, not a throw
+        if (!std::filesystem::is_regular_file(*target, ec)) {
           addIssue(issues, Severity::Error, "mission.missing_file", top.pointer(key),
-                   "\"" + *file + "\" (" + target->string() + ") does not exist");
+                   "\"" + *file + "\" (" + target->string() + ") does not exist" + (ec ? ": " + ec.message() : ""));
         }
       }
     }
@@ -91,8 +93,16 @@ MissionFile loadMission(const std::filesystem::path& path) {
     }
     top.rejectUnknownMembers();
   }
-  if (hasErrors(issues)) throw ValidationError(path.string(), std::move(issues));
+  if (!json || countSeverity(issues, Severity::Error) != before) return std::nullopt;
   return m;
+}
+
+MissionFile loadMission(const std::filesystem::path& path) {
+  const std::string text = readFile(path);
+  Issues issues;
+  auto mission = parseMission(text, path, issues);
+  if (!mission) throw ValidationError(path.string(), std::move(issues));
+  return std::move(*mission);
 }
 
 }  // namespace mapnav

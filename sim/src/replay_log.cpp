@@ -252,6 +252,15 @@ ParsedLine parseFrame(std::string_view text, const fs::path& dir, const ReadOpti
   return parsed;
 }
 
+}  // namespace
+
+std::optional<LogFrame> parseLogFrame(std::string_view text, const fs::path& dir, const ReadOptions& options,
+                                      const std::optional<double>& last_t, const Camera& camera, Issues& issues) {
+  return parseFrame(text, dir, options, last_t, camera, issues).frame;
+}
+
+namespace {
+
 Json frameToJson(const LogFrame& frame) {
   Json line = Json::object();
   line["t"] = frame.t;

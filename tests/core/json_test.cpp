@@ -34,10 +34,22 @@ TEST(ParseJson, OverflowingNumberIsNotFiniteWithItsPosition) {
   EXPECT_EQ(issues[0].column, 2);
 }
 
-TEST(ParseJson, DeepNestingDoesNotOverflowTheStack) {
+// Found with fuzz_mission: a mission's `vision.options` nested 200 000 deep parsed, then overflowed
+// the stack in Json::dump(). Refused here, for every format, with where it goes too deep.
+TEST(ParseJson, NestingDeeperThanTheLimitIsRefusedWithItsPosition) {
   Issues issues;
-  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
-  const auto json = parseJson(deep, issues);
+  const std::string deep = "{\"a\": \"[[{\",\n \"b\": " + std::string(200000, '[') + std::string(200000, ']') + "}";
+  EXPECT_FALSE(parseJson(deep, issues));
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].check, "json.too_deep");
+  EXPECT_EQ(issues[0].message, "arrays and objects nested more than 512 deep");
+  EXPECT_EQ(issues[0].line, 2);
+  EXPECT_EQ(issues[0].column, 7 + 511);  // " \"b\": " is 6 columns; the 512th '[' is the object's 513th level
+}
+
+TEST(ParseJson, NestingUpToTheLimitParses) {
+  Issues issues;
+  const auto json = parseJson(std::string(512, '[') + std::string(512, ']'), issues);
   ASSERT_TRUE(json);
   EXPECT_TRUE(json->is_array());
   EXPECT_TRUE(issues.empty());

@@ -95,6 +95,38 @@ TEST(LoadMission, ReportsEveryProblemWithItsPointer) {
   }
 }
 
+TEST(ParseMission, ResolvesFilesAgainstTheGivenPathAndTakesItsStemAsTheDefaultName) {
+  const fs::path path = testing::mapPath("missions/from_text.json");
+  Issues issues;
+  const auto m = parseMission(R"({"format": "mapnav-mission/1", "map": "../cmu_campus.json",
+    "camera": "../cameras/terregator_pinhole.json", "start": "R1@I1+3", "goal": "R3@I3+2"})", path, issues);
+  ASSERT_TRUE(m.has_value()) << (issues.empty() ? "" : formatIssue(issues[0], "text"));
+  EXPECT_TRUE(issues.empty());
+  EXPECT_EQ(m->name, "from_text");
+  EXPECT_EQ(m->map, path.parent_path() / "../cmu_campus.json");
+  EXPECT_EQ(m->goal, (RoadPosition{"R3", "I3", 2.0, 0.0}));
+}
+
+TEST(ParseMission, TextThatIsNotJsonGivesNothingAndASyntaxIssueWithoutThrowing) {
+  Issues issues;
+  EXPECT_FALSE(parseMission("{\"format\": ", "m.json", issues).has_value());
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].check, "json.syntax");
+}
+
+// Found by fuzz_mission: a name longer than the file system allows made is_regular_file throw
+// std::filesystem::filesystem_error out of loadMission.
+TEST(ParseMission, ANameTheFileSystemRefusesIsAMissingFileNotAnException) {
+  Issues issues;
+  const std::string text = R"({"format": "mapnav-mission/1", "map": "../cmu_campus.json", "camera": ")" +
+                           std::string(300, 'c') + R"(", "start": "R1@I1+3", "goal": "R3@I3+2"})";
+  EXPECT_FALSE(parseMission(text, testing::mapPath("missions/long.json"), issues).has_value());
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].check, "mission.missing_file");
+  EXPECT_EQ(issues[0].where, "/camera");
+  EXPECT_NE(issues[0].message.find("File name too long"), std::string::npos) << issues[0].message;
+}
+
 TEST(LoadMission, TheHaltBlockSaysWhenTheOperatorHandsControlBack) {
   EXPECT_EQ(mission("campus_dialogue.json").halt.resume_after_frames, std::optional<std::size_t>(2));  // the default
   const fs::path dir = testing::freshTempDir();

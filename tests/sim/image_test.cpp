@@ -34,5 +34,43 @@ TEST(Png, CorruptOrMissingFilesAreNamedErrors) {
   EXPECT_THROW(readPng(dir / "missing.png"), IoError);
 }
 
+TEST(Png, BytesInMemoryDecodeAsTheFileWouldAndErrorsNameTheGivenSource) {
+  Image rgb(3, 2, 3);
+  for (std::size_t i = 0; i < rgb.data.size(); ++i) rgb.data[i] = static_cast<std::uint8_t>(200 - i * 9);
+  EXPECT_EQ(decodePng(encodePng(rgb), "memory"), rgb);
+  const std::string_view text = "not a PNG";
+  try {
+    decodePng(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "frame 7");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "frame 7: not a PNG image (no PNG signature)");
+  }
+  EXPECT_THROW(decodePng({}, "empty"), InvalidInput);
+  // A PNG signature with a chunk that is not an image.
+  std::vector<std::uint8_t> broken = encodePng(rgb);
+  broken.resize(40);
+  EXPECT_THROW(decodePng(broken, "cut"), InvalidInput);
+}
+
+// Found with fuzz_png (issue 11): a few bytes claiming a huge image made the decoder allocate it
+// (gigabytes) before finding the pixel data missing; and imdecode tried every codec, not only PNG.
+TEST(Png, AHeaderClaimingMoreThanTheLimitIsRefusedBeforeDecoding) {
+  std::vector<std::uint8_t> png = encodePng(Image(2, 2, 1));
+  for (std::size_t at : {16u, 20u}) {  // IHDR width and height: 30000 = 0x7530, big-endian
+    png[at] = 0;
+    png[at + 1] = 0;
+    png[at + 2] = 0x75;
+    png[at + 3] = 0x30;
+  }
+  try {
+    decodePng(png, "huge.png");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "huge.png: the PNG claims 30000 x 30000 pixels, more than the 67108864 mapnav reads");
+  }
+  const std::string_view bmp = std::string_view("BM\x3a\0\0\0\0\0\0\0\x36\0\0\0\x28\0\0\0\x01\0\0\0\x01\0\0\0\x01\0\x18\0", 30);
+  EXPECT_THROW(decodePng(std::span(reinterpret_cast<const std::uint8_t*>(bmp.data()), bmp.size()), "b.bmp"), InvalidInput);
+}
+
 }  // namespace
 }  // namespace mapnav

@@ -18,7 +18,8 @@ namespace mapnav {
 using Json = nlohmann::ordered_json;
 
 /// Parses `text`. On a syntax error adds a `json.syntax` issue with line and column and returns
-/// nothing. Non-finite numbers (1e999) are reported as `json.not_finite` with their pointer.
+/// nothing. Non-finite numbers (1e999) are reported as `json.not_finite` with their pointer, nesting
+/// deeper than 512 arrays / objects (mapnav's formats need 6) as `json.too_deep` with the line and column where it goes too deep.
 std::optional<Json> parseJson(std::string_view text, Issues& issues);
 
 /// RFC 6901: `pointerJoin("/roads", "a/b")` is `/roads/a~1b`.

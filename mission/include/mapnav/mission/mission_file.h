@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mapnav/core/issue.h"
@@ -40,8 +41,13 @@ struct MissionFile {
   HaltPolicy halt;                   ///< the `halt` block
 };
 
-/// Reads a mission; the structure and values are checked (issues with JSON Pointers), the files it
-/// names must exist. Throws ValidationError or IoError.
+/// A mission document's text; the structure and values are checked (issues with JSON Pointers), the
+/// files it names must exist. `path` is where the text came from: the map and camera resolve against
+/// its folder, and its stem is the default name. Appends every problem to `issues`; nothing when
+/// there is an error. Never throws for bad text.
+std::optional<MissionFile> parseMission(std::string_view text, const std::filesystem::path& path, Issues& issues);
+
+/// parseMission on a file. Throws ValidationError or IoError.
 MissionFile loadMission(const std::filesystem::path& path);
 
 }  // namespace mapnav

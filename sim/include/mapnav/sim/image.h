@@ -3,6 +3,8 @@
 // any public header.
 #include <cstdint>
 #include <filesystem>
+#include <span>
+#include <string_view>
 #include <vector>
 
 namespace mapnav {
@@ -27,8 +29,15 @@ struct Image {
 /// vision pipelines take RGB; logs and real sequences may hold grey frames.
 Image toRgb(Image image);
 
-/// Reads a PNG (8-bit grey or RGB; RGBA loses its alpha). Throws IoError when the file cannot be
-/// read, InvalidInput naming the file when it is not a decodable PNG.
+/// The largest image decodePng accepts, in pixels (2^26: 8192 x 8192).
+inline constexpr std::uint64_t kMaxPngPixels = std::uint64_t{1} << 26;
+
+/// Decodes PNG bytes (8-bit grey or RGB; RGBA loses its alpha). Throws InvalidInput starting with
+/// `source` (the file name, for messages) when they are not a decodable PNG, or when its header
+/// claims more than kMaxPngPixels pixels (refused before any decoding).
+Image decodePng(std::span<const std::uint8_t> bytes, std::string_view source);
+/// decodePng on a file. Throws IoError when the file cannot be read, InvalidInput naming the file
+/// when it is not a decodable PNG.
 Image readPng(const std::filesystem::path& path);
 /// Writes a PNG atomically (deterministic bytes for the same image). Throws IoError.
 void writePng(const Image& image, const std::filesystem::path& path);

@@ -129,6 +129,14 @@ struct SkippedLine {
   std::optional<Odometry> odometry;  ///< the line's odometry, when it could be read (the vehicle still moved)
 };
 
+/// Reads one frames.jsonl line, as ReplayLog::open does for each: `dir` is the log folder (the image
+/// and mask must exist in it; with options.verify_images, decode), `last_t` the previous frame's
+/// time, `camera` the header's. Appends every issue (errors, with their JSON Pointer in `where`, not
+/// yet with a line number) to `issues`; nothing when the line is not a valid frame.
+std::optional<LogFrame> parseLogFrame(std::string_view text, const std::filesystem::path& dir,
+                                      const ReadOptions& options, const std::optional<double>& last_t,
+                                      const Camera& camera, Issues& issues);
+
 /// A log folder, read and checked. The images are read on demand.
 class ReplayLog {
  public:
