@@ -268,7 +268,7 @@ const std::vector<Spec>& specs() {
       {"gate_search", "false",
        "after the first point search only offsets reachable within max_turn_deg (step x tan); off: the whole window"},
       {"use_carried_edges", "true", "start from advance()'d previous edges when the prediction has no segments"},
-      {"single_edge", "false",
+      {"single_edge", "true",
        "when one edge is lost and the other (labelled) is tracked, report that edge alone instead of failing"},
   };
   return s;
