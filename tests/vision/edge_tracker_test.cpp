@@ -183,6 +183,55 @@ TEST(GreyBand, NormalizedGreenSeparatesGrassFromAsphaltAndIgnoresTreeShadow) {
   EXPECT_DOUBLE_EQ(level(Vec3(200, 200, 200), GreyBand::NormalizedGreen), 85);
 }
 
+// Dirt (maps/park_path.json: 122, 95, 68) has the asphalt's normalised green; its normalised red
+// is a step of 25 levels, sunlit or shaded.
+TEST(GreyBand, NormalizedRedSeparatesDirtFromAsphaltWhereTheGreenCannot) {
+  const Vec3 asphalt(74, 74, 78), dirt(122, 95, 68), shade(0.45 * 0.88, 0.45, 0.45 * 1.12);
+  auto level = [](const Vec3& c, GreyBand band) { return bandLevel(c.x(), c.y(), c.z(), band); };
+  // Green: 255 x 96 / 288 = 85.0 against 83.515. Red: 255 x 123 / 288 = 108.906 against 255 x 75 / 229.
+  EXPECT_NEAR(level(dirt, GreyBand::NormalizedGreen) - level(asphalt, GreyBand::NormalizedGreen), 1.485, 1e-3);
+  EXPECT_NEAR(level(dirt, GreyBand::NormalizedRed), 108.906, 1e-3);
+  EXPECT_NEAR(level(asphalt, GreyBand::NormalizedRed), 83.515, 1e-3);
+  // Shaded: dirt (48.312, 42.75, 34.272) 255 x 49.312 / 128.334, asphalt 255 x 30.304 / 104.916.
+  EXPECT_NEAR(level(dirt.cwiseProduct(shade), GreyBand::NormalizedRed) -
+                  level(asphalt.cwiseProduct(shade), GreyBand::NormalizedRed),
+              24.329, 1e-3);
+}
+
+// R2's 15 m hairpin (the pose of park_loop's frame 182, where the closed loop used to stall): the
+// pin-hole sees only the inner edge, asphalt against dirt. In normalised green there is no step at
+// its start; with the band from the prediction it is traced in normalised red along the true edge.
+TEST(EdgeTracker, TracesADirtEdgeInTheBandItsPredictedColoursSeparate) {
+  const Pose2 pose(Vec2(241.192, -39.055), -92.865 * kDeg);
+  const auto trueRight = projectedEdge(park().rightEdge(park().road("R2")), pose);
+  for (const bool from_prediction : {false, true}) {
+    SCOPED_TRACE(from_prediction);
+    EdgeTrackerOptions o;
+    o.single_edge = true;
+    o.band_from_prediction = from_prediction;
+    EdgeTracker tracker(o);
+    const TrackRun r = runAt(pose, 0.45, tracker);
+    ASSERT_EQ(r.report.start_source, "prediction");
+    EXPECT_EQ(r.report.left.stop_reason, "not predicted in the image");
+    ASSERT_TRUE(r.report.right.label.has_value());
+    EXPECT_EQ(r.report.right.label->rfind("R2.right.", 0), 0u) << *r.report.right.label;
+    if (!from_prediction) {
+      EXPECT_EQ(r.detected.status, DetectedObject::Status::Failed);
+      EXPECT_EQ(r.report.right.stop_reason, "no step edge at the start point");
+      continue;
+    }
+    ASSERT_EQ(r.detected.status, DetectedObject::Status::Ok) << r.detected.reason;
+    EXPECT_EQ(r.report.right.band, GreyBand::NormalizedRed);
+    EXPECT_GE(r.report.right.image.size(), 4u);
+    double worst = 0;
+    for (const Vec2& p : r.report.right.image) worst = std::max(worst, distanceToPolyline(trueRight, p));
+    std::printf("hairpin: %zu points, max %.2f px from the true edge, contrast %.1f\n", r.report.right.image.size(),
+                worst, r.report.right.eval.contrast);
+    EXPECT_LT(worst, 4.0);
+    EXPECT_GT(r.report.right.eval.contrast, 15);
+  }
+}
+
 TEST(EdgeTracker, FollowsBothEdgesOfACurvingPathToTheTop) {
   // shadow_density 0.2 puts no tree shadow in these views; 0.4 shades about a tenth of the ground in
   // the views 0 and 4 m into the curve (and 40 % further on: see HeavyShadowFailsRatherThanMisleads).

@@ -98,6 +98,7 @@ double bandLevel(double r, double g, double b, GreyBand band) {
     case GreyBand::Blue: return b;
     case GreyBand::Luminance: return 0.299 * r + 0.587 * g + 0.114 * b;
     case GreyBand::NormalizedGreen: return 255.0 * (g + 1) / (r + g + b + 3);
+    case GreyBand::NormalizedRed: return 255.0 * (r + 1) / (r + g + b + 3);
   }
   return 0;
 }
@@ -240,7 +241,10 @@ const std::vector<Spec>& specs() {
   static const std::vector<Spec> s = {
       {"band", "\"normalized_green\"",
        "grey image: \"luminance\" (0.299 R + 0.587 G + 0.114 B), \"blue\" (the blue band of the Warp runs, 3.6.3) or "
-       "\"normalized_green\" (255 G / (R + G + B), the normalised colour of 3.4.3: blind to shadows)"},
+       "\"normalized_green\" (255 G / (R + G + B), the normalised colour of 3.4.3: blind to shadows) or \"normalized_red\""},
+      {"band_from_prediction", "true",
+       "with a normalised band: trace each edge in whichever of the normalised green and red separates its predicted "
+       "side colours more (dirt and gravel have the asphalt's normalised green)"},
       {"window_rows", "64", "search window length along the edge at 480 rows (scaled with the image height)"},
       {"window_cols", "128", "search window width across the edge at 512 columns (scaled with the image width)"},
       {"step_fraction", "0.5", "the next point is predicted this x window_rows ahead along theta"},
@@ -264,7 +268,7 @@ const std::vector<Spec>& specs() {
       {"gate_search", "false",
        "after the first point search only offsets reachable within max_turn_deg (step x tan); off: the whole window"},
       {"use_carried_edges", "true", "start from advance()'d previous edges when the prediction has no segments"},
-      {"single_edge", "false",
+      {"single_edge", "true",
        "when one edge is lost and the other (labelled) is tracked, report that edge alone instead of failing"},
   };
   return s;
@@ -296,7 +300,8 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
       if (value == "blue") o.band = GreyBand::Blue;
       else if (value == "luminance") o.band = GreyBand::Luminance;
       else if (value == "normalized_green") o.band = GreyBand::NormalizedGreen;
-      else throw InvalidInput(bad + ": must be \"blue\", \"luminance\" or \"normalized_green\"");
+      else if (value == "normalized_red") o.band = GreyBand::NormalizedRed;
+      else throw InvalidInput(bad + ": must be \"blue\", \"luminance\", \"normalized_green\" or \"normalized_red\"");
     } else if (key == "window_rows") o.window_rows = integer();
     else if (key == "window_cols") o.window_cols = integer();
     else if (key == "step_fraction") o.step_fraction = num();
@@ -320,6 +325,9 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
     else if (key == "gate_search") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.gate_search = value.get<bool>();
+    } else if (key == "band_from_prediction") {
+      if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
+      o.band_from_prediction = value.get<bool>();
     } else if (key == "single_edge") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.single_edge = value.get<bool>();
@@ -494,13 +502,18 @@ struct Start {
   Vec2 point = Vec2::Zero(), direction = Vec2(0, -1);
   std::optional<std::string> label;
   int polarity = 0;
+  GreyBand band = GreyBand::NormalizedGreen;
 };
+
+bool normalised(GreyBand b) { return b == GreyBand::NormalizedGreen || b == GreyBand::NormalizedRed; }
 
 
 /// The near end of an image segment clipped to the image, directed up the image.
 /// The start is kept `margin` px from the image's sides, so that the step model fits in the image.
+/// `band`: the edge's band (see EdgeTrackerOptions::band_from_prediction); the predicted side colours'
+/// difference in it gives the expected contrast sign.
 std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& cam, int w, int h, GreyBand band,
-                                      double margin = 16) {
+                                      bool band_from_prediction, double margin = 16) {
   Vec2 a = s.image.a, b = s.image.b;
   // Recompute from the ground so that a clipped image segment is not an issue for curved lenses.
   const auto pa = cam.projectGround(s.vehicle.a), pb = cam.projectGround(s.vehicle.b);
@@ -523,8 +536,16 @@ std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& ca
   }
   st.label = s.id;
   const bool colours = s.left_rgb.norm() > 0 || s.right_rgb.norm() > 0;
-  const double diff = (bandLevel(s.right_rgb.x(), s.right_rgb.y(), s.right_rgb.z(), band) -
-                       bandLevel(s.left_rgb.x(), s.left_rgb.y(), s.left_rgb.z(), band)) * (forward ? 1 : -1);
+  auto sideStep = [&](GreyBand b) {  // right side − left side, in band b
+    return bandLevel(s.right_rgb.x(), s.right_rgb.y(), s.right_rgb.z(), b) -
+           bandLevel(s.left_rgb.x(), s.left_rgb.y(), s.left_rgb.z(), b);
+  };
+  if (colours && band_from_prediction && normalised(band))
+    band = std::abs(sideStep(GreyBand::NormalizedRed)) > std::abs(sideStep(GreyBand::NormalizedGreen))
+               ? GreyBand::NormalizedRed
+               : GreyBand::NormalizedGreen;
+  st.band = band;
+  const double diff = sideStep(band) * (forward ? 1 : -1);
   if (colours && std::abs(diff) >= 3) st.polarity = diff > 0 ? 1 : -1;
   return st;
 }
@@ -533,14 +554,14 @@ std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& ca
 /// segment on each side, as {vehicle-left, vehicle-right}; false when neither is in the image. On a
 /// tight curve a narrow lens sees one edge only: the other is then left empty.
 bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, GreyBand band,
-                          std::optional<Start>& left, std::optional<Start>& right, std::string& left_id,
+                          bool band_from_prediction, std::optional<Start>& left, std::optional<Start>& right, std::string& left_id,
                           std::string& right_id) {
   const InterestSegment* nearest = nullptr;
   double best = std::numeric_limits<double>::infinity();
   for (const InterestSegment& s : pred.segments) {
     if (s.side != "left" && s.side != "right") continue;
     const double d = s.vehicle.distanceTo(Vec2::Zero());
-    if (d < best && startFromSegment(s, cam, w, h, band)) {
+    if (d < best && startFromSegment(s, cam, w, h, band, band_from_prediction)) {
       best = d;
       nearest = &s;
     }
@@ -551,7 +572,7 @@ bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w,
   for (const InterestSegment& s : pred.segments) {
     if (s.owner != nearest->owner || (s.side != "left" && s.side != "right")) continue;
     const int k = s.side == "left" ? 0 : 1;
-    const auto st = startFromSegment(s, cam, w, h, band);
+    const auto st = startFromSegment(s, cam, w, h, band, band_from_prediction);
     if (!st) continue;
     // Nearest in the image: the lowest near end.
     const double key = -st->point.y();
@@ -572,7 +593,7 @@ bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w,
   for (int k = 0; k < 2; ++k) {
     if (side[k] == nullptr) continue;
     const bool vehicle_left = (k == 0) == road_left_is_vehicle_left;
-    (vehicle_left ? left : right) = startFromSegment(*side[k], cam, w, h, band);
+    (vehicle_left ? left : right) = startFromSegment(*side[k], cam, w, h, band, band_from_prediction);
     (vehicle_left ? left_id : right_id) = side[k]->id;
   }
   return true;
@@ -612,10 +633,11 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   };
 
   Start ls, rs;
+  ls.band = rs.band = options_.band;
   std::string lid, rid;
   std::optional<Start> pl, pr;
   bool trace_left = true, trace_right = true;
-  if (startsFromPrediction(prediction, cam, w, h, options_.band, pl, pr, lid, rid)) {
+  if (startsFromPrediction(prediction, cam, w, h, options_.band, options_.band_from_prediction, pl, pr, lid, rid)) {
     report_.start_source = "prediction";
     trace_left = pl.has_value();
     trace_right = pr.has_value();
@@ -626,6 +648,7 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
              startFromCarried(carried_right_->ground, carried_right_->label, cam, w, h)) {
     ls = *startFromCarried(carried_left_->ground, carried_left_->label, cam, w, h);
     rs = *startFromCarried(carried_right_->ground, carried_right_->label, cam, w, h);
+    ls.band = rs.band = options_.band;
     report_.start_source = "carried";
   } else {
     const double sv = options_.start_v >= 0 ? options_.start_v
@@ -640,9 +663,21 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   carried_left_.reset();
   carried_right_.reset();
 
-  const GreyImage grey = toGrey(frame.rgb, w, h, options_.band);
+  // The grey image in each band an edge needs (most frames: one).
+  std::vector<std::pair<GreyBand, GreyImage>> greys;
+  greys.reserve(4);  // one per GreyBand: references handed out stay valid
+  auto grey = [&](GreyBand band) -> const GreyImage& {
+    for (const auto& [b, g] : greys)
+      if (b == band) return g;
+    greys.emplace_back(band, toGrey(frame.rgb, w, h, band));
+    return greys.back().second;
+  };
   auto traceIf = [&](bool predicted, const Start& st) {
-    if (predicted) return trace(grey, st.point, st.direction, st.polarity);
+    if (predicted) {
+      TrackedEdge e = trace(grey(st.band), st.point, st.direction, st.polarity);
+      e.band = st.band;
+      return e;
+    }
     TrackedEdge none;
     none.stop_reason = "not predicted in the image";
     return none;
