@@ -243,7 +243,8 @@ TEST(SidewalkFastPaths, EveryPixelGivesTheReferencesDetectionsAlongADrive) {
 TEST(SidewalkFastPaths, TheReducedGridKeepsTheLabelledLinesWithinAPixelOrTwo) {
   // The default classifies 2 x 2-pixel cells: the boundary moves by up to a cell. Tolerance: every
   // line the reference labels is labelled the same, and lies within 2.5 pixels (both ends, from the
-  // reference's line) and 1.5 degrees of it in the image; on the ground, within 2 cm at its middle.
+  // reference's line: a cell and the half-pixel offset of the cells' centres) and 1 degree of it in the
+  // image; on the ground, within 4 cm at its middle (the missions' lateral target is 5 cm RMS).
   registerBuiltinPipelines();
   auto fast = createPipeline("sidewalk");
   auto reference = createPipeline("sidewalk", R"({"reference": true})");
@@ -272,8 +273,8 @@ TEST(SidewalkFastPaths, TheReducedGridKeepsTheLabelledLinesWithinAPixelOrTwo) {
   EXPECT_GE(driveBoth(*fast, *reference, near), 10);
   EXPECT_GE(compared, 20);
   EXPECT_LE(worst_px, 2.5);
-  EXPECT_LE(worst_deg, 1.5);
-  EXPECT_LE(worst_m, 0.02);
+  EXPECT_LE(worst_deg, 1.0);
+  EXPECT_LE(worst_m, 0.04);
   std::cout << "reduced grid against the reference: " << compared << " labelled lines, worst " << worst_px << " px, "
             << worst_deg << " deg, " << worst_m << " m\n";
 }
