@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -227,17 +226,16 @@ class BasePipeline : public VisionPipeline {
       for (Vec2& p : poly) p = gridToPixel(p, scale);
       return poly;
     };
-    // The region's outline (for the trace and the report) on a second thread, while this one fits
-    // the lines: the two simplifications are the costliest steps left after the classification.
     DetectedObject d;
     d.timestamp = frame.timestamp;
-    std::future<std::vector<Vec2>> outline =
-        std::async(std::launch::async, [&region, &toPixels, tolerance = opts_["region_tolerance_px"] / scale,
-                                        reference = opts_.b("reference")] {
-          std::vector<Vec2> ring = region.contour;
-          ring.push_back(ring.front());
-          return toPixels(simplifyRing(ring, tolerance, reference));
-        });
+    {
+      std::vector<Vec2> ring = region.contour;
+      ring.push_back(ring.front());
+      std::vector<Vec2> poly = toPixels(simplifyRing(ring, opts_["region_tolerance_px"] / scale, opts_.b("reference")));
+      d.region_image = poly;
+      for (const Vec2& p : poly)
+        if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
+    }
     LineOptions lo;
     lo.simplify_tolerance_px = opts_["simplify_tolerance_px"];
     lo.min_length_px = opts_["min_line_length_px"];
@@ -251,9 +249,6 @@ class BasePipeline : public VisionPipeline {
         toPixels(contourPolygon(region.contour, lo.simplify_tolerance_px / scale, lo.reference));
     d.lines = polygonLines(polygon, cam, full_valid, lo);
     labelLines(d.lines, prediction, lo);
-    d.region_image = outline.get();
-    for (const Vec2& p : d.region_image)
-      if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
 
     cv::Mat inter;
     cv::bitwise_and(wrap(region.mask), wrap(predicted), inter);
