@@ -1,7 +1,7 @@
 // Google Benchmark: the default Vision pipeline ("sidewalk": colour classification, region
 // reproduction, polygon fitting, line labelling) per frame at 512 x 480 on the campus scene of
-// apps/src/sidewalk_scene.h — the fast paths, the reference paths (option "reference": the same
-// answers), a plain memcpy of the frame for scale, and the Map's prediction plus Vision, the two
+// apps/src/sidewalk_scene.h — the default (2 x 2-pixel cells, fast paths), the reference (option
+// "reference": every pixel, reference implementations), a plain memcpy of the frame for scale, and the Map's prediction plus Vision, the two
 // costly steps of the mission loop (issue 9's latency).
 #include <benchmark/benchmark.h>
 

@@ -23,24 +23,34 @@ void LineOptions::validate() const {
   requireOption(relation_tolerance_m > 0, "LineOptions", "relation_tolerance_m", relation_tolerance_m, "> 0");
 }
 
-std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camera& camera, const Image& valid,
-                                   const LineOptions& options) {
-  options.validate();
-  std::vector<DetectedLine> lines;
-  if (contour.size() < 3) return lines;
+std::vector<Vec2> contourPolygon(const std::vector<Vec2>& contour, double tolerance_px, bool reference) {
+  if (contour.size() < 3) return {};
   std::vector<Vec2> ring = contour;
   ring.push_back(contour.front());
-  std::vector<Vec2> poly = options.reference ? simplifyPolyline(ring, options.simplify_tolerance_px)
-                                             : simplifyPixelChain(ring, options.simplify_tolerance_px);
+  std::vector<Vec2> poly = reference ? simplifyPolyline(ring, tolerance_px) : simplifyPixelChain(ring, tolerance_px);
   // The ring's start is an arbitrary contour point: drop it when it lies on a straight edge.
   if (poly.size() >= 4 && (poly.front() - poly.back()).norm() < 1e-9) {
     poly.pop_back();
     const std::size_t n = poly.size();
     const Segment2 across{poly[n - 1], poly[1]};
-    if (n >= 4 && across.distanceTo(poly[0]) <= options.simplify_tolerance_px) poly.erase(poly.begin());
+    if (n >= 4 && across.distanceTo(poly[0]) <= tolerance_px) poly.erase(poly.begin());
   } else if (poly.size() >= 2 && (poly.front() - poly.back()).norm() < 1e-9) {
     poly.pop_back();
   }
+  return poly;
+}
+
+std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camera& camera, const Image& valid,
+                                   const LineOptions& options) {
+  options.validate();
+  return polygonLines(contourPolygon(contour, options.simplify_tolerance_px, options.reference), camera, valid,
+                      options);
+}
+
+std::vector<DetectedLine> polygonLines(const std::vector<Vec2>& poly, const Camera& camera, const Image& valid,
+                                       const LineOptions& options) {
+  options.validate();
+  std::vector<DetectedLine> lines;
   if (poly.size() < 2) return lines;
 
   // A point is near the frame edge when a pixel that does not see the ground (or lies outside)

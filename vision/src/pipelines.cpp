@@ -58,9 +58,13 @@ std::vector<OptionSpec> commonSpecs() {
       {"min_overlap", 0.5, false, false, 0, 1, "label match: this fraction of the line overlaps the predicted segment"},
       {"relation_tolerance_m", 0.5, false, false, 1e-6, 100,
        "a labelled parallel pair must be within this of the predicted separation"},
+      {"grid_px", 2, false, true, 1, 8,
+       "classify and reproduce the region on a grid of cells this many pixels a side (the frame averaged over each "
+       "cell; the options in pixels above are divided by it), the boundary mapped back to pixels; 1 = every pixel"},
       {"reference", 0, true, false, 0, 1,
-       "run the reference implementations (double-precision per-pixel log-odds, OpenCV morphology and distance "
-       "transform, CGAL simplification): the same answers, several times slower; for tests and benchmarks"},
+       "run every pixel (grid_px 1) with the reference implementations (double-precision per-pixel log-odds, "
+       "OpenCV morphology and distance transform, CGAL simplification): the answers of grid_px 1, several times "
+       "slower; for tests and benchmarks"},
   };
 }
 
@@ -96,36 +100,59 @@ std::vector<OptionSpec> blueSpecs() {
 // --- Frame geometry ---------------------------------------------------------------------------------
 
 cv::Mat wrap(Image& im) { return cv::Mat(im.height, im.width, CV_8UC1, im.data.data()); }
+cv::Mat wrap(const Image& im) { return cv::Mat(im.height, im.width, CV_8UC1, const_cast<std::uint8_t*>(im.data.data())); }
 
-/// The ring (vehicle frame) in the image: edges densified so that curved lenses bend them.
-std::vector<cv::Point> projectRing(const Polygon2& ring, const Camera& camera) {
+/// A length in pixels on a grid of `scale`-pixel cells (at least `least`).
+int onGrid(double px, int scale, int least = 0) { return std::max(least, static_cast<int>(std::lround(px / scale))); }
+
+/// A point on the grid of `scale`-pixel cells to image pixels: cell (0, 0) covers pixels 0..scale-1.
+Vec2 gridToPixel(const Vec2& p, int scale) { return scale * p + Vec2::Constant(0.5 * (scale - 1)); }
+
+/// The ring (vehicle frame) in the image, on the grid of `scale`-pixel cells: edges densified so that
+/// curved lenses bend them.
+std::vector<cv::Point> projectRing(const Polygon2& ring, const Camera& camera, int scale) {
   std::vector<cv::Point> out;
+  const double shift = 0.5 * (scale - 1);
   for (std::size_t i = 0; i < ring.size(); ++i) {
     const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
     const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.05)));
     for (int k = 0; k < steps; ++k) {
       const auto p = camera.projectGround(a + (b - a) * (static_cast<double>(k) / steps));
-      if (p) out.emplace_back(cvRound(std::clamp(p->x(), -1e5, 1e5)), cvRound(std::clamp(p->y(), -1e5, 1e5)));
+      if (p)
+        out.emplace_back(cvRound(std::clamp((p->x() - shift) / scale, -1e5, 1e5)),
+                         cvRound(std::clamp((p->y() - shift) / scale, -1e5, 1e5)));
     }
   }
   return out;
 }
 
-Image fillRings(const std::vector<Polygon2>& rings, const Camera& camera, int w, int h) {
+/// The rings filled on the grid of `scale`-pixel cells, w × h cells.
+Image fillRings(const std::vector<Polygon2>& rings, const Camera& camera, int scale, int w, int h) {
   Image out(w, h, 1);
   cv::Mat m = wrap(out);
   for (const Polygon2& r : rings) {
-    const auto pts = projectRing(r, camera);
+    const auto pts = projectRing(r, camera, scale);
     if (pts.size() >= 3) cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255));
   }
   return out;
 }
 
+/// Where the camera sees the ground, per pixel and per grid cell (a cell when all its pixels do).
 struct GroundCache {
   const Camera* camera = nullptr;
   CameraIntrinsics intrinsics;
   CameraMount mount;
   Image valid;
+  int scale = 0;
+  Image grid_valid;
+};
+
+/// What the pipelines classify: the frame on the grid (its cells' mean colours) and the camera.
+struct GridFrame {
+  int width = 0, height = 0;   ///< cells
+  const std::uint8_t* rgb = nullptr;  ///< width × height × 3
+  const Camera* camera = nullptr;     ///< the full-resolution camera
+  int scale = 1;                      ///< cell side, pixels
 };
 
 // --- The pipelines ---------------------------------------------------------------------------------
@@ -143,8 +170,11 @@ class BasePipeline : public VisionPipeline {
     if (frame.width != frame.camera->width() || frame.height != frame.camera->height())
       throw InvalidInput("pipeline \"" + name_ + "\": frame size differs from the camera's image size");
     const Camera& cam = *frame.camera;
-    const int w = frame.width, h = frame.height;
-    const Image& valid = ground(cam);
+    const int scale = gridScale();
+    const Image& full_valid = ground(cam, scale);
+    const Image& valid = cache_.grid_valid;
+    const GridFrame grid = gridFrame(frame, scale);
+    const int w = grid.width, h = grid.height;
     const std::size_t n = static_cast<std::size_t>(w) * h;
 
     // Exposure (integer sums: no division per pixel).
@@ -152,7 +182,7 @@ class BasePipeline : public VisionPipeline {
     std::size_t count = 0, saturated = 0;
     const int sat = static_cast<int>(opts_["saturated_level"]);
     for (std::size_t i = 0; i < n; ++i) {
-      const std::uint8_t* p = frame.rgb + 3 * i;
+      const std::uint8_t* p = grid.rgb + 3 * i;
       const unsigned in = valid.data[i] != 0;
       sum += in * static_cast<unsigned>(p[0] + p[1] + p[2]);
       count += in;
@@ -167,35 +197,41 @@ class BasePipeline : public VisionPipeline {
     std::vector<Polygon2> road_rings;
     for (const PredictedRegion& r : prediction.regions)
       for (const Polygon2& p : r.vehicle) road_rings.push_back(p);
-    Image predicted = fillRings(road_rings, cam, w, h);
-    cv::bitwise_and(wrap(predicted), cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(valid.data.data())),
-                    wrap(predicted));
-    const int predicted_px = cv::countNonZero(wrap(predicted));
+    Image predicted = fillRings(road_rings, cam, scale, w, h);
+    cv::bitwise_and(wrap(predicted), wrap(valid), wrap(predicted));
+    const int predicted_px = cv::countNonZero(wrap(predicted)) * scale * scale;
     if (predicted_px < opts_.i("min_predicted_px")) return fail(frame, "nothing predicted in view");
 
-    // Per-pixel road decision.
+    // Per-cell road decision.
     std::string why;
-    std::optional<Image> road = classify(frame, prediction, valid, predicted, why);
+    std::optional<Image> road = classify(grid, prediction, valid, predicted, why);
     if (!road) return fail(frame, why);
 
     RegionOptions ro;
-    ro.block_size = opts_.i("block_size");
+    ro.block_size = onGrid(opts_.i("block_size"), scale, 1);
     ro.block_fraction = opts_["block_fraction"];
     ro.morph_iterations = opts_.i("morph_iterations");
     ro.refine_margin_blocks = opts_.i("refine_margin_blocks");
-    ro.pixel_morph_px = opts_.i("pixel_morph_px");
+    ro.pixel_morph_px = onGrid(opts_.i("pixel_morph_px"), scale);
     ro.fill_holes = opts_.b("fill_holes");
     ro.reference = opts_.b("reference");
     RegionResult region = reproduceRegion(*road, valid, predicted, ro);
-    if (!region.found || region.area_px < opts_["min_region_fraction"] * predicted_px)
+    const double area_px = region.area_px * scale * scale;
+    if (!region.found || area_px < opts_["min_region_fraction"] * predicted_px)
       return fail(frame, "no road-coloured region");
 
+    // The boundary is simplified on the grid (the tolerances divided by the cell side: the same
+    // fit), its vertices mapped to pixels.
+    const auto toPixels = [scale](std::vector<Vec2> poly) {
+      for (Vec2& p : poly) p = gridToPixel(p, scale);
+      return poly;
+    };
     DetectedObject d;
     d.timestamp = frame.timestamp;
     {
       std::vector<Vec2> ring = region.contour;
       ring.push_back(ring.front());
-      std::vector<Vec2> poly = simplifyRing(ring, opts_["region_tolerance_px"], opts_.b("reference"));
+      std::vector<Vec2> poly = toPixels(simplifyRing(ring, opts_["region_tolerance_px"] / scale, opts_.b("reference")));
       d.region_image = poly;
       for (const Vec2& p : poly)
         if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
@@ -209,25 +245,31 @@ class BasePipeline : public VisionPipeline {
     lo.min_overlap = opts_["min_overlap"];
     lo.relation_tolerance_m = opts_["relation_tolerance_m"];
     lo.reference = opts_.b("reference");
-    d.lines = fitLines(region.contour, cam, valid, lo);
+    const std::vector<Vec2> polygon =
+        toPixels(contourPolygon(region.contour, lo.simplify_tolerance_px / scale, lo.reference));
+    d.lines = polygonLines(polygon, cam, full_valid, lo);
     labelLines(d.lines, prediction, lo);
 
     cv::Mat inter;
     cv::bitwise_and(wrap(region.mask), wrap(predicted), inter);
-    const double i = cv::countNonZero(inter);
-    d.confidence = std::clamp(i / (region.area_px + predicted_px - i), 0.0, 1.0);
+    const double i = cv::countNonZero(inter) * scale * scale;
+    d.confidence = std::clamp(i / (area_px + predicted_px - i), 0.0, 1.0);
     return d;
   }
 
  protected:
-  /// Road pixels (1 channel, 255 = road) or nothing with `why` set.
-  virtual std::optional<Image> classify(const VisionFrame& frame, const PredictedObject& prediction,
+  /// Road cells of the grid (1 channel, 255 = road) or nothing with `why` set. `valid`: the cells
+  /// that see the ground; `predicted`: the predicted road, on the grid.
+  virtual std::optional<Image> classify(const GridFrame& grid, const PredictedObject& prediction,
                                         const Image& valid, const Image& predicted, std::string& why) = 0;
 
-  /// Smooths a per-pixel score (box filter of radius smooth_px) and thresholds it inside `valid`.
-  Image threshold(std::vector<float>& score, int w, int h, const Image& valid, double t) const {
+  /// The side of the grid's cells, pixels: 1 for the reference.
+  int gridScale() const { return opts_.b("reference") ? 1 : opts_.i("grid_px"); }
+
+  /// Smooths a per-cell score (box filter of radius smooth_px) and thresholds it inside `valid`.
+  Image threshold(std::vector<float>& score, int w, int h, const Image& valid, double t, int scale) const {
     cv::Mat s(h, w, CV_32FC1, score.data());
-    const int r = opts_.i("smooth_px");
+    const int r = onGrid(opts_.i("smooth_px"), scale);
     if (r > 0) cv::blur(s, s, cv::Size(2 * r + 1, 2 * r + 1), cv::Point(-1, -1), cv::BORDER_REPLICATE);
     Image out(w, h, 1);
     for (std::size_t i = 0; i < out.data.size(); ++i)
@@ -246,7 +288,8 @@ class BasePipeline : public VisionPipeline {
     d.timestamp = frame.timestamp;
     return d;
   }
-  const Image& ground(const Camera& cam) {
+  /// Where `cam` sees the ground, per pixel (returned) and per cell of the grid (cache_.grid_valid).
+  const Image& ground(const Camera& cam, int scale) {
     if (cache_.camera != &cam || !(cache_.intrinsics == cam.intrinsics()) || !(cache_.mount == cam.mount()) ||
         cache_.valid.empty()) {
       cache_.camera = &cam;
@@ -256,10 +299,37 @@ class BasePipeline : public VisionPipeline {
       for (int v = 0; v < cam.height(); ++v)
         for (int u = 0; u < cam.width(); ++u)
           if (cam.backproject(Vec2(u, v))) cache_.valid.pixel(u, v)[0] = 255;
+      cache_.scale = 0;
+    }
+    if (cache_.scale != scale) {
+      cache_.scale = scale;
+      if (scale == 1) {
+        cache_.grid_valid = cache_.valid;
+      } else {
+        cv::Mat mean;
+        cv::resize(wrap(cache_.valid)(cv::Rect(0, 0, cam.width() / scale * scale, cam.height() / scale * scale)), mean,
+                   cv::Size(cam.width() / scale, cam.height() / scale), 0, 0, cv::INTER_AREA);
+        cache_.grid_valid = Image(mean.cols, mean.rows, 1);
+        cv::Mat all = wrap(cache_.grid_valid);
+        cv::threshold(mean, all, 254, 255, cv::THRESH_BINARY);  // every pixel of the cell sees the ground
+      }
     }
     return cache_.valid;
   }
+  /// The frame on the grid: itself (scale 1), else each cell's mean colour (the right and bottom
+  /// pixels that do not fill a cell are left out).
+  GridFrame gridFrame(const VisionFrame& frame, int scale) {
+    GridFrame g{frame.width / scale, frame.height / scale, frame.rgb, frame.camera, scale};
+    if (scale == 1) return g;
+    const cv::Mat full(frame.height, frame.width, CV_8UC3, const_cast<std::uint8_t*>(frame.rgb));
+    grid_rgb_.resize(static_cast<std::size_t>(g.width) * g.height * 3);
+    cv::Mat cells(g.height, g.width, CV_8UC3, grid_rgb_.data());
+    cv::resize(full(cv::Rect(0, 0, g.width * scale, g.height * scale)), cells, cells.size(), 0, 0, cv::INTER_AREA);
+    g.rgb = grid_rgb_.data();
+    return g;
+  }
   GroundCache cache_;
+  std::vector<std::uint8_t> grid_rgb_;  ///< the last frame on the grid (reused)
 };
 
 }  // namespace
@@ -293,16 +363,17 @@ class ClassifierPipeline : public BasePipeline {
   // classes), each against the non-road class: a brick road meeting a concrete one is road in
   // both colours, and a model learnt on one surface is not dragged onto the other. A pixel is road
   // by the best of the surfaces' log-odds.
-  std::optional<Image> classify(const VisionFrame& frame, const PredictedObject& prediction, const Image& valid,
+  std::optional<Image> classify(const GridFrame& frame, const PredictedObject& prediction, const Image& valid,
                                 const Image& predicted, std::string& why) override {
     const int w = frame.width, h = frame.height;
     const Camera& cam = *frame.camera;
     // Conservative labels: the predicted road eroded, and the rest of the predicted view eroded.
-    Image view_mask = prediction.footprint.size() >= 3 ? fillRings({prediction.footprint}, cam, w, h) : valid;
+    Image view_mask =
+        prediction.footprint.size() >= 3 ? fillRings({prediction.footprint}, cam, frame.scale, w, h) : valid;
     cv::Mat vm = wrap(view_mask);
-    cv::bitwise_and(vm, cv::Mat(h, w, CV_8UC1, const_cast<std::uint8_t*>(valid.data.data())), vm);
+    cv::bitwise_and(vm, wrap(valid), vm);
     Image non_lab(w, h, 1);
-    const int e = opts_.i("label_erosion_px");
+    const int e = onGrid(opts_.i("label_erosion_px"), frame.scale);
     const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * e + 1, 2 * e + 1));
     cv::Mat pm(h, w, CV_8UC1, const_cast<std::uint8_t*>(predicted.data.data()));
     const bool reference = opts_.b("reference");
@@ -327,11 +398,11 @@ class ClassifierPipeline : public BasePipeline {
       // The surface's training pixels: its own predicted area, less where another surface's overlaps it.
       Image own = predicted;
       if (by_surface.size() > 1) {
-        own = fillRings(rings, cam, w, h);
+        own = fillRings(rings, cam, frame.scale, w, h);
         cv::bitwise_and(wrap(own), pm, wrap(own));
         for (const auto& [other, other_rings] : by_surface) {
           if (other == surface) continue;
-          Image theirs = fillRings(other_rings, cam, w, h);
+          Image theirs = fillRings(other_rings, cam, frame.scale, w, h);
           cv::bitwise_and(wrap(own), ~wrap(theirs), wrap(own));
         }
       }
@@ -351,7 +422,7 @@ class ClassifierPipeline : public BasePipeline {
       return std::nullopt;
     }
     for (float& v : best) v = std::clamp(v, -20.0f, 20.0f);
-    return threshold(best, w, h, valid, opts_["llr_threshold"]);
+    return threshold(best, w, h, valid, opts_["llr_threshold"], frame.scale);
   }
 
  private:
@@ -361,23 +432,31 @@ class ClassifierPipeline : public BasePipeline {
     co.blend = opts_["blend"];
     co.max_mean_shift_sigma = opts_["max_mean_shift_sigma"];
     co.min_pixels = opts_.i("min_training_pixels");
+    co.stride = gridScale() >= 2 ? 1 : 2;  // about one pixel in four of the frame either way
     return co;
   }
 
   // Updates one surface's classifier from its labels; adaptive: keeping only the labelled pixels the
   // current model does not strongly contradict.
-  void train(ColorClassifier& classifier, const VisionFrame& frame, Image& road_lab, Image& non_lab) const {
+  void train(ColorClassifier& classifier, const GridFrame& frame, Image& road_lab, Image& non_lab) const {
     const int w = frame.width, h = frame.height;
     const bool reference = opts_.b("reference");
     if (classifier.trained()) {
       // The update reads every stride-th pixel of every stride-th row, so only those are looked at.
       const float out = static_cast<float>(opts_["outlier_llr"]);
       const int s = reference ? 1 : classifier.options().stride;
+      // The fast path evaluates all labelled pixels at once (vectorised; the same values as one by one).
+      std::vector<float> before;
+      if (!reference) {
+        cv::Mat labelled;
+        cv::bitwise_or(wrap(road_lab), wrap(non_lab), labelled);
+        before = classifier.logOdds(frame.rgb, w, h, labelled.data);
+      }
       for (int v = 0; v < h; v += s) {
         for (int u = 0; u < w; u += s) {
           const std::size_t i = static_cast<std::size_t>(v) * w + u;
           if (road_lab.data[i] == 0 && non_lab.data[i] == 0) continue;
-          const float l = reference ? classifier.logOddsReference(frame.rgb + 3 * i) : classifier.logOdds(frame.rgb + 3 * i);
+          const float l = reference ? classifier.logOddsReference(frame.rgb + 3 * i) : before[i];
           if (road_lab.data[i] != 0 && l < -out) road_lab.data[i] = 0;
           if (non_lab.data[i] != 0 && l > out) non_lab.data[i] = 0;
         }
@@ -396,7 +475,7 @@ class BlueBandPipeline : public BasePipeline {
   void reset() override {}
 
  protected:
-  std::optional<Image> classify(const VisionFrame& frame, const PredictedObject&, const Image& valid, const Image&,
+  std::optional<Image> classify(const GridFrame& frame, const PredictedObject&, const Image& valid, const Image&,
                                 std::string&) override {
     const int w = frame.width, h = frame.height;
     const std::size_t n = static_cast<std::size_t>(w) * h;
@@ -411,7 +490,7 @@ class BlueBandPipeline : public BasePipeline {
     }
     std::vector<float> score(n);
     for (std::size_t i = 0; i < n; ++i) score[i] = frame.rgb[3 * i + 2];
-    return threshold(score, w, h, valid, t - 0.5);
+    return threshold(score, w, h, valid, t - 0.5, frame.scale);
   }
 };
 

@@ -29,9 +29,21 @@ struct LineOptions {
 };
 
 /// The closed `contour` (pixels) as straight lines with image and ground coordinates; frame edges
-/// marked (`valid`: 1 channel, non-zero where pixels see the ground).
+/// marked (`valid`: 1 channel, non-zero where pixels see the ground). The same as
+/// polygonLines(contourPolygon(contour, options.simplify_tolerance_px, options.reference), ...).
 std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camera& camera, const Image& valid,
                                    const LineOptions& options = {});
+
+/// The closed `contour` (a ring of pixel centres without repeated closing point) simplified within
+/// `tolerance_px` to a polygon (no repeated closing point either); the contour's start, an arbitrary
+/// point, is dropped when it lies on a straight edge. `reference`: CGAL's simplification, else the
+/// pixel-chain one (the same answer). Fewer than 3 contour points: empty.
+std::vector<Vec2> contourPolygon(const std::vector<Vec2>& contour, double tolerance_px, bool reference);
+
+/// The edges of `polygon` (closed, image pixels) as lines, the second half of fitLines: edges shorter
+/// than options.min_length_px dropped, frame edges marked, ground coordinates from `camera`.
+std::vector<DetectedLine> polygonLines(const std::vector<Vec2>& polygon, const Camera& camera, const Image& valid,
+                                       const LineOptions& options = {});
 
 /// Labels the lines that are not frame edges with the best-matching predicted interest segment.
 void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& prediction, const LineOptions& options = {});
