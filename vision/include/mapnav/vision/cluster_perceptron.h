@@ -189,6 +189,19 @@ Image fillPolygonMask(const std::vector<Polygon2>& polygons, int width, int heig
 /// densified), filled; empty when the prediction has no region in view.
 Image predictedRoadMask(const PredictedObject& prediction, const Camera& camera);
 
+/// Whether every pixel of an RGB frame has R = G = B (a grey camera's frame given as RGB).
+bool isGreyFrame(const std::uint8_t* rgb, int width, int height);
+/// Beyond the paper, for grey frames, whose colours all lie on the grey axis so that the clusters
+/// cannot tell asphalt from grass or paving of the same grey: a 3-channel image that stands in for
+/// R, G, B, per pixel, over the `window` × `window` box around it (clamped at the image sides):
+///   0: the grey level's mean,
+///   1: 4 × the mean absolute 4-neighbour Laplacian, clamped to 255 (fine grain: on kitti_vo_seq1
+///      asphalt measures 16–22 levels, mown grass 8–12),
+///   2: 4 × the grey level's standard deviation, clamped to 255 (coarse texture: leaves, paving
+///      joints, kerbs and shadow edges are high, asphalt 5–8 levels).
+/// `window` is odd, in [3, 63].
+Image greyTextureFeatures(const std::uint8_t* rgb, int width, int height, int window);
+
 class VisionPipeline;
 struct OptionInfo;
 /// The "cluster-perceptron" pipeline and its documented options (registered by
