@@ -565,5 +565,31 @@ TEST(ClusterPerceptron, GreyTextureFeaturesMeasureMeanGrainAndTexture) {
   EXPECT_FALSE(isGreyFrame(grey.data.data(), 40, 20));
 }
 
+// The bootstrap on a road that is a small part of the frame: a 100 x 100 frame of grey 200 with 1000
+// pixels of grey 50, of which the 10 x 10 outline holds 100. Unbalanced, grey 50's cluster has 100
+// road and 900 other pixels and is not road; balanced, each road pixel counts 9900 / 100 = 99 times,
+// and grey 50 (all of the outline, 9 % of the rest) is road while grey 200 is not.
+TEST(ClusterPerceptron, BalancedBootstrapFindsASmallRoad) {
+  Image frame(100, 100, 3);
+  Image outline(100, 100, 1);
+  for (int v = 0; v < 100; ++v)
+    for (int u = 0; u < 100; ++u) {
+      const bool inside = u >= 45 && u < 55 && v >= 90;   // 10 x 10
+      const bool dark = inside || (v < 30 && u < 30);       // + 900 outside
+      std::fill(frame.pixel(u, v), frame.pixel(u, v) + 3, dark ? 50 : 200);
+      outline.pixel(u, v)[0] = inside ? 255 : 0;
+    }
+  for (const bool balance : {false, true}) {
+    ClusterPerceptronOptions o;
+    o.clusters = 2;
+    o.balance_classes = balance;
+    ClusterPerceptron cp(o);
+    cp.trainClusters(frame.data.data(), 100, 100);
+    cp.trainPerceptron(frame.data.data(), 100, 100, outline.data.data());
+    EXPECT_EQ(cp.outputReference(50, 50, 50) > 0, balance) << "balance " << balance;
+    EXPECT_LT(cp.outputReference(200, 200, 200), 0) << "balance " << balance;
+  }
+}
+
 }  // namespace
 }  // namespace mapnav

@@ -235,6 +235,17 @@ std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, 
       (road[i] != 0 ? pos : neg)[k] += 1;
       total += 1;
     }
+  if (opt_.balance_classes) {
+    double inside = 0, outside = 0;
+    for (int k = 0; k < n; ++k) {
+      inside += pos[k];
+      outside += neg[k];
+    }
+    if (inside > 0 && outside > 0) {
+      for (double& p : pos) p *= outside / inside;
+      total = 2 * outside;
+    }
+  }
   return runLms(static_cast<std::size_t>(n) + 1, total, [&](std::vector<double>& grad) {
     double err = 0;
     for (int k = 0; k < n; ++k) {
@@ -292,6 +303,17 @@ std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rg
       (road[i] != 0 ? c.first : c.second) += 1;
       total += 1;
     }
+  if (opt_.balance_classes) {
+    double inside = 0, outside = 0;
+    for (const auto& [key, c] : counts) {
+      inside += c.first;
+      outside += c.second;
+    }
+    if (inside > 0 && outside > 0) {
+      for (auto& [key, c] : counts) c.first *= outside / inside;
+      total = 2 * outside;
+    }
+  }
   std::vector<std::pair<std::uint32_t, std::pair<double, double>>> colours(counts.begin(), counts.end());
   std::sort(colours.begin(), colours.end());  // a fixed summation order: the same weights every run
   return runLms(4, total, [&](std::vector<double>& grad) {
@@ -1132,6 +1154,9 @@ const std::vector<OptionSpec>& specs() {
        "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
       {"raw_rgb", 0, true, false, 0, 1,
        "beyond the paper (9): the perceptron's inputs are the pixel's R, G, B instead of the clusters' winner code"},
+      {"balance_classes", 0, true, false, 0, 1,
+       "beyond the paper: the bootstrap weighs the road (inside the outline) and the rest equally, for frames "
+       "where the road is a small part"},
       {"threads", 1, false, true, 0, 256, "runtime threads (0 = every core); the answer does not depend on it"},
       {"fast", 1, true, false, 0, 1,
        "runtime through a 32x32x32 colour lookup table (exact: boundary cells are classified per pixel); false = "
@@ -1251,6 +1276,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.refine_edges = options_.b("refine_edges");
     o.threads = options_.i("threads");
     o.raw_rgb = options_.b("raw_rgb");
+    o.balance_classes = options_.b("balance_classes");
     o.fast = options_["fast"] != 0;
     o.min_road_fraction = options_["min_road_fraction"];
     o.validate();

@@ -77,6 +77,11 @@ struct ClusterPerceptronOptions {
   /// Beyond the paper (§9): the perceptron's inputs are the pixel's R, G, B (scaled to [-1, 1])
   /// instead of the clusters' winner-take-all code. The clusters are still trained (reconstruction).
   bool raw_rgb = false;
+  /// Beyond the paper: the perceptron's bootstrap counts the road (inside the outline) and the rest
+  /// equally, each road pixel weighted by (pixels outside) / (pixels inside). Without it a cluster is
+  /// road only when most of its pixels lie inside the outline, which fails when the road is a small
+  /// part of the frame (a level camera: kitti_vo_seq1's trapezoid is 8.8 % of the frame).
+  bool balance_classes = false;
   bool fast = true;                     ///< colour lookup table (true) or per-pixel reference path
   /// Runtime threads: bands of rows classified in parallel (1 = this thread only, 0 = every core).
   /// The answer does not depend on it.
