@@ -620,5 +620,58 @@ TEST(ClusterPerceptron, ParkPipelineRegisteredAndFindsTheCentreLine) {
   EXPECT_EQ(d.status, DetectedObject::Status::Ok) << d.reason;
 }
 
+// Grey frames: the feature image that stands in for R, G, B. A 40 x 20 frame, flat 100 on the left
+// half, a checkerboard of 110 and 100 on the right half ((u + v) even: 110).
+TEST(ClusterPerceptron, GreyTextureFeaturesMeasureMeanGrainAndTexture) {
+  Image grey(40, 20, 3);
+  for (int v = 0; v < 20; ++v)
+    for (int u = 0; u < 40; ++u) {
+      const std::uint8_t g = u < 20 ? 100 : ((u + v) % 2 == 0 ? 110 : 100);
+      std::fill(grey.pixel(u, v), grey.pixel(u, v) + 3, g);
+    }
+  EXPECT_TRUE(isGreyFrame(grey.data.data(), 40, 20));
+  const Image f = greyTextureFeatures(grey.data.data(), 40, 20, 7);
+  ASSERT_EQ(f.channels, 3);
+  // Deep in the flat half: mean 100, no grain, no texture.
+  EXPECT_EQ(f.pixel(5, 10)[0], 100);
+  EXPECT_EQ(f.pixel(5, 10)[1], 0);
+  EXPECT_EQ(f.pixel(5, 10)[2], 0);
+  // In the checkerboard, (30, 10) is even: its 7 x 7 box holds 25 of 110 and 24 of 100, mean
+  // 5150 / 49 = 105.1, standard deviation sqrt(11071.43 − 105.10²) = 5.0, times 4 = 20; every
+  // pixel's 4-neighbour Laplacian is ±40, times 4 = 160.
+  EXPECT_EQ(f.pixel(30, 10)[0], 105);
+  EXPECT_EQ(f.pixel(30, 10)[1], 160);
+  EXPECT_EQ(f.pixel(30, 10)[2], 20);
+  EXPECT_THROW(greyTextureFeatures(grey.data.data(), 40, 20, 6), InvalidInput);
+  grey.pixel(3, 4)[1] = 101;  // one pixel with colour: not a grey frame
+  EXPECT_FALSE(isGreyFrame(grey.data.data(), 40, 20));
+}
+
+// The bootstrap on a road that is a small part of the frame: a 100 x 100 frame of grey 200 with 1000
+// pixels of grey 50, of which the 10 x 10 outline holds 100. Unbalanced, grey 50's cluster has 100
+// road and 900 other pixels and is not road; balanced, each road pixel counts 9900 / 100 = 99 times,
+// and grey 50 (all of the outline, 9 % of the rest) is road while grey 200 is not.
+TEST(ClusterPerceptron, BalancedBootstrapFindsASmallRoad) {
+  Image frame(100, 100, 3);
+  Image outline(100, 100, 1);
+  for (int v = 0; v < 100; ++v)
+    for (int u = 0; u < 100; ++u) {
+      const bool inside = u >= 45 && u < 55 && v >= 90;   // 10 x 10
+      const bool dark = inside || (v < 30 && u < 30);       // + 900 outside
+      std::fill(frame.pixel(u, v), frame.pixel(u, v) + 3, dark ? 50 : 200);
+      outline.pixel(u, v)[0] = inside ? 255 : 0;
+    }
+  for (const bool balance : {false, true}) {
+    ClusterPerceptronOptions o;
+    o.clusters = 2;
+    o.balance_classes = balance;
+    ClusterPerceptron cp(o);
+    cp.trainClusters(frame.data.data(), 100, 100);
+    cp.trainPerceptron(frame.data.data(), 100, 100, outline.data.data());
+    EXPECT_EQ(cp.outputReference(50, 50, 50) > 0, balance) << "balance " << balance;
+    EXPECT_LT(cp.outputReference(200, 200, 200), 0) << "balance " << balance;
+  }
+}
+
 }  // namespace
 }  // namespace mapnav

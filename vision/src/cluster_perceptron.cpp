@@ -239,6 +239,17 @@ std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, 
       (road[i] != 0 ? pos : neg)[k] += 1;
       total += 1;
     }
+  if (opt_.balance_classes) {
+    double inside = 0, outside = 0;
+    for (int k = 0; k < n; ++k) {
+      inside += pos[k];
+      outside += neg[k];
+    }
+    if (inside > 0 && outside > 0) {
+      for (double& p : pos) p *= outside / inside;
+      total = 2 * outside;
+    }
+  }
   return runLms(static_cast<std::size_t>(n) + 1, total, [&](std::vector<double>& grad) {
     double err = 0;
     for (int k = 0; k < n; ++k) {
@@ -296,6 +307,17 @@ std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rg
       (road[i] != 0 ? c.first : c.second) += 1;
       total += 1;
     }
+  if (opt_.balance_classes) {
+    double inside = 0, outside = 0;
+    for (const auto& [key, c] : counts) {
+      inside += c.first;
+      outside += c.second;
+    }
+    if (inside > 0 && outside > 0) {
+      for (auto& [key, c] : counts) c.first *= outside / inside;
+      total = 2 * outside;
+    }
+  }
   std::vector<std::pair<std::uint32_t, std::pair<double, double>>> colours(counts.begin(), counts.end());
   std::sort(colours.begin(), colours.end());  // a fixed summation order: the same weights every run
   return runLms(4, total, [&](std::vector<double>& grad) {
@@ -1309,6 +1331,42 @@ int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int hei
   return added;
 }
 
+// --- Grey frames -----------------------------------------------------------------------------------
+
+bool isGreyFrame(const std::uint8_t* rgb, int width, int height) {
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  for (std::size_t i = 0; i < n; ++i, rgb += 3)
+    if (rgb[0] != rgb[1] || rgb[0] != rgb[2]) return false;
+  return true;
+}
+
+Image greyTextureFeatures(const std::uint8_t* rgb, int width, int height, int window) {
+  if (rgb == nullptr || width <= 0 || height <= 0) throw InvalidInput("greyTextureFeatures: empty frame");
+  if (window < 3 || window > 63 || window % 2 == 0)
+    throw InvalidInput("greyTextureFeatures: window " + std::to_string(window) + " is not odd in [3, 63]");
+  cv::Mat grey(height, width, CV_32F);
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) grey.at<float>(v, u) = rgb[3 * (static_cast<std::size_t>(v) * width + u)];
+  const cv::Size box(window, window);
+  cv::Mat mean, mean_sq, lap, grain;
+  cv::blur(grey, mean, box, cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  cv::blur(grey.mul(grey), mean_sq, box, cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  cv::Laplacian(grey, lap, CV_32F, 1, 1.0, 0.0, cv::BORDER_REPLICATE);
+  cv::blur(cv::abs(lap), grain, box, cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  Image out(width, height, 3);
+  auto level = [](double x) { return static_cast<std::uint8_t>(std::clamp(std::lround(x), 0L, 255L)); };
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const double m = mean.at<float>(v, u);
+      const double sd = std::sqrt(std::max(0.0, mean_sq.at<float>(v, u) - m * m));
+      std::uint8_t* p = out.pixel(u, v);
+      p[0] = level(m);
+      p[1] = level(4.0 * grain.at<float>(v, u));
+      p[2] = level(4.0 * sd);
+    }
+  return out;
+}
+
 // --- The "cluster-perceptron" pipeline ----------------------------------------------------------------
 
 namespace {
@@ -1345,11 +1403,19 @@ const std::vector<OptionSpec>& specs() {
        "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
       {"raw_rgb", 0, true, false, 0, 1,
        "beyond the paper (9): the perceptron's inputs are the pixel's R, G, B instead of the clusters' winner code"},
+      {"balance_classes", 0, true, false, 0, 1,
+       "beyond the paper: the bootstrap weighs the road (inside the outline) and the rest equally, for frames "
+       "where the road is a small part"},
       {"threads", 1, false, true, 0, 256, "runtime threads (0 = every core); the answer does not depend on it"},
       {"fast", 1, true, false, 0, 1,
        "runtime through a 32x32x32 colour lookup table (exact: boundary cells are classified per pixel); false = "
        "per-pixel reference path"},
       {"min_road_fraction", 0.02, false, false, 0, 1, "fewer road pixels than this fraction of the frame: Failed"},
+      {"grey_features", 1, true, false, 0, 1,
+       "beyond the paper: a grey frame (R = G = B everywhere) is clustered on (local mean, 4 x mean |Laplacian|, "
+       "4 x local standard deviation) instead of (R, G, B), so that texture can separate asphalt from grass and "
+       "paving; colour frames are not affected"},
+      {"texture_window", 7, false, true, 3, 63, "grey_features: side of the box of the local mean, Laplacian and deviation, pixels (odd)"},
   };
   return s;
 }
@@ -1373,6 +1439,13 @@ class ClusterPerceptronPipeline : public VisionPipeline {
       throw InvalidInput("pipeline \"cluster-perceptron\": frame size differs from the camera's image size");
     const Camera& cam = *frame.camera;
     const int w = frame.width, h = frame.height;
+    // Grey frames: texture features in place of the colours (both runtime paths see the same image).
+    Image features;
+    const std::uint8_t* pixels = frame.rgb;
+    if (grey_features_ && isGreyFrame(frame.rgb, w, h)) {
+      features = greyTextureFeatures(frame.rgb, w, h, texture_window_);
+      pixels = features.data.data();
+    }
     if (!finder_.trained() || static_cast<int>(finder_.rowWidths().size()) != h) {
       // Bootstrap (§4): the predicted road outline, else the default trapezoid.
       Image outline = predictedRoadMask(prediction, cam);
@@ -1386,12 +1459,12 @@ class ClusterPerceptronPipeline : public VisionPipeline {
                                   w, h);
       }
       finder_ = ClusterPerceptron(opts_);
-      finder_.trainClusters(frame.rgb, w, h);
+      finder_.trainClusters(pixels, w, h);
       finder_.setRowWidths(trapezoidRowWidths(outline));
       finder_.setCamera(cam);
-      finder_.trainPerceptron(frame.rgb, w, h, outline.data.data());
+      finder_.trainPerceptron(pixels, w, h, outline.data.data());
     }
-    const RoadFinding f = finder_.track(frame.rgb, w, h, false);
+    const RoadFinding f = finder_.track(pixels, w, h, false);
     if (!f.ok) {
       DetectedObject d = DetectedObject::failed(f.reason);
       d.timestamp = frame.timestamp;
@@ -1454,14 +1527,23 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.refine_edges = options_.b("refine_edges");
     o.threads = options_.i("threads");
     o.raw_rgb = options_.b("raw_rgb");
+    o.balance_classes = options_.b("balance_classes");
     o.fast = options_["fast"] != 0;
     o.min_road_fraction = options_["min_road_fraction"];
     o.validate();
+    const int window = options_.i("texture_window");
+    if (window % 2 == 0)
+      throw InvalidInput("pipeline \"cluster-perceptron\": option \"texture_window\" " + std::to_string(window) +
+                         " is not odd");
     opts_ = o;
+    grey_features_ = options_.b("grey_features");
+    texture_window_ = window;
     reset();
   }
   PipelineOptions options_;
   ClusterPerceptronOptions opts_;
+  bool grey_features_ = true;
+  int texture_window_ = 7;
   ClusterPerceptron finder_;
 };
 

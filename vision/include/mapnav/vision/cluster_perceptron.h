@@ -86,6 +86,11 @@ struct ClusterPerceptronOptions {
   /// Beyond the paper (§9): the perceptron's inputs are the pixel's R, G, B (scaled to [-1, 1])
   /// instead of the clusters' winner-take-all code. The clusters are still trained (reconstruction).
   bool raw_rgb = false;
+  /// Beyond the paper: the perceptron's bootstrap counts the road (inside the outline) and the rest
+  /// equally, each road pixel weighted by (pixels outside) / (pixels inside). Without it a cluster is
+  /// road only when most of its pixels lie inside the outline, which fails when the road is a small
+  /// part of the frame (a level camera: kitti_vo_seq1's trapezoid is 8.8 % of the frame).
+  bool balance_classes = false;
   bool fast = true;                     ///< colour lookup table (true) or per-pixel reference path
   /// Runtime threads: bands of rows classified in parallel (1 = this thread only, 0 = every core).
   /// The answer does not depend on it.
@@ -204,6 +209,19 @@ Image fillPolygonMask(const std::vector<Polygon2>& polygons, int width, int heig
 /// The road outline of a prediction in the image: its regions' ground polygons projected (edges
 /// densified), filled; empty when the prediction has no region in view.
 Image predictedRoadMask(const PredictedObject& prediction, const Camera& camera);
+
+/// Whether every pixel of an RGB frame has R = G = B (a grey camera's frame given as RGB).
+bool isGreyFrame(const std::uint8_t* rgb, int width, int height);
+/// Beyond the paper, for grey frames, whose colours all lie on the grey axis so that the clusters
+/// cannot tell asphalt from grass or paving of the same grey: a 3-channel image that stands in for
+/// R, G, B, per pixel, over the `window` × `window` box around it (clamped at the image sides):
+///   0: the grey level's mean,
+///   1: 4 × the mean absolute 4-neighbour Laplacian, clamped to 255 (fine grain: on kitti_vo_seq1
+///      asphalt measures 16–22 levels, mown grass 8–12),
+///   2: 4 × the grey level's standard deviation, clamped to 255 (coarse texture: leaves, paving
+///      joints, kerbs and shadow edges are high, asphalt 5–8 levels).
+/// `window` is odd, in [3, 63].
+Image greyTextureFeatures(const std::uint8_t* rgb, int width, int height, int window);
 
 class VisionPipeline;
 struct OptionInfo;
