@@ -29,6 +29,13 @@ cv::Mat toMat(const Image& image) {
 
 }  // namespace
 
+bool isGreyFrame(const std::uint8_t* rgb, int width, int height) {
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  for (std::size_t i = 0; i < n; ++i, rgb += 3)
+    if (rgb[0] != rgb[1] || rgb[0] != rgb[2]) return false;
+  return true;
+}
+
 Image toRgb(Image image) {
   if (image.channels == 3) return image;
   Image rgb(image.width, image.height, 3);

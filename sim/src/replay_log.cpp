@@ -121,7 +121,7 @@ std::string headerToJson(const LogHeader& header) {
 
 /// The check a line's JSON-reading issue is reported under.
 std::string lineCheck(const std::string& check) {
-  if (check == "json.syntax") return "log.not_json";
+  if (check == "json.syntax" || check == "json.too_deep") return "log.not_json";  // the message says which
   if (check == "json.not_finite") return "log.not_finite";
   if (check.rfind("schema.", 0) == 0) return "log.field";
   return check;

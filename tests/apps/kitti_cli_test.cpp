@@ -91,13 +91,15 @@ TEST_F(RealKittiSequence, EdgeTrackerFollowsTheVergeSmoothly) {
   const auto j = track({"--pipeline", "edge-tracker", "--trapezoid", "0.36,0.1,0.6,0.98", "--options",
                         R"({"single_edge":true})", "--contact-sheet", sheet.string()});
   EXPECT_EQ(j["frames"], 51);
-  EXPECT_GE(j["tracked"].get<int>(), 43) << j.dump();  // 45 when written
+  EXPECT_GE(j["tracked"].get<int>(), 43) << j.dump();  // 45 when written, 47 since grey frames use the grey level
+  int verge = 0;  // frames with the left edge (a frame may also be tracked on the right kerb alone)
   for (const auto& f : j["per_frame"]) {
-    if (!f["ok"].get<bool>()) continue;
-    ASSERT_FALSE(f["left_u"].is_null()) << f.dump();
+    if (!f["ok"].get<bool>() || f["left_u"].is_null()) continue;
+    ++verge;
     EXPECT_GT(f["left_u"].get<double>(), 420) << f.dump();
     EXPECT_LT(f["left_u"].get<double>(), 475) << f.dump();
   }
+  EXPECT_GE(verge, 43) << j.dump();  // 46 of 51
   EXPECT_GT(j["per_frame"][50]["left_u"].get<double>(), j["per_frame"][0]["left_u"].get<double>() + 10);
   EXPECT_LE(j["max_jump_px"]["left"].get<double>(), 6) << j.dump();  // 3.0 when written
   // Eight overlays at half size (613 x 185), two a row 4 px apart: 2 x 613 + 4 by 4 x 185 + 3 x 4.

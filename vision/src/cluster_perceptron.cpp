@@ -1333,13 +1333,6 @@ int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int hei
 
 // --- Grey frames -----------------------------------------------------------------------------------
 
-bool isGreyFrame(const std::uint8_t* rgb, int width, int height) {
-  const std::size_t n = static_cast<std::size_t>(width) * height;
-  for (std::size_t i = 0; i < n; ++i, rgb += 3)
-    if (rgb[0] != rgb[1] || rgb[0] != rgb[2]) return false;
-  return true;
-}
-
 Image greyTextureFeatures(const std::uint8_t* rgb, int width, int height, int window) {
   if (rgb == nullptr || width <= 0 || height <= 0) throw InvalidInput("greyTextureFeatures: empty frame");
   if (window < 3 || window > 63 || window % 2 == 0)

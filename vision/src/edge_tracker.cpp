@@ -12,6 +12,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/geometry/simplify.h"
+#include "mapnav/sim/image.h"
 
 namespace mapnav {
 
@@ -663,10 +664,13 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   carried_left_.reset();
   carried_right_.reset();
 
-  // The grey image in each band an edge needs (most frames: one).
+  // The grey image in each band an edge needs (most frames: one). A grey camera's frame (R = G = B)
+  // has no normalised colour (every pixel 85): there the edge is traced in the grey level.
+  const bool colourless = isGreyFrame(frame.rgb, w, h);
   std::vector<std::pair<GreyBand, GreyImage>> greys;
   greys.reserve(4);  // one per GreyBand: references handed out stay valid
   auto grey = [&](GreyBand band) -> const GreyImage& {
+    if (colourless && normalised(band)) band = GreyBand::Luminance;
     for (const auto& [b, g] : greys)
       if (b == band) return g;
     greys.emplace_back(band, toGrey(frame.rgb, w, h, band));

@@ -28,6 +28,9 @@ struct Image {
 /// An RGB copy of a grey image (each level copied to R, G and B); an RGB image as it is. The
 /// vision pipelines take RGB; logs and real sequences may hold grey frames.
 Image toRgb(Image image);
+/// Whether every pixel of an RGB frame has R = G = B (a grey camera's frame given as RGB, as toRgb
+/// makes it).
+bool isGreyFrame(const std::uint8_t* rgb, int width, int height);
 
 /// The largest image decodePng accepts, in pixels (2^26: 8192 x 8192).
 inline constexpr std::uint64_t kMaxPngPixels = std::uint64_t{1} << 26;

@@ -210,8 +210,6 @@ Image fillPolygonMask(const std::vector<Polygon2>& polygons, int width, int heig
 /// densified), filled; empty when the prediction has no region in view.
 Image predictedRoadMask(const PredictedObject& prediction, const Camera& camera);
 
-/// Whether every pixel of an RGB frame has R = G = B (a grey camera's frame given as RGB).
-bool isGreyFrame(const std::uint8_t* rgb, int width, int height);
 /// Beyond the paper, for grey frames, whose colours all lie on the grey axis so that the clusters
 /// cannot tell asphalt from grass or paving of the same grey: a 3-channel image that stands in for
 /// R, G, B, per pixel, over the `window` × `window` box around it (clamped at the image sides):
