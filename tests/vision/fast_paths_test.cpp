@@ -246,7 +246,7 @@ TEST(SidewalkFastPaths, TheReducedGridKeepsTheLabelledLinesWithinAPixelOrTwo) {
   // reference's line: a cell and the half-pixel offset of the cells' centres) and 1 degree of it in the
   // image; on the ground, within 4 cm at its middle (the missions' lateral target is 5 cm RMS).
   registerBuiltinPipelines();
-  auto fast = createPipeline("sidewalk");
+  auto fast = createPipeline("sidewalk", R"({"grid_px": 2})");
   auto reference = createPipeline("sidewalk", R"({"reference": true})");
   int compared = 0;
   double worst_px = 0, worst_deg = 0, worst_m = 0;
