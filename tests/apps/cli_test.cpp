@@ -259,7 +259,8 @@ TEST(Cli, RouteWritesAPictureOrGeoJsonAndBlocksWhatItIsTold) {
   EXPECT_EQ(geo["features"][0]["geometry"]["type"], "LineString");
   const auto detour = runCli({"route", "--map", map, "--from", "R1@I1+3", "--to", "R3@I3+2", "--block", "I2,R5", "--json"});
   ASSERT_EQ(detour.exit_code, 0) << detour.err;
-  for (const auto& leg : nlohmann::json::parse(detour.out)["legs"]) {
+  const auto route = nlohmann::json::parse(detour.out);  // named: a temporary's ["legs"] dies before the loop
+  for (const auto& leg : route["legs"]) {
     EXPECT_NE(leg.value("road", ""), "R5");
     EXPECT_NE(leg.value("at", ""), "I2");
   }
