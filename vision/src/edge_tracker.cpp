@@ -669,8 +669,8 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   const bool colourless = isGreyFrame(frame.rgb, w, h);
   std::vector<std::pair<GreyBand, GreyImage>> greys;
   greys.reserve(4);  // one per GreyBand: references handed out stay valid
+  auto traced = [&](GreyBand band) { return colourless && normalised(band) ? GreyBand::Luminance : band; };
   auto grey = [&](GreyBand band) -> const GreyImage& {
-    if (colourless && normalised(band)) band = GreyBand::Luminance;
     for (const auto& [b, g] : greys)
       if (b == band) return g;
     greys.emplace_back(band, toGrey(frame.rgb, w, h, band));
@@ -678,8 +678,9 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   };
   auto traceIf = [&](bool predicted, const Start& st) {
     if (predicted) {
-      TrackedEdge e = trace(grey(st.band), st.point, st.direction, st.polarity);
-      e.band = st.band;
+      const GreyBand band = traced(st.band);  // the band the edge is really traced in, as reported
+      TrackedEdge e = trace(grey(band), st.point, st.direction, st.polarity);
+      e.band = band;
       return e;
     }
     TrackedEdge none;
