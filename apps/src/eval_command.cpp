@@ -35,12 +35,16 @@ struct Sample {
 // Every image with its label, read and checked before anything runs or is written.
 std::vector<Sample> readSet(const EvalSegmentationConfig& config) {
   for (const auto& [option, dir] : {std::pair{"--images", config.images}, std::pair{"--labels", config.labels}}) {
-    if (!fs::is_directory(dir)) throw IoError(std::string(option) + " " + dir + ": no such folder");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw IoError(std::string(option) + " " + dir + ": no such folder");
   }
   std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(config.images)) {
-    if (e.is_regular_file() && e.path().extension() == ".png") files.push_back(e.path());
+  std::error_code ec;
+  for (fs::directory_iterator it(config.images, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code type_ec;
+    if (it->is_regular_file(type_ec) && it->path().extension() == ".png") files.push_back(it->path());
   }
+  if (ec) throw IoError(config.images + ": cannot list the folder: " + ec.message());
   std::sort(files.begin(), files.end());
   if (files.empty()) throw InvalidInput(config.images + ": no .png images in the folder");
   std::vector<Sample> set;
@@ -48,7 +52,7 @@ std::vector<Sample> readSet(const EvalSegmentationConfig& config) {
     Sample s;
     s.image_file = f;
     s.label_file = fs::path(config.labels) / (f.stem().string() + ".png");
-    if (!fs::is_regular_file(s.label_file))
+    if (std::error_code label_ec; !fs::is_regular_file(s.label_file, label_ec))
       throw InvalidInput(f.string() + ": no label " + s.label_file.string() + " (labels are matched by file stem)");
     s.image = readPng(f);
     s.label = readPng(s.label_file);
