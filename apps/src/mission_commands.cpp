@@ -73,8 +73,10 @@ ReportedRun runReported(const MissionFile& mission, const MissionRunConfig& conf
   options.max_frames = config.max_frames;
   r.trace = config.trace;
   std::optional<ReportFrames> frames;
+  bool created_report_dir = false;
   if (!config.report_dir.empty()) {
     std::error_code ec;
+    created_report_dir = !fs::exists(config.report_dir, ec);
     fs::create_directories(config.report_dir, ec);
     if (ec) throw IoError(config.report_dir + ": cannot create the report folder: " + ec.message());
     if (r.trace.empty()) r.trace = (fs::path(config.report_dir) / "trace.jsonl").string();
@@ -87,10 +89,18 @@ ReportedRun runReported(const MissionFile& mission, const MissionRunConfig& conf
     bar.emplace(err);
     options.progress = [&](const RunProgress& p) { bar->update(p); };
   }
-  r.run = runner(mission, options);
-  bar.reset();
-  if (frames) {
-    r.report = writeReport(config.report_dir, r.run, loadMap(mission.map), *frames, readFile(r.trace), r.trace);
+  try {
+    r.run = runner(mission, options);
+    bar.reset();
+    if (frames) {
+      r.report = writeReport(config.report_dir, r.run, loadMap(mission.map), *frames, readFile(r.trace), r.trace);
+    }
+  } catch (...) {
+    // A failed or interrupted run leaves no empty report folder of its own behind (remove() takes
+    // only an empty folder: whatever else is in it stays).
+    std::error_code ec;
+    if (created_report_dir) fs::remove(config.report_dir, ec);
+    throw;
   }
   return r;
 }
