@@ -145,8 +145,9 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
         config.max_frames > 0 ? std::min(config.max_frames, log.frames().size()) : log.frames().size();
     std::vector<TrackedFrame> frames;
     std::vector<Image> overlays;
-    // The edges the last frame found, moved into the current vehicle frame.
+    // The edges and the road region the last frame found, moved into the current vehicle frame.
     std::map<std::string, Segment2> carried;
+    Polygon2 carried_region;
     for (std::size_t i = 0; i < total; ++i) {
       const LogFrame& f = log.frames()[i];
       const Image rgb = toRgb(log.image(i));
@@ -158,10 +159,12 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
       const double d = f.odometry.distance_m, dh = f.odometry.dheading_rad;
       const Pose2 motion(d * std::cos(0.5 * dh), d * std::sin(0.5 * dh), dh);
       for (auto& entry : carried) entry.second = Segment2{motion.inverseTransform(entry.second.a), motion.inverseTransform(entry.second.b)};
-      // Each edge: where the last frame found it, else the bootstrap's.
+      for (Vec2& p : carried_region) p = motion.inverseTransform(p);
+      // Each edge and the road region: where the last frame found it, else the bootstrap's.
       PredictedObject prediction = bootstrap;
       for (InterestSegment& s : prediction.segments)
         if (const auto it = carried.find(s.id); it != carried.end()) s = edgeSegment(s.id, it->second, *camera);
+      if (carried_region.size() >= 3) prediction.regions.front().vehicle = {carried_region};
       prediction.timestamp = f.t;
       const DetectedObject det = pipeline->detect(VisionFrame{w, h, rgb.data.data(), camera.get(), f.t}, prediction);
 
@@ -178,8 +181,9 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
         if (const auto u = edgeColumn(det, kRight, row)) r.right_u = u;
         r.centre_u = centreColumn(det, *camera, row);
       }
-      // An edge not found in this frame is not carried on: a lost edge's last place drifts.
+      // An edge or a region not found in this frame is not carried on: a lost edge's last place drifts.
       carried = detectedEdges(det);
+      carried_region = r.ok ? det.region_vehicle : Polygon2{};
       frames.push_back(r);
       if (!config.overlays.empty() || !config.contact_sheet.empty())
         overlays.push_back(drawDetection(rgb, prediction, det, *camera));

@@ -708,5 +708,44 @@ TEST(ClusterPerceptron, AdaptiveClustersKeepAPathThatTurnsToBrick) {
   EXPECT_GE(sum_adaptive, sum_frozen + 0.2 * n);
 }
 
+// The prior (prior_px): a 200 x 100 frame of grey 200 with two dark (50) roads 40 wide, A at columns
+// 20..59 (centre 39.5) broken by background in rows 70..79, B at columns 130..169 (centre 149.5)
+// whole; trained on A's rows 50..99 (balanced: 1600 dark pixels inside against 6000 outside). With
+// the whole image searched B wins (10 more road rows); with a prior on A and prior_px 10, A's centre
+// is found, on both runtime paths. prior_px 0 ignores the prior.
+TEST(ClusterPerceptron, PriorKeepsTheHoughNearThePredictedCentreLine) {
+  Image frame(200, 100, 3);
+  Image outline(200, 100, 1);
+  for (int v = 0; v < 100; ++v)
+    for (int u = 0; u < 200; ++u) {
+      const bool a = u >= 20 && u < 60 && !(v >= 70 && v < 80), b = u >= 130 && u < 170;
+      std::fill(frame.pixel(u, v), frame.pixel(u, v) + 3, a || b ? 50 : 200);
+      outline.pixel(u, v)[0] = u >= 20 && u < 60 && v >= 50 ? 255 : 0;
+    }
+  const Segment2 prior{Vec2(39.5, 50), Vec2(39.5, 99)};
+  for (const double prior_px : {0.0, 10.0}) {
+    ClusterPerceptronOptions o;
+    o.clusters = 2;
+    o.balance_classes = true;
+    o.prior_px = prior_px;
+    ClusterPerceptron cp(o);
+    cp.trainClusters(frame.data.data(), 200, 100);
+    cp.setRowWidths(trapezoidRowWidths(outline));
+    cp.trainPerceptron(frame.data.data(), 200, 100, outline.data.data());
+    ASSERT_GT(cp.outputReference(50, 50, 50), 0);
+    ASSERT_LT(cp.outputReference(200, 200, 200), 0);
+    ClusterPerceptron ref = cp;
+    ref.setFast(false);
+    const RoadFinding f = cp.find(frame.data.data(), 200, 100, false, prior);
+    const RoadFinding r = ref.find(frame.data.data(), 200, 100, false, prior);
+    ASSERT_TRUE(f.ok) << f.reason;
+    const double want = prior_px > 0 ? 39.5 : 149.5;
+    EXPECT_NEAR(f.centerline_image.a.x(), want, 0.5) << "prior_px " << prior_px;
+    EXPECT_NEAR(f.centerline_image.b.x(), want, 0.5) << "prior_px " << prior_px;
+    EXPECT_EQ(f.centerline_image.a, r.centerline_image.a);
+    EXPECT_EQ(f.centerline_image.b, r.centerline_image.b);
+  }
+}
+
 }  // namespace
 }  // namespace mapnav

@@ -64,6 +64,7 @@ void ClusterPerceptronOptions::validate() const {
   requireOption(threads >= 0 && threads <= 256, o, "threads", threads, "in [0, 256] (0 = every core)");
   requireOption(min_road_fraction >= 0 && min_road_fraction <= 1, o, "min_road_fraction", min_road_fraction,
                 "in [0, 1]");
+  requireOption(std::isfinite(prior_px) && prior_px >= 0, o, "prior_px", prior_px, ">= 0");
 }
 
 std::string toString(RoadModel model) { return model == RoadModel::Arc ? "arc" : "line"; }
@@ -672,15 +673,18 @@ struct HoughPeak {
 
 /// The Hough's accumulation (§5): for every bend q and shift s, row i of the kernel sums `S`
 /// (`rows` × 3·cols, column c of the image at index cols + c) moved by offsets[(q·shifts + s)·rows + i]
-/// blocks and summed column by column; the largest column sum, first in (q, s, x) order. Exact
-/// integer arithmetic; built for AVX2 too where the processor has it.
+/// blocks and summed column by column; the largest column sum over the columns x_lo[s]..x_hi[s],
+/// first in (q, s, x) order (none: sum stays the lowest int64). Exact integer arithmetic; built for
+/// AVX2 too where the processor has it.
 __attribute__((target_clones("avx2", "default"))) HoughPeak houghSearch(const std::int32_t* S, int rows, int cols,
-                                                                         const int* offsets, int shifts, int bends) {
+                                                                         const int* offsets, int shifts, int bends,
+                                                                         const int* x_lo, const int* x_hi) {
   HoughPeak best;
   const int ext = 3 * cols;
   std::vector<std::int32_t> acc(static_cast<std::size_t>(cols));
   for (int q = 0; q < bends; ++q)
     for (int s = 0; s < shifts; ++s) {
+      if (x_lo[s] > x_hi[s]) continue;
       std::fill(acc.begin(), acc.end(), 0);
       const int* off = offsets + (static_cast<std::size_t>(q) * shifts + s) * rows;
       for (int i = 0; i < rows; ++i) {
@@ -689,7 +693,7 @@ __attribute__((target_clones("avx2", "default"))) HoughPeak houghSearch(const st
         std::int32_t* __restrict a = acc.data();
         for (int x = x0; x < x1; ++x) a[x] += srow[x];
       }
-      for (int x = 0; x < cols; ++x)
+      for (int x = x_lo[s]; x <= x_hi[s]; ++x)
         if (acc[x] > best.sum) best = {acc[x], x, s, q};
     }
   return best;
@@ -773,10 +777,11 @@ int edgeSupport(const std::vector<EdgeCandidate>& cands, const std::vector<doubl
 }
 
 /// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
-/// candidates in different rows, kept when more candidates support them than support `model`.
+/// candidates in different rows, kept when more candidates support them than support `model` and
+/// `allowed` admits them.
 CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths,
                           const CentreModel& model, int degree, std::uint64_t seed, int iterations, double tol,
-                          double max_curvature) {
+                          double max_curvature, const std::function<bool(const CentreModel&)>& allowed) {
   CentreModel best = model;
   int best_n = edgeSupport(cands, widths, model, tol);
   if (cands.size() < static_cast<std::size_t>(degree + 1)) return best;
@@ -801,7 +806,7 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
     CentreModel h = model;
     h.p = Vec3::Zero();
     h.p.head(m) = A.topLeftCorner(m, m).partialPivLu().solve(rhs.head(m));
-    if (!h.p.allFinite() || std::abs(h.p[2]) > max_curvature) continue;
+    if (!h.p.allFinite() || std::abs(h.p[2]) > max_curvature || !allowed(h)) continue;
     const int n = edgeSupport(cands, widths, h, tol);
     if (n > best_n) {
       best_n = n;
@@ -994,7 +999,8 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
 
 }  // namespace
 
-RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int height, bool want_mask) const {
+RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int height, bool want_mask,
+                                    const std::optional<Segment2>& prior) const {
   RoadFinding res;
   if (!trained_) {
     res.reason = "not trained";
@@ -1117,7 +1123,36 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     for (int s = -M; s <= M; ++s)
       for (std::size_t i = 0; i < rr.size(); ++i, ++j)
         offsets[j] = roundToInt(s * tr[i] + q * gb[i]);
-  const HoughPeak peak = houghSearch(S.data(), static_cast<int>(rr.size()), cols, offsets.data(), 2 * M + 1, 2 * Q + 1);
+  // The prior's window: the centre line's columns on the top and the bottom road rows (v0, v1; the
+  // arc's offset vanishes on both, so bends do not move them) within prior_px of the prior's.
+  const bool windowed = prior && opt_.prior_px > 0 && std::abs(prior->b.y() - prior->a.y()) > 1e-6;
+  double prior_top = 0, prior_bottom = 0;
+  if (windowed) {
+    const auto at = [&](double v) {
+      return prior->a.x() + (prior->b.x() - prior->a.x()) * (v - prior->a.y()) / (prior->b.y() - prior->a.y());
+    };
+    prior_top = at(model.v0);
+    prior_bottom = at(model.v1);
+  }
+  const auto inWindow = [&](double u_top, double u_bottom) {
+    return !windowed || (std::abs(u_top - prior_top) <= opt_.prior_px && std::abs(u_bottom - prior_bottom) <= opt_.prior_px);
+  };
+  // Block coordinate X (continuous) ↔ column X · bs − 0.5; the coarse Hough's line has X = x + 0.5 on
+  // the top road row and x + 0.5 + s on the bottom one.
+  std::vector<int> x_lo(2 * M + 1, 0), x_hi(2 * M + 1, cols - 1);
+  if (windowed) {
+    const double wb = opt_.prior_px / bs, top = (prior_top + 0.5) / bs - 0.5, bottom = (prior_bottom + 0.5) / bs - 0.5;
+    for (int s = -M; s <= M; ++s) {
+      x_lo[s + M] = std::max({0, static_cast<int>(std::ceil(top - wb)), static_cast<int>(std::ceil(bottom - s - wb))});
+      x_hi[s + M] = std::min({cols - 1, static_cast<int>(std::floor(top + wb)), static_cast<int>(std::floor(bottom - s + wb))});
+    }
+  }
+  const HoughPeak peak = houghSearch(S.data(), static_cast<int>(rr.size()), cols, offsets.data(), 2 * M + 1, 2 * Q + 1,
+                                     x_lo.data(), x_hi.data());
+  if (peak.sum == std::numeric_limits<std::int64_t>::min()) {
+    res.reason = "no centre line within prior_px of the prior";
+    return res;
+  }
   const int bx = peak.x, bsft = peak.shift - M, bq = peak.bend - Q;
   const std::int64_t best_fixed = peak.sum;
   const double best = static_cast<double>(best_fixed) / 1024.0;
@@ -1159,6 +1194,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
         for (const double sign : {-1.0, 1.0}) {
           Vec3 g = f;
           g[d] += sign * step;
+          if (!inWindow(g[0] * bs - 0.5, (g[0] + g[1]) * bs - 0.5)) continue;
           const double val = score(g[0], g[1], g[2]);
           if (val > fbest) {
             fbest = val;
@@ -1187,7 +1223,8 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     // Start from the model that most edge candidates support.
     std::vector<EdgeCandidate> cands;
     for (int v = v_top; v < height; v += 4) rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, 0, width, cands);
-    model = edgeConsensus(cands, row_widths_, model, degree, opt_.seed, 200, 2.0, opt_.max_curvature);
+    model = edgeConsensus(cands, row_widths_, model, degree, opt_.seed, 200, 2.0, opt_.max_curvature,
+                          [&](const CentreModel& m) { return inWindow(m.u(m.v0), m.u(m.v1)); });
     if (arc) {
       // The arc model: the circle on the ground, or the line where the curvature does not pay.
       GroundArc g;
@@ -1267,8 +1304,9 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   return res;
 }
 
-RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int height, bool want_mask) {
-  if (!opt_.adaptive) return find(rgb, width, height, want_mask);
+RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int height, bool want_mask,
+                                     const std::optional<Segment2>& prior) {
+  if (!opt_.adaptive) return find(rgb, width, height, want_mask, prior);
   const double err = reconstructionError(rgb, width, height, opt_.adaptive_stride);
   // The reference: the median error of the training frame and the recent frames that fitted. Frames
   // differ from the one the clusters were trained on (another mix of surfaces and shadows), so the
@@ -1293,7 +1331,7 @@ RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int hei
     if (static_cast<int>(recent_errors_.size()) > opt_.adaptive_window + 1)  // + the training error
       recent_errors_.erase(recent_errors_.begin() + 1);
   }
-  RoadFinding res = find(rgb, width, height, want_mask);
+  RoadFinding res = find(rgb, width, height, want_mask, prior);
   res.reconstruction_error = err;
   res.training_error = reference;
   res.retrained = retrained;
@@ -1364,6 +1402,27 @@ Image greyTextureFeatures(const std::uint8_t* rgb, int width, int height, int wi
 
 namespace {
 
+/// The centre line of a road outline mask: the middle of each row's extent, over the rows whose extent
+/// does not touch the image's sides (a clipped row's middle is not the road's), fitted by a line
+/// (least squares); nothing when fewer than 8 rows qualify.
+std::optional<Segment2> maskCentreLine(const Image& mask) {
+  std::vector<Vec2> vu;
+  for (int v = 0; v < mask.height; ++v) {
+    int lo = mask.width, hi = -1;
+    for (int u = 0; u < mask.width; ++u)
+      if (mask.pixel(u, v)[0] != 0) {
+        lo = std::min(lo, u);
+        hi = std::max(hi, u);
+      }
+    if (hi >= 0 && lo > 0 && hi < mask.width - 1) vu.emplace_back(v, 0.5 * (lo + hi));
+  }
+  if (vu.size() < 8) return std::nullopt;
+  CentreModel line;
+  line.v0 = vu.front().x();
+  line.v1 = std::max(line.v0 + 1.0, vu.back().x());
+  if (!fitCentreModel(vu, 1, std::numeric_limits<double>::max(), line)) return std::nullopt;
+  return Segment2{Vec2(line.u(line.v0), line.v0), Vec2(line.u(line.v1), line.v1)};
+}
 
 const std::vector<OptionSpec>& specs() {
   static const std::vector<OptionSpec> s = {
@@ -1409,6 +1468,10 @@ const std::vector<OptionSpec>& specs() {
        "4 x local standard deviation) instead of (R, G, B), so that texture can separate asphalt from grass and "
        "paving; colour frames are not affected"},
       {"texture_window", 7, false, true, 3, 63, "grey_features: side of the box of the local mean, Laplacian and deviation, pixels (odd)"},
+      {"prior_px", 0, false, false, 0, 1e6,
+       "beyond the paper: the Hough and the edge consensus keep to centre lines whose columns on the top and bottom road "
+       "rows are within this many pixels of the predicted road's centre line (the middle of the prediction's road "
+       "region, row by row); 0 = the whole image (the paper)"},
   };
   return s;
 }
@@ -1457,7 +1520,9 @@ class ClusterPerceptronPipeline : public VisionPipeline {
       finder_.setCamera(cam);
       finder_.trainPerceptron(pixels, w, h, outline.data.data());
     }
-    const RoadFinding f = finder_.track(pixels, w, h, false);
+    std::optional<Segment2> prior;
+    if (opts_.prior_px > 0) prior = maskCentreLine(predictedRoadMask(prediction, cam));
+    const RoadFinding f = finder_.track(pixels, w, h, false, prior);
     if (!f.ok) {
       DetectedObject d = DetectedObject::failed(f.reason);
       d.timestamp = frame.timestamp;
@@ -1523,6 +1588,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.balance_classes = options_.b("balance_classes");
     o.fast = options_["fast"] != 0;
     o.min_road_fraction = options_["min_road_fraction"];
+    o.prior_px = options_["prior_px"];
     o.validate();
     const int window = options_.i("texture_window");
     if (window % 2 == 0)

@@ -96,6 +96,12 @@ struct ClusterPerceptronOptions {
   /// The answer does not depend on it.
   int threads = 1;
   double min_road_fraction = 0.02;      ///< fewer road pixels than this fraction: Failed
+  /// Beyond the paper (the runtime tracking of §6 with a prior, as the map's prediction gives Wallace
+  /// et al.'s tracker its interest segments): when find() or track() is given a prior centre line
+  /// and this is > 0, the Hough and the edge consensus consider only centre lines whose columns on
+  /// the top and the bottom road rows lie within this many pixels of the prior's. 0 = the whole
+  /// image (the paper).
+  double prior_px = 0;
   void validate() const;
 };
 
@@ -157,14 +163,17 @@ class ClusterPerceptron {
 
   /// Perceptron output in [-1, 1] of one colour, reference arithmetic.
   double outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const;
-  /// §6: classifies a frame and finds the centre line (fast or reference path per options).
-  RoadFinding find(const std::uint8_t* rgb, int width, int height, bool want_mask = true) const;
+  /// §6: classifies a frame and finds the centre line (fast or reference path per options). With
+  /// options().prior_px > 0 and a `prior` (an image line, any two distinct rows), only near it.
+  RoadFinding find(const std::uint8_t* rgb, int width, int height, bool want_mask = true,
+                   const std::optional<Segment2>& prior = std::nullopt) const;
   /// find(), and with the adaptive option the §9 cluster management: when the frame's reconstruction
   /// error exceeds adaptive_error_ratio × the recent frames' median error, moves and adds clusters
   /// (see ClusterPerceptronOptions::adaptive), retrains the perceptron on this frame from the last
   /// trusted road (the centre curve and the row widths) and finds the road again. Without the option,
-  /// the same as find().
-  RoadFinding track(const std::uint8_t* rgb, int width, int height, bool want_mask = true);
+  /// the same as find(). `prior` as find()'s.
+  RoadFinding track(const std::uint8_t* rgb, int width, int height, bool want_mask = true,
+                    const std::optional<Segment2>& prior = std::nullopt);
   /// The mean squared reconstruction error per band, averaged over the bands, on every stride-th
   /// pixel in each direction (the last clustering's is trainingError()).
   double reconstructionError(const std::uint8_t* rgb, int width, int height, int stride) const;
