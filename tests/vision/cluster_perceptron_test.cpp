@@ -312,10 +312,16 @@ double quantile(std::vector<double> v, double q) {
 // Beyond the paper (§9): with the ground-arc model the found centre curve follows bends of radius
 // >= 15 m far better than the paper's straight model, which cuts them. Measured per frame: the
 // worst column error over the block rows where the road's centre is in the image. The circle fitted
-// to the edges on the ground puts the median frame within 4 px (the image parabola of the Hough
-// basis: 9.4 px). NOT YET the target everywhere: the road (3 m) fills the image (1.4 m wide
-// at the bottom), so edges show only in the upper rows, and frames with few edge rows (a quarter)
-// still miss the bottom rows by tens of pixels. The figures are printed; the bounds are what is met.
+// to the edges on the ground, started from the image fit and from a consensus of exact circles on the
+// ground, puts the median frame within 3.2 px and three frames in four within 11 px (measured: median
+// 3.12, 75 % 10.24, 90 % 60.1, worst 1500 px; 39 frames <= 2 px, 59 <= 3 px, 92 <= 10 px; before the
+// ground consensus: median 4.05, 75 % 41.0, 56 <= 3 px, 79 <= 10 px). NOT YET the target
+// everywhere: the road (3 m) fills the image (1.4 m wide at the bottom), so edges show only above
+// ~4.5 m, and the tail is frames where the perceptron shows few or wrong edges (dirt shoulders
+// classed as road, the dirt/grass boundary taken for the road's edge: a circle through 15-40 rows of
+// one edge, extrapolated to the bottom rows), no edge at all (2 frames: the image fit's answer is
+// kept), or the curvature changes in view (straight to bend), which no single circle follows. The
+// figures are printed; the bounds are what is met.
 TEST(ClusterPerceptron, ArcModelFollowsCurves) {
   const auto poses = curvePoses(3.0);
   ASSERT_GE(poses.size(), 100u);
@@ -327,30 +333,38 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
     EXPECT_LE(std::abs(e.curvature[i]), ClusterPerceptronOptions{}.max_curvature) << "frame " << i;
   }
   const auto within = [&](double px) { return std::count_if(e.arc.begin(), e.arc.end(), [&](double x) { return x <= px; }); };
-  std::printf("on %zu curve frames, worst column error per frame: arc model median %.2f px, 75%% %.2f px, "
-              "<= 3 px on %td, <= 5 px on %td, <= 10 px on %td; straight model median %.2f px; the arc is better on %d\n",
-              n, quantile(e.arc, 0.5), quantile(e.arc, 0.75), within(3.0), within(5.0), within(10.0),
-              quantile(e.line, 0.5), better);
-  EXPECT_LE(quantile(e.arc, 0.5), 4.5);
-  EXPECT_GE(within(5.0), static_cast<std::ptrdiff_t>(n / 2));
-  EXPECT_GE(quantile(e.line, 0.5), 15.0 * quantile(e.arc, 0.5)) << "the straight model cuts the curves";
-  EXPECT_GE(better, static_cast<int>(0.8 * static_cast<double>(n)));
+  std::printf("on %zu curve frames, worst column error per frame: arc model median %.2f px, 75%% %.2f px, 90%% %.2f px, "
+              "worst %.2f px, <= 2 px on %td, <= 3 px on %td, <= 5 px on %td, <= 10 px on %td; straight model median "
+              "%.2f px; the arc is better on %d\n",
+              n, quantile(e.arc, 0.5), quantile(e.arc, 0.75), quantile(e.arc, 0.9), quantile(e.arc, 1.0), within(2.0),
+              within(3.0), within(5.0), within(10.0), quantile(e.line, 0.5), better);
+  EXPECT_LE(quantile(e.arc, 0.5), 3.5);
+  EXPECT_LE(quantile(e.arc, 0.75), 12.0);
+  EXPECT_GE(within(3.0), static_cast<std::ptrdiff_t>(0.45 * static_cast<double>(n)));
+  EXPECT_GE(within(10.0), static_cast<std::ptrdiff_t>(0.7 * static_cast<double>(n)));
+  EXPECT_GE(quantile(e.line, 0.5), 25.0 * quantile(e.arc, 0.5)) << "the straight model cuts the curves";
+  EXPECT_GE(better, static_cast<int>(0.85 * static_cast<double>(n)));
 }
 
 // On straight stretches the arc model is no worse than the straight one: where the curvature does
-// not pay for its parameter (BIC on the edges' residuals) the line on the ground is kept.
+// not pay for its parameter (BIC on the edges' residuals) the line on the ground is kept. Measured:
+// arc median 0.26 px, worst 150 px (before the ground consensus: 1335 px, on a frame that had no
+// ground fit and is now within 5 px), line median 2.82 px, worst 495 px. The arc's worst frame
+// is a circle through 43 rows of the right edge, seen only in the top right corner (the left shoulder
+// is classed as road), extrapolated to the bottom.
 TEST(ClusterPerceptron, ArcModelOnStraightStretches) {
   const auto poses = straightPoses(8.0);
   ASSERT_GE(poses.size(), 20u);
   const ArcVsLine e = arcVsLine(poses);
   int as_good = 0;
   for (std::size_t i = 0; i < e.arc.size(); ++i) as_good += e.arc[i] <= e.line[i] + 1.0;
-  std::printf("on %zu straight frames, worst column error per frame: arc model median %.2f px, worst %.2f px; "
-              "straight model median %.2f px, worst %.2f px; the arc within 1 px of the line on %d\n",
-              e.arc.size(), quantile(e.arc, 0.5), quantile(e.arc, 1.0), quantile(e.line, 0.5), quantile(e.line, 1.0),
-              as_good);
+  std::printf("on %zu straight frames, worst column error per frame: arc model median %.2f px, 75%% %.2f px, 90%% %.2f "
+              "px, worst %.2f px; straight model median %.2f px, worst %.2f px; the arc within 1 px of the line on %d\n",
+              e.arc.size(), quantile(e.arc, 0.5), quantile(e.arc, 0.75), quantile(e.arc, 0.9), quantile(e.arc, 1.0),
+              quantile(e.line, 0.5), quantile(e.line, 1.0), as_good);
   EXPECT_LE(quantile(e.arc, 0.5), quantile(e.line, 0.5));
-  EXPECT_GE(as_good, static_cast<int>(0.8 * static_cast<double>(e.arc.size())));
+  EXPECT_LE(quantile(e.arc, 1.0), quantile(e.line, 1.0));
+  EXPECT_GE(as_good, static_cast<int>(0.85 * static_cast<double>(e.arc.size())));
 }
 
 TEST(ClusterPerceptron, ArcModelFastPathEqualsReference) {

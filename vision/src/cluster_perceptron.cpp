@@ -860,10 +860,12 @@ double edgeResidual(const GroundArc& arc, double w, const GroundEdge& e, double 
 }
 
 /// Robust Gauss-Newton (Huber weights, `huber` pixels) of the arc's y0, θ and, when `curved`, κ (else
-/// κ stays as it is) to the edges. False when the edges are too few or the system is singular.
-bool fitGroundArc(const std::vector<GroundEdge>& edges, double w, bool curved, double huber, GroundArc& arc) {
+/// κ stays as it is) to the edges. False when there are fewer than `per_parameter` edges per parameter
+/// or the system is singular.
+bool fitGroundArc(const std::vector<GroundEdge>& edges, double w, bool curved, double huber, GroundArc& arc,
+                  int per_parameter = 4) {
   const int m = curved ? 3 : 2;
-  if (static_cast<int>(edges.size()) < 4 * m) return false;
+  if (static_cast<int>(edges.size()) < per_parameter * m) return false;
   for (int it = 0; it < 10; ++it) {
     const double c = std::cos(arc.th), s = std::sin(arc.th);
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
@@ -895,6 +897,74 @@ double sumSquares(const std::vector<GroundEdge>& edges, double w, const GroundAr
   return sum;
 }
 
+/// How many rows' left and right edges (each at most once) have a candidate within `tol` pixels of the
+/// road of centre line `arc` and width w.
+int groundSupport(const std::vector<GroundEdge>& edges, double w, const GroundArc& arc, double tol) {
+  const double c = std::cos(arc.th), s = std::sin(arc.th);
+  int n = 0, last_v = -1;
+  bool got_l = false, got_r = false;
+  for (const GroundEdge& e : edges) {
+    if (e.v != last_v) {
+      last_v = e.v;
+      got_l = got_r = false;
+    }
+    bool& got = e.side > 0 ? got_l : got_r;
+    if (got || !(std::abs(edgeResidual(arc, w, e, c, s)) <= tol)) continue;
+    got = true;
+    ++n;
+  }
+  return n;
+}
+
+/// Edge consensus on the ground (RANSAC, seeded): the circle whose road edges pass exactly through three
+/// edge candidates in rows at least 16 apart (Gauss-Newton from the ground parabola y = y0 + t·x + c·x²/2
+/// through them, each moved half the width to the centre: θ = atan t, κ = c·cos³θ), kept when more
+/// rows' edges lie within 2 px of it than of `start`. The image's consensus fits a parabola in the
+/// image, which on 15 m bends misses the far edges by more than its tolerance, so that the refinement
+/// from it can lock onto a few stray edges; this one finds where most of the road's edges are.
+GroundArc groundConsensus(const std::vector<GroundEdge>& edges, double w, const GroundArc& start,
+                          double max_curvature, std::uint64_t seed) {
+  constexpr double tol = 2.0;
+  GroundArc best = start;
+  int best_n = groundSupport(edges, w, start, tol);
+  if (edges.size() < 3) return best;
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, edges.size() - 1);
+  int needed = 300;
+  std::vector<GroundEdge> three(3);
+  for (int it = 0; it < std::min(300, needed); ++it) {
+    Eigen::Matrix3d A;
+    Vec3 rhs;
+    std::array<int, 3> rows{};
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; ++k) {
+      const GroundEdge& e = edges[pick(rng)];
+      three[static_cast<std::size_t>(k)] = e;
+      for (int j = 0; j < k; ++j) ok = ok && std::abs(e.v - rows[static_cast<std::size_t>(j)]) >= 16;
+      rows[static_cast<std::size_t>(k)] = e.v;
+      A.row(k) = Vec3(1.0, e.x, 0.5 * e.x * e.x).transpose();
+      rhs[k] = e.y - 0.5 * e.side * w;
+    }
+    if (!ok) continue;
+    const Vec3 p = A.partialPivLu().solve(rhs);
+    if (!p.allFinite()) continue;
+    GroundArc h;
+    h.y0 = p[0];
+    h.th = std::atan(p[1]);
+    h.k = p[2] * std::pow(std::cos(h.th), 3);
+    if (!fitGroundArc(three, w, true, std::numeric_limits<double>::infinity(), h, 1) || std::abs(h.k) > max_curvature)
+      continue;
+    const int n = groundSupport(edges, w, h, tol);
+    if (n > best_n) {
+      best_n = n;
+      best = h;
+      const double frac = std::min(0.99, static_cast<double>(n) / static_cast<double>(edges.size()));
+      needed = static_cast<int>(std::ceil(std::log(0.001) / std::log(1.0 - std::pow(frac, 3))));
+    }
+  }
+  return best;
+}
+
 /// The camera's per-row geometry for the arc model (ClusterPerceptron::setCamera()).
 struct RowGeometry {
   const std::vector<double>& x;  // ground distance, m
@@ -902,15 +972,16 @@ struct RowGeometry {
   const std::vector<double>& b;  // columns per metre of lateral offset
 };
 
-/// The arc model's edge refinement on the ground. From the Hough's (image-basis) model: the edge
-/// candidates of every road row taken to the ground, the circle fitted to them by robust Gauss-Newton
-/// (in each row the left and right candidates nearest the model's edges, within a tolerance that
-/// narrows from 4 to 1 px; the width from the rows where both edges show, else the bootstrap's),
-/// then the straight line fitted to the same edges and kept when the curvature does not pay for its
-/// parameter (BIC: n ln(RSS/n) + p ln n). False when too few edges support a fit.
+/// The arc model's edge refinement on the ground. The edge candidates of every road row taken to the
+/// ground, the circle fitted to them by robust Gauss-Newton (in each row the left and right candidates
+/// nearest the model's edges, within a tolerance that narrows from 4 to 1 px; the width from the rows
+/// where both edges show, else the bootstrap's), from two starts: the circle nearest the image fit's
+/// (`model`, a ground parabola) and the ground consensus's (groundConsensus()); the one that ends with
+/// more edges wins. Then the straight line fitted to the same edges, kept when the curvature does not
+/// pay for its parameter (BIC: n ln(RSS/n) + p ln n). False when too few edges support either fit.
 bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top, const CentreModel& model,
                      const RowGeometry& rows, const std::vector<double>& row_widths, double max_curvature,
-                     GroundArc& arc, int& edge_rows) {
+                     std::uint64_t seed, GroundArc& arc, int& edge_rows) {
   // The bootstrap's road width on the ground (a flat road of constant width: rows agree).
   std::vector<double> ws;
   for (int v = v_top; v < height; ++v)
@@ -918,7 +989,8 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
   if (ws.empty()) return false;
   std::nth_element(ws.begin(), ws.begin() + ws.size() / 2, ws.end());
   const double w0 = ws[ws.size() / 2];
-  // The start: the model's centre columns on the ground, fitted by y = y0 + t·x + c·x²/2.
+  // The first start: the model's centre columns on the ground, fitted by y = y0 + t·x + c·x²/2, then
+  // by the circle (on 15 m bends the parabola's curvature at x = 0 puts the far edges tens of pixels off).
   {
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
     Vec3 rhs = Vec3::Zero();
@@ -932,6 +1004,12 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
     arc.y0 = p[0];
     arc.th = std::atan(p[1]);
     arc.k = std::clamp(p[2] * std::pow(std::cos(arc.th), 3), -max_curvature, max_curvature);
+    std::vector<GroundEdge> centre;
+    for (int v = v_top; v < height; v += 4)
+      centre.push_back({rows.x[v], (model.u(v) - rows.a[v]) / rows.b[v], 0.0, std::abs(rows.b[v]), v});
+    GroundArc circle = arc;
+    if (fitGroundArc(centre, 0.0, true, std::numeric_limits<double>::infinity(), circle) && std::abs(circle.k) <= max_curvature)
+      arc = circle;
   }
   std::vector<GroundEdge> all;
   std::vector<EdgeCandidate> cands;
@@ -941,50 +1019,71 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
     for (const EdgeCandidate& e : cands)
       all.push_back({rows.x[v], (e.u - rows.a[v]) / rows.b[v], e.left ? 1.0 : -1.0, std::abs(rows.b[v]), v});
   }
+  // The refinement from a start: in each row and side the candidate nearest the model's edge, within
+  // a tolerance that narrows, and the circle fitted to them; false when too few edges support it.
+  std::vector<int> best(2 * static_cast<std::size_t>(height), -1);
+  std::vector<double> best_r(2 * static_cast<std::size_t>(height));
+  const auto refine = [&](GroundArc& arc, double& w, std::vector<GroundEdge>& sel, int& rows_used) {
+    for (const double tol : {4.0, 2.5, 1.5, 1.0}) {
+      // In each row and side, the candidate nearest the model's edge, within the tolerance.
+      std::fill(best.begin(), best.end(), -1);
+      const double c = std::cos(arc.th), s = std::sin(arc.th);
+      for (std::size_t i = 0; i < all.size(); ++i) {
+        const double r = std::abs(edgeResidual(arc, w, all[i], c, s));
+        const std::size_t slot = 2 * static_cast<std::size_t>(all[i].v) + (all[i].side > 0 ? 0 : 1);
+        if (r <= tol && (best[slot] < 0 || r < best_r[slot])) {
+          best[slot] = static_cast<int>(i);
+          best_r[slot] = r;
+        }
+      }
+      sel.clear();
+      rows_used = 0;
+      std::vector<double> widths;  // the rows where both edges show: their offsets' difference
+      for (int v = v_top; v < height; ++v) {
+        const int l = best[2 * static_cast<std::size_t>(v)], r = best[2 * static_cast<std::size_t>(v) + 1];
+        rows_used += l >= 0 || r >= 0;
+        if (l >= 0) sel.push_back(all[static_cast<std::size_t>(l)]);
+        if (r >= 0) sel.push_back(all[static_cast<std::size_t>(r)]);
+        if (l >= 0 && r >= 0) {
+          const GroundEdge &el = all[static_cast<std::size_t>(l)], &er = all[static_cast<std::size_t>(r)];
+          widths.push_back(arc.offset(el.x, el.y, c, s) - arc.offset(er.x, er.y, c, s));
+        }
+      }
+      if (widths.size() >= 8) {
+        std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
+        w = std::clamp(widths[widths.size() / 2], 0.8 * w0, 1.25 * w0);
+      }
+      GroundArc fitted = arc;
+      if (!fitGroundArc(sel, w, true, 0.6, fitted)) return false;
+      if (std::abs(fitted.k) > max_curvature) {
+        // Beyond the searched range: the line part with the curvature at its bound.
+        fitted = arc;
+        fitted.k = std::clamp(fitted.k, -max_curvature, max_curvature);
+        if (!fitGroundArc(sel, w, false, 0.6, fitted)) return false;
+      }
+      arc = fitted;
+    }
+    return true;
+  };
+  // From the image fit's circle, and from the ground consensus's (which has to beat the first's
+  // refined circle); the one that ends with more edges wins.
   double w = w0;
   int rows_used = 0;
   std::vector<GroundEdge> sel;
-  std::vector<int> best(2 * static_cast<std::size_t>(height), -1);
-  std::vector<double> best_r(2 * static_cast<std::size_t>(height));
-  for (const double tol : {4.0, 2.5, 1.5, 1.0}) {
-    // In each row and side, the candidate nearest the model's edge, within the tolerance.
-    std::fill(best.begin(), best.end(), -1);
-    const double c = std::cos(arc.th), s = std::sin(arc.th);
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      const double r = std::abs(edgeResidual(arc, w, all[i], c, s));
-      const std::size_t slot = 2 * static_cast<std::size_t>(all[i].v) + (all[i].side > 0 ? 0 : 1);
-      if (r <= tol && (best[slot] < 0 || r < best_r[slot])) {
-        best[slot] = static_cast<int>(i);
-        best_r[slot] = r;
-      }
-    }
-    sel.clear();
-    rows_used = 0;
-    std::vector<double> widths;  // the rows where both edges show: their offsets' difference
-    for (int v = v_top; v < height; ++v) {
-      const int l = best[2 * static_cast<std::size_t>(v)], r = best[2 * static_cast<std::size_t>(v) + 1];
-      rows_used += l >= 0 || r >= 0;
-      if (l >= 0) sel.push_back(all[static_cast<std::size_t>(l)]);
-      if (r >= 0) sel.push_back(all[static_cast<std::size_t>(r)]);
-      if (l >= 0 && r >= 0) {
-        const GroundEdge &el = all[static_cast<std::size_t>(l)], &er = all[static_cast<std::size_t>(r)];
-        widths.push_back(arc.offset(el.x, el.y, c, s) - arc.offset(er.x, er.y, c, s));
-      }
-    }
-    if (widths.size() >= 8) {
-      std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
-      w = std::clamp(widths[widths.size() / 2], 0.8 * w0, 1.25 * w0);
-    }
-    GroundArc fitted = arc;
-    if (!fitGroundArc(sel, w, true, 0.6, fitted)) return false;
-    if (std::abs(fitted.k) > max_curvature) {
-      // Beyond the searched range: the line part with the curvature at its bound.
-      fitted = arc;
-      fitted.k = std::clamp(fitted.k, -max_curvature, max_curvature);
-      if (!fitGroundArc(sel, w, false, 0.6, fitted)) return false;
-    }
-    arc = fitted;
+  bool ok = refine(arc, w, sel, rows_used);
+  GroundArc arc2 = groundConsensus(all, w0, arc, max_curvature, seed);
+  double w2 = w0;
+  int rows2 = 0;
+  std::vector<GroundEdge> sel2;
+  const bool ok2 = refine(arc2, w2, sel2, rows2);
+  if (ok2 && (!ok || sel2.size() > sel.size())) {
+    arc = arc2;
+    w = w2;
+    rows_used = rows2;
+    sel.swap(sel2);
+    ok = true;
   }
+  if (!ok) return false;
   GroundArc line = arc;
   line.k = 0;
   if (fitGroundArc(sel, w, false, 0.6, line)) {
@@ -1230,7 +1329,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       GroundArc g;
       int edge_rows = 0;
       if (refineGroundArc(cimg, width, height, v_top, model, RowGeometry{row_x_, row_a_, row_b_}, row_widths_,
-                          opt_.max_curvature, g, edge_rows)) {
+                          opt_.max_curvature, opt_.seed, g, edge_rows)) {
         res.refined = true;
         res.edge_rows = edge_rows;
         ground = g;
