@@ -104,9 +104,16 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     detected = &none;
   }
   position_ = mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_);
-  const bool park = detected->centerline_vehicle.has_value() &&
-                    std::none_of(detected->lines.begin(), detected->lines.end(),
-                                 [](const DetectedLine& l) { return l.label.has_value(); });
+  // Park mode: a centre line and no labelled line, or road edges with no crossing line in view. Either
+  // way nothing observes the position along the road but its curvature, and on a tight curve an
+  // along-road error the filter does not know of turns into a heading error (see the options).
+  const bool centerline_only = detected->centerline_vehicle.has_value() &&
+                               std::none_of(detected->lines.begin(), detected->lines.end(),
+                                            [](const DetectedLine& l) { return l.label.has_value(); });
+  const bool no_crossing =
+      std::none_of(prediction_.view.relations.begin(), prediction_.view.relations.end(),
+                   [](const SegmentRelation& r) { return r.type == SegmentRelation::Type::Crossing; });
+  const bool park = centerline_only || no_crossing;
   park_rejections_ = park && position_.status == PositionStatus::Rejected ? park_rejections_ + 1 : 0;
   if (options_.park_reset_after_rejections > 0 && park_rejections_ >= options_.park_reset_after_rejections) {
     // The gate has refused the centre line too often: the filter is surer than it should be.

@@ -69,12 +69,13 @@ struct MapModuleOptions {
   double scale_gain = 0.5;
   double scale_baseline_m = 10.0;  ///< m (> 0)
   double scale_limit = 0.05;       ///< relative, in [0, 0.5]
-  /// Park mode (a centre line, no labelled lines): after this many consecutive frames whose centre
-  /// line the gate rejected, the filter's covariance is widened to park_reset_sigma_m and
-  /// park_reset_heading_sigma_deg and the frame matched again (0: never). The straight centre line
-  /// observes lateral position and heading but not the position along the road; on a tight curve an
-  /// along-road error of d gives a heading error of d / radius that the filter does not know of
-  /// (park_loop's 15 m hairpin: 1.1 m, 4 deg, growing to 7 deg), and out of the curve the gate then
+  /// Park mode (a centre line and no labelled line, or no crossing line predicted in view): after
+  /// this many consecutive frames whose lines the gate rejected, the filter's covariance is widened
+  /// to park_reset_sigma_m and park_reset_heading_sigma_deg and the frame matched again (0: never).
+  /// A centre line or road edges observe lateral position and heading but not the position along
+  /// the road; on a tight curve an along-road error of d gives a heading error of d / radius that
+  /// the filter does not know of (park_loop's 15 m hairpin: 1.1 m, 4 deg, growing to 7 deg; with
+  /// the edge tracker's inner edge alone 1.2-1.4 m and 5 deg), and out of the curve the gate then
   /// rejects every correct measurement while the estimate runs off the path on odometry.
   int park_reset_after_rejections = 3;
   double park_reset_sigma_m = 0.5;            ///< m (> 0)
