@@ -325,5 +325,38 @@ TEST(SidewalkFastPaths, TheReducedGridPlacesTheRoadEdgeWhereEveryPixelDoes) {
   EXPECT_LE(std::abs(gridEdgeBias("")), 0.8);
 }
 
+TEST(SidewalkFastPaths, AFrameThatWantsNoRegionGetsTheSameLinesWithoutTheOutline) {
+  // The mission loop writes no trace: it asks for no region outline, and the lines and confidence
+  // (what localisation uses) are those of a run that does.
+  registerBuiltinPipelines();
+  const World world(visiontest::campus(), WorldOptions{});
+  const Camera& cam = visiontest::pinhole();
+  const RayTable rays(cam);
+  const Polyline2& line = visiontest::campus().roads().front().centerline;
+  for (const std::string grid : {"1", "2"}) {
+    auto with = createPipeline("sidewalk", "{\"grid_px\": " + grid + "}");
+    auto without = createPipeline("sidewalk", "{\"grid_px\": " + grid + "}");
+    int ok = 0;
+    for (double s = 1.0; s < 6.0; s += 1.0) {
+      const Pose2 pose(line.pointAt(s), std::atan2(line.tangentAt(s).y(), line.tangentAt(s).x()));
+      const Prediction pred = predictView(visiontest::campus(), pose, cam);
+      const Frame f = world.render(rays, pose, s);
+      VisionFrame vf{f.rgb.width, f.rgb.height, f.rgb.data.data(), &cam, s};
+      const DetectedObject a = with->detect(vf, pred.view);
+      vf.want_region = false;
+      const DetectedObject b = without->detect(vf, pred.view);
+      ASSERT_EQ(a.status, DetectedObject::Status::Ok) << grid << " " << s;
+      EXPECT_FALSE(a.region_image.empty());
+      EXPECT_TRUE(b.region_image.empty());
+      EXPECT_TRUE(b.region_vehicle.empty());
+      DetectedObject b_with_region = b;
+      b_with_region.region_image = a.region_image;
+      expectSameDetection(a, b_with_region, static_cast<std::size_t>(s));
+      ok += 1;
+    }
+    EXPECT_EQ(ok, 5);
+  }
+}
+
 }  // namespace
 }  // namespace mapnav

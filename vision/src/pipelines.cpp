@@ -267,7 +267,7 @@ class BasePipeline : public VisionPipeline {
     const auto toPixels = [scale](const std::vector<Vec2>& poly) { return outlineToPixels(poly, scale); };
     DetectedObject d;
     d.timestamp = frame.timestamp;
-    {
+    if (frame.want_region) {  // only the trace and the report read the outline
       std::vector<Vec2> ring = region.contour;
       ring.push_back(ring.front());
       std::vector<Vec2> poly = toPixels(simplifyRing(ring, opts_["region_tolerance_px"] / scale, opts_.b("reference")));
