@@ -148,7 +148,7 @@ class ModuleLoop {
     const auto start = std::chrono::steady_clock::now();
     map_module_.predict(board_, t, odometry);
     const auto vision_start = std::chrono::steady_clock::now();
-    const DetectedObject& detected = vision_.see(board_, VisionFrame{rgb.width, rgb.height, rgb.data.data(), &camera_, t});
+    const DetectedObject& detected = vision_.see(board_, VisionFrame{rgb.width, rgb.height, rgb.data.data(), &camera_, t, tracing()});
     const auto vision_stop = std::chrono::steady_clock::now();
     const CurrentPosition& position = map_module_.localize(board_, t);
     const MotionCommand& command = navigator_.plan(board_, t);

@@ -25,7 +25,7 @@ struct DetectedObject {
   Status status = Status::Ok;
   std::string reason;                ///< why it failed ("no road-coloured pixels", "frame over-exposed")
   double confidence = 0;             ///< 0..1
-  Polygon2 region_image;             ///< the road region, pixels
+  Polygon2 region_image;             ///< the road region, pixels (may be empty when the frame did not want_region)
   Polygon2 region_vehicle;           ///< the same on the ground, vehicle frame (empty where above the horizon)
   std::vector<DetectedLine> lines;
   std::optional<Segment2> centerline_vehicle;  ///< when the pipeline finds one

@@ -19,6 +19,9 @@ struct VisionFrame {
   const std::uint8_t* rgb = nullptr;  ///< width × height × 3 bytes, owned by the caller
   const Camera* camera = nullptr;     ///< for ground-plane coordinates
   double timestamp = 0;
+  /// The caller reads the detection's road region (region_image, region_vehicle); when false a
+  /// pipeline may leave them empty and save the work (the mission loop when it writes no trace).
+  bool want_region = true;
 };
 
 /// One documented option of a pipeline, for `mapnav pipelines` and validation messages.
