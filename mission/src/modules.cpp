@@ -103,7 +103,7 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     none.timestamp = t;
     detected = &none;
   }
-  position_ = mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_);
+  position_ = mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_, &camera_);
   const bool park = detected->centerline_vehicle.has_value() &&
                     std::none_of(detected->lines.begin(), detected->lines.end(),
                                  [](const DetectedLine& l) { return l.label.has_value(); });
@@ -112,7 +112,7 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     // The gate has refused the centre line too often: the filter is surer than it should be.
     const double s = options_.park_reset_sigma_m, h = degToRad(options_.park_reset_heading_sigma_deg);
     filter_ = PoseFilter(filter_.pose(), Vec3(s * s, s * s, h * h).asDiagonal(), filter_.options());
-    position_ = mapnav::localize(filter_, VehicleMotion{}, prediction_, *detected, options_.localize, &map_);
+    position_ = mapnav::localize(filter_, VehicleMotion{}, prediction_, *detected, options_.localize, &map_, &camera_);
     position_.reason += " (after " + std::to_string(park_rejections_) + " rejected frames, the covariance widened)";
     park_rejections_ = 0;
   }
