@@ -12,6 +12,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
+#include "mapnav/geometry/camera.h"
 #include "mapnav/map/map.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/vision_iface/detected_object.h"
@@ -99,6 +100,7 @@ void LocalizeOptions::validate() const {
   require(std::isfinite(centerline_search_m) && centerline_search_m > 0, "centerline_search_m", centerline_search_m,
           "finite and > 0");
   require(std::isfinite(curve_piece_m) && curve_piece_m >= 0, "curve_piece_m", curve_piece_m, "finite and >= 0");
+  require(std::isfinite(edge_sigma_px) && edge_sigma_px >= 0, "edge_sigma_px", edge_sigma_px, "finite and >= 0");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -681,8 +683,19 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
   return out;
 }
 
+std::optional<double> groundMetresPerPixel(const Camera& camera, const Segment2& line) {
+  const Vec2 mid = line.pointAt(0.5);
+  const Vec2 half = 0.05 * line.direction();  // 10 cm of the line about its midpoint, for its image direction
+  const auto p = camera.projectGround(mid), a = camera.projectGround(mid - half), b = camera.projectGround(mid + half);
+  if (!p || !a || !b || (*b - *a).norm() < 1e-9) return std::nullopt;
+  const auto q = camera.backproject(*p + leftNormal((*b - *a).normalized()));  // one pixel across the image line
+  if (!q) return std::nullopt;
+  return std::abs((*q - mid).dot(leftNormal(line.direction())));
+}
+
 CurrentPosition localize(PoseFilter& filter, const VehicleMotion& motion, const Prediction& prediction,
-                         const DetectedObject& detected, const LocalizeOptions& options, const Map* map) {
+                         const DetectedObject& detected, const LocalizeOptions& options, const Map* map,
+                         const Camera* camera) {
   options.validate();
   filter.predict(motion);
   const double t = detected.timestamp;
@@ -694,6 +707,13 @@ CurrentPosition localize(PoseFilter& filter, const VehicleMotion& motion, const 
           ? edgeCorrespondences(*map, prediction, detected, filter.pose(), options.edge_sigma_m,
                                 options.min_line_length_m, options.curve_piece_m)
           : labelledCorrespondences(prediction, detected, options.edge_sigma_m, options.min_line_length_m);
+  if (camera != nullptr && options.edge_sigma_px > 0) {
+    for (LineCorrespondence& c : lines) {
+      if (const auto mpp = groundMetresPerPixel(*camera, c.detected_vehicle)) {
+        c.sigma_m = std::hypot(c.sigma_m, options.edge_sigma_px * *mpp);
+      }
+    }
+  }
   bool park = false;
   if (lines.empty() && map != nullptr && detected.centerline_vehicle &&
       detected.centerline_vehicle->length() >= options.min_line_length_m) {

@@ -103,7 +103,7 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     none.timestamp = t;
     detected = &none;
   }
-  position_ = mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_);
+  position_ = mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_, &camera_);
   // Park mode: a centre line and no labelled line, or road edges with no crossing line in view. Either
   // way nothing observes the position along the road but its curvature, and on a tight curve an
   // along-road error the filter does not know of turns into a heading error (see the options).
@@ -119,7 +119,7 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     // The gate has refused the centre line too often: the filter is surer than it should be.
     const double s = options_.park_reset_sigma_m, h = degToRad(options_.park_reset_heading_sigma_deg);
     filter_ = PoseFilter(filter_.pose(), Vec3(s * s, s * s, h * h).asDiagonal(), filter_.options());
-    position_ = mapnav::localize(filter_, VehicleMotion{}, prediction_, *detected, options_.localize, &map_);
+    position_ = mapnav::localize(filter_, VehicleMotion{}, prediction_, *detected, options_.localize, &map_, &camera_);
     position_.reason += " (after " + std::to_string(park_rejections_) + " rejected frames, the covariance widened)";
     park_rejections_ = 0;
   }

@@ -10,6 +10,7 @@
 
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
+#include "mapnav/geometry/camera.h"
 #include "mapnav/map/map.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
@@ -98,6 +99,9 @@ TEST(MatchingOptions, ValidateNamesTheBadField) {
   EXPECT_THROW(f.validate(), InvalidInput);
   LocalizeOptions l;
   l.edge_sigma_m = 0;
+  EXPECT_THROW(l.validate(), InvalidInput);
+  l = {};
+  l.edge_sigma_px = -1;
   EXPECT_THROW(l.validate(), InvalidInput);
   // A covariance that is not positive definite.
   EXPECT_THROW(PoseFilter(Pose2(), Mat3::Zero()), InvalidInput);
@@ -231,6 +235,38 @@ TEST(LineMatchingAtCrossing, OneWrongLabelAmongFiveDoesNotMoveTheResult) {
   EXPECT_GT(nees, lo);           // errors as the noise alone gives
   EXPECT_LT(nees, hi);
   EXPECT_GT(plain_shift, 0.1);  // without the robust loss the wrong label does move it
+}
+
+// The Terregator camera (1.5 m up, 22 deg down, f = 904 px). A line across the road 10 m ahead
+// on the optical axis's plane lies on one image row v0 = cy + f tan(theta - tilt), theta =
+// atan(h / 10): a pixel across it is the next row, whose ground distance is h / tan(tilt +
+// atan((v0 -+ 1 - cy) / f)) (about (d^2 + h^2) cos^2(theta - tilt) / (h f) = 7.1 cm from the
+// 10 m). A line along the road there is a column: a pixel across it is Z / f to the side, Z the
+// point's depth on the optical axis, sqrt(d^2 + h^2) cos(theta - tilt) (1.1 cm).
+TEST(MatchingNoise, GroundMetresPerPixelIsTheCameraResolutionAcrossTheLine) {
+  CameraIntrinsics in;
+  in.fx = in.fy = 904;
+  CameraMount mount;
+  mount.height_m = 1.5;
+  mount.tilt_rad = degToRad(22.0);
+  const auto camera = createCamera(LensModel::Pinhole, in, mount);
+  const double h = 1.5, d = 10.0, tilt = mount.tilt_rad, theta = std::atan(h / d);
+  const double v0 = in.cy + in.fx * std::tan(theta - tilt);
+  auto rowDistance = [&](double v) { return h / std::tan(tilt + std::atan((v - in.cy) / in.fy)); };
+  const double up = rowDistance(v0 - 1) - d, down = d - rowDistance(v0 + 1);
+
+  const auto across = groundMetresPerPixel(*camera, Segment2{{d, -0.5}, {d, 0.5}});
+  ASSERT_TRUE(across);
+  EXPECT_GE(*across, std::min(up, down) - 1e-9);
+  EXPECT_LE(*across, std::max(up, down) + 1e-9);
+  EXPECT_NEAR(*across, 0.071, 0.001);
+
+  const auto along = groundMetresPerPixel(*camera, Segment2{{d - 0.5, 0.0}, {d + 0.5, 0.0}});
+  ASSERT_TRUE(along);
+  EXPECT_NEAR(*along, std::hypot(d, h) * std::cos(theta - tilt) / in.fx, 1e-9);
+
+  // Behind the camera: not seen.
+  EXPECT_FALSE(groundMetresPerPixel(*camera, Segment2{{-3.0, -0.5}, {-3.0, 0.5}}));
 }
 
 TEST(LineMatching, NoLinesGiveNothing) { EXPECT_FALSE(fitPoseToLines(kPrior, {})); }

@@ -322,5 +322,24 @@ TEST(RunnerBrickTee, TheBrickBranchFixesTheAlongRoadErrorOnTheConcreteRoad) {
   EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
 }
 
+// campus_tour's first 100 m: straight through the Ts I8 and I9, whose branches leave to the left
+// and are seen only 9-12 m ahead at the top of the frame (7 cm a pixel along the road). The road /
+// grass boundary used to come out 2 px inside the road there (the log-odds' box filter), the
+// estimate 0.16 m (I8) and 0.18 m (I9) ahead after those intersections in the tour's replay.
+TEST(RunnerTourTees, TheBranchesFixTheAlongRoadErrorAtBothTees) {
+  registerBuiltinPipelines();
+  const fs::path dir = testing::freshTempDir();
+  const MissionFile mission = loadMission(testing::fixturePath("missions/tour_tees.json"));
+  simulate(mission, dir / "log");
+  const MissionRun run = runReplay(mission, dir / "log");
+  const MissionMetrics& m = run.metrics;
+  EXPECT_TRUE(m.reached_goal) << run.outcome;
+  EXPECT_EQ(m.intersections_checked, 2u);
+  EXPECT_GT(m.odometry_only.max_error_m, 1.0);
+  EXPECT_LE(m.along_after_intersection_max_m, 0.15);
+  EXPECT_LE(m.estimate.lateral_rms_m, 0.05);
+  EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
+}
+
 }  // namespace
 }  // namespace mapnav

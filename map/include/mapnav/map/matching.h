@@ -30,6 +30,8 @@
 
 namespace mapnav {
 
+class Camera;
+
 class Map;
 struct Prediction;
 struct DetectedObject;
@@ -258,6 +260,13 @@ struct LocalizeOptions {
   /// > 0 (and a map given): labelled road edges are matched piecewise against the map's edge
   /// polylines, pieces at most this long (edgeCorrespondences), m; 0: against the predicted chord.
   double curve_piece_m = 0.0;
+  /// > 0 (and a camera given): each edge correspondence's sigma also covers this many pixels of
+  /// detection error across the line in the image, turned into metres on the ground where the line
+  /// is seen: sigma = hypot(edge_sigma_m, edge_sigma_px * metres per pixel across it). A line
+  /// across the road 10 m ahead is seen at 7 cm per pixel (Terregator camera) against 1 cm for a
+  /// road edge beside it, so its along-road information is worth far less than edge_sigma_m says; 0:
+  /// edge_sigma_m alone.
+  double edge_sigma_px = 0.0;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
@@ -266,9 +275,14 @@ struct LocalizeOptions {
 /// The Map module's step: predict `filter` with `motion`, match `detected`'s labelled lines to
 /// `prediction`'s interest segments and update. Park mode: when no labelled line is usable and
 /// `detected` has a centre line and `map` is given, that centre line against the nearest road's.
-/// A failed DetectedObject, or nothing to match, leaves the pose to odometry and says so.
+/// A failed DetectedObject, or nothing to match, leaves the pose to odometry and says so. `camera`:
+/// the one the frame was taken with, for LocalizeOptions::edge_sigma_px.
 CurrentPosition localize(PoseFilter& filter, const VehicleMotion& motion, const Prediction& prediction,
                          const DetectedObject& detected, const LocalizeOptions& options = {},
-                         const Map* map = nullptr);
+                         const Map* map = nullptr, const Camera* camera = nullptr);
+
+/// Metres on the ground across `line` (vehicle frame) per pixel across its image in `camera`, at
+/// the line's midpoint; nullopt when the camera does not see it.
+std::optional<double> groundMetresPerPixel(const Camera& camera, const Segment2& line);
 
 }  // namespace mapnav

@@ -92,6 +92,7 @@ struct MapModuleOptions {
   static LocalizeOptions defaultLocalize() {
     LocalizeOptions l;
     l.curve_piece_m = 1.0;
+    l.edge_sigma_px = 2.0;
     return l;
   }
 };
