@@ -304,22 +304,29 @@ TEST(RunnerCampusDialogue, ReplayAndClosedLoopReachTheGoalWithinTheTargets) {
   }
 }
 
-// campus_tour's I15 on its own: west along the concrete R23, straight through the T past the brick
-// R22. The along-road error the encoders' 2 % pile up on the way (0.6 m) is taken out when R22's
-// edges, across the road, come into view.
-TEST(RunnerBrickTee, TheBrickBranchFixesTheAlongRoadErrorOnTheConcreteRoad) {
+/// A short mission replayed over its own simulated log reaches its goal through `intersections`
+/// intersections, and within 2 m after each the along-road error is inside the 15 cm, the
+/// lateral and heading errors inside 5 cm and 0.5 deg, while odometry alone drifts past `drift_m`.
+void expectTheIntersectionsFixTheAlongRoadError(const char* fixture, std::size_t intersections, double drift_m) {
   registerBuiltinPipelines();
   const fs::path dir = testing::freshTempDir();
-  const MissionFile mission = loadMission(testing::fixturePath("missions/brick_tee.json"));
+  const MissionFile mission = loadMission(testing::fixturePath(fixture));
   simulate(mission, dir / "log");
   const MissionRun run = runReplay(mission, dir / "log");
   const MissionMetrics& m = run.metrics;
   EXPECT_TRUE(m.reached_goal) << run.outcome;
-  EXPECT_EQ(m.intersections_checked, 1u);
-  EXPECT_GT(m.odometry_only.max_error_m, 0.5);
+  EXPECT_EQ(m.intersections_checked, intersections);
+  EXPECT_GT(m.odometry_only.max_error_m, drift_m);
   EXPECT_LE(m.along_after_intersection_max_m, 0.15);
   EXPECT_LE(m.estimate.lateral_rms_m, 0.05);
   EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
+}
+
+// campus_tour's I15 on its own: west along the concrete R23, straight through the T past the brick
+// R22. The along-road error the encoders' 2 % pile up on the way (0.6 m) is taken out when R22's
+// edges, across the road, come into view.
+TEST(RunnerBrickTee, TheBrickBranchFixesTheAlongRoadErrorOnTheConcreteRoad) {
+  expectTheIntersectionsFixTheAlongRoadError("missions/brick_tee.json", 1, 0.5);
 }
 
 // campus_tour's first 100 m: straight through the Ts I8 and I9, whose branches leave to the left
@@ -327,18 +334,7 @@ TEST(RunnerBrickTee, TheBrickBranchFixesTheAlongRoadErrorOnTheConcreteRoad) {
 // grass boundary used to come out 2 px inside the road there (the log-odds' box filter), the
 // estimate 0.16 m (I8) and 0.18 m (I9) ahead after those intersections in the tour's replay.
 TEST(RunnerTourTees, TheBranchesFixTheAlongRoadErrorAtBothTees) {
-  registerBuiltinPipelines();
-  const fs::path dir = testing::freshTempDir();
-  const MissionFile mission = loadMission(testing::fixturePath("missions/tour_tees.json"));
-  simulate(mission, dir / "log");
-  const MissionRun run = runReplay(mission, dir / "log");
-  const MissionMetrics& m = run.metrics;
-  EXPECT_TRUE(m.reached_goal) << run.outcome;
-  EXPECT_EQ(m.intersections_checked, 2u);
-  EXPECT_GT(m.odometry_only.max_error_m, 1.0);
-  EXPECT_LE(m.along_after_intersection_max_m, 0.15);
-  EXPECT_LE(m.estimate.lateral_rms_m, 0.05);
-  EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
+  expectTheIntersectionsFixTheAlongRoadError("missions/tour_tees.json", 2, 1.0);
 }
 
 }  // namespace
