@@ -116,7 +116,8 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
   const bool park = centerline_only || no_crossing;
   park_rejections_ = park && position_.status == PositionStatus::Rejected ? park_rejections_ + 1 : 0;
   if (options_.park_reset_after_rejections > 0 && park_rejections_ >= options_.park_reset_after_rejections) {
-    // The gate has refused the centre line too often: the filter is surer than it should be.
+    // The gate has refused the centre line or the road edges too often: the filter is surer than it
+    // should be.
     const double s = options_.park_reset_sigma_m, h = degToRad(options_.park_reset_heading_sigma_deg);
     filter_ = PoseFilter(filter_.pose(), Vec3(s * s, s * s, h * h).asDiagonal(), filter_.options());
     position_ = mapnav::localize(filter_, VehicleMotion{}, prediction_, *detected, options_.localize, &map_, &camera_);
