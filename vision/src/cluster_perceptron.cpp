@@ -756,24 +756,32 @@ void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, st
   }
 }
 
-/// How many candidates lie within `tol` pixels of the road edges the model puts at
-/// centre ∓ width/2 (each row counts a left and a right edge at most once).
-int edgeSupport(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m,
-                double tol) {
+/// How many row sides of `edges` (in row order, `.v` the row) hold an edge that `near` accepts: each
+/// row counts a left (`isLeft`) and a right edge at most once. The support of a consensus model.
+template <typename Edge, typename IsLeft, typename Near>
+int rowSideSupport(const std::vector<Edge>& edges, IsLeft isLeft, Near near) {
   int n = 0, last_v = -1;
   bool got_l = false, got_r = false;
-  for (const EdgeCandidate& e : cands) {
+  for (const Edge& e : edges) {
     if (e.v != last_v) {
       last_v = e.v;
       got_l = got_r = false;
     }
-    const double want = m.u(e.v) + (e.left ? -0.5 : 0.5) * widths[e.v];
-    if (std::abs(e.u - want) > tol) continue;
-    bool& got = e.left ? got_l : got_r;
-    if (!got) ++n;
+    bool& got = isLeft(e) ? got_l : got_r;
+    if (got || !near(e)) continue;
     got = true;
+    ++n;
   }
   return n;
+}
+
+/// How many candidates lie within `tol` pixels of the road edges the model puts at
+/// centre ∓ width/2 (each row counts a left and a right edge at most once).
+int edgeSupport(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m,
+                double tol) {
+  return rowSideSupport(
+      cands, [](const EdgeCandidate& e) { return e.left; },
+      [&](const EdgeCandidate& e) { return !(std::abs(e.u - (m.u(e.v) + (e.left ? -0.5 : 0.5) * widths[e.v])) > tol); });
 }
 
 /// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
@@ -901,19 +909,9 @@ double sumSquares(const std::vector<GroundEdge>& edges, double w, const GroundAr
 /// road of centre line `arc` and width w.
 int groundSupport(const std::vector<GroundEdge>& edges, double w, const GroundArc& arc, double tol) {
   const double c = std::cos(arc.th), s = std::sin(arc.th);
-  int n = 0, last_v = -1;
-  bool got_l = false, got_r = false;
-  for (const GroundEdge& e : edges) {
-    if (e.v != last_v) {
-      last_v = e.v;
-      got_l = got_r = false;
-    }
-    bool& got = e.side > 0 ? got_l : got_r;
-    if (got || !(std::abs(edgeResidual(arc, w, e, c, s)) <= tol)) continue;
-    got = true;
-    ++n;
-  }
-  return n;
+  return rowSideSupport(
+      edges, [](const GroundEdge& e) { return e.side > 0; },
+      [&](const GroundEdge& e) { return std::abs(edgeResidual(arc, w, e, c, s)) <= tol; });
 }
 
 /// Edge consensus on the ground (RANSAC, seeded): the circle whose road edges pass exactly through three

@@ -31,7 +31,6 @@
 namespace mapnav {
 
 class Camera;
-
 class Map;
 struct Prediction;
 struct DetectedObject;
