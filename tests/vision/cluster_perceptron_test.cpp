@@ -445,6 +445,22 @@ SceneChangeRun runSceneChange(const World& before, const World& after, std::size
   return run;
 }
 
+/// The masks' IoU from frame `first` of a run on: each model's worst and sum, over n frames (at least 1).
+struct IoUFrom {
+  double worst_adaptive = 1, worst_frozen = 1, sum_adaptive = 0, sum_frozen = 0, n = 1;
+};
+IoUFrom iouFrom(const SceneChangeRun& run, std::size_t first) {
+  IoUFrom r;
+  for (std::size_t i = first; i < run.iou_adaptive.size(); ++i) {
+    r.worst_adaptive = std::min(r.worst_adaptive, run.iou_adaptive[i]);
+    r.worst_frozen = std::min(r.worst_frozen, run.iou_frozen[i]);
+    r.sum_adaptive += run.iou_adaptive[i];
+    r.sum_frozen += run.iou_frozen[i];
+  }
+  r.n = static_cast<double>(std::max<std::size_t>(1, run.iou_adaptive.size() - std::min(first, run.iou_adaptive.size())));
+  return r;
+}
+
 // Beyond the paper (§9, adaptive cluster management): the scene changes under the vehicle (another
 // world seed, a camera whose colours turn: the TV transmission's hue shift). The clusters trained
 // before no longer reconstruct the frames: the error rises past the threshold (3x the recent
@@ -470,19 +486,12 @@ TEST(ClusterPerceptron, AdaptiveClustersRetrainOnASceneChange) {
     }
   EXPECT_EQ(retrains, 1);
   EXPECT_TRUE(retrained_at == change || retrained_at == change + 1) << "retrained at frame " << retrained_at;
-  double worst_adaptive = 1, worst_frozen = 1, sum_adaptive = 0, sum_frozen = 0;
-  for (std::size_t i = retrained_at; i < frames; ++i) {
-    worst_adaptive = std::min(worst_adaptive, run.iou_adaptive[i]);
-    worst_frozen = std::min(worst_frozen, run.iou_frozen[i]);
-    sum_adaptive += run.iou_adaptive[i];
-    sum_frozen += run.iou_frozen[i];
-  }
-  const double n = static_cast<double>(frames - std::min(retrained_at, frames - 1));
+  const IoUFrom u = iouFrom(run, retrained_at);
   std::printf("from the retraining on: IoU adaptive mean %.4f worst %.4f; frozen mean %.4f worst %.4f\n",
-              sum_adaptive / n, worst_adaptive, sum_frozen / n, worst_frozen);
-  EXPECT_GE(worst_adaptive, 0.92);
-  EXPECT_LT(worst_frozen, 0.9) << "the frozen model degrades on the new scene";
-  EXPECT_GE(sum_adaptive, sum_frozen + 0.03 * n);
+              u.sum_adaptive / u.n, u.worst_adaptive, u.sum_frozen / u.n, u.worst_frozen);
+  EXPECT_GE(u.worst_adaptive, 0.92);
+  EXPECT_LT(u.worst_frozen, 0.9) << "the frozen model degrades on the new scene";
+  EXPECT_GE(u.sum_adaptive, u.sum_frozen + 0.03 * u.n);
 }
 
 // Adaptive cluster management adds a cluster when a new colour enters: after the change the path's
@@ -502,21 +511,16 @@ TEST(ClusterPerceptron, AdaptiveClustersAddOneForANewColour) {
   const World after(changed, parkWorld());
   const std::size_t change = 5, frames = 12;
   const SceneChangeRun run = runSceneChange(before, after, change, frames);
-  double worst_adaptive = 1, sum_adaptive = 0, sum_frozen = 0;
   for (std::size_t i = 0; i < frames; ++i) {
     EXPECT_EQ(run.adaptive[i].retrained, i == change) << "frame " << i;
     EXPECT_EQ(run.clusters[i], i < change ? 5u : 6u) << "frame " << i;
-    if (i < change) continue;
-    worst_adaptive = std::min(worst_adaptive, run.iou_adaptive[i]);
-    sum_adaptive += run.iou_adaptive[i];
-    sum_frozen += run.iou_frozen[i];
   }
-  const double n = static_cast<double>(frames - change);
+  const IoUFrom u = iouFrom(run, change);
   std::printf("new colour: %d cluster(s) added; IoU after the change: adaptive mean %.4f worst %.4f, frozen mean %.4f\n",
-              run.adaptive[change].clusters_added, sum_adaptive / n, worst_adaptive, sum_frozen / n);
+              run.adaptive[change].clusters_added, u.sum_adaptive / u.n, u.worst_adaptive, u.sum_frozen / u.n);
   EXPECT_EQ(run.adaptive[change].clusters_added, 1);
-  EXPECT_GE(worst_adaptive, 0.89);
-  EXPECT_GE(sum_adaptive, sum_frozen - 0.005 * n);
+  EXPECT_GE(u.worst_adaptive, 0.89);
+  EXPECT_GE(u.sum_adaptive, u.sum_frozen - 0.005 * u.n);
 }
 
 // The trigger on an unchanged world: frames differ from the training frame (another mix of
@@ -703,23 +707,16 @@ TEST(ClusterPerceptron, AdaptiveClustersKeepAPathThatTurnsToBrick) {
   const World after(changed, parkWorld());
   const std::size_t change = 5, frames = 12;
   const SceneChangeRun run = runSceneChange(before, after, change, frames);
-  double worst_adaptive = 1, worst_frozen = 1, sum_adaptive = 0, sum_frozen = 0;
-  for (std::size_t i = 0; i < frames; ++i) {
-    EXPECT_EQ(run.adaptive[i].retrained, i == change) << "frame " << i;
-    if (i < change) continue;
-    worst_adaptive = std::min(worst_adaptive, run.iou_adaptive[i]);
-    worst_frozen = std::min(worst_frozen, run.iou_frozen[i]);
-    sum_adaptive += run.iou_adaptive[i];
-    sum_frozen += run.iou_frozen[i];
-  }
-  const double n = static_cast<double>(frames - change);
+  for (std::size_t i = 0; i < frames; ++i) EXPECT_EQ(run.adaptive[i].retrained, i == change) << "frame " << i;
+  const IoUFrom u = iouFrom(run, change);
   std::printf("brick path: %d cluster(s) added; IoU after the change: adaptive mean %.4f worst %.4f, frozen mean "
               "%.4f worst %.4f\n",
-              run.adaptive[change].clusters_added, sum_adaptive / n, worst_adaptive, sum_frozen / n, worst_frozen);
+              run.adaptive[change].clusters_added, u.sum_adaptive / u.n, u.worst_adaptive, u.sum_frozen / u.n,
+              u.worst_frozen);
   EXPECT_GE(run.adaptive[change].clusters_added, 1);
-  EXPECT_GE(worst_adaptive, 0.9);
-  EXPECT_LT(worst_frozen, 0.5) << "the frozen model loses the brick path";
-  EXPECT_GE(sum_adaptive, sum_frozen + 0.2 * n);
+  EXPECT_GE(u.worst_adaptive, 0.9);
+  EXPECT_LT(u.worst_frozen, 0.5) << "the frozen model loses the brick path";
+  EXPECT_GE(u.sum_adaptive, u.sum_frozen + 0.2 * u.n);
 }
 
 // The prior (prior_px): a 200 x 100 frame of grey 200 with two dark (50) roads 40 wide, A at columns
