@@ -445,6 +445,11 @@ SceneChangeRun runSceneChange(const World& before, const World& after, std::size
   return run;
 }
 
+/// In a copy of the park's data, the road runSceneChange() drives (the first of straightPoses()).
+Road& drivenRoad(MapData& data) {
+  return data.roads[static_cast<std::size_t>(straightPoses(1.5).front().road - park().roads().data())];
+}
+
 /// The masks' IoU from frame `first` of a run on: each model's worst and sum, over n frames (at least 1).
 struct IoUFrom {
   double worst_adaptive = 1, worst_frozen = 1, sum_adaptive = 0, sum_frozen = 0, n = 1;
@@ -505,8 +510,7 @@ TEST(ClusterPerceptron, AdaptiveClustersAddOneForANewColour) {
   const World before(park(), parkWorld());
   MapData data = park().data();
   data.surfaces.emplace_back("flowers", Appearance{Vec3(40, 45, 110), Vec3(8, 8, 10)});
-  for (Road& road : data.roads)
-    if (&road - data.roads.data() == straightPoses(1.5).front().road - park().roads().data()) road.left = "flowers";
+  drivenRoad(data).left = "flowers";
   const Map changed(data, "park with a flower bed");
   const World after(changed, parkWorld());
   const std::size_t change = 5, frames = 12;
@@ -701,8 +705,7 @@ TEST(ClusterPerceptron, BalancedBootstrapFindsASmallRoad) {
 TEST(ClusterPerceptron, AdaptiveClustersKeepAPathThatTurnsToBrick) {
   const World before(park(), parkWorld());
   MapData data = park().data();
-  for (Road& road : data.roads)
-    if (&road - data.roads.data() == straightPoses(1.5).front().road - park().roads().data()) road.surface = "brick";
+  drivenRoad(data).surface = "brick";
   const Map changed(data, "park with a brick path");
   const World after(changed, parkWorld());
   const std::size_t change = 5, frames = 12;
