@@ -230,7 +230,7 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     std::vector<Training> trainings;
     for (const int size : config.sizes) {
       const ParkScene scene = makeParkScene(park, size);
-      const TrainedParkFinder trained = trainParkFinder(scene, parkFinderOptions(size, 1));
+      const TrainedParkFinder trained = trainParkFinder(scene, parkFinderOptions(size, 1, config.road_model));
       trainings.push_back({size, trained.cluster_ms, trained.perceptron_ms});
 
       const std::vector<Frame>& frames = scene.frames;
