@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <numbers>
 #include <optional>
+#include <string>
 
 #include "eval_common.h"
 #include "mapnav/core/error.h"
@@ -364,6 +365,7 @@ struct ArcVsLine {
   std::vector<double> arc, line, curvature, angle, v_top;
   std::vector<std::pair<int, int>> edge_rows;  // trueEdgeRowsInMask() of the arc model's mask
   std::vector<std::size_t> failed;
+  std::vector<std::string> failed_reason;
 };
 ArcVsLine arcVsLine(const std::vector<StraightPose>& poses) {
   const World world(park(), parkWorld());
@@ -380,7 +382,10 @@ ArcVsLine arcVsLine(const std::vector<StraightPose>& poses) {
     const RoadFinding ra = arc->find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
     const RoadFinding rl = line->find(f.rgb.data.data(), f.rgb.width, f.rgb.height, false);
     EXPECT_TRUE(rl.ok) << "frame " << i << ": " << rl.reason;
-    if (!ra.ok) out.failed.push_back(i);
+    if (!ra.ok) {
+      out.failed.push_back(i);
+      out.failed_reason.push_back(ra.reason);
+    }
     out.arc.push_back(ra.ok ? worstCurveError(ra, poses[i]) : 1e9);
     out.line.push_back(rl.ok ? worstCurveError(rl, poses[i]) : 1e9);
     out.curvature.push_back(ra.curvature);
@@ -455,6 +460,8 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
               circle_reaches, met_where_reachable, quantile(e.angle, 0.5), quantile(e.angle, 0.75), angle_within(1.0),
               e.failed.size());
   EXPECT_LE(e.failed.size(), 2u);
+  for (const std::string& reason : e.failed_reason)  // only where no fit keeps the vehicle on its road
+    EXPECT_NE(reason.find("within half the road's width of the vehicle"), std::string::npos) << reason;
   EXPECT_GE(circle_reaches, static_cast<int>(0.6 * static_cast<double>(n)));
   EXPECT_GE(met_where_reachable, static_cast<int>(0.4 * static_cast<double>(circle_reaches)));
   EXPECT_GE(angle_within(1.0), static_cast<std::ptrdiff_t>(0.35 * static_cast<double>(n)));
