@@ -215,7 +215,8 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     if (!config.json) {
       out << "mapnav bench: park road finder runtime (Jochem & Baluja 1993, section 6) on this machine, " << cores
           << (cores == 1 ? " core" : " cores") << "\n"
-          << "time per colour frame: find() without the mask on the park scene, median batch, >= "
+          << "time per colour frame: find() without the mask on the park scene, " << toString(config.road_model)
+          << " road model, median batch, >= "
           << format("%g", config.min_time_s) << " s per cell\n"
           << "memcpy_ratio    = runtime time / time of a plain memcpy of the same frame (memory floor; lower is "
              "better)\n"
@@ -230,7 +231,7 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     std::vector<Training> trainings;
     for (const int size : config.sizes) {
       const ParkScene scene = makeParkScene(park, size);
-      const TrainedParkFinder trained = trainParkFinder(scene, parkFinderOptions(size, 1));
+      const TrainedParkFinder trained = trainParkFinder(scene, parkFinderOptions(size, 1, config.road_model));
       trainings.push_back({size, trained.cluster_ms, trained.perceptron_ms});
 
       const std::vector<Frame>& frames = scene.frames;
@@ -324,6 +325,7 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
                            {"batches", r.runtime.batches}});
       }
       doc["runtime"] = runtime;
+      doc["road_model"] = toString(config.road_model);
       doc["train_ms"] = number(train.ms());
       doc["train_size"] = train.size;
       Json training = Json::array();

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/vision/cluster_perceptron.h"
+
 namespace mapnav::cli {
 
 struct BenchConfig {
@@ -15,6 +17,9 @@ struct BenchConfig {
   int threads = 0;          ///< the multi-threaded rows: this many threads, 0 = every core
   std::string map;          ///< the park map; empty = defaultParkMapPath()
   bool json = false;        ///< one JSON object on stdout instead of the table
+  /// The road finder's model (--road-model): the paper's straight line (default) or the §9 arc, whose
+  /// ground refinement is timed too.
+  RoadModel road_model = RoadModel::Line;
 };
 
 /// "64,128,256": the sizes, each a whole number in [16, 4096], sorted, without repeats. Throws

@@ -515,6 +515,10 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
       ->check(CLI::Range(0, 256));
   bn->add_option("--map", bench.map, "The park map the frames are rendered from (default: maps/park_path.json)")
       ->check(CLI::ExistingFile);
+  std::string bench_road_model = "line";
+  bn->add_option("--road-model", bench_road_model, "The road finder's model: line (the paper) or arc (section 9, bends)")
+      ->default_str("line")
+      ->check(CLI::IsMember({"line", "arc"}));
   bn->footer(
       "What is measured, per size: the park scene (maps/park_path.json, a SIZE x SIZE pin-hole scaled from the\n"
       "Terregator camera, synthetic frames with tree shadows) is rendered, the road finder is trained on the\n"
@@ -534,6 +538,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     command = [&] {
       bench.sizes = parseBenchSizes(bench_sizes);
       bench.min_time_s = parseBenchMinTime(bench_min_time);
+      bench.road_model = roadModelFromString(bench_road_model);
       return runBench(bench, out, err);
     };
   });

@@ -45,16 +45,18 @@ ParkScene makeParkScene(const Map& park, int size, int frames) {
   return s;
 }
 
-ClusterPerceptronOptions parkFinderOptions(int size, int threads) {
+ClusterPerceptronOptions parkFinderOptions(int size, int threads, RoadModel road_model) {
   ClusterPerceptronOptions o;
   o.block_size = std::max(2, 8 * size / 512);
   o.threads = threads;
+  o.road_model = road_model;
   return o;
 }
 
 TrainedParkFinder trainParkFinder(const ParkScene& scene, const ClusterPerceptronOptions& options) {
   TrainedParkFinder t{ClusterPerceptron(options)};
   const Image& f0 = scene.frames.front().rgb;
+  t.finder.setCamera(*scene.camera);
   auto start = std::chrono::steady_clock::now();
   t.finder.trainClusters(f0.data.data(), scene.size, scene.size);
   t.cluster_ms = msSince(start);

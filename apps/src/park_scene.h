@@ -32,7 +32,7 @@ struct ParkScene {
 ParkScene makeParkScene(const Map& park, int size, int frames = 4);
 
 /// The road finder's options for the scene: blocks of 8 px at 512, scaled with the size.
-ClusterPerceptronOptions parkFinderOptions(int size, int threads = 1);
+ClusterPerceptronOptions parkFinderOptions(int size, int threads = 1, RoadModel road_model = RoadModel::Line);
 
 /// A finder trained on the scene's first frame, with how long each training step took.
 struct TrainedParkFinder {
@@ -42,7 +42,8 @@ struct TrainedParkFinder {
   double trainMs() const { return cluster_ms + perceptron_ms; }
 };
 
-/// §3–§5 training on the first frame from the predicted outline (timed with steady_clock).
+/// §3–§5 training on the first frame from the predicted outline (timed with steady_clock); the
+/// scene's camera given to the finder (the arc model's row geometry).
 TrainedParkFinder trainParkFinder(const ParkScene& scene, const ClusterPerceptronOptions& options);
 
 }  // namespace mapnav::cli

@@ -375,6 +375,7 @@ TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
   EXPECT_GT(j["train_ms"].get<double>(), 0.0);
   EXPECT_TRUE(std::isfinite(j["train_ms"].get<double>()));
   EXPECT_EQ(j["train_size"], 128);  // 512 is not measured: the largest size
+  EXPECT_EQ(j["road_model"], "line");  // the default, the paper's
   const int cores = j["cores"].get<int>();
   EXPECT_GE(cores, 1);
   ASSERT_EQ(j["runtime"].size(), 4u) << r.out;
@@ -432,6 +433,11 @@ TEST(Cli, BenchPrintsATableWithTheRatios) {
                            "sidewalk pipeline", "at 512x480"}) {
     EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
   }
+  EXPECT_NE(r.out.find("line road model"), std::string::npos) << r.out;  // the default, the paper's
+  // The arc model (§9) is timed when asked for, and says so.
+  const auto arc = runCli({"bench", "--sizes", "32", "--min-time", "0.01", "--threads", "1", "--road-model", "arc"});
+  ASSERT_EQ(arc.exit_code, 0) << arc.err;
+  EXPECT_NE(arc.out.find("arc road model"), std::string::npos) << arc.out;
   const auto help = runCli({"bench", "--help"});
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.out.find("memcpy_ratio"), std::string::npos) << help.out;
@@ -452,7 +458,8 @@ TEST(Cli, BenchRefusesBadOptionsWithExitTwoNamingTheOption) {
                                          {{"--min-time", "-1"}, "--min-time"},
                                          {{"--min-time", "soon"}, "--min-time"},
                                          {{"--threads", "-1"}, "--threads"},
-                                         {{"--threads", "many"}, "--threads"}}) {
+                                         {{"--threads", "many"}, "--threads"},
+                                         {{"--road-model", "curve"}, "--road-model"}}) {
     std::vector<std::string> args{"bench"};
     args.insert(args.end(), c.args.begin(), c.args.end());
     const auto r = runCli(args);

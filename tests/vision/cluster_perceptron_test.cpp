@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <numbers>
 #include <optional>
+#include <string>
 
 #include "eval_common.h"
 #include "mapnav/core/error.h"
@@ -277,10 +278,94 @@ double worstCurveError(const RoadFinding& r, const StraightPose& sp) {
   return worst;
 }
 
+/// The image angle error at the bottom of a found centre curve, degrees: the direction (du/dv) of its
+/// last segment against the truth's (the road's centre line projected) between the same two rows.
+double bottomAngleError(const RoadFinding& r, const StraightPose& sp) {
+  if (r.centerline_curve.size() < 2) return 180.0;
+  const Vec2 a = r.centerline_curve[r.centerline_curve.size() - 2], b = r.centerline_curve.back();
+  const auto truthAt = [&](double v) {
+    std::optional<Vec2> prev;
+    for (double d = -2.0; d <= 16.0; d += 0.05) {
+      const auto p = cam().projectGround(sp.pose.inverseTransform(sp.road->centerline.pointAt(sp.s + d)));
+      if (p && prev && (prev->y() - v) * (p->y() - v) <= 0 && prev->y() != p->y())
+        return prev->x() + (v - prev->y()) / (p->y() - prev->y()) * (p->x() - prev->x());
+      prev = p;
+    }
+    return std::nan("");
+  };
+  const double found = std::atan2(b.x() - a.x(), b.y() - a.y());
+  const double truth = std::atan2(truthAt(b.y()) - truthAt(a.y()), b.y() - a.y());
+  return std::isfinite(truth) ? std::abs(found - truth) * 180.0 / std::numbers::pi : 180.0;
+}
+
+/// The least worst column error any single circle on the ground can have on a frame, bounded from
+/// above: the circle fitted to the true centre line (algebraic least squares, x² + y² + Dx + Ey + F =
+/// 0, each point weighted by its row's pixels per metre) over the rows the image sees, evaluated like
+/// a found curve (worstCurveError()) on the rows from `v_top` down, every 8. Where the road's
+/// curvature changes in view (a straight running into a bend) or its polyline's 1.5 m chords leave
+/// the circle by their sagitta (1.8 cm on 15 m bends: 7 px at the bottom row's 2 m), no circle
+/// reaches 2 px.
+double bestCircleError(const StraightPose& sp, double v_top) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (double d = -2.0; d <= 16.0; d += 0.1) {
+    const Vec2 q = sp.pose.inverseTransform(sp.road->centerline.pointAt(sp.s + d));
+    const auto p = cam().projectGround(q);
+    const auto p1 = cam().projectGround(q + Vec2(0.0, 1.0));
+    if (!p || !p1 || p->y() < -0.5 || p->y() > cam().height() - 0.5) continue;
+    const double w2 = (*p1 - *p).squaredNorm();  // (pixels per metre)²
+    const Eigen::Vector3d phi(q.x(), q.y(), 1.0);
+    A += w2 * phi * phi.transpose();
+    rhs -= w2 * phi * q.squaredNorm();
+  }
+  const Eigen::Vector3d sol = A.ldlt().solve(rhs);
+  const double cx = -0.5 * sol[0], cy = -0.5 * sol[1], r2 = cx * cx + cy * cy - sol[2];
+  RoadFinding circle;
+  for (double v = v_top; v < cam().height(); v += 8) {
+    const auto g = cam().backproject(Vec2(0.5 * (cam().width() - 1), v));
+    if (!g || r2 < (g->x() - cx) * (g->x() - cx)) continue;
+    const double h = std::sqrt(r2 - (g->x() - cx) * (g->x() - cx));
+    const double y = std::abs(cy + h) < std::abs(cy - h) ? cy + h : cy - h;  // the branch through the vehicle
+    if (const auto p = cam().projectGround(Vec2(g->x(), y))) circle.centerline_curve.push_back(*p);
+  }
+  return worstCurveError(circle, sp);
+}
+
+/// How many rows of the mask show the road's true edges: rows where a true edge (the centre line
+/// ±1.5 m, projected) is in the image and the mask changes class within 3 px of it, over both
+/// edges; and in how many rows a true edge is in the image.
+std::pair<int, int> trueEdgeRowsInMask(const Image& mask, const StraightPose& sp) {
+  int shown = 0, in_image = 0;
+  for (const double side : {1.5, -1.5}) {
+    int last = -1;
+    for (double d = -2.0; d <= 16.0; d += 0.05) {
+      const Vec2 t = sp.road->centerline.tangentAt(sp.s + d);
+      const Vec2 g = sp.road->centerline.pointAt(sp.s + d) + side * Vec2(-t.y(), t.x());
+      const auto p = cam().projectGround(sp.pose.inverseTransform(g));
+      if (!p) continue;
+      const int v = static_cast<int>(std::lround(p->y())), u = static_cast<int>(std::lround(p->x()));
+      if (v == last || v < 0 || v >= mask.height || u < 3 || u > mask.width - 4) continue;
+      last = v;
+      ++in_image;
+      bool change = false;
+      for (int k = u - 2; k <= u + 3; ++k)
+        change = change || mask.data[static_cast<std::size_t>(v) * mask.width + k] !=
+                               mask.data[static_cast<std::size_t>(v) * mask.width + k - 1];
+      shown += change;
+    }
+  }
+  return {shown, in_image};
+}
+
 /// Per frame, the worst column error of the arc model's and of the straight model's centre curve
-/// (each retrained on the first frame of each road, frozen along it), and the arc's curvature.
+/// (each retrained on the first frame of each road, frozen along it), the arc's curvature, its
+/// angle error at the bottom row, the first row of its curve, and whether it found a centre line
+/// (failed frames count as an error of 1e9 px).
 struct ArcVsLine {
-  std::vector<double> arc, line, curvature;
+  std::vector<double> arc, line, curvature, angle, v_top;
+  std::vector<std::pair<int, int>> edge_rows;  // trueEdgeRowsInMask() of the arc model's mask
+  std::vector<std::size_t> failed;
+  std::vector<std::string> failed_reason;
 };
 ArcVsLine arcVsLine(const std::vector<StraightPose>& poses) {
   const World world(park(), parkWorld());
@@ -294,12 +379,19 @@ ArcVsLine arcVsLine(const std::vector<StraightPose>& poses) {
       line = trainedOn(world, poses[i].pose, static_cast<double>(i));
     }
     const Frame f = world.render(cam(), poses[i].pose, static_cast<double>(i));
-    const RoadFinding ra = arc->find(f.rgb.data.data(), f.rgb.width, f.rgb.height, false);
+    const RoadFinding ra = arc->find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
     const RoadFinding rl = line->find(f.rgb.data.data(), f.rgb.width, f.rgb.height, false);
-    EXPECT_TRUE(ra.ok && rl.ok) << "frame " << i << ": " << ra.reason << rl.reason;
+    EXPECT_TRUE(rl.ok) << "frame " << i << ": " << rl.reason;
+    if (!ra.ok) {
+      out.failed.push_back(i);
+      out.failed_reason.push_back(ra.reason);
+    }
     out.arc.push_back(ra.ok ? worstCurveError(ra, poses[i]) : 1e9);
     out.line.push_back(rl.ok ? worstCurveError(rl, poses[i]) : 1e9);
     out.curvature.push_back(ra.curvature);
+    out.angle.push_back(ra.ok ? bottomAngleError(ra, poses[i]) : 180.0);
+    out.v_top.push_back(ra.ok ? ra.centerline_curve.front().y() : 0.0);
+    out.edge_rows.push_back(trueEdgeRowsInMask(ra.mask, poses[i]));
   }
   return out;
 }
@@ -313,15 +405,18 @@ double quantile(std::vector<double> v, double q) {
 // >= 15 m far better than the paper's straight model, which cuts them. Measured per frame: the
 // worst column error over the block rows where the road's centre is in the image. The circle fitted
 // to the edges on the ground, started from the image fit and from a consensus of exact circles on the
-// ground, puts the median frame within 3.2 px and three frames in four within 11 px (measured: median
-// 3.12, 75 % 10.24, 90 % 60.1, worst 1500 px; 39 frames <= 2 px, 59 <= 3 px, 92 <= 10 px; before the
-// ground consensus: median 4.05, 75 % 41.0, 56 <= 3 px, 79 <= 10 px). NOT YET the target
-// everywhere: the road (3 m) fills the image (1.4 m wide at the bottom), so edges show only above
-// ~4.5 m, and the tail is frames where the perceptron shows few or wrong edges (dirt shoulders
-// classed as road, the dirt/grass boundary taken for the road's edge: a circle through 15-40 rows of
-// one edge, extrapolated to the bottom rows), no edge at all (2 frames: the image fit's answer is
-// kept), or the curvature changes in view (straight to bend), which no single circle follows. The
-// figures are printed; the bounds are what is met.
+// ground, each required to keep the vehicle on the road, puts the median frame within 3.2 px and
+// three frames in four within 11 px. Measured: median 3.12, 75 % 10.24, 90 % 60.1 px, worst found
+// 269 px, 2 frames failed (no centre line puts the vehicle on the road; before that rule they were
+// answered 1500 and 715 px off); 39 frames <= 2 px, 59 <= 3 px, 78 <= 5 px, 92 <= 10 px; angle error
+// at the bottom row median 1.41 deg, <= 1 deg on 48 frames. NOT the 2 px everywhere, and the
+// test prints each frame off it with its cause: on 39 frames no circle on the ground comes within
+// 2 px of the true centre line (bestCircleError(): a straight running into a bend, up to 22 px; the
+// map's 1.5 m chords on 15 m bends, 3.0-3.6 px); on the 86 where a circle can, the arc model meets
+// 2 px on 36. The rest miss because the mask shows under half of the road's true edge rows
+// (shoulders classed as road; the boundary beyond the shoulder is then fitted as the road's edge) or,
+// with the edges in view, the circle is extrapolated from the edges (seen only beyond ~4.5 m: the
+// 3 m road fills the image, 1.4 m wide at the bottom) to the bottom rows, where 1 cm is 3.7 px.
 TEST(ClusterPerceptron, ArcModelFollowsCurves) {
   const auto poses = curvePoses(3.0);
   ASSERT_GE(poses.size(), 100u);
@@ -333,11 +428,43 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
     EXPECT_LE(std::abs(e.curvature[i]), ClusterPerceptronOptions{}.max_curvature) << "frame " << i;
   }
   const auto within = [&](double px) { return std::count_if(e.arc.begin(), e.arc.end(), [&](double x) { return x <= px; }); };
-  std::printf("on %zu curve frames, worst column error per frame: arc model median %.2f px, 75%% %.2f px, 90%% %.2f px, "
-              "worst %.2f px, <= 2 px on %td, <= 3 px on %td, <= 5 px on %td, <= 10 px on %td; straight model median "
-              "%.2f px; the arc is better on %d\n",
-              n, quantile(e.arc, 0.5), quantile(e.arc, 0.75), quantile(e.arc, 0.9), quantile(e.arc, 1.0), within(2.0),
+  double worst_found = 0;
+  for (const double x : e.arc)
+    if (x < 1e9) worst_found = std::max(worst_found, x);
+  std::printf("on %zu curve frames, worst column error per frame (failed frames count as 1e9 px): arc model median %.2f "
+              "px, 75%% %.2f px, 90%% %.2f px, worst found %.2f px, <= 2 px on %td, <= 3 px on %td, <= 5 px on %td, <= 10 "
+              "px on %td; straight model median %.2f px; the arc is better on %d\n",
+              n, quantile(e.arc, 0.5), quantile(e.arc, 0.75), quantile(e.arc, 0.9), worst_found, within(2.0),
               within(3.0), within(5.0), within(10.0), quantile(e.line, 0.5), better);
+  // The frames off the 2 px, each with its cause: the best any circle can do (no single
+  // circle follows a straight running into a bend), and how much of the road's true edges the mask
+  // shows (shoulders classed as road hide them; the boundary beyond the shoulder is then taken
+  // for the road's edge).
+  int circle_reaches = 0, met_where_reachable = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double best = e.arc[i] < 1e9 ? bestCircleError(poses[i], e.v_top[i]) : std::nan("");
+    circle_reaches += best <= 2.0;
+    met_where_reachable += best <= 2.0 && e.arc[i] <= 2.0;
+    if (e.arc[i] <= 2.0) continue;
+    const char* cause = e.arc[i] >= 1e9 ? "failed: no centre line puts the vehicle on the road"
+                        : best > 2.0   ? "no circle within 2 px of the truth (curvature changing in view, or 15 m bends' chords)"
+                        : 2 * e.edge_rows[i].first < e.edge_rows[i].second ? "the mask shows under half the true edges' rows"
+                                                                              : "circle off the edges' circle";
+    std::printf("  frame %3zu: %7.2f px, bottom angle %5.2f deg, best circle %6.2f px, true edge rows in the mask "
+                "%3d / %3d: %s\n",
+                i, e.arc[i], e.angle[i], best, e.edge_rows[i].first, e.edge_rows[i].second, cause);
+  }
+  const auto angle_within = [&](double deg) { return std::count_if(e.angle.begin(), e.angle.end(), [&](double x) { return x <= deg; }); };
+  std::printf("a circle reaches 2 px on %d frames, the arc model meets 2 px on %d of them; bottom-row angle error "
+              "median %.2f deg, 75%% %.2f deg, <= 1 deg on %td; failed frames %zu\n",
+              circle_reaches, met_where_reachable, quantile(e.angle, 0.5), quantile(e.angle, 0.75), angle_within(1.0),
+              e.failed.size());
+  EXPECT_LE(e.failed.size(), 2u);
+  for (const std::string& reason : e.failed_reason)  // only where no fit keeps the vehicle on its road
+    EXPECT_NE(reason.find("within half the road's width of the vehicle"), std::string::npos) << reason;
+  EXPECT_GE(circle_reaches, static_cast<int>(0.6 * static_cast<double>(n)));
+  EXPECT_GE(met_where_reachable, static_cast<int>(0.4 * static_cast<double>(circle_reaches)));
+  EXPECT_GE(angle_within(1.0), static_cast<std::ptrdiff_t>(0.35 * static_cast<double>(n)));
   EXPECT_LE(quantile(e.arc, 0.5), 3.5);
   EXPECT_LE(quantile(e.arc, 0.75), 12.0);
   EXPECT_GE(within(3.0), static_cast<std::ptrdiff_t>(0.45 * static_cast<double>(n)));
@@ -348,20 +475,28 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
 
 // On straight stretches the arc model is no worse than the straight one: where the curvature does
 // not pay for its parameter (BIC on the edges' residuals) the line on the ground is kept. Measured:
-// arc median 0.26 px, worst 150 px (before the ground consensus: 1335 px, on a frame that had no
-// ground fit and is now within 5 px), line median 2.82 px, worst 495 px. The arc's worst frame
-// is a circle through 43 rows of the right edge, seen only in the top right corner (the left shoulder
-// is classed as road), extrapolated to the bottom.
+// arc median 0.26 px, 75 % 1.30, 90 % 3.55, worst 150 px; <= 2 px on 19 of 24, <= 3 px on 20, <= 5 px
+// on 22, <= 10 px on 23; bottom-row angle median 0.02 deg (worst 23 deg, the worst frame's); line
+// median 2.82 px, worst 495 px. The arc's worst frame is a circle through 43 rows of the right edge,
+// seen only in the top right corner (the left shoulder is classed as road), extrapolated to the bottom;
+// it keeps the vehicle on the road, so the on-road rule does not reject it.
 TEST(ClusterPerceptron, ArcModelOnStraightStretches) {
   const auto poses = straightPoses(8.0);
   ASSERT_GE(poses.size(), 20u);
   const ArcVsLine e = arcVsLine(poses);
   int as_good = 0;
   for (std::size_t i = 0; i < e.arc.size(); ++i) as_good += e.arc[i] <= e.line[i] + 1.0;
+  const auto within = [&](double px) { return std::count_if(e.arc.begin(), e.arc.end(), [&](double x) { return x <= px; }); };
   std::printf("on %zu straight frames, worst column error per frame: arc model median %.2f px, 75%% %.2f px, 90%% %.2f "
-              "px, worst %.2f px; straight model median %.2f px, worst %.2f px; the arc within 1 px of the line on %d\n",
+              "px, worst %.2f px, <= 2 px on %td, <= 3 px on %td, <= 5 px on %td, <= 10 px on %td; bottom-row angle "
+              "median %.2f deg, worst %.2f deg; straight model median %.2f px, worst %.2f px; the arc within 1 px of "
+              "the line on %d\n",
               e.arc.size(), quantile(e.arc, 0.5), quantile(e.arc, 0.75), quantile(e.arc, 0.9), quantile(e.arc, 1.0),
+              within(2.0), within(3.0), within(5.0), within(10.0), quantile(e.angle, 0.5), quantile(e.angle, 1.0),
               quantile(e.line, 0.5), quantile(e.line, 1.0), as_good);
+  EXPECT_TRUE(e.failed.empty());
+  EXPECT_GE(within(2.0), static_cast<std::ptrdiff_t>(0.75 * static_cast<double>(e.arc.size())));
+  EXPECT_LE(quantile(e.angle, 0.5), 1.0);
   EXPECT_LE(quantile(e.arc, 0.5), quantile(e.line, 0.5));
   EXPECT_LE(quantile(e.arc, 1.0), quantile(e.line, 1.0));
   EXPECT_GE(as_good, static_cast<int>(0.85 * static_cast<double>(e.arc.size())));
@@ -763,3 +898,4 @@ TEST(ClusterPerceptron, PriorKeepsTheHoughNearThePredictedCentreLine) {
 
 }  // namespace
 }  // namespace mapnav
+

@@ -914,6 +914,12 @@ int groundSupport(const std::vector<GroundEdge>& edges, double w, const GroundAr
       [&](const GroundEdge& e) { return std::abs(edgeResidual(arc, w, e, c, s)) <= tol; });
 }
 
+/// The vehicle stands on the road: the centre line passes within half the road's width w of it
+/// (|y0| ≤ w/2 at x = 0). A hard physical constraint on every fit, not a pull toward any answer: a
+/// circle through one shoulder's edges (the dirt/grass boundary 2.5 m out, or a single edge taken for
+/// the other side's) that puts the vehicle off its road is not the road.
+bool onRoad(const GroundArc& arc, double w) { return std::abs(arc.y0) <= 0.5 * w; }
+
 /// Edge consensus on the ground (RANSAC, seeded): the circle whose road edges pass exactly through three
 /// edge candidates in rows at least 16 apart (Gauss-Newton from the ground parabola y = y0 + t·x + c·x²/2
 /// through them, each moved half the width to the centre: θ = atan t, κ = c·cos³θ), kept when more
@@ -924,7 +930,7 @@ GroundArc groundConsensus(const std::vector<GroundEdge>& edges, double w, const 
                           double max_curvature, std::uint64_t seed) {
   constexpr double tol = 2.0;
   GroundArc best = start;
-  int best_n = groundSupport(edges, w, start, tol);
+  int best_n = onRoad(start, w) ? groundSupport(edges, w, start, tol) : -1;
   if (edges.size() < 3) return best;
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<std::size_t> pick(0, edges.size() - 1);
@@ -950,7 +956,8 @@ GroundArc groundConsensus(const std::vector<GroundEdge>& edges, double w, const 
     h.y0 = p[0];
     h.th = std::atan(p[1]);
     h.k = p[2] * std::pow(std::cos(h.th), 3);
-    if (!fitGroundArc(three, w, true, std::numeric_limits<double>::infinity(), h, 1) || std::abs(h.k) > max_curvature)
+    if (!fitGroundArc(three, w, true, std::numeric_limits<double>::infinity(), h, 1) || std::abs(h.k) > max_curvature ||
+        !onRoad(h, w))
       continue;
     const int n = groundSupport(edges, w, h, tol);
     if (n > best_n) {
@@ -970,45 +977,57 @@ struct RowGeometry {
   const std::vector<double>& b;  // columns per metre of lateral offset
 };
 
+/// The bootstrap's road width on the ground, m (a flat road of constant width: its rows agree, the
+/// median is taken); 0 when no row from v_top has a width.
+double groundWidth(const RowGeometry& rows, const std::vector<double>& row_widths, int v_top, int height) {
+  std::vector<double> ws;
+  for (int v = v_top; v < height; ++v)
+    if (row_widths[v] > 0) ws.push_back(row_widths[v] / std::abs(rows.b[v]));
+  if (ws.empty()) return 0.0;
+  std::nth_element(ws.begin(), ws.begin() + ws.size() / 2, ws.end());
+  return ws[ws.size() / 2];
+}
+
+/// An image centre model taken to the ground: its centre columns from v_top down, fitted by
+/// y = y0 + t·x + c·x²/2, then by the circle (on 15 m bends the parabola's curvature at x = 0 puts
+/// the far edges tens of pixels off). False when the fit is singular.
+bool groundCircleOf(const CentreModel& model, const RowGeometry& rows, int v_top, int height, double max_curvature,
+                    GroundArc& arc) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Vec3 rhs = Vec3::Zero();
+  for (int v = v_top; v < height; v += 4) {
+    const Vec3 phi(1.0, rows.x[v], 0.5 * rows.x[v] * rows.x[v]);
+    A += phi * phi.transpose();
+    rhs += phi * ((model.u(v) - rows.a[v]) / rows.b[v]);
+  }
+  const Vec3 p = A.ldlt().solve(rhs);
+  if (!p.allFinite()) return false;
+  arc.y0 = p[0];
+  arc.th = std::atan(p[1]);
+  arc.k = std::clamp(p[2] * std::pow(std::cos(arc.th), 3), -max_curvature, max_curvature);
+  std::vector<GroundEdge> centre;
+  for (int v = v_top; v < height; v += 4)
+    centre.push_back({rows.x[v], (model.u(v) - rows.a[v]) / rows.b[v], 0.0, std::abs(rows.b[v]), v});
+  GroundArc circle = arc;
+  if (fitGroundArc(centre, 0.0, true, std::numeric_limits<double>::infinity(), circle) && std::abs(circle.k) <= max_curvature)
+    arc = circle;
+  return true;
+}
+
 /// The arc model's edge refinement on the ground. The edge candidates of every road row taken to the
 /// ground, the circle fitted to them by robust Gauss-Newton (in each row the left and right candidates
 /// nearest the model's edges, within a tolerance that narrows from 4 to 1 px; the width from the rows
 /// where both edges show, else the bootstrap's), from two starts: the circle nearest the image fit's
 /// (`model`, a ground parabola) and the ground consensus's (groundConsensus()); the one that ends with
-/// more edges wins. Then the straight line fitted to the same edges, kept when the curvature does not
-/// pay for its parameter (BIC: n ln(RSS/n) + p ln n). False when too few edges support either fit.
+/// more edges wins; a fit that puts the vehicle off the road (onRoad()) does not count. Then the
+/// straight line fitted to the same edges, kept when the curvature does not pay for its parameter (BIC:
+/// n ln(RSS/n) + p ln n) and it keeps the vehicle on the road. False when too few edges support either
+/// fit.
 bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top, const CentreModel& model,
                      const RowGeometry& rows, const std::vector<double>& row_widths, double max_curvature,
                      std::uint64_t seed, GroundArc& arc, int& edge_rows) {
-  // The bootstrap's road width on the ground (a flat road of constant width: rows agree).
-  std::vector<double> ws;
-  for (int v = v_top; v < height; ++v)
-    if (row_widths[v] > 0) ws.push_back(row_widths[v] / std::abs(rows.b[v]));
-  if (ws.empty()) return false;
-  std::nth_element(ws.begin(), ws.begin() + ws.size() / 2, ws.end());
-  const double w0 = ws[ws.size() / 2];
-  // The first start: the model's centre columns on the ground, fitted by y = y0 + t·x + c·x²/2, then
-  // by the circle (on 15 m bends the parabola's curvature at x = 0 puts the far edges tens of pixels off).
-  {
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    Vec3 rhs = Vec3::Zero();
-    for (int v = v_top; v < height; v += 4) {
-      const Vec3 phi(1.0, rows.x[v], 0.5 * rows.x[v] * rows.x[v]);
-      A += phi * phi.transpose();
-      rhs += phi * ((model.u(v) - rows.a[v]) / rows.b[v]);
-    }
-    const Vec3 p = A.ldlt().solve(rhs);
-    if (!p.allFinite()) return false;
-    arc.y0 = p[0];
-    arc.th = std::atan(p[1]);
-    arc.k = std::clamp(p[2] * std::pow(std::cos(arc.th), 3), -max_curvature, max_curvature);
-    std::vector<GroundEdge> centre;
-    for (int v = v_top; v < height; v += 4)
-      centre.push_back({rows.x[v], (model.u(v) - rows.a[v]) / rows.b[v], 0.0, std::abs(rows.b[v]), v});
-    GroundArc circle = arc;
-    if (fitGroundArc(centre, 0.0, true, std::numeric_limits<double>::infinity(), circle) && std::abs(circle.k) <= max_curvature)
-      arc = circle;
-  }
+  const double w0 = groundWidth(rows, row_widths, v_top, height);
+  if (!(w0 > 0) || !groundCircleOf(model, rows, v_top, height, max_curvature, arc)) return false;
   std::vector<GroundEdge> all;
   std::vector<EdgeCandidate> cands;
   for (int v = v_top; v < height; ++v) {
@@ -1068,12 +1087,12 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
   double w = w0;
   int rows_used = 0;
   std::vector<GroundEdge> sel;
-  bool ok = refine(arc, w, sel, rows_used);
+  bool ok = refine(arc, w, sel, rows_used) && onRoad(arc, w);
   GroundArc arc2 = groundConsensus(all, w0, arc, max_curvature, seed);
   double w2 = w0;
   int rows2 = 0;
   std::vector<GroundEdge> sel2;
-  const bool ok2 = refine(arc2, w2, sel2, rows2);
+  const bool ok2 = refine(arc2, w2, sel2, rows2) && onRoad(arc2, w2);
   if (ok2 && (!ok || sel2.size() > sel.size())) {
     arc = arc2;
     w = w2;
@@ -1084,7 +1103,7 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
   if (!ok) return false;
   GroundArc line = arc;
   line.k = 0;
-  if (fitGroundArc(sel, w, false, 0.6, line)) {
+  if (fitGroundArc(sel, w, false, 0.6, line) && onRoad(line, w)) {
     const double n = static_cast<double>(sel.size());
     const double bic_arc = n * std::log(sumSquares(sel, w, arc) / n + 1e-12) + 3.0 * std::log(n);
     const double bic_line = n * std::log(sumSquares(sel, w, line) / n + 1e-12) + 2.0 * std::log(n);
@@ -1380,6 +1399,19 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       model = fitted;
       res.refined = true;
       res.edge_rows = static_cast<int>(vu.size());
+    }
+  }
+  if (arc && !ground) {
+    // No ground fit: the image fit stands, unless its centre line, taken to the ground, passes
+    // farther than half the road's width from the vehicle, which stands on the road (onRoad()): then
+    // the road-coloured area holds no road the vehicle could be on (shoulders classed as road, no
+    // edge of the road in view), and the frame fails rather than steer by it.
+    const RowGeometry geo{row_x_, row_a_, row_b_};
+    const double w0 = groundWidth(geo, row_widths_, v_top, height);
+    GroundArc g;
+    if (w0 > 0 && groundCircleOf(model, geo, v_top, height, opt_.max_curvature, g) && !onRoad(g, w0)) {
+      res.reason = "arc model: no centre line within half the road's width of the vehicle";
+      return res;
     }
   }
   res.centerline_curve.clear();

@@ -35,7 +35,8 @@ namespace mapnav {
 /// from the camera: ClusterPerceptron::setCamera()). The edge refinement then fits the exact circle
 /// to the road's edges on the ground (the parabola is its small-angle form, and cuts 15 m bends by
 /// decimetres at 8 m), and keeps the straight line instead where the curvature does not pay for its
-/// parameter (BIC), so straight paths get the straight answer.
+/// parameter (BIC), so straight paths get the straight answer. Every fit must keep the vehicle on the
+/// road (the centre line within half the road's width of it); when none does, find() fails.
 enum class RoadModel { Line, Arc };
 std::string toString(RoadModel model);
 /// "line" or "arc"; throws InvalidInput otherwise.
