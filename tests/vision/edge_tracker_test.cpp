@@ -232,6 +232,57 @@ TEST(EdgeTracker, TracesADirtEdgeInTheBandItsPredictedColoursSeparate) {
   }
 }
 
+// R4's 30 m left curve (where park_loop's closed loop stood halted from frame 411: the trace lost
+// the edge at frames 410 and 412 on, and the vehicle left the path after resuming): the pin-hole
+// sees only the outer edge, asphalt against gravel, entering at the image's right border and running
+// up to the top. Gravel differs from asphalt in brightness only: 2.8 levels in normalised green, 6.6
+// in normalised red (bandLevel of the map's colours), where the trace lost it under the texture;
+// with min_normalised_step it is traced in luminance (60 levels) along the true edge to the top.
+TEST(EdgeTracker, TracesAGravelEdgeFromTheImageBorderInLuminance) {
+  const Appearance* gravel = park().findSurface("gravel");
+  const Appearance* asphalt = park().findSurface("asphalt");
+  ASSERT_TRUE(gravel != nullptr && asphalt != nullptr);
+  auto step = [&](GreyBand b) {
+    return bandLevel(gravel->rgb.x(), gravel->rgb.y(), gravel->rgb.z(), b) -
+           bandLevel(asphalt->rgb.x(), asphalt->rgb.y(), asphalt->rgb.z(), b);
+  };
+  EXPECT_NEAR(step(GreyBand::NormalizedGreen), 2.76, 0.01);
+  EXPECT_NEAR(step(GreyBand::NormalizedRed), 6.60, 0.01);
+  EXPECT_NEAR(step(GreyBand::Luminance), 59.97, 0.01);
+
+  const Pose2 pose(Vec2(326.0445, 277.4157), 29.827 * kDeg);
+  const auto trueRight = projectedEdge(park().rightEdge(park().road("R4")), pose);
+  for (const double min_step : {0.0, 12.0}) {
+    SCOPED_TRACE(min_step);
+    EdgeTrackerOptions o;
+    o.min_normalised_step = min_step;
+    EdgeTracker tracker(o);
+    const TrackRun r = runAt(pose, 0.45, tracker);
+    ASSERT_EQ(r.report.start_source, "prediction");
+    EXPECT_EQ(r.report.left.stop_reason, "not predicted in the image");
+    ASSERT_TRUE(r.report.right.label.has_value());
+    EXPECT_EQ(r.report.right.label->rfind("R4.right.", 0), 0u) << *r.report.right.label;
+    EXPECT_GT(r.report.right.start.x(), 460);  // near the right border of the 512 px wide image
+    std::printf("gravel, min_normalised_step %.0f: %s%s; %zu points, stop: %s\n", min_step,
+                r.detected.status == DetectedObject::Status::Ok ? "ok" : "failed: ", r.detected.reason.c_str(),
+                r.report.right.image.size(), r.report.right.stop_reason.c_str());
+    if (min_step == 0) {
+      EXPECT_EQ(r.report.right.band, GreyBand::NormalizedRed);
+      EXPECT_EQ(r.detected.status, DetectedObject::Status::Failed);
+      continue;
+    }
+    ASSERT_EQ(r.detected.status, DetectedObject::Status::Ok) << r.detected.reason;
+    EXPECT_EQ(r.report.right.band, GreyBand::Luminance);
+    EXPECT_TRUE(r.report.right.reached_top) << r.report.right.stop_reason;
+    EXPECT_GE(r.report.right.image.size(), 8u);
+    double worst = 0;
+    for (const Vec2& p : r.report.right.image) worst = std::max(worst, distanceToPolyline(trueRight, p));
+    std::printf("gravel: max %.2f px from the true edge, contrast %.1f\n", worst, r.report.right.eval.contrast);
+    EXPECT_LT(worst, 4.0);
+    EXPECT_GT(r.report.right.eval.contrast, 30);
+  }
+}
+
 TEST(EdgeTracker, FollowsBothEdgesOfACurvingPathToTheTop) {
   // shadow_density 0.2 puts no tree shadow in these views; 0.4 shades about a tenth of the ground in
   // the views 0 and 4 m into the curve (and 40 % further on: see HeavyShadowFailsRatherThanMisleads).

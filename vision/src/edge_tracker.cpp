@@ -213,6 +213,7 @@ void EdgeTrackerOptions::validate() const {
     s << "EdgeTrackerOptions::" << field << " = " << v << ": must be " << rule;
     throw InvalidInput(s.str());
   };
+  if (!(min_normalised_step >= 0)) bad("min_normalised_step", min_normalised_step, ">= 0");
   if (window_rows < 4) bad("window_rows", window_rows, ">= 4");
   if (window_cols < 8) bad("window_cols", window_cols, ">= 8");
   if (!(step_fraction > 0 && step_fraction <= 4)) bad("step_fraction", step_fraction, "in (0, 4]");
@@ -246,6 +247,9 @@ const std::vector<Spec>& specs() {
       {"band_from_prediction", "true",
        "with a normalised band: trace each edge in whichever of the normalised green and red separates its predicted "
        "side colours more (dirt and gravel have the asphalt's normalised green)"},
+      {"min_normalised_step", "12",
+       "with band_from_prediction: when neither normalised band separates an edge's predicted side colours by this many "
+       "levels, trace it in luminance (gravel against asphalt: 2.8 in green, 6.6 in red, 60 in luminance); 0: never"},
       {"window_rows", "64", "search window length along the edge at 480 rows (scaled with the image height)"},
       {"window_cols", "128", "search window width across the edge at 512 columns (scaled with the image width)"},
       {"step_fraction", "0.5", "the next point is predicted this x window_rows ahead along theta"},
@@ -303,7 +307,8 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
       else if (value == "normalized_green") o.band = GreyBand::NormalizedGreen;
       else if (value == "normalized_red") o.band = GreyBand::NormalizedRed;
       else throw InvalidInput(bad + ": must be \"blue\", \"luminance\", \"normalized_green\" or \"normalized_red\"");
-    } else if (key == "window_rows") o.window_rows = integer();
+    } else if (key == "min_normalised_step") o.min_normalised_step = num();
+    else if (key == "window_rows") o.window_rows = integer();
     else if (key == "window_cols") o.window_cols = integer();
     else if (key == "step_fraction") o.step_fraction = num();
     else if (key == "step_half_width_px") o.step_half_width_px = integer();
@@ -511,10 +516,10 @@ bool normalised(GreyBand b) { return b == GreyBand::NormalizedGreen || b == Grey
 
 /// The near end of an image segment clipped to the image, directed up the image.
 /// The start is kept `margin` px from the image's sides, so that the step model fits in the image.
-/// `band`: the edge's band (see EdgeTrackerOptions::band_from_prediction); the predicted side colours'
-/// difference in it gives the expected contrast sign.
-std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& cam, int w, int h, GreyBand band,
-                                      bool band_from_prediction, double margin = 16) {
+/// The edge's band: o.band, or with o.band_from_prediction the one its predicted side colours choose
+/// (see EdgeTrackerOptions::band_from_prediction); their difference in it gives the expected contrast sign.
+std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& cam, int w, int h,
+                                      const EdgeTrackerOptions& o, double margin = 16) {
   Vec2 a = s.image.a, b = s.image.b;
   // Recompute from the ground so that a clipped image segment is not an issue for curved lenses.
   const auto pa = cam.projectGround(s.vehicle.a), pb = cam.projectGround(s.vehicle.b);
@@ -541,10 +546,14 @@ std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& ca
     return bandLevel(s.right_rgb.x(), s.right_rgb.y(), s.right_rgb.z(), b) -
            bandLevel(s.left_rgb.x(), s.left_rgb.y(), s.left_rgb.z(), b);
   };
-  if (colours && band_from_prediction && normalised(band))
-    band = std::abs(sideStep(GreyBand::NormalizedRed)) > std::abs(sideStep(GreyBand::NormalizedGreen))
-               ? GreyBand::NormalizedRed
-               : GreyBand::NormalizedGreen;
+  GreyBand band = o.band;
+  if (colours && o.band_from_prediction && normalised(band)) {
+    const double green = std::abs(sideStep(GreyBand::NormalizedGreen)), red = std::abs(sideStep(GreyBand::NormalizedRed));
+    band = red > green ? GreyBand::NormalizedRed : GreyBand::NormalizedGreen;
+    // Gravel against asphalt differs in brightness only: no normalised band separates them.
+    if (std::max(green, red) < o.min_normalised_step && std::abs(sideStep(GreyBand::Luminance)) > std::max(green, red))
+      band = GreyBand::Luminance;
+  }
   st.band = band;
   const double diff = sideStep(band) * (forward ? 1 : -1);
   if (colours && std::abs(diff) >= 3) st.polarity = diff > 0 ? 1 : -1;
@@ -554,15 +563,15 @@ std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& ca
 /// Start points from the prediction: the road whose edge comes nearest the vehicle, its nearest
 /// segment on each side, as {vehicle-left, vehicle-right}; false when neither is in the image. On a
 /// tight curve a narrow lens sees one edge only: the other is then left empty.
-bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, GreyBand band,
-                          bool band_from_prediction, std::optional<Start>& left, std::optional<Start>& right, std::string& left_id,
+bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, const EdgeTrackerOptions& o,
+                          std::optional<Start>& left, std::optional<Start>& right, std::string& left_id,
                           std::string& right_id) {
   const InterestSegment* nearest = nullptr;
   double best = std::numeric_limits<double>::infinity();
   for (const InterestSegment& s : pred.segments) {
     if (s.side != "left" && s.side != "right") continue;
     const double d = s.vehicle.distanceTo(Vec2::Zero());
-    if (d < best && startFromSegment(s, cam, w, h, band, band_from_prediction)) {
+    if (d < best && startFromSegment(s, cam, w, h, o)) {
       best = d;
       nearest = &s;
     }
@@ -573,7 +582,7 @@ bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w,
   for (const InterestSegment& s : pred.segments) {
     if (s.owner != nearest->owner || (s.side != "left" && s.side != "right")) continue;
     const int k = s.side == "left" ? 0 : 1;
-    const auto st = startFromSegment(s, cam, w, h, band, band_from_prediction);
+    const auto st = startFromSegment(s, cam, w, h, o);
     if (!st) continue;
     // Nearest in the image: the lowest near end.
     const double key = -st->point.y();
@@ -594,7 +603,7 @@ bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w,
   for (int k = 0; k < 2; ++k) {
     if (side[k] == nullptr) continue;
     const bool vehicle_left = (k == 0) == road_left_is_vehicle_left;
-    (vehicle_left ? left : right) = startFromSegment(*side[k], cam, w, h, band, band_from_prediction);
+    (vehicle_left ? left : right) = startFromSegment(*side[k], cam, w, h, o);
     (vehicle_left ? left_id : right_id) = side[k]->id;
   }
   return true;
@@ -638,7 +647,7 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   std::string lid, rid;
   std::optional<Start> pl, pr;
   bool trace_left = true, trace_right = true;
-  if (startsFromPrediction(prediction, cam, w, h, options_.band, options_.band_from_prediction, pl, pr, lid, rid)) {
+  if (startsFromPrediction(prediction, cam, w, h, options_, pl, pr, lid, rid)) {
     report_.start_source = "prediction";
     trace_left = pl.has_value();
     trace_right = pr.has_value();

@@ -92,10 +92,19 @@ struct EdgeTrackerOptions {
   /// simulated grass is bright in blue.
   GreyBand band = GreyBand::NormalizedGreen;
   /// With a normalised band: an edge whose predicted side colours the prediction gives is traced in
-  /// whichever of the normalised green and the normalised red separates them more. On the park path
-  /// dirt and gravel have the asphalt's normalised green (0.33-0.34: R2's 15 m hairpin has dirt on
-  /// its inside, and its edge was invisible), while the grass edges keep the green.
+  /// whichever of the normalised green and the normalised red separates them more (or in luminance:
+  /// see min_normalised_step). On the park path dirt and gravel have the asphalt's normalised green
+  /// (0.33-0.34: R2's 15 m hairpin has dirt on its inside, and its edge was invisible), while the
+  /// grass edges keep the green.
   bool band_from_prediction = true;
+  /// With band_from_prediction: when neither normalised band separates an edge's predicted side
+  /// colours by this many levels, the edge is traced in luminance (when that separates them more).
+  /// Gravel against asphalt differs in brightness only: 2.8 levels in normalised green, 6.6 in
+  /// normalised red (about min_contrast: under the texture the trace lost R4's outer edge on its
+  /// 30 m curve, park_loop frame 410, and the vehicle halted there), 60 in luminance, where tree
+  /// shadows step too (the expected contrast sign rejects those of the other sign). Grass (43 in
+  /// green) and dirt (25 in red) keep their normalised band. 0: never luminance.
+  double min_normalised_step = 12;
   int window_rows = 64;               ///< at 480 rows; scaled with the image height
   int window_cols = 128;              ///< at 512 columns; scaled with the image width
   double step_fraction = 0.5;         ///< the next point is predicted this × window_rows ahead
