@@ -272,6 +272,9 @@ const std::vector<Spec>& specs() {
       {"max_range_m", "15", "an edge ends at its first point farther than this on the ground (or above the horizon), m"},
       {"gate_search", "false",
        "after the first point search only offsets reachable within max_turn_deg (step x tan); off: the whole window"},
+      {"gate_luminance", "true",
+       "gate_search for the edges min_normalised_step sends to luminance alone (there tree shadows on a bright shoulder "
+       "step more than the material)"},
       {"use_carried_edges", "true", "start from advance()'d previous edges when the prediction has no segments"},
       {"single_edge", "true",
        "when one edge is lost and the other (labelled) is tracked, report that edge alone instead of failing"},
@@ -331,6 +334,9 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
     else if (key == "gate_search") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.gate_search = value.get<bool>();
+    } else if (key == "gate_luminance") {
+      if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
+      o.gate_luminance = value.get<bool>();
     } else if (key == "band_from_prediction") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.band_from_prediction = value.get<bool>();
@@ -418,7 +424,7 @@ void evaluate(TrackedEdge& e, double max_turn_deg) {
 }  // namespace
 
 TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const Vec2& direction,
-                               int expected_polarity) const {
+                               int expected_polarity, bool gate) const {
   TrackedEdge e;
   e.start = start;
   e.start_direction = direction.normalized();
@@ -445,7 +451,7 @@ TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const 
   const int polarity = m.contrast > 0 ? 1 : -1;
   // gate_search: after the first point, only steps the trace can reach without turning more than
   // max_turn_deg. Off by default: under heavy shadow it turns "edge lost" into a wrong trace.
-  if (options_.gate_search) p.max_offset_px = step * std::tan(std::min(options_.max_turn_deg, 80.0) * kDeg);
+  if (options_.gate_search || gate) p.max_offset_px = step * std::tan(std::min(options_.max_turn_deg, 80.0) * kDeg);
   m.profile.clear();
   e.image.push_back(m.point);
   e.matches.push_back(m);
@@ -688,7 +694,8 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   auto traceIf = [&](bool predicted, const Start& st) {
     if (predicted) {
       const GreyBand band = traced(st.band);  // the band the edge is really traced in, as reported
-      TrackedEdge e = trace(grey(band), st.point, st.direction, st.polarity);
+      const bool gate = options_.gate_luminance && st.band == GreyBand::Luminance && normalised(options_.band);
+      TrackedEdge e = trace(grey(band), st.point, st.direction, st.polarity, gate);
       e.band = band;
       return e;
     }

@@ -102,7 +102,8 @@ struct EdgeTrackerOptions {
   /// Gravel against asphalt differs in brightness only: 2.8 levels in normalised green, 6.6 in
   /// normalised red (about min_contrast: under the texture the trace lost R4's outer edge on its
   /// 30 m curve, park_loop frame 410, and the vehicle halted there), 60 in luminance, where tree
-  /// shadows step too (the expected contrast sign rejects those of the other sign). Grass (43 in
+  /// shadows step too (the expected contrast sign rejects those of the other sign; see
+  /// gate_luminance for the others). Grass (43 in
   /// green) and dirt (25 in red) keep their normalised band. 0: never luminance.
   double min_normalised_step = 12;
   int window_rows = 64;               ///< at 480 rows; scaled with the image height
@@ -129,6 +130,12 @@ struct EdgeTrackerOptions {
   /// runs on toward the vanishing point, and those points would swing the edges' ground lines.
   double max_range_m = 15;
   bool gate_search = false;           ///< search only offsets reachable within max_turn_deg (see OrientedEdgeParams::max_offset_px)
+  /// gate_search for the edges min_normalised_step sends to luminance alone. There a tree shadow's
+  /// step on the brighter shoulder beats the material step: gravel shaded against sunlit is 59 to
+  /// 134 levels, asphalt against gravel in the same shade 33 to 59; on R4's curve (park_loop frame
+  /// 429) the window after the first point took the shadow's edge 30 px off, the trace "turned too
+  /// sharply" and the vehicle halted for 8 frames.
+  bool gate_luminance = true;
   bool use_carried_edges = true;      ///< use advance()'d edges when the prediction has no segments
   /// When one edge is lost and the other, labelled, is tracked: report that edge alone (its lines,
   /// no centre line, half the confidence) instead of failing. On a 3 m park path the pin-hole sees
@@ -189,7 +196,9 @@ class EdgeTracker {
   /// Traces one edge from `start` along `direction` (unit, pointing up the image). `polarity`: the
   /// expected sign of the contrast (grey right of the edge − left of it, looking up the image), 0 =
   /// take the first window's.
-  TrackedEdge trace(const GreyImage& image, const Vec2& start, const Vec2& direction, int polarity = 0) const;
+  /// `gate`: search as gate_search does, whatever that option says.
+  TrackedEdge trace(const GreyImage& image, const Vec2& start, const Vec2& direction, int polarity = 0,
+                    bool gate = false) const;
 
   /// Both edges, ground check and evaluation; also kept as lastReport().
   DetectedObject detect(const VisionFrame& frame, const PredictedObject& prediction);
