@@ -566,12 +566,12 @@ std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& ca
   return st;
 }
 
-/// Start points from the prediction: the road whose edge comes nearest the vehicle, its nearest
-/// segment on each side, as {vehicle-left, vehicle-right}; false when neither is in the image. On a
-/// tight curve a narrow lens sees one edge only: the other is then left empty.
+/// Start points from the prediction: the road whose edge comes nearest the vehicle, its segments on
+/// each side, nearest first (the lowest near end in the image), as {vehicle-left, vehicle-right};
+/// false when neither is in the image. On a tight curve a narrow lens sees one edge only: the other
+/// is then left empty.
 bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, const EdgeTrackerOptions& o,
-                          std::optional<Start>& left, std::optional<Start>& right, std::string& left_id,
-                          std::string& right_id) {
+                          std::vector<Start>& left, std::vector<Start>& right) {
   const InterestSegment* nearest = nullptr;
   double best = std::numeric_limits<double>::infinity();
   for (const InterestSegment& s : pred.segments) {
@@ -583,34 +583,26 @@ bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w,
     }
   }
   if (nearest == nullptr) return false;
-  const InterestSegment* side[2] = {nullptr, nullptr};  // road's left, right
-  double sd[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  std::vector<std::pair<const InterestSegment*, Start>> side[2];  // road's left, right
   for (const InterestSegment& s : pred.segments) {
     if (s.owner != nearest->owner || (s.side != "left" && s.side != "right")) continue;
-    const int k = s.side == "left" ? 0 : 1;
-    const auto st = startFromSegment(s, cam, w, h, o);
-    if (!st) continue;
-    // Nearest in the image: the lowest near end.
-    const double key = -st->point.y();
-    if (key < sd[k]) {
-      sd[k] = key;
-      side[k] = &s;
-    }
+    if (auto st = startFromSegment(s, cam, w, h, o)) side[s.side == "left" ? 0 : 1].emplace_back(&s, std::move(*st));
   }
-  // Which is the vehicle's left: with both, the larger y at the segments' midpoints; with one, the
-  // road's left is the vehicle's when the road runs forward (its segments point a → b along it).
+  for (auto& v : side)
+    std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.second.point.y() > b.second.point.y(); });
+  // Which is the vehicle's left: with both, the larger y at the nearest segments' midpoints; with
+  // one, the road's left is the vehicle's when the road runs forward (its segments point a → b).
   bool road_left_is_vehicle_left = true;
-  if (side[0] != nullptr && side[1] != nullptr) {
-    road_left_is_vehicle_left = side[0]->vehicle.pointAt(0.5).y() >= side[1]->vehicle.pointAt(0.5).y();
+  if (!side[0].empty() && !side[1].empty()) {
+    road_left_is_vehicle_left =
+        side[0].front().first->vehicle.pointAt(0.5).y() >= side[1].front().first->vehicle.pointAt(0.5).y();
   } else {
-    const InterestSegment* one = side[0] != nullptr ? side[0] : side[1];
+    const InterestSegment* one = !side[0].empty() ? side[0].front().first : side[1].front().first;
     road_left_is_vehicle_left = (one->vehicle.b - one->vehicle.a).x() >= 0;
   }
   for (int k = 0; k < 2; ++k) {
-    if (side[k] == nullptr) continue;
     const bool vehicle_left = (k == 0) == road_left_is_vehicle_left;
-    (vehicle_left ? left : right) = startFromSegment(*side[k], cam, w, h, o);
-    (vehicle_left ? left_id : right_id) = side[k]->id;
+    for (auto& [segment, st] : side[k]) (vehicle_left ? left : right).push_back(std::move(st));
   }
   return true;
 }
@@ -650,15 +642,14 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
 
   Start ls, rs;
   ls.band = rs.band = options_.band;
-  std::string lid, rid;
-  std::optional<Start> pl, pr;
+  std::vector<Start> pl, pr;  // from the prediction: each edge's segments, nearest first
   bool trace_left = true, trace_right = true;
-  if (startsFromPrediction(prediction, cam, w, h, options_, pl, pr, lid, rid)) {
+  if (startsFromPrediction(prediction, cam, w, h, options_, pl, pr)) {
     report_.start_source = "prediction";
-    trace_left = pl.has_value();
-    trace_right = pr.has_value();
-    if (pl) ls = *pl;
-    if (pr) rs = *pr;
+    trace_left = !pl.empty();
+    trace_right = !pr.empty();
+    if (trace_left) ls = pl.front();
+    if (trace_right) rs = pr.front();
   } else if (options_.use_carried_edges && carried_left_ && carried_right_ &&
              startFromCarried(carried_left_->ground, carried_left_->label, cam, w, h) &&
              startFromCarried(carried_right_->ground, carried_right_->label, cam, w, h)) {
@@ -703,10 +694,27 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
     none.stop_reason = "not predicted in the image";
     return none;
   };
-  report_.left = traceIf(trace_left, ls);
-  report_.right = traceIf(trace_right, rs);
-  report_.left.label = ls.label;
-  report_.right.label = rs.label;
+  // An edge lost within min_points of its start starts again from the next predicted segment up
+  // the image: on a curve the edge enters at the image's side, where the window is half outside
+  // and a shadow's edge on the shoulder can take the second point (park_loop frame 421, R4's gravel
+  // edge); its next segment's near end lies a few pixels from the true edge.
+  auto traceSide = [&](bool predicted, Start& st, const std::vector<Start>& next) {
+    TrackedEdge e = traceIf(predicted, st);
+    for (std::size_t i = 1; i < next.size() && static_cast<int>(e.image.size()) < options_.min_points; ++i) {
+      TrackedEdge again = traceIf(true, next[i]);
+      if (again.image.size() <= e.image.size()) continue;
+      e = std::move(again);
+      st = next[i];
+    }
+    e.label = st.label;
+    return e;
+  };
+  report_.left = traceSide(trace_left, ls, pl);
+  report_.right = traceSide(trace_right, rs, pr);
+  // The predicted segments the edges started from, for the expected width (prediction's relations).
+  const bool predicted = report_.start_source == "prediction";
+  const std::string lid = predicted && trace_left ? ls.label.value_or("") : "";
+  const std::string rid = predicted && trace_right ? rs.label.value_or("") : "";
   // Every edge point to the ground; the trace ends at the first one above the horizon or beyond
   // max_range_m (near the horizon a pixel spans metres of ground, and a wide lens sees the trace
   // run on into the far distance, where it would swing the fitted ground lines).

@@ -17,7 +17,9 @@
 //   1. the PredictedObject's interest segments: for the road whose edge segment comes nearest the
 //      vehicle, its nearest left and right segments' near ends in the image (clipped to the image,
 //      16 px from its sides), directed along the segments; the segments' predicted side colours give
-//      each edge's expected contrast sign;
+//      each edge's expected contrast sign. An edge lost within min_points of its start starts again
+//      from its next segment up the image (on a curve the edge enters at the image's side, where
+//      the window is half outside the image);
 //   2. the previous frame's edges carried into the new frame with EdgeTracker::advance(motion);
 //   3. the options: start_left_u / start_right_u on row start_v, at start_left_angle_deg /
 //      start_right_angle_deg.
