@@ -105,8 +105,8 @@ struct EdgeTrackerOptions {
   /// normalised red (about min_contrast: under the texture the trace lost R4's outer edge on its
   /// 30 m curve, park_loop frame 410, and the vehicle halted there), 60 in luminance, where tree
   /// shadows step too (the expected contrast sign rejects those of the other sign; see
-  /// gate_luminance for the others). Grass (43 in
-  /// green) and dirt (25 in red) keep their normalised band. 0: never luminance.
+  /// gate_luminance for the others). Grass (43 in green) and dirt (25 in red) keep their normalised
+  /// band. 0: never luminance.
   double min_normalised_step = 12;
   int window_rows = 64;               ///< at 480 rows; scaled with the image height
   int window_cols = 128;              ///< at 512 columns; scaled with the image width
@@ -198,7 +198,7 @@ class EdgeTracker {
   /// Traces one edge from `start` along `direction` (unit, pointing up the image). `polarity`: the
   /// expected sign of the contrast (grey right of the edge − left of it, looking up the image), 0 =
   /// take the first window's.
-  /// `gate`: search as gate_search does, whatever that option says.
+  /// `gate`: search as gate_search does, also when that option is off.
   TrackedEdge trace(const GreyImage& image, const Vec2& start, const Vec2& direction, int polarity = 0,
                     bool gate = false) const;
 
