@@ -213,6 +213,7 @@ void EdgeTrackerOptions::validate() const {
     s << "EdgeTrackerOptions::" << field << " = " << v << ": must be " << rule;
     throw InvalidInput(s.str());
   };
+  if (!(min_normalised_step >= 0)) bad("min_normalised_step", min_normalised_step, ">= 0");
   if (window_rows < 4) bad("window_rows", window_rows, ">= 4");
   if (window_cols < 8) bad("window_cols", window_cols, ">= 8");
   if (!(step_fraction > 0 && step_fraction <= 4)) bad("step_fraction", step_fraction, "in (0, 4]");
@@ -246,6 +247,9 @@ const std::vector<Spec>& specs() {
       {"band_from_prediction", "true",
        "with a normalised band: trace each edge in whichever of the normalised green and red separates its predicted "
        "side colours more (dirt and gravel have the asphalt's normalised green)"},
+      {"min_normalised_step", "12",
+       "with band_from_prediction: when neither normalised band separates an edge's predicted side colours by this many "
+       "levels, trace it in luminance (gravel against asphalt: 2.8 in green, 6.6 in red, 60 in luminance); 0: never"},
       {"window_rows", "64", "search window length along the edge at 480 rows (scaled with the image height)"},
       {"window_cols", "128", "search window width across the edge at 512 columns (scaled with the image width)"},
       {"step_fraction", "0.5", "the next point is predicted this x window_rows ahead along theta"},
@@ -268,6 +272,9 @@ const std::vector<Spec>& specs() {
       {"max_range_m", "15", "an edge ends at its first point farther than this on the ground (or above the horizon), m"},
       {"gate_search", "false",
        "after the first point search only offsets reachable within max_turn_deg (step x tan); off: the whole window"},
+      {"gate_luminance", "true",
+       "gate_search for the edges min_normalised_step sends to luminance alone (there tree shadows on a bright shoulder "
+       "step more than the material)"},
       {"use_carried_edges", "true", "start from advance()'d previous edges when the prediction has no segments"},
       {"single_edge", "true",
        "when one edge is lost and the other (labelled) is tracked, report that edge alone instead of failing"},
@@ -303,7 +310,8 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
       else if (value == "normalized_green") o.band = GreyBand::NormalizedGreen;
       else if (value == "normalized_red") o.band = GreyBand::NormalizedRed;
       else throw InvalidInput(bad + ": must be \"blue\", \"luminance\", \"normalized_green\" or \"normalized_red\"");
-    } else if (key == "window_rows") o.window_rows = integer();
+    } else if (key == "min_normalised_step") o.min_normalised_step = num();
+    else if (key == "window_rows") o.window_rows = integer();
     else if (key == "window_cols") o.window_cols = integer();
     else if (key == "step_fraction") o.step_fraction = num();
     else if (key == "step_half_width_px") o.step_half_width_px = integer();
@@ -326,6 +334,9 @@ EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& text, const Edg
     else if (key == "gate_search") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.gate_search = value.get<bool>();
+    } else if (key == "gate_luminance") {
+      if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
+      o.gate_luminance = value.get<bool>();
     } else if (key == "band_from_prediction") {
       if (!value.is_boolean()) throw InvalidInput(bad + ": must be true or false");
       o.band_from_prediction = value.get<bool>();
@@ -413,7 +424,7 @@ void evaluate(TrackedEdge& e, double max_turn_deg) {
 }  // namespace
 
 TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const Vec2& direction,
-                               int expected_polarity) const {
+                               int expected_polarity, bool gate) const {
   TrackedEdge e;
   e.start = start;
   e.start_direction = direction.normalized();
@@ -440,7 +451,7 @@ TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const 
   const int polarity = m.contrast > 0 ? 1 : -1;
   // gate_search: after the first point, only steps the trace can reach without turning more than
   // max_turn_deg. Off by default: under heavy shadow it turns "edge lost" into a wrong trace.
-  if (options_.gate_search) p.max_offset_px = step * std::tan(std::min(options_.max_turn_deg, 80.0) * kDeg);
+  if (options_.gate_search || gate) p.max_offset_px = step * std::tan(std::min(options_.max_turn_deg, 80.0) * kDeg);
   m.profile.clear();
   e.image.push_back(m.point);
   e.matches.push_back(m);
@@ -511,10 +522,10 @@ bool normalised(GreyBand b) { return b == GreyBand::NormalizedGreen || b == Grey
 
 /// The near end of an image segment clipped to the image, directed up the image.
 /// The start is kept `margin` px from the image's sides, so that the step model fits in the image.
-/// `band`: the edge's band (see EdgeTrackerOptions::band_from_prediction); the predicted side colours'
-/// difference in it gives the expected contrast sign.
-std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& cam, int w, int h, GreyBand band,
-                                      bool band_from_prediction, double margin = 16) {
+/// The edge's band: o.band, or with o.band_from_prediction the one its predicted side colours choose
+/// (see EdgeTrackerOptions::band_from_prediction); their difference in it gives the expected contrast sign.
+std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& cam, int w, int h,
+                                      const EdgeTrackerOptions& o, double margin = 16) {
   Vec2 a = s.image.a, b = s.image.b;
   // Recompute from the ground so that a clipped image segment is not an issue for curved lenses.
   const auto pa = cam.projectGround(s.vehicle.a), pb = cam.projectGround(s.vehicle.b);
@@ -541,61 +552,57 @@ std::optional<Start> startFromSegment(const InterestSegment& s, const Camera& ca
     return bandLevel(s.right_rgb.x(), s.right_rgb.y(), s.right_rgb.z(), b) -
            bandLevel(s.left_rgb.x(), s.left_rgb.y(), s.left_rgb.z(), b);
   };
-  if (colours && band_from_prediction && normalised(band))
-    band = std::abs(sideStep(GreyBand::NormalizedRed)) > std::abs(sideStep(GreyBand::NormalizedGreen))
-               ? GreyBand::NormalizedRed
-               : GreyBand::NormalizedGreen;
+  GreyBand band = o.band;
+  if (colours && o.band_from_prediction && normalised(band)) {
+    const double green = std::abs(sideStep(GreyBand::NormalizedGreen)), red = std::abs(sideStep(GreyBand::NormalizedRed));
+    band = red > green ? GreyBand::NormalizedRed : GreyBand::NormalizedGreen;
+    // Gravel against asphalt differs in brightness only: no normalised band separates them.
+    if (std::max(green, red) < o.min_normalised_step && std::abs(sideStep(GreyBand::Luminance)) > std::max(green, red))
+      band = GreyBand::Luminance;
+  }
   st.band = band;
   const double diff = sideStep(band) * (forward ? 1 : -1);
   if (colours && std::abs(diff) >= 3) st.polarity = diff > 0 ? 1 : -1;
   return st;
 }
 
-/// Start points from the prediction: the road whose edge comes nearest the vehicle, its nearest
-/// segment on each side, as {vehicle-left, vehicle-right}; false when neither is in the image. On a
-/// tight curve a narrow lens sees one edge only: the other is then left empty.
-bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, GreyBand band,
-                          bool band_from_prediction, std::optional<Start>& left, std::optional<Start>& right, std::string& left_id,
-                          std::string& right_id) {
+/// Start points from the prediction: the road whose edge comes nearest the vehicle, its segments on
+/// each side, nearest first (the lowest near end in the image), as {vehicle-left, vehicle-right};
+/// false when neither is in the image. On a tight curve a narrow lens sees one edge only: the other
+/// is then left empty.
+bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, const EdgeTrackerOptions& o,
+                          std::vector<Start>& left, std::vector<Start>& right) {
   const InterestSegment* nearest = nullptr;
   double best = std::numeric_limits<double>::infinity();
   for (const InterestSegment& s : pred.segments) {
     if (s.side != "left" && s.side != "right") continue;
     const double d = s.vehicle.distanceTo(Vec2::Zero());
-    if (d < best && startFromSegment(s, cam, w, h, band, band_from_prediction)) {
+    if (d < best && startFromSegment(s, cam, w, h, o)) {
       best = d;
       nearest = &s;
     }
   }
   if (nearest == nullptr) return false;
-  const InterestSegment* side[2] = {nullptr, nullptr};  // road's left, right
-  double sd[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  std::vector<std::pair<const InterestSegment*, Start>> side[2];  // road's left, right
   for (const InterestSegment& s : pred.segments) {
     if (s.owner != nearest->owner || (s.side != "left" && s.side != "right")) continue;
-    const int k = s.side == "left" ? 0 : 1;
-    const auto st = startFromSegment(s, cam, w, h, band, band_from_prediction);
-    if (!st) continue;
-    // Nearest in the image: the lowest near end.
-    const double key = -st->point.y();
-    if (key < sd[k]) {
-      sd[k] = key;
-      side[k] = &s;
-    }
+    if (auto st = startFromSegment(s, cam, w, h, o)) side[s.side == "left" ? 0 : 1].emplace_back(&s, std::move(*st));
   }
-  // Which is the vehicle's left: with both, the larger y at the segments' midpoints; with one, the
-  // road's left is the vehicle's when the road runs forward (its segments point a → b along it).
+  for (auto& v : side)
+    std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.second.point.y() > b.second.point.y(); });
+  // Which is the vehicle's left: with both, the larger y at the nearest segments' midpoints; with
+  // one, the road's left is the vehicle's when the road runs forward (its segments point a → b).
   bool road_left_is_vehicle_left = true;
-  if (side[0] != nullptr && side[1] != nullptr) {
-    road_left_is_vehicle_left = side[0]->vehicle.pointAt(0.5).y() >= side[1]->vehicle.pointAt(0.5).y();
+  if (!side[0].empty() && !side[1].empty()) {
+    road_left_is_vehicle_left =
+        side[0].front().first->vehicle.pointAt(0.5).y() >= side[1].front().first->vehicle.pointAt(0.5).y();
   } else {
-    const InterestSegment* one = side[0] != nullptr ? side[0] : side[1];
+    const InterestSegment* one = !side[0].empty() ? side[0].front().first : side[1].front().first;
     road_left_is_vehicle_left = (one->vehicle.b - one->vehicle.a).x() >= 0;
   }
   for (int k = 0; k < 2; ++k) {
-    if (side[k] == nullptr) continue;
     const bool vehicle_left = (k == 0) == road_left_is_vehicle_left;
-    (vehicle_left ? left : right) = startFromSegment(*side[k], cam, w, h, band, band_from_prediction);
-    (vehicle_left ? left_id : right_id) = side[k]->id;
+    for (auto& [segment, st] : side[k]) (vehicle_left ? left : right).push_back(std::move(st));
   }
   return true;
 }
@@ -635,15 +642,14 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
 
   Start ls, rs;
   ls.band = rs.band = options_.band;
-  std::string lid, rid;
-  std::optional<Start> pl, pr;
+  std::vector<Start> pl, pr;  // from the prediction: each edge's segments, nearest first
   bool trace_left = true, trace_right = true;
-  if (startsFromPrediction(prediction, cam, w, h, options_.band, options_.band_from_prediction, pl, pr, lid, rid)) {
+  if (startsFromPrediction(prediction, cam, w, h, options_, pl, pr)) {
     report_.start_source = "prediction";
-    trace_left = pl.has_value();
-    trace_right = pr.has_value();
-    if (pl) ls = *pl;
-    if (pr) rs = *pr;
+    trace_left = !pl.empty();
+    trace_right = !pr.empty();
+    if (trace_left) ls = pl.front();
+    if (trace_right) rs = pr.front();
   } else if (options_.use_carried_edges && carried_left_ && carried_right_ &&
              startFromCarried(carried_left_->ground, carried_left_->label, cam, w, h) &&
              startFromCarried(carried_right_->ground, carried_right_->label, cam, w, h)) {
@@ -679,7 +685,8 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
   auto traceIf = [&](bool predicted, const Start& st) {
     if (predicted) {
       const GreyBand band = traced(st.band);  // the band the edge is really traced in, as reported
-      TrackedEdge e = trace(grey(band), st.point, st.direction, st.polarity);
+      const bool gate = options_.gate_luminance && st.band == GreyBand::Luminance && normalised(options_.band);
+      TrackedEdge e = trace(grey(band), st.point, st.direction, st.polarity, gate);
       e.band = band;
       return e;
     }
@@ -687,10 +694,27 @@ DetectedObject EdgeTracker::detect(const VisionFrame& frame, const PredictedObje
     none.stop_reason = "not predicted in the image";
     return none;
   };
-  report_.left = traceIf(trace_left, ls);
-  report_.right = traceIf(trace_right, rs);
-  report_.left.label = ls.label;
-  report_.right.label = rs.label;
+  // An edge lost within min_points of its start starts again from the next predicted segment up
+  // the image: on a curve the edge enters at the image's side, where the window is half outside
+  // and a shadow's edge on the shoulder can take the second point (park_loop frame 421, R4's gravel
+  // edge); its next segment's near end lies a few pixels from the true edge.
+  auto traceSide = [&](bool predicted, Start& st, const std::vector<Start>& next) {
+    TrackedEdge e = traceIf(predicted, st);
+    for (std::size_t i = 1; i < next.size() && static_cast<int>(e.image.size()) < options_.min_points; ++i) {
+      TrackedEdge again = traceIf(true, next[i]);
+      if (again.image.size() <= e.image.size()) continue;
+      e = std::move(again);
+      st = next[i];
+    }
+    e.label = st.label;
+    return e;
+  };
+  report_.left = traceSide(trace_left, ls, pl);
+  report_.right = traceSide(trace_right, rs, pr);
+  // The predicted segments the edges started from, for the expected width (prediction's relations).
+  const bool predicted = report_.start_source == "prediction";
+  const std::string lid = predicted && trace_left ? ls.label.value_or("") : "";
+  const std::string rid = predicted && trace_right ? rs.label.value_or("") : "";
   // Every edge point to the ground; the trace ends at the first one above the horizon or beyond
   // max_range_m (near the horizon a pixel spans metres of ground, and a wide lens sees the trace
   // run on into the far distance, where it would swing the fitted ground lines).

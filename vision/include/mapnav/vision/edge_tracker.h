@@ -17,7 +17,9 @@
 //   1. the PredictedObject's interest segments: for the road whose edge segment comes nearest the
 //      vehicle, its nearest left and right segments' near ends in the image (clipped to the image,
 //      16 px from its sides), directed along the segments; the segments' predicted side colours give
-//      each edge's expected contrast sign;
+//      each edge's expected contrast sign. An edge lost within min_points of its start starts again
+//      from its next segment up the image (on a curve the edge enters at the image's side, where
+//      the window is half outside the image);
 //   2. the previous frame's edges carried into the new frame with EdgeTracker::advance(motion);
 //   3. the options: start_left_u / start_right_u on row start_v, at start_left_angle_deg /
 //      start_right_angle_deg.
@@ -92,10 +94,20 @@ struct EdgeTrackerOptions {
   /// simulated grass is bright in blue.
   GreyBand band = GreyBand::NormalizedGreen;
   /// With a normalised band: an edge whose predicted side colours the prediction gives is traced in
-  /// whichever of the normalised green and the normalised red separates them more. On the park path
-  /// dirt and gravel have the asphalt's normalised green (0.33-0.34: R2's 15 m hairpin has dirt on
-  /// its inside, and its edge was invisible), while the grass edges keep the green.
+  /// whichever of the normalised green and the normalised red separates them more (or in luminance:
+  /// see min_normalised_step). On the park path dirt and gravel have the asphalt's normalised green
+  /// (0.33-0.34: R2's 15 m hairpin has dirt on its inside, and its edge was invisible), while the
+  /// grass edges keep the green.
   bool band_from_prediction = true;
+  /// With band_from_prediction: when neither normalised band separates an edge's predicted side
+  /// colours by this many levels, the edge is traced in luminance (when that separates them more).
+  /// Gravel against asphalt differs in brightness only: 2.8 levels in normalised green, 6.6 in
+  /// normalised red (about min_contrast: under the texture the trace lost R4's outer edge on its
+  /// 30 m curve, park_loop frame 410, and the vehicle halted there), 60 in luminance, where tree
+  /// shadows step too (the expected contrast sign rejects those of the other sign; see
+  /// gate_luminance for the others). Grass (43 in green) and dirt (25 in red) keep their normalised
+  /// band. 0: never luminance.
+  double min_normalised_step = 12;
   int window_rows = 64;               ///< at 480 rows; scaled with the image height
   int window_cols = 128;              ///< at 512 columns; scaled with the image width
   double step_fraction = 0.5;         ///< the next point is predicted this × window_rows ahead
@@ -120,6 +132,12 @@ struct EdgeTrackerOptions {
   /// runs on toward the vanishing point, and those points would swing the edges' ground lines.
   double max_range_m = 15;
   bool gate_search = false;           ///< search only offsets reachable within max_turn_deg (see OrientedEdgeParams::max_offset_px)
+  /// gate_search for the edges min_normalised_step sends to luminance alone. There a tree shadow's
+  /// step on the brighter shoulder beats the material step: gravel shaded against sunlit is 59 to
+  /// 134 levels, asphalt against gravel in the same shade 33 to 59; on R4's curve (park_loop frame
+  /// 429) the window after the first point took the shadow's edge 30 px off, the trace "turned too
+  /// sharply" and the vehicle halted for 8 frames.
+  bool gate_luminance = true;
   bool use_carried_edges = true;      ///< use advance()'d edges when the prediction has no segments
   /// When one edge is lost and the other, labelled, is tracked: report that edge alone (its lines,
   /// no centre line, half the confidence) instead of failing. On a 3 m park path the pin-hole sees
@@ -180,7 +198,9 @@ class EdgeTracker {
   /// Traces one edge from `start` along `direction` (unit, pointing up the image). `polarity`: the
   /// expected sign of the contrast (grey right of the edge − left of it, looking up the image), 0 =
   /// take the first window's.
-  TrackedEdge trace(const GreyImage& image, const Vec2& start, const Vec2& direction, int polarity = 0) const;
+  /// `gate`: search as gate_search does, also when that option is off.
+  TrackedEdge trace(const GreyImage& image, const Vec2& start, const Vec2& direction, int polarity = 0,
+                    bool gate = false) const;
 
   /// Both edges, ground check and evaluation; also kept as lastReport().
   DetectedObject detect(const VisionFrame& frame, const PredictedObject& prediction);
