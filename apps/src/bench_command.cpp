@@ -129,7 +129,7 @@ std::string pad(const std::string& text, std::size_t width) {
 Json number(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
 
 // The default Vision pipeline ("sidewalk") per frame at 512 x 480 on the campus scene, one thread: its
-// fastest setting (grid_px 2: classification on 2 x 2-pixel cells, fast paths), the reference (every pixel, reference
+// default (grid_px 2: classification on 2 x 2-pixel cells, fast paths), the reference (every pixel, reference
 // implementations) and a memcpy of the frame.
 struct SidewalkTimes {
   int width = 0, height = 0;
