@@ -25,12 +25,6 @@ struct Accum {
     q11 += x[1] * x[1], q12 += x[1] * x[2], q22 += x[2] * x[2];
     n += 1;
   }
-  /// add(Vec3(x0, x1, 0)) without the sums of zeros (normalised rg has two dimensions).
-  void add2(double x0, double x1) {
-    s0 += x0, s1 += x1;
-    q00 += x0 * x0, q01 += x0 * x1, q11 += x1 * x1;
-    n += 1;
-  }
   GaussianClass estimate(ColorSpace space) const {
     GaussianClass g;
     if (n < 2) return g;
@@ -139,36 +133,13 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
                                                       const std::uint8_t* road, const std::uint8_t* nonroad) {
   Accum ar, an;
   const int s = options_.stride;
-  if (options_.space == ColorSpace::NormalizedRG) {
-    // A row's features first (the divisions independent of each other), then each class's sums
-    // from them in the pixels' order: the same sums as pixel by pixel, with local accumulators.
-    const std::size_t cols = static_cast<std::size_t>((width + s - 1) / s);
-    std::vector<double> f0(cols), f1(cols);
-    for (int v = 0; v < height; v += s) {
-      const std::size_t row = static_cast<std::size_t>(v) * width;
-      for (std::size_t k = 0; k < cols; ++k) {
-        const std::uint8_t* p = rgb + 3 * (row + k * s);
-        const double r = p[0], g = p[1], b = p[2];
-        const double sum = r + g + b + 3.0;  // feature(), written out
-        f0[k] = (r + 1.0) / sum;
-        f1[k] = (g + 1.0) / sum;
-      }
-      Accum a = ar, n = an;
-      for (std::size_t k = 0; k < cols; ++k)
-        if (road[row + k * s] != 0) a.add2(f0[k], f1[k]);
-      for (std::size_t k = 0; k < cols; ++k)
-        if (road[row + k * s] == 0 && nonroad[row + k * s] != 0) n.add2(f0[k], f1[k]);
-      ar = a, an = n;
-    }
-  } else {
-    for (int v = 0; v < height; v += s) {
-      for (int u = 0; u < width; u += s) {
-        const std::size_t i = static_cast<std::size_t>(v) * width + u;
-        if (road[i] == 0 && nonroad[i] == 0) continue;
-        const Vec3 x = feature(options_.space, rgb + 3 * i);
-        if (road[i] != 0) ar.add(x);
-        else an.add(x);
-      }
+  for (int v = 0; v < height; v += s) {
+    for (int u = 0; u < width; u += s) {
+      const std::size_t i = static_cast<std::size_t>(v) * width + u;
+      if (road[i] == 0 && nonroad[i] == 0) continue;
+      const Vec3 x = feature(options_.space, rgb + 3 * i);
+      if (road[i] != 0) ar.add(x);
+      else an.add(x);
     }
   }
   UpdateResult result;
