@@ -415,7 +415,7 @@ TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
   const auto& sw = j["sidewalk"];
   EXPECT_EQ(sw["width"], 512);
   EXPECT_EQ(sw["height"], 480);
-  for (const char* key : {"ms", "fps", "memcpy_ratio", "reference_ratio", "reference_ms", "memcpy_ms"}) {
+  for (const char* key : {"ms", "fps", "memcpy_ratio", "reference_ratio", "reference_ms", "memcpy_ms", "with_prediction_ms"}) {
     ASSERT_TRUE(sw.contains(key) && sw[key].is_number()) << key << " in " << sw.dump();
     EXPECT_GT(sw[key].get<double>(), 0.0) << key;
   }

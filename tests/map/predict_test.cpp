@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <thread>
 
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
@@ -261,6 +262,35 @@ TEST(PredictView, OnAGridLookingAlongARoadSeesItsEdges) {
   }();
   const Prediction p = predictView(map, Pose2(3, 0, 0), *pinhole());
   EXPECT_TRUE(segment(p, "H0_0.left.0") || segment(p, "H0_0.right.0"));
+}
+
+TEST(PredictView, TheFootprintFollowsTheCameraAndTheRange) {
+  // predictView keeps the last footprint (in the vehicle frame) for its camera and range: another
+  // tilt or range right after must give what a first call (a new thread: nothing kept) gives.
+  const Map map = [] {
+    GridMapOptions o;
+    o.columns = o.rows = 3;
+    return Map(makeGridMap(o));
+  }();
+  const Pose2 pose(3, 0, 0);
+  const auto steep = pinhole(0.6), shallow = pinhole(0.3);
+  PredictOptions shorter;
+  shorter.far_m = 6.0;
+  const auto fresh = [&](const Camera& camera, const PredictOptions& options) {
+    Polygon2 footprint;
+    std::thread([&] { footprint = predictView(map, pose, camera, options).view.footprint; }).join();
+    return footprint;
+  };
+  const Polygon2 steep_first = fresh(*steep, {}), shallow_first = fresh(*shallow, {});
+  const Polygon2 short_first = fresh(*shallow, shorter);
+  ASSERT_GE(steep_first.size(), 3u);
+  EXPECT_NE(steep_first, shallow_first);  // the tilt moves the footprint
+  EXPECT_NE(shallow_first, short_first);  // and so does the range
+  EXPECT_EQ(predictView(map, pose, *steep).view.footprint, steep_first);
+  EXPECT_EQ(predictView(map, Pose2(4, 1, 0.5), *steep).view.footprint, steep_first);  // not the pose
+  EXPECT_EQ(predictView(map, pose, *shallow).view.footprint, shallow_first);
+  EXPECT_EQ(predictView(map, pose, *shallow, shorter).view.footprint, short_first);
+  EXPECT_EQ(predictView(map, pose, *steep).view.footprint, steep_first);
 }
 
 TEST(PredictOptions, DefaultsAreValidAndBadFieldsAreNamed) {

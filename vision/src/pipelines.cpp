@@ -58,12 +58,12 @@ std::vector<OptionSpec> commonSpecs() {
       {"min_overlap", 0.5, false, false, 0, 1, "label match: this fraction of the line overlaps the predicted segment"},
       {"relation_tolerance_m", 0.5, false, false, 1e-6, 100,
        "a labelled parallel pair must be within this of the predicted separation"},
-      {"grid_px", 1, false, true, 1, 8,
+      {"grid_px", 2, false, true, 1, 8,
        "classify and reproduce the region on a grid of cells this many pixels a side (the frame averaged over each "
        "cell; the options in pixels above are divided by it), the boundary mapped back to pixels; 1 = every pixel. "
-       "2 runs the loop about 2.4 times faster (campus_dialogue replay: 2.8 against 6.6 ms median) and meets the "
-       "same localisation targets (campus_tour replay: along-road error after intersections 0.12 against 0.14 m) "
-       "but with a coarser edge (lateral RMS 1.6 against 1.0 cm); every pixel stays the default"},
+       "The default 2 runs the loop about 2.4 times faster than 1 (campus_dialogue replay: 2.8 against 6.6 ms "
+       "median) and meets the same localisation targets (campus_tour replay: along-road error after intersections "
+       "0.12 against 0.14 m) with a coarser edge (lateral RMS 1.6 against 1.0 cm)"},
       {"reference", 0, true, false, 0, 1,
        "run every pixel (grid_px 1) with the reference implementations (double-precision per-pixel log-odds, "
        "OpenCV morphology and distance transform, CGAL simplification): the answers of grid_px 1, several times "

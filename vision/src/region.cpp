@@ -132,14 +132,16 @@ RegionResult reproduceRegion(const Image& road_pixels, const Image& valid, const
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(px, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   if (contours.empty()) return result;
-  // The outer boundary that holds most of the chosen block component.
-  cv::Mat core = labels == best;
-  cv::Mat core_px;
-  cv::resize(core, core_px, cv::Size(bw * bs, bh * bs), 0, 0, cv::INTER_NEAREST);
-  core_px = core_px(cv::Rect(0, 0, w, h));
+  // The outer boundary that holds most of the chosen block component (with one, that one).
   std::size_t pick = 0;
   double pick_score = -1;
-  for (std::size_t i = 0; i < contours.size(); ++i) {
+  cv::Mat core_px;
+  if (contours.size() > 1) {
+    const cv::Mat core = labels == best;
+    cv::resize(core, core_px, cv::Size(bw * bs, bh * bs), 0, 0, cv::INTER_NEAREST);
+    core_px = core_px(cv::Rect(0, 0, w, h));
+  }
+  for (std::size_t i = 0; contours.size() > 1 && i < contours.size(); ++i) {
     // Filled inside its bounding box only (a contour lies within it).
     const cv::Rect box = cv::boundingRect(contours[i]);
     cv::Mat one = cv::Mat::zeros(box.height, box.width, CV_8UC1);
