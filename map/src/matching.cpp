@@ -120,49 +120,23 @@ Vec3 difference(const Vec3& a, const Vec3& b) {
 
 // One sample point: a detected end point v (vehicle frame) that should lie on the world line
 // {p : n.p = c}. Its residual at state s = (x, y, h) is r = n.(R(h) v + t) - c.
-// On a curve (kappa != 0, LineCorrespondence::curvature) the line is a chord, of length L and
-// midpoint m, of the circle of that curvature through its ends, centre C = m + n c_h / kappa with
-// c_h = sqrt(1 - kappa^2 L^2 / 4) (kappa > 0: on the left), chosen for the position `ref`. A vehicle
-// at t is where `ref` would be turned by phi = the angle from ref - C to t - C about C, and sees the
-// chord turned by phi: r = n(phi).(R(h) v + t - m) + (c_h / kappa) (1 - cos phi), n(phi) = n turned
-// by phi. The angle is taken between q0 = kappa (ref - C) and q = kappa (t - C), which stay finite
-// as kappa goes to 0.
 struct PointObs {
   Vec2 v;
   Vec2 n;
   double c = 0;
   double sigma = 1;
   std::size_t line = 0;  // index of its correspondence
-  double kappa = 0;
-  double c_h = 1;
-  Vec2 m = Vec2::Zero();
-  Vec2 q0 = Vec2::Zero();
 };
-
-// kappa (t - C) at state s, and the chord's turn phi there.
-Vec2 centreRay(const PointObs& o, const Vec3& s) { return o.kappa * (Vec2(s.x(), s.y()) - o.m) - o.c_h * o.n; }
-double chordTurn(const PointObs& o, const Vec2& q) { return std::atan2(cross2(o.q0, q), o.q0.dot(q)); }
 
 double residual(const PointObs& o, const Vec3& s) {
   const Vec2 w = Pose2(s.x(), s.y(), s.z()).transform(o.v);
-  if (o.kappa == 0) return o.n.dot(w) - o.c;
-  const double phi = chordTurn(o, centreRay(o, s));
-  return Pose2(0, 0, phi).rotate(o.n).dot(w - o.m) + o.c_h / o.kappa * 2 * std::pow(std::sin(phi / 2), 2);
+  return o.n.dot(w) - o.c;
 }
 
-// dr/ds: (n_x, n_y, n . d(R v)/dh), with d(R v)/dh = leftNormal(R v); on a curve n is n(phi) and
-// the position also turns the chord, dphi/dt = kappa leftNormal(q) / |q|^2:
-// + (kappa leftNormal(n(phi)).(w - m) + c_h sin phi) leftNormal(q) / |q|^2.
+// dr/ds: (n_x, n_y, n . d(R v)/dh), with d(R v)/dh = leftNormal(R v).
 Vec3 jacobian(const PointObs& o, const Vec3& s) {
   const Vec2 rv = Pose2(0, 0, s.z()).rotate(o.v);
-  if (o.kappa == 0) return {o.n.x(), o.n.y(), o.n.dot(leftNormal(rv))};
-  const Vec2 q = centreRay(o, s);
-  const double phi = chordTurn(o, q);
-  const Vec2 n = Pose2(0, 0, phi).rotate(o.n);
-  const Vec2 w = rv + Vec2(s.x(), s.y());
-  const double q2 = std::max(q.squaredNorm(), 1e-12);  // 0 only at the centre itself
-  const Vec2 dp = n + (o.kappa * leftNormal(n).dot(w - o.m) + o.c_h * std::sin(phi)) * leftNormal(q) / q2;
-  return {dp.x(), dp.y(), n.dot(leftNormal(rv))};
+  return {o.n.x(), o.n.y(), o.n.dot(leftNormal(rv))};
 }
 
 // The sample points of correspondences (two per line: points 2i and 2i + 1 are line i's) and the
@@ -170,19 +144,14 @@ Vec3 jacobian(const PointObs& o, const Vec3& s) {
 struct Problem {
   const std::vector<LineCorrespondence>& lines;
   double max_angle_rad;
-  Vec2 ref;  // where the solve starts: the position curved lines' chords were chosen for
   std::vector<PointObs> pts;
   std::vector<Segment2> map_lines;
 
-  Problem(const std::vector<LineCorrespondence>& l, double max_angle_deg, const Vec2& start)
-      : lines(l), max_angle_rad(degToRad(max_angle_deg)), ref(start) {
+  Problem(const std::vector<LineCorrespondence>& l, double max_angle_deg) : lines(l), max_angle_rad(degToRad(max_angle_deg)) {
     for (std::size_t i = 0; i < lines.size(); ++i) {
       const LineCorrespondence& c = lines[i];
       if (!(std::isfinite(c.sigma_m) && c.sigma_m > 0)) {
         throw InvalidInput("line correspondence " + c.id + ": sigma_m must be finite and > 0");
-      }
-      if (!std::isfinite(c.curvature) || (c.curvature != 0 && !c.candidates.empty())) {
-        throw InvalidInput("line correspondence " + c.id + ": curvature must be finite, and 0 with candidates");
       }
       pts.push_back({c.detected_vehicle.a, Vec2::Zero(), 0, c.sigma_m, i});
       pts.push_back({c.detected_vehicle.b, Vec2::Zero(), 0, c.sigma_m, i});
@@ -194,14 +163,9 @@ struct Problem {
   void setLine(std::size_t i, const Segment2& line) {
     map_lines[i] = line;
     const Vec2 n = leftNormal(line.direction());
-    const double kappa = line.length() > 1e-9 ? lines[i].curvature : 0.0;
     for (PointObs* p : {&pts[2 * i], &pts[2 * i + 1]}) {
       p->n = n;
       p->c = n.dot(line.a);
-      p->kappa = kappa;
-      p->c_h = std::sqrt(std::max(0.0, 1 - std::pow(kappa * line.length() / 2, 2)));
-      p->m = line.pointAt(0.5);
-      p->q0 = centreRay(*p, Vec3(ref.x(), ref.y(), 0));
     }
   }
 
@@ -393,7 +357,7 @@ std::optional<LineFit> fitPoseToLines(const Pose2& prior, const std::vector<Line
                                       const LineMatchOptions& options) {
   options.validate();
   if (lines.empty()) return std::nullopt;
-  Problem problem(lines, options.reassociate_max_angle_deg, prior.translation());
+  Problem problem(lines, options.reassociate_max_angle_deg);
   const std::vector<PointObs>& pts = problem.pts;
   std::vector<char> used(lines.size(), 1);
   LineFit fit;
@@ -508,23 +472,6 @@ std::vector<LineCorrespondence> edgeCorrespondences(const Map& map, const Predic
   return out;
 }
 
-namespace {
-
-// The curvature (1/m, left positive in the direction of increasing arc length) of the circle
-// through the polyline's points at lo, (lo + hi) / 2 and hi, the span widened to kCurvatureSpan
-// about its middle (and kept within the polyline): so that a piece shorter than the polyline's
-// segments still sees the bend it lies on. 0 on a straight line.
-double curvatureOver(const Polyline2& line, double lo, double hi) {
-  constexpr double kCurvatureSpan = 3.0;  // m
-  const double mid = 0.5 * (lo + hi), half = 0.5 * std::max(hi - lo, kCurvatureSpan);
-  const double a0 = std::max(0.0, mid - half), b0 = std::min(line.length(), mid + half);
-  const Vec2 a = line.pointAt(a0), m = line.pointAt(0.5 * (a0 + b0)), b = line.pointAt(b0);
-  const double product = (m - a).norm() * (b - m).norm() * (b - a).norm();
-  return product > 1e-12 ? 2 * cross2(m - a, b - m) / product : 0.0;
-}
-
-}  // namespace
-
 std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const Pose2& prior,
                                                            const Segment2& centerline_vehicle, double sigma_m,
                                                            double search_radius_m) {
@@ -573,11 +520,7 @@ std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const
       sagitta = std::max(sagitta, chord.distanceTo(line.pointAt(lo + (hi - lo) * k / steps)));
     }
     if (sagitta <= sigma_m || keep <= kMinKeep) {
-      // The chord runs from sn to se: against the arc length when the vehicle drives the road from
-      // its `to` end, where a left bend is a right one.
-      const double curvature = (se > sn ? 1.0 : -1.0) * curvatureOver(line, lo, hi);
-      return LineCorrespondence{best->id + ".centerline", Segment2{near, end}, chord, std::hypot(sigma_m, sagitta), {},
-                                curvature};
+      return LineCorrespondence{best->id + ".centerline", Segment2{near, end}, chord, std::hypot(sigma_m, sagitta), {}};
     }
   }
 }
@@ -695,7 +638,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
   //    the lines determine worse than min_information allows (a line a few degrees off the road's
   //    direction "observes" the along-road position through its slant alone, where a few
   //    centimetres of map or detection error become decimetres) gets no correction.
-  Problem problem(inliers, mo.reassociate_max_angle_deg, pose_.translation());
+  Problem problem(inliers, mo.reassociate_max_angle_deg);
   const std::vector<PointObs>& pts = problem.pts;
   const std::vector<char> all(inliers.size(), 1);
   const Mat3 prior_information = covariance_.inverse();

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <limits>
 #include <random>
 
 #include <boost/math/distributions/chi_squared.hpp>
@@ -648,56 +647,6 @@ TEST(LineMatchingReassociation, TheFilterUpdateReassociatesToo) {
   ASSERT_EQ(reference.update(right).status, PositionStatus::Corrected);
   EXPECT_LT(poseError(filter.pose(), reference.pose()).norm(), 1e-9);
   EXPECT_LT((filter.covariance() - reference.covariance()).cwiseAbs().maxCoeff(), 1e-12);
-}
-
-
-// A road on a circle of radius 40 m about (0, 40): from the origin heading east, turning left.
-constexpr double kArcRadius = 40.0;
-Vec2 arcPoint(double s) { return {kArcRadius * std::sin(s / kArcRadius), kArcRadius * (1 - std::cos(s / kArcRadius))}; }
-Pose2 arcPose(double s) { return Pose2(arcPoint(s), s / kArcRadius); }
-
-TEST(MatchingOnCurve, ACurvedChordObservesTheHeadingRelativeToTheRoadSoAKnownHeadingGivesAlong) {
-  // The truth is 1 m along the arc, facing along it; the filter thinks it is at the arc's start with
-  // the truth's heading, known to 0.006 deg (the gyro), and its position to 2 m. The vehicle sees the
-  // centre line 2 to 7 m ahead along the arc; the chord chosen for the prior runs from arc 2 to 7 m.
-  // By the circle's symmetry the truth sees exactly what a vehicle at the arc's start facing along it
-  // sees of that chord, so the detection says "the road's heading here is yours": only 1 m farther
-  // along does the road's heading match the known heading 1 / 40 rad.
-  const Pose2 truth = arcPose(1.0);
-  const Pose2 prior(arcPoint(0.0), truth.heading());
-  const Mat3 p = Vec3(4.0, 4.0, 1e-8).asDiagonal();
-  LineCorrespondence c{"arc.centerline", arcPose(0.0).inverse().transform(Segment2{arcPoint(2), arcPoint(7)}),
-                       Segment2{arcPoint(2), arcPoint(7)}, 0.01, {}, 1.0 / kArcRadius};
-  ASSERT_LT((truth.transform(c.detected_vehicle).a - arcPoint(3)).norm(), 1e-9);  // what the truth sees
-
-  const std::optional<LineFit> fit = fitPoseToLines(prior, {c});
-  ASSERT_TRUE(fit);
-  // One line: turning about the circle's centre (0, 40) with the road is the one direction it leaves
-  // unobserved: per metre of arc at the prior (the origin), (1, 0) and 1 / R rad, normalised.
-  ASSERT_EQ(fit->observed.unobserved.size(), 1u);
-  const Vec3 slide = Vec3(1, 0, 1 / kArcRadius).normalized();
-  EXPECT_NEAR(std::abs(fit->observed.unobserved[0].dot(slide)), 1.0, 1e-6);
-  EXPECT_FALSE(fit->observed.along);
-  EXPECT_TRUE(fit->observed.heading);
-
-  PoseFilter filter(prior, p);
-  const CurrentPosition out = filter.update({c});
-  ASSERT_EQ(out.status, PositionStatus::Corrected) << out.reason;
-  const Vec3 e = poseError(out.pose, truth);
-  std::printf("on a 40 m arc, 1 m along off with the heading known: errors %.4f m, %.4f deg after the update\n",
-              e.head<2>().norm(), radToDeg(e.z()));
-  EXPECT_LT(e.head<2>().norm(), 0.01);  // from 1 m
-  EXPECT_LT(std::abs(radToDeg(e.z())), 0.01);
-
-  // The same chord as a straight line: it measures an absolute heading (the chord's), the known
-  // heading disagrees with it, and the along-road position is left where it was.
-  c.curvature = 0;
-  PoseFilter straight(prior, p);
-  const CurrentPosition flat = straight.update({c});
-  EXPECT_GT(poseError(flat.pose, truth).head<2>().norm(), 0.9);
-
-  c.curvature = std::numeric_limits<double>::infinity();  // bad input is named, not a crash
-  EXPECT_THROW(fitPoseToLines(prior, {c}), InvalidInput);
 }
 
 }  // namespace

@@ -64,15 +64,6 @@ struct LineCorrespondence {
   /// wrong segment of a bent or notched edge moves to the right one as the pose converges. Empty:
   /// `map_world` is fixed.
   std::vector<Segment2> candidates;
-  /// The map line is a chord of a curve of this curvature, 1/m, signed along `map_world`'s direction
-  /// (a to b; > 0: the curve turns left); 0: a straight line. The chord was chosen for where the
-  /// solve's prior places the vehicle; if the vehicle is u metres farther along the line than that,
-  /// the right chord is the one u metres farther along the curve: this one turned by curvature * u
-  /// about the curve's centre. The residuals then depend on the position along the road too, so
-  /// that a measurement on a curve observes the heading relative to the road there (heading minus
-  /// curvature times along) rather than an absolute heading that would be wrong by curvature times
-  /// the along-road error. Not with `candidates` (re-association keeps straight lines).
-  double curvature = 0.0;
 };
 
 struct LineMatchOptions {
