@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mapnav/core/error.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/testing/support.h"
 
@@ -59,6 +60,65 @@ TEST(MissionModules, MapPredictsForThePredictedPoseAndFallsBackToOdometryWithout
   EXPECT_NE(position.reason.find("no DetectedObject"), std::string::npos) << position.reason;
   EXPECT_POSE_NEAR(position.pose, Pose2(52, 40, kPi), 1e-9);
   EXPECT_EQ(tokenType(posted.back().token), TokenType::CurrentPosition);
+}
+
+// Odometry scale calibration (MapModuleOptions::scale_prior_sigma). On the campus' R1 (straight along
+// x from I1 at x = 50), the truth drives west from x = 80, 1 m a frame, the encoders reading 1.02 m.
+// Frames 1 to 20 see nothing (odometry only); frames 21 and 22 (10 and 9 m before I1) see every
+// predicted line where the truth sees it, I1's crossing lines among them: an along-road fix. The
+// estimate's progress is then the true 22 m (to the fix's millimetres) against 22.44 m read: the
+// scale measured is 22 / 22.44 = 0.98039, with sigma hypot(0.01 m at the start, the along sigma
+// after the fix, about 0.02 m) / 22.44 m, about 0.001, against the 0.02 prior: weight
+// 0.02^2 / (0.02^2 + 0.001^2) = 0.9975, scale 1 - 0.01961 * 0.9975 = 0.98044.
+double scaleAfterADrive(bool fix_at_the_end, double prior_sigma) {
+  const auto camera = testing::terregatorPinhole();
+  MapModuleOptions options;
+  options.initial_sigma_m = 0.01;
+  options.scale_prior_sigma = prior_sigma;
+  MapModule map(campus(), *camera, Pose2(80, 40, kPi), options);
+  Blackboard board;
+  for (int frame = 1; frame <= 22; ++frame) {
+    const double t = frame;
+    const Pose2 truth(80 - frame, 40, kPi);
+    map.predict(board, t, VehicleMotion{1.02, 0.0});
+    if (frame > 20 && fix_at_the_end) {
+      const Prediction& prediction = map.prediction();
+      DetectedObject seen;
+      for (std::size_t i = 0; i < prediction.view.segments.size(); ++i) {
+        DetectedLine l;
+        l.label = prediction.view.segments[i].id;
+        l.vehicle = {truth.inverseTransform(prediction.segments_world[i].a),
+                     truth.inverseTransform(prediction.segments_world[i].b)};
+        seen.lines.push_back(l);
+      }
+      seen.timestamp = t;
+      board.post(Module::Vision, seen);
+    }
+    const CurrentPosition& p = map.localize(board, t);
+    if (frame == 22 && fix_at_the_end) {
+      EXPECT_EQ(p.status, PositionStatus::Corrected) << p.reason;
+      EXPECT_TRUE(p.observed_along) << p.reason;
+      EXPECT_NEAR(p.pose.x(), truth.x(), 0.01);
+    }
+    if (frame <= 20) {
+      EXPECT_DOUBLE_EQ(map.odometryScale(), 1.0);  // nothing has observed along yet
+    }
+  }
+  return map.odometryScale();
+}
+
+TEST(MissionModules, MapCalibratesTheOdometryScaleAtAnAlongRoadFix) {
+  EXPECT_NEAR(scaleAfterADrive(true, 0.02), 0.98044, 0.0003);
+  EXPECT_DOUBLE_EQ(scaleAfterADrive(false, 0.02), 1.0);  // no fix: the odometry as read
+  EXPECT_DOUBLE_EQ(scaleAfterADrive(true, 0.0), 1.0);    // calibration off
+  MapModuleOptions bad;
+  bad.scale_prior_sigma = -0.01;
+  try {
+    bad.validate();
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("scale_prior_sigma"), std::string::npos);
+  }
 }
 
 TEST(MissionModules, VisionFailureHaltsMotionAndPassesControlToTheOperator) {

@@ -257,7 +257,7 @@ TEST(RunnerOptions, DefaultsAreValidAndBadOnesAreNamed) {
   bad.control_dt_s = 0;
   EXPECT_THROW(bad.validate(), InvalidInput);
   bad = RunOptions{};
-  bad.map.scale_gain = 2;
+  bad.map.scale_prior_sigma = 0.6;
   EXPECT_THROW(bad.validate(), InvalidInput);
   bad = RunOptions{};
   bad.map.initial_sigma_m = -1;

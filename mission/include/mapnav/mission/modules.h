@@ -59,15 +59,20 @@ struct MapModuleOptions {
   /// "no road in view": Vision is not asked to find what the camera can hardly see (looking over the
   /// corner in a 90 degree turn) and the Map dead-reckons. 2000 px is 0.8 % of 512 x 480.
   double min_visible_px = 2000.0;
-  /// Odometry scale calibration against the map: an along-road fix (frames whose lines observe the
-  /// along direction, one after the other) that comes at least `scale_baseline_m` of driving after
-  /// the previous one measures the encoders' scale error as (sum of its along corrections) / (the
-  /// distance driven since); the scale applied to the odometry's distances moves `scale_gain` of the
-  /// way (in [0, 1]; 0: no calibration) and stays within 1 ± `scale_limit`. The filter's random-walk
-  /// model cannot represent a systematic scale error; this removes most of it after the first
-  /// intersections, so that the along-road error at the next ones stays small.
-  double scale_gain = 0.5;
-  double scale_baseline_m = 10.0;  ///< m (> 0)
+  /// Odometry scale calibration against the map. Model: the encoders read (1 + e) times the distance
+  /// driven, e constant (a wheel-radius error), a priori N(0, scale_prior_sigma^2). Every frame's
+  /// along-road progress of the estimate (the scaled odometry plus the update's correction along
+  /// the heading) summed since the start, over the encoders' distance summed since the start, is
+  /// the true distance over the encoders' up to the estimate's along-road error now less that at
+  /// the start. At a frame whose lines observe the along direction (crossing lines at an
+  /// intersection) that error is small and known: the ratio is then a measurement of the scale
+  /// 1 / (1 + e) with sigma hypot(start along-road sigma, the filter's along-road sigma now) / the
+  /// encoders' distance, and the scale applied to later odometry is the posterior mean of the two
+  /// (Gaussian), within 1 +- `scale_limit`. The filter's random-walk model cannot represent a
+  /// systematic scale error; this removes most of it after the first intersections, so that the
+  /// along-road error at the next ones stays small. Park mode (no crossing lines) has no such frame
+  /// and keeps the scale at 1. 0: no calibration (the odometry as read).
+  double scale_prior_sigma = 0.02;  ///< relative, in [0, 0.5]
   double scale_limit = 0.05;       ///< relative, in [0, 0.5]
   /// Park mode (a centre line and no labelled line, or no crossing line predicted in view): after
   /// this many consecutive frames whose lines the gate rejected, the filter's covariance is widened
@@ -115,7 +120,7 @@ class MapModule {
   const Prediction& prediction() const { return prediction_; }
   const PoseFilter& filter() const { return filter_; }
   const CurrentPosition& position() const { return position_; }
-  /// The scale applied to odometry distances (1: as measured; see MapModuleOptions::scale_gain).
+  /// The scale applied to odometry distances (1: as measured; see MapModuleOptions::scale_prior_sigma).
   double odometryScale() const { return scale_; }
 
  private:
@@ -130,11 +135,10 @@ class MapModule {
   Prediction prediction_;
   CurrentPosition position_;
   double scale_ = 1.0;
-  double since_fix_m_ = 0;  // driven since the last frame that observed the along direction
-  bool in_fix_ = false;     // the previous frame observed it
+  double read_m_ = 0;       // the encoders' distance since the start
+  double moved_m_ = 0;      // the estimate's along-road progress since the start
+  double start_along_sigma_m_ = 0;
   int park_rejections_ = 0; // consecutive park-mode frames the gate rejected
-  double fix_base_m_ = 0;   // driven before the fix under way began
-  double fix_sum_m_ = 0;    // its along corrections so far
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -117,7 +117,7 @@ struct MissionRun {
   bool ended_by_halt = false; ///< a halt with no resume ended the mission
   bool stopped_early = false; ///< max_frames ended it
   double vehicle_width_m = 0; ///< RunOptions::vehicle_width_m, for "stays on the path"
-  double odometry_scale = 1;  ///< the Map's odometry scale calibration at the end (MapModuleOptions::scale_gain)
+  double odometry_scale = 1;  ///< the Map's odometry scale calibration at the end (MapModuleOptions::scale_prior_sigma)
   std::vector<LogFault> faults;  ///< replay: the log's faults met, in file order (counted in metrics.log_faults)
   std::string outcome;        ///< one line: "goal reached", "halted at frame 12: ...", ...
 };
