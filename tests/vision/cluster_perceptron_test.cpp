@@ -259,22 +259,32 @@ TEST(ClusterPerceptron, ArcModelPremiseRowsSeeOneDistanceAndMapOffsetsAffinely) 
   }
 }
 
-/// The worst column error of a found centre curve against the truth (the road's centre line
-/// projected, sampled densely), over the curve's points whose true column is in the image.
-double worstCurveError(const RoadFinding& r, const StraightPose& sp) {
+/// The road's true centre line projected into the image, from 2 m behind the pose to 16 m ahead,
+/// every 5 cm (the points the camera sees).
+std::vector<Vec2> truthCurve(const StraightPose& sp) {
   std::vector<Vec2> truth;
   for (double d = -2.0; d <= 16.0; d += 0.05)
     if (const auto p = cam().projectGround(sp.pose.inverseTransform(sp.road->centerline.pointAt(sp.s + d))))
       truth.push_back(*p);
+  return truth;
+}
+
+/// The column where `curve` first crosses row v (linear between its points); nullopt when it does not.
+std::optional<double> columnAt(const std::vector<Vec2>& curve, double v) {
+  for (std::size_t k = 1; k < curve.size(); ++k)
+    if ((curve[k - 1].y() - v) * (curve[k].y() - v) <= 0 && curve[k - 1].y() != curve[k].y())
+      return curve[k - 1].x() + (v - curve[k - 1].y()) / (curve[k].y() - curve[k - 1].y()) * (curve[k].x() - curve[k - 1].x());
+  return std::nullopt;
+}
+
+/// The worst column error of a found centre curve against the truth (the road's centre line
+/// projected, sampled densely), over the curve's points whose true column is in the image.
+double worstCurveError(const RoadFinding& r, const StraightPose& sp) {
+  const std::vector<Vec2> truth = truthCurve(sp);
   double worst = 0;
   for (const Vec2& p : r.centerline_curve)
-    for (std::size_t k = 1; k < truth.size(); ++k)
-      if ((truth[k - 1].y() - p.y()) * (truth[k].y() - p.y()) <= 0 && truth[k - 1].y() != truth[k].y()) {
-        const double t = (p.y() - truth[k - 1].y()) / (truth[k].y() - truth[k - 1].y());
-        const double u = truth[k - 1].x() + t * (truth[k].x() - truth[k - 1].x());
-        if (u >= 0 && u < cam().width()) worst = std::max(worst, std::abs(p.x() - u));
-        break;
-      }
+    if (const auto u = columnAt(truth, p.y()); u && *u >= 0 && *u < cam().width())
+      worst = std::max(worst, std::abs(p.x() - *u));
   return worst;
 }
 
@@ -283,16 +293,8 @@ double worstCurveError(const RoadFinding& r, const StraightPose& sp) {
 double bottomAngleError(const RoadFinding& r, const StraightPose& sp) {
   if (r.centerline_curve.size() < 2) return 180.0;
   const Vec2 a = r.centerline_curve[r.centerline_curve.size() - 2], b = r.centerline_curve.back();
-  const auto truthAt = [&](double v) {
-    std::optional<Vec2> prev;
-    for (double d = -2.0; d <= 16.0; d += 0.05) {
-      const auto p = cam().projectGround(sp.pose.inverseTransform(sp.road->centerline.pointAt(sp.s + d)));
-      if (p && prev && (prev->y() - v) * (p->y() - v) <= 0 && prev->y() != p->y())
-        return prev->x() + (v - prev->y()) / (p->y() - prev->y()) * (p->x() - prev->x());
-      prev = p;
-    }
-    return std::nan("");
-  };
+  const std::vector<Vec2> curve = truthCurve(sp);
+  const auto truthAt = [&](double v) { return columnAt(curve, v).value_or(std::nan("")); };
   const double found = std::atan2(b.x() - a.x(), b.y() - a.y());
   const double truth = std::atan2(truthAt(b.y()) - truthAt(a.y()), b.y() - a.y());
   return std::isfinite(truth) ? std::abs(found - truth) * 180.0 / std::numbers::pi : 180.0;
