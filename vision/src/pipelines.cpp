@@ -446,11 +446,11 @@ class ClassifierPipeline : public BasePipeline {
           cv::bitwise_and(wrap(own), ~wrap(theirs), wrap(own));
         }
       }
-      Image road_lab(w, h, 1), nonroad_lab = non_lab;
+      Image road_lab(w, h, 1);
       cv::Mat road_view = wrap(road_lab);
       erode(wrap(own), road_view);
       ColorClassifier& classifier = classifiers_.try_emplace(surface, classifierOptions()).first->second;
-      train(classifier, frame, road_lab, nonroad_lab);
+      train(classifier, frame, road_lab, non_lab);
       if (!classifier.trained() || classifier.separation() < opts_["min_separation"]) continue;
       std::vector<float> llr = reference ? classifier.logOddsReference(frame.rgb, w, h, valid.data.data())
                                          : classifier.logOdds(frame.rgb, w, h, valid.data.data());
@@ -481,39 +481,52 @@ class ClassifierPipeline : public BasePipeline {
     co.blend = opts_["blend"];
     co.max_mean_shift_sigma = opts_["max_mean_shift_sigma"];
     co.min_pixels = opts_.i("min_training_pixels");
-    co.stride = gridScale() >= 2 ? 1 : 2;  // about one pixel in four of the frame either way
+    co.stride = 1;  // train() gathers the training cells
     return co;
   }
 
-  // Updates one surface's classifier from its labels; adaptive: keeping only the labelled pixels the
-  // current model does not strongly contradict.
-  void train(ColorClassifier& classifier, const GridFrame& frame, Image& road_lab, Image& non_lab) const {
-    const int w = frame.width, h = frame.height;
-    const bool reference = opts_.b("reference");
-    if (classifier.trained()) {
-      // The update reads every stride-th pixel of every stride-th row, so only those are looked at.
-      const float out = static_cast<float>(opts_["outlier_llr"]);
-      const int s = reference ? 1 : classifier.options().stride;
-      // The fast path evaluates all labelled pixels at once (vectorised; the same values as one by one).
-      std::vector<float> before;
-      if (!reference) {
-        cv::Mat labelled;
-        cv::bitwise_or(wrap(road_lab), wrap(non_lab), labelled);
-        before = classifier.logOdds(frame.rgb, w, h, labelled.data);
-      }
-      for (int v = 0; v < h; v += s) {
-        for (int u = 0; u < w; u += s) {
-          const std::size_t i = static_cast<std::size_t>(v) * w + u;
-          if (road_lab.data[i] == 0 && non_lab.data[i] == 0) continue;
-          const float l = reference ? classifier.logOddsReference(frame.rgb + 3 * i) : before[i];
-          if (road_lab.data[i] != 0 && l < -out) road_lab.data[i] = 0;
-          if (non_lab.data[i] != 0 && l > out) non_lab.data[i] = 0;
-        }
+  // Updates one surface's classifier from its labels, read at every kTrainingStride-th cell of every
+  // kTrainingStride-th row (gathered first, so that the outlier test and the update touch only those);
+  // adaptive: keeping only the labelled cells the current model does not strongly contradict.
+  void train(ColorClassifier& classifier, const GridFrame& frame, const Image& road_lab, const Image& non_lab) {
+    const int w = frame.width, h = frame.height, s = kTrainingStride;
+    const int sw = (w + s - 1) / s, sh = (h + s - 1) / s;
+    const std::size_t m = static_cast<std::size_t>(sw) * sh;
+    sample_rgb_.resize(3 * m);
+    sample_road_.resize(m);
+    sample_non_.resize(m);
+    std::size_t j = 0;
+    for (int v = 0; v < h; v += s) {
+      for (int u = 0; u < w; u += s, ++j) {
+        const std::size_t i = static_cast<std::size_t>(v) * w + u;
+        std::copy_n(frame.rgb + 3 * i, 3, sample_rgb_.data() + 3 * j);
+        sample_road_[j] = road_lab.data[i];
+        sample_non_[j] = non_lab.data[i];
       }
     }
-    classifier.update(frame.rgb, w, h, road_lab.data.data(), non_lab.data.data());
+    if (classifier.trained()) {
+      const float out = static_cast<float>(opts_["outlier_llr"]);
+      const bool reference = opts_.b("reference");
+      // The fast path evaluates all labelled samples at once (vectorised; the same values as one by one).
+      std::vector<float> before;
+      if (!reference) {
+        std::vector<std::uint8_t> labelled(m);
+        for (std::size_t i = 0; i < m; ++i) labelled[i] = sample_road_[i] | sample_non_[i];
+        before = classifier.logOdds(sample_rgb_.data(), sw, sh, labelled.data());
+      }
+      for (std::size_t i = 0; i < m; ++i) {
+        if (sample_road_[i] == 0 && sample_non_[i] == 0) continue;
+        const float l = reference ? classifier.logOddsReference(sample_rgb_.data() + 3 * i) : before[i];
+        if (sample_road_[i] != 0 && l < -out) sample_road_[i] = 0;
+        if (sample_non_[i] != 0 && l > out) sample_non_[i] = 0;
+      }
+    }
+    classifier.update(sample_rgb_.data(), sw, sh, sample_road_.data(), sample_non_.data());
   }
 
+  /// Training reads one cell in four (about one pixel in 16 at grid_px 2; the reference, one in four).
+  static constexpr int kTrainingStride = 2;
+  std::vector<std::uint8_t> sample_rgb_, sample_road_, sample_non_;  ///< the training cells (reused)
   ColorSpace space_;
   std::map<std::string, ColorClassifier> classifiers_;  ///< by road surface name
 };
