@@ -312,8 +312,10 @@ class BasePipeline : public VisionPipeline {
     const int r = onGrid(opts_.i("smooth_px"), scale);
     if (r > 0) cv::blur(s, s, cv::Size(2 * r + 1, 2 * r + 1), cv::Point(-1, -1), cv::BORDER_REPLICATE);
     Image out(w, h, 1);
-    for (std::size_t i = 0; i < out.data.size(); ++i)
-      out.data[i] = (valid.data[i] != 0 && score[i] > t) ? 255 : 0;
+    const std::uint8_t* __restrict in = valid.data.data();
+    const float* __restrict v = score.data();
+    std::uint8_t* __restrict o = out.data.data();
+    for (std::size_t i = 0; i < out.data.size(); ++i) o[i] = (in[i] != 0) & (v[i] > t) ? 255 : 0;
     return out;
   }
 
