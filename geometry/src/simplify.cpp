@@ -149,16 +149,26 @@ struct SegmentDistance {
     }
     ab = a * a + b * b;
   }
-  double operator()(double px, double py) const {
-    const double dx = px - sx, dy = py - sy;
-    const double d = dx * ex + dy * ey;
-    if (d <= 0) return dx * dx + dy * dy;
-    if (d > e) {
-      const double fx = px - tx, fy = py - ty;
-      return fx * fx + fy * fy;
+  /// The largest squared distance of points[first, last) to the segment, 0 for none. The distance
+  /// to the line is (n * n) / ab as in CGAL; the division is done once, for the largest n * n, which
+  /// is the same value (dividing by ab > 0 rounds monotonically).
+  double farthest(const std::vector<Vec2>& points, std::size_t first, std::size_t last) const {
+    double ends = 0.0, line = 0.0;
+    for (std::size_t i = first; i < last; ++i) {
+      const double px = points[i].x(), py = points[i].y();
+      const double dx = px - sx, dy = py - sy;
+      const double d = dx * ex + dy * ey;
+      if (d <= 0) {
+        ends = (std::max)(ends, dx * dx + dy * dy);
+      } else if (d > e) {
+        const double fx = px - tx, fy = py - ty;
+        ends = (std::max)(ends, fx * fx + fy * fy);
+      } else {
+        const double n = a * px + b * py + c;
+        line = (std::max)(line, n * n);
+      }
     }
-    const double n = a * px + b * py + c;
-    return (n * n) / ab;
+    return (std::max)(ends, line / ab);  // s == t: ab = 0, no point reaches the last branch, 0 / 0 is ignored
   }
 };
 
@@ -189,10 +199,7 @@ std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tol
   // neighbours to the segment joining them.
   const auto costOf = [&](std::size_t q) {
     const Vec2 &s = points[prev[q]], &t = points[next[q]];
-    const SegmentDistance distance(s.x(), s.y(), t.x(), t.y());
-    double d = 0.0;
-    for (std::size_t i = prev[q] + 1; i < next[q]; ++i) d = (std::max)(d, distance(points[i].x(), points[i].y()));
-    return d;
+    return SegmentDistance(s.x(), s.y(), t.x(), t.y()).farthest(points, prev[q] + 1, next[q]);
   };
   // CGAL's removal test (Polyline_simplification_2::is_removable) on these chains.
   const auto canRemove = [&](std::size_t q) {
