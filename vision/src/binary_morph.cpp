@@ -36,8 +36,9 @@ std::optional<std::vector<int>> rowHalfWidths(const cv::Mat& kernel) {
 // dst = 255 where every kernel pixel over the image is set in `src` (non-zero; with `invert`, zero),
 // else 0. Pixels outside the image are ignored, which for such kernels equals OpenCV's replicated
 // border. The kernel is the union of its rows: each row of the output is the AND of the rows around
-// it, each eroded horizontally by its kernel row's half-width (byte loops, vectorised).
-void erodeRows(const cv::Mat& src, cv::Mat& dst, const std::vector<int>& half, bool invert) {
+// it, each eroded horizontally by its kernel row's half-width (byte loops, vectorised; built for AVX2
+// too where the processor has it).
+__attribute__((target_clones("avx2", "default"))) void erodeRows(const cv::Mat& src, cv::Mat& dst, const std::vector<int>& half, bool invert) {
   const int w = src.cols, h = src.rows, r = static_cast<int>(half.size()) / 2;
   std::vector<int> levels(half);
   std::sort(levels.begin(), levels.end());
