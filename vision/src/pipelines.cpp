@@ -198,6 +198,34 @@ struct GridFrame {
   int scale = 1;                      ///< cell side, pixels
 };
 
+/// The ground cells' exposure: how many, the sum of their channels, how many saturated.
+struct Exposure {
+  std::uint64_t sum = 0;
+  std::size_t count = 0, saturated = 0;
+};
+
+/// Exposure over the cells of `rgb` (w × h × 3) where `valid` is set; a cell is saturated when all its
+/// channels are at least `sat`. Integer sums (no division per cell) with byte masks and 32-bit sums per
+/// row, which the compiler vectorises; built for AVX2 too where the processor has it.
+__attribute__((target_clones("avx2", "default"))) Exposure exposure(const std::uint8_t* rgb, const std::uint8_t* valid,
+                                                                    int w, int h, std::uint8_t sat) {
+  Exposure e;
+  for (int v = 0; v < h; ++v) {
+    const std::uint8_t* __restrict p = rgb + 3 * static_cast<std::size_t>(v) * w;
+    const std::uint8_t* __restrict in = valid + static_cast<std::size_t>(v) * w;
+    std::uint32_t sum = 0, count = 0, saturated = 0;
+    for (int u = 0; u < w; ++u) {
+      const std::uint8_t m = in[u] != 0 ? 0xff : 0;
+      const std::uint8_t r = p[3 * u], g = p[3 * u + 1], b = p[3 * u + 2];
+      sum += static_cast<std::uint32_t>(r & m) + (g & m) + (b & m);
+      count += m & 1;
+      saturated += (std::min(r, std::min(g, b)) >= sat) & m & 1;
+    }
+    e.sum += sum, e.count += count, e.saturated += saturated;
+  }
+  return e;
+}
+
 // --- The pipelines ---------------------------------------------------------------------------------
 
 class BasePipeline : public VisionPipeline {
@@ -218,23 +246,14 @@ class BasePipeline : public VisionPipeline {
     const Image& valid = cache_.grid_valid;
     const GridFrame grid = gridFrame(frame, scale);
     const int w = grid.width, h = grid.height;
-    const std::size_t n = static_cast<std::size_t>(w) * h;
 
-    // Exposure (integer sums: no division per pixel).
-    std::uint64_t sum = 0;
-    std::size_t count = 0, saturated = 0;
-    const int sat = static_cast<int>(opts_["saturated_level"]);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint8_t* p = grid.rgb + 3 * i;
-      const unsigned in = valid.data[i] != 0;
-      sum += in * static_cast<unsigned>(p[0] + p[1] + p[2]);
-      count += in;
-      saturated += in & static_cast<unsigned>(std::min({p[0], p[1], p[2]}) >= sat);
-    }
-    if (count == 0) return fail(frame, "no ground in view");
-    if (static_cast<double>(sum) / 3.0 / static_cast<double>(count) < opts_["dark_level"])
+    const auto sat = static_cast<std::uint8_t>(static_cast<int>(opts_["saturated_level"]));  // 0..255
+    const Exposure exposed = exposure(grid.rgb, valid.data.data(), w, h, sat);
+    if (exposed.count == 0) return fail(frame, "no ground in view");
+    if (static_cast<double>(exposed.sum) / 3.0 / static_cast<double>(exposed.count) < opts_["dark_level"])
       return fail(frame, "frame too dark");
-    if (static_cast<double>(saturated) / count > opts_["overexposed_fraction"]) return fail(frame, "frame over-exposed");
+    if (static_cast<double>(exposed.saturated) / exposed.count > opts_["overexposed_fraction"])
+      return fail(frame, "frame over-exposed");
 
     // The prediction in the image.
     std::vector<Polygon2> road_rings;
