@@ -66,7 +66,7 @@ std::vector<OptionSpec> commonSpecs() {
        "0.12 against 0.14 m) with a coarser edge (lateral RMS 1.6 against 1.0 cm)"},
       {"reference", 0, true, false, 0, 1,
        "run every pixel (grid_px 1) with the reference implementations (double-precision per-pixel log-odds, "
-       "OpenCV morphology and distance transform, CGAL simplification): the answers of grid_px 1, several times "
+       "OpenCV's box filter (double-precision sums), morphology and distance transform, CGAL simplification): the answers of grid_px 1, several times "
        "slower; for tests and benchmarks"},
   };
 }
@@ -329,7 +329,12 @@ class BasePipeline : public VisionPipeline {
   Image threshold(std::vector<float>& score, int w, int h, const Image& valid, double t, int scale) const {
     cv::Mat s(h, w, CV_32FC1, score.data());
     const int r = onGrid(opts_.i("smooth_px"), scale);
-    if (r > 0) cv::blur(s, s, cv::Size(2 * r + 1, 2 * r + 1), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+    if (r > 0 && opts_.b("reference")) {
+      cv::blur(s, s, cv::Size(2 * r + 1, 2 * r + 1), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+    } else if (r > 0) {  // the same box filter as two passes of single-precision taps, ~3 times faster (to ~1e-6)
+      const cv::Mat k = cv::Mat::ones(2 * r + 1, 1, CV_32F) / static_cast<float>(2 * r + 1);
+      cv::sepFilter2D(s, s, CV_32F, k, k, cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
+    }
     Image out(w, h, 1);
     const std::uint8_t* __restrict in = valid.data.data();
     const float* __restrict v = score.data();
