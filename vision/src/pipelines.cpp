@@ -63,11 +63,11 @@ std::vector<OptionSpec> commonSpecs() {
        "cell; the options in pixels above are divided by it), the boundary mapped back to pixels; 1 = every pixel. "
        "The default 2 runs the loop about 2.4 times faster than 1 (campus_dialogue replay: 2.0 against 5.0 ms "
        "median) and meets the same localisation targets (campus_tour replay: along-road error after intersections "
-       "0.12 against 0.14 m) with a coarser edge (lateral RMS 1.6 against 1.0 cm)"},
+       "0.12 against 0.10 m) with a coarser edge (lateral RMS 1.6 against 1.0 cm)"},
       {"reference", 0, true, false, 0, 1,
        "run every pixel (grid_px 1) with the reference implementations (double-precision per-pixel log-odds, "
-       "OpenCV's box filter (double-precision sums), morphology and distance transform, CGAL simplification): the answers of grid_px 1, several times "
-       "slower; for tests and benchmarks"},
+       "OpenCV's box filter (double-precision sums), morphology and distance transform, CGAL simplification): the "
+       "answers of grid_px 1, several times slower; for tests and benchmarks"},
   };
 }
 
@@ -77,7 +77,8 @@ std::vector<OptionSpec> classifierSpecs() {
       {"blend", 0.5, false, false, 1e-9, 1, "weight of a frame's estimate in the blended model"},
       {"max_mean_shift_sigma", 4, false, false, 1e-9, 1e6,
        "refuse a class estimate whose mean moved more than this many sigma (drift guard)"},
-      {"min_training_pixels", 400, false, true, 1, 1e9, "refuse a class estimate from fewer labelled pixels"},
+      {"min_training_pixels", 400, false, true, 1, 1e9,
+       "refuse a class estimate from fewer labelled training cells (training reads every 2nd cell of every 2nd row)"},
       {"label_erosion_px", 6, false, true, 0, 200,
        "training labels: the predicted road eroded by this, non-road = the rest of the view eroded by this"},
       {"outlier_llr", 6, false, false, 0, 1e6,
