@@ -90,13 +90,14 @@ void appendPoint(Polygon2& ring, const Vec2& p) {
 // a zero-width bridge). For a simple ring, the crossings sorted along the line alternate exit,
 // entry, exit, ... (from an exit the line runs along d inside the ring), so each piece follows the
 // ring from an entry to its exit, then the line to the next crossing along it, an entry, and so on
-// until it closes. nullopt when rounding breaks the alternation.
+// until it closes. nullopt when rounding breaks the alternation or a product overflows.
 std::optional<std::vector<Polygon2>> clipToHalfPlane(const Polygon2& ring, const Vec2& c, const Vec2& d) {
   const std::size_t n = ring.size();
   std::vector<double> side(n);
   std::size_t outside = n;
   for (std::size_t i = 0; i < n; ++i) {
     side[i] = cross2(d, ring[i] - c);
+    if (!std::isfinite(side[i])) return std::nullopt;  // overflow: coordinates near the double limit
     if (side[i] <= 0) outside = i;
   }
   if (outside == n) return std::vector<Polygon2>{ring};
@@ -124,6 +125,10 @@ std::optional<std::vector<Polygon2>> clipToHalfPlane(const Polygon2& ring, const
     if (sa > 0 && sb <= 0) appendPoint(runs.back(), crossingOf(a, b, sa, sb, true));
   }
 
+  const bool finite = std::all_of(crossings.begin(), crossings.end(), [](const Crossing& x) {
+    return std::isfinite(x.along) && std::isfinite(x.tie);
+  });
+  if (!finite) return std::nullopt;  // overflow again; and the sort needs numbers
   std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) {
     return x.along < y.along || (x.along == y.along && x.tie < y.tie);
   });

@@ -120,6 +120,17 @@ TEST(IntersectWithConvex, BadInputIsEmptyAndANonConvexClipIsTheExactIntersection
   EXPECT_TRUE(intersectWithConvex({Vec2(0, 0), Vec2(nan, 0), Vec2(0, 1)}, square).empty());
   EXPECT_TRUE(intersectWithConvex(square, {Vec2(0, 0), Vec2(1, 0)}).empty());
   EXPECT_TRUE(intersectWithConvex({}, square).empty());
+  // Coordinates whose products overflow go to the exact operations: the square's lower half.
+  const double big = 1e200;
+  const Polygon2 huge{Vec2(0, 0), Vec2(big, 0), Vec2(big, big), Vec2(0, big)};
+  const Polygon2 lower_half{Vec2(-big, -big), Vec2(2 * big, -big), Vec2(2 * big, big / 2), Vec2(-big, big / 2)};
+  const auto halves = intersectWithConvex(huge, lower_half);
+  ASSERT_EQ(halves.size(), 1u);
+  Polygon2 corners = halves[0];
+  std::sort(corners.begin(), corners.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  EXPECT_EQ(corners, (Polygon2{Vec2(0, 0), Vec2(0, big / 2), Vec2(big, 0), Vec2(big, big / 2)}));
   // A non-convex clip (the U) goes to the exact operations: the square's two lower corners' parts.
   const Polygon2 wide{Vec2(-1, 1.5), Vec2(4, 1.5), Vec2(4, 2), Vec2(-1, 2)};
   expectSamePieces(intersectWithConvex(wide, kU), intersectPolygons(wide, kU), 1e-15, 0, "non-convex clip");
