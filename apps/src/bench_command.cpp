@@ -149,6 +149,7 @@ SidewalkTimes timeSidewalk(double min_time_s) {
   t.height = scene.camera->height();
   const auto timeDetect = [&](const char* options, bool predict) {
     auto pipeline = createPipeline("sidewalk", options);
+    ViewPredictor predictor(scene.map);  // kept across frames, as the Map module keeps one
     std::size_t k = 0;
     return measure(
         [&] {
@@ -157,7 +158,7 @@ SidewalkTimes timeSidewalk(double min_time_s) {
           const VisionFrame frame{rgb.width, rgb.height, rgb.data.data(), scene.camera.get(), static_cast<double>(k),
                                   false};  // as in the loop without a trace: no region outline
           const DetectedObject d =
-              predict ? pipeline->detect(frame, predictView(scene.map, scene.poses[i], *scene.camera).view)
+              predict ? pipeline->detect(frame, predictor.predict(scene.poses[i], *scene.camera).view)
                       : pipeline->detect(frame, scene.predictions[i]);
           keep(d.confidence);
         },

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <unordered_map>
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
@@ -258,8 +259,40 @@ Polygon2 vehicleFootprint(const Camera& camera, double near_m, double far_m) {
 
 }  // namespace
 
-Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, const PredictOptions& options) {
-  options.validate();
+// What a road or an intersection gives every view, whatever the pose.
+struct ViewPredictor::Store {
+  struct Parts {
+    std::vector<Polygon2> pieces;      // its paved area as simple polygons (simplePieces)
+    std::vector<Vec2> centre;          // a road's centre line in straight pieces (none for an intersection)
+    std::vector<MapSegment> segments;  // its interest segments, in the world
+  };
+  std::unordered_map<const Road*, Parts> roads;
+  std::unordered_map<const Intersection*, Parts> intersections;
+
+  const Parts& of(const Road& road, const Predictor& predictor, const Map& map, const PredictOptions& options) {
+    if (const auto it = roads.find(&road); it != roads.end()) return it->second;
+    Parts parts{simplePieces(map.roadPolygon(road)),
+                simplifyPolyline(road.centerline.points(), options.simplify_tolerance_m), predictor.roadSegments(road)};
+    return roads.emplace(&road, std::move(parts)).first->second;
+  }
+  const Parts& of(const Intersection& x, const Predictor& predictor, const Map& map) {
+    if (const auto it = intersections.find(&x); it != intersections.end()) return it->second;
+    Parts parts{simplePieces(map.intersectionShape(x)), {}, predictor.cornerSegments(x)};
+    return intersections.emplace(&x, std::move(parts)).first->second;
+  }
+};
+
+ViewPredictor::ViewPredictor(const Map& map, const PredictOptions& options)
+    : map_(&map), options_(options), store_(std::make_unique<Store>()) {
+  options_.validate();
+}
+ViewPredictor::~ViewPredictor() = default;
+ViewPredictor::ViewPredictor(ViewPredictor&&) noexcept = default;
+ViewPredictor& ViewPredictor::operator=(ViewPredictor&&) noexcept = default;
+
+Prediction ViewPredictor::predict(const Pose2& pose, const Camera& camera) {
+  const Map& map = *map_;
+  const PredictOptions& options = options_;
   Prediction out;
   out.pose = pose;
   out.view.footprint = vehicleFootprint(camera, options.near_m, options.far_m);
@@ -271,12 +304,12 @@ Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, 
   const Polygon2& footprint = out.footprint_world;
   const Predictor predictor(map, options);
 
-  std::vector<MapSegment> candidates;
   auto addRegion = [&](const std::string& id, const std::string& kind, const std::string& surface,
-                       const Polygon2& area, std::vector<MapSegment> segments) {
+                       const Store::Parts& parts) {
     std::vector<Polygon2> world;
-    for (const Polygon2& piece : simplePieces(area)) {
-      for (Polygon2& clipped : intersectPolygons(piece, footprint)) world.push_back(std::move(clipped));
+    for (const Polygon2& piece : parts.pieces) {
+      // A pin-hole camera's footprint is convex: then the clip is a fast one in doubles.
+      for (Polygon2& clipped : intersectWithConvex(piece, footprint)) world.push_back(std::move(clipped));
     }
     if (world.empty()) return;
     PredictedRegion region;
@@ -290,7 +323,7 @@ Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, 
       region.vehicle.push_back(std::move(local));
     }
     // Clip the region's segments to the footprint; keep the long, mostly-in-image parts.
-    for (MapSegment& s : segments) {
+    for (const MapSegment& s : parts.segments) {
       std::vector<Interval> inside = intervalsInside(s.world, footprint);
       if (inside.empty()) continue;
       // A footprint that cuts a segment in two keeps its longest part under the segment's id.
@@ -322,21 +355,23 @@ Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, 
   };
 
   for (const Road* road : map.roadsMeeting(footprint)) {
+    const Store::Parts& parts = store_->of(*road, predictor, map, options);
     // A road is a curve in view when its centre line inside the footprint is more than one straight piece.
-    const auto pieces = simplifyPolyline(road->centerline.points(), options.simplify_tolerance_m);
     int visible_pieces = 0;
-    for (std::size_t k = 0; k + 1 < pieces.size(); ++k) {
-      visible_pieces += intervalsInside(Segment2{pieces[k], pieces[k + 1]}, footprint).empty() ? 0 : 1;
+    for (std::size_t k = 0; k + 1 < parts.centre.size(); ++k) {
+      visible_pieces += intervalsInside(Segment2{parts.centre[k], parts.centre[k + 1]}, footprint).empty() ? 0 : 1;
     }
-    addRegion(road->id, visible_pieces > 1 ? "curve" : "straight road", road->surface, map.roadPolygon(*road),
-              predictor.roadSegments(*road));
+    addRegion(road->id, visible_pieces > 1 ? "curve" : "straight road", road->surface, parts);
   }
   for (const Intersection* x : map.intersectionsMeeting(footprint)) {
-    addRegion(x->id, regionKind(x->kind), intersectionSurface(map, *x), map.intersectionShape(*x),
-              predictor.cornerSegments(*x));
+    addRegion(x->id, regionKind(x->kind), intersectionSurface(map, *x), store_->of(*x, predictor, map));
   }
   addRelations(out.view, options);
   return out;
+}
+
+Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, const PredictOptions& options) {
+  return ViewPredictor(map, options).predict(pose, camera);
 }
 
 namespace {

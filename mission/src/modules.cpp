@@ -76,7 +76,11 @@ double alongSigma(const CurrentPosition& p) {
 }  // namespace
 
 MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, const MapModuleOptions& options)
-    : map_(map), camera_(camera), options_(options), filter_(start, initialCovariance(options), options.filter) {
+    : map_(map),
+      camera_(camera),
+      options_(options),
+      predictor_(map, options.predict),
+      filter_(start, initialCovariance(options), options.filter) {
   position_ = filter_.current(0.0, "start");
   start_along_sigma_m_ = alongSigma(position_);
 }
@@ -88,7 +92,7 @@ void MapModule::predict(Blackboard& board, double t, const VehicleMotion& odomet
   PoseFilter predicted = filter_;
   predicted.predict(pending_);
   predicted_ = predicted.pose();
-  prediction_ = predictView(map_, predicted.pose(), camera_, options_.predict);
+  prediction_ = predictor_.predict(predicted.pose(), camera_);
   if (!prediction_.empty() && visiblePixels(prediction_.view, camera_) < options_.min_visible_px) {
     Prediction nothing;  // "Vision will see no road from here"
     nothing.pose = prediction_.pose;

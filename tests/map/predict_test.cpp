@@ -8,6 +8,7 @@
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
 #include "mapnav/map/generate.h"
+#include "mapnav/map/map_io.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -291,6 +292,69 @@ TEST(PredictView, TheFootprintFollowsTheCameraAndTheRange) {
   EXPECT_EQ(predictView(map, pose, *shallow).view.footprint, shallow_first);
   EXPECT_EQ(predictView(map, pose, *shallow, shorter).view.footprint, short_first);
   EXPECT_EQ(predictView(map, pose, *steep).view.footprint, steep_first);
+}
+
+// Two predictions are the same, to the last bit.
+void expectSamePrediction(const Prediction& a, const Prediction& b, const std::string& what) {
+  EXPECT_EQ(a.footprint_world, b.footprint_world) << what;
+  ASSERT_EQ(a.view.segments.size(), b.view.segments.size()) << what;
+  for (std::size_t i = 0; i < a.view.segments.size(); ++i) {
+    EXPECT_EQ(a.view.segments[i].id, b.view.segments[i].id) << what;
+    EXPECT_EQ(a.view.segments[i].image.a, b.view.segments[i].image.a) << what;
+    EXPECT_EQ(a.view.segments[i].image.b, b.view.segments[i].image.b) << what;
+    EXPECT_EQ(a.segments_world[i].a, b.segments_world[i].a) << what;
+    EXPECT_EQ(a.segments_world[i].b, b.segments_world[i].b) << what;
+  }
+  ASSERT_EQ(a.view.regions.size(), b.view.regions.size()) << what;
+  for (std::size_t i = 0; i < a.view.regions.size(); ++i) {
+    EXPECT_EQ(a.view.regions[i].id, b.view.regions[i].id) << what;
+    EXPECT_EQ(a.view.regions[i].kind, b.view.regions[i].kind) << what;
+    EXPECT_EQ(a.view.regions[i].segments, b.view.regions[i].segments) << what;
+    EXPECT_EQ(a.regions_world[i], b.regions_world[i]) << what;
+  }
+  EXPECT_EQ(a.view.relations.size(), b.view.relations.size()) << what;
+}
+
+TEST(ViewPredictor, KeepsWhatThePoseDoesNotChangeAndGivesPredictViewsAnswers) {
+  // Along every road of the campus (curves, plazas, T and Y intersections), both ways, twice: the
+  // second pass takes each road's and intersection's segments from the store. Two predictors with
+  // different options must each give what predictView gives with theirs.
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  PredictOptions coarse;
+  coarse.simplify_tolerance_m = 0.5;
+  ViewPredictor fine_predictor(map), coarse_predictor(map, coarse);
+  const auto camera = pinhole();
+  int frames = 0, segments = 0, curves = 0, differ = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (const Road& road : map.roads()) {
+      for (double s = 1.0; s < road.centerline.length(); s += 7.0) {
+        for (const double turn : {0.0, kPi}) {
+          const Pose2 pose(road.centerline.pointAt(s), road.centerline.headingAt(s) + turn);
+          const std::string what = road.id + " at " + std::to_string(s) + (turn == 0 ? " forward" : " back");
+          const Prediction fine = fine_predictor.predict(pose, *camera);
+          const Prediction rough = coarse_predictor.predict(pose, *camera);
+          expectSamePrediction(fine, predictView(map, pose, *camera), what);
+          expectSamePrediction(rough, predictView(map, pose, *camera, coarse), what + " (coarse)");
+          if (::testing::Test::HasFailure()) return;
+          ++frames;
+          segments += static_cast<int>(fine.view.segments.size());
+          for (const PredictedRegion& r : fine.view.regions) curves += r.kind == "curve" ? 1 : 0;
+          differ += fine.view.segments.size() != rough.view.segments.size() ? 1 : 0;
+        }
+      }
+    }
+  }
+  EXPECT_GT(frames, 100);
+  EXPECT_GT(segments, 2 * frames);  // the views have something in them
+  EXPECT_GT(curves, 0);
+  EXPECT_GT(differ, 0);  // the options matter, so a store shared between them would show
+}
+
+TEST(ViewPredictor, BadOptionsAreRefused) {
+  const Map map(straightRoad());
+  PredictOptions bad;
+  bad.far_m = 0.5;
+  EXPECT_THROW(ViewPredictor(map, bad), InvalidInput);
 }
 
 TEST(PredictOptions, DefaultsAreValidAndBadFieldsAreNamed) {

@@ -1,5 +1,5 @@
 // The rendered road mask against an independent, forward construction: the paved regions that
-// predictView clips to the camera's footprint (CGAL Boolean operations), projected into the image
+// predictView clips to the camera's footprint (geometry/clip.h), projected into the image
 // by the camera model and filled exactly (a pixel is road when its centre is inside a projected
 // region: an even-odd scanline fill; an anti-aliased picture rasteriser would spread a pixel past
 // every edge). Compared inside the footprint, where both methods claim to know the answer.

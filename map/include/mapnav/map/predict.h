@@ -8,6 +8,7 @@
 // (a crossing road, a plaza) are cut away, and the parts left are numbered along the edge
 // (`R1.left.0`, `R1.left.1`, ...). An intersection's outline, less what roads cover, gives its
 // corner segments (`I5.corner.0`, ...). A view then clips these to its footprint.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -55,9 +56,41 @@ struct Prediction {
   bool empty() const { return view.empty(); }
 };
 
+/// Predicted views of one map with one set of options, frame after frame. What does not depend on
+/// the pose — each road's and intersection's interest segments, simplified centre line and simple
+/// pieces — is worked out the first time the road or intersection comes into view and kept, so a
+/// frame pays for clipping to its footprint only. The answers are predictView's.
+///
+/// It keeps a reference to `map`, which must outlive it and not change while it lives (the kept
+/// work is the map's); the options are copied (and validated: InvalidInput for bad ones). The store
+/// holds at most one entry per road and intersection. Not safe to share between threads: predict()
+/// fills the store (use one per thread). A moved-from predictor may only be assigned to or destroyed.
+class ViewPredictor {
+ public:
+  explicit ViewPredictor(const Map& map, const PredictOptions& options = {});
+  ~ViewPredictor();
+  ViewPredictor(ViewPredictor&&) noexcept;
+  ViewPredictor& operator=(ViewPredictor&&) noexcept;
+  ViewPredictor(const ViewPredictor&) = delete;
+  ViewPredictor& operator=(const ViewPredictor&) = delete;
+
+  /// What `camera` on a vehicle at `pose` (world frame) should see of the map (see predictView).
+  Prediction predict(const Pose2& pose, const Camera& camera);
+
+  const Map& map() const { return *map_; }
+  const PredictOptions& options() const { return options_; }
+
+ private:
+  struct Store;  // the pose-independent work, per road and intersection (predict.cpp)
+  const Map* map_;
+  PredictOptions options_;
+  std::unique_ptr<Store> store_;
+};
+
 /// What `camera` on a vehicle at `pose` (world frame) should see of `map`. A pose off every road,
 /// or a camera that sees no ground, gives an empty prediction. The cost grows with what is in
-/// view, not with the map (R-tree queries).
+/// view, not with the map (R-tree queries). One frame of a fresh ViewPredictor: for many frames
+/// of one map, keep a ViewPredictor.
 Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, const PredictOptions& options = {});
 
 /// The prediction as `mapnav predict --json` prints it.

@@ -129,6 +129,7 @@ class MapModule {
   const Map& map_;
   const Camera& camera_;
   MapModuleOptions options_;
+  ViewPredictor predictor_;  // of map_ with options_.predict
   PoseFilter filter_;
   VehicleMotion pending_;   // odometry of the frame being processed (scaled)
   Pose2 predicted_;         // the filter's pose after the prediction, before the update
