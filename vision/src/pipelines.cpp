@@ -61,7 +61,7 @@ std::vector<OptionSpec> commonSpecs() {
       {"grid_px", 2, false, true, 1, 8,
        "classify and reproduce the region on a grid of cells this many pixels a side (the frame averaged over each "
        "cell; the options in pixels above are divided by it), the boundary mapped back to pixels; 1 = every pixel. "
-       "The default 2 runs the loop about 2.4 times faster than 1 (campus_dialogue replay: 2.0 against 5.0 ms "
+       "The default 2 runs the loop about 2.6 times faster than 1 (campus_dialogue replay: 1.6 against 4.0 ms "
        "median) and meets the same localisation targets (campus_tour replay: along-road error after intersections "
        "0.12 against 0.10 m) with a coarser edge (lateral RMS 1.6 against 1.0 cm)"},
       {"reference", 0, true, false, 0, 1,
