@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Constrained_triangulation_plus_2.h>
@@ -57,39 +56,69 @@ namespace mapnav {
 
 namespace {
 
-std::uint64_t pixelKey(long x, long y) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) | static_cast<std::uint32_t>(y);
-}
+// The first `m` points of a chain of integer points in a grid of kCell-pixel cells: each cell's
+// points (their indices, in order) are members[start[c]] .. members[start[c + 1] - 1].
+struct CellGrid {
+  static constexpr long kCell = 8;
+  long x0 = 0, y0 = 0, x1 = 0, y1 = 0, gw = 0, gh = 0;
+  std::vector<std::size_t> start, members;
 
-// A chain that simplifyPixelChain handles itself: integer coordinates of moderate size, 8-neighbour
-// steps, no repeated point but a ring's closing one, no two diagonal steps crossing in a pixel square.
-// Then every vertex of CGAL's triangulation is a chain point with two constrained edges, no constraint
-// passes through another vertex, and CGAL's removal test is "no other vertex in the closed triangle".
-bool isPixelChain(const std::vector<Vec2>& points, std::unordered_map<std::uint64_t, std::size_t>& index) {
-  const std::size_t n = points.size();
-  const bool closed = points.front() == points.back();
-  index.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  CellGrid(const std::vector<Vec2>& points, std::size_t m) : members(m) {
+    x0 = x1 = static_cast<long>(points[0].x());
+    y0 = y1 = static_cast<long>(points[0].y());
+    for (std::size_t i = 0; i < m; ++i) {
+      const long x = static_cast<long>(points[i].x()), y = static_cast<long>(points[i].y());
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+    gw = (x1 - x0) / kCell + 1, gh = (y1 - y0) / kCell + 1;
+    start.assign(static_cast<std::size_t>(gw * gh) + 1, 0);
+    for (std::size_t i = 0; i < m; ++i) ++start[cellOf(points[i]) + 1];
+    for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < m; ++i) members[fill[cellOf(points[i])]++] = i;
+  }
+  std::size_t cellOf(long x, long y) const { return static_cast<std::size_t>(((y - y0) / kCell) * gw + (x - x0) / kCell); }
+  std::size_t cellOf(const Vec2& p) const { return cellOf(static_cast<long>(p.x()), static_cast<long>(p.y())); }
+  /// The index of the first of the points at (x, y), or -1.
+  long find(const std::vector<Vec2>& points, double x, double y) const {
+    if (x < x0 || x > x1 || y < y0 || y > y1) return -1;
+    const std::size_t c = cellOf(static_cast<long>(x), static_cast<long>(y));
+    for (std::size_t k = start[c]; k < start[c + 1]; ++k)
+      if (points[members[k]].x() == x && points[members[k]].y() == y) return static_cast<long>(members[k]);
+    return -1;
+  }
+};
+
+// Integer coordinates of moderate size, 8-neighbour steps: the chain's points fit a CellGrid.
+bool isIntegerChain(const std::vector<Vec2>& points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec2& p = points[i];
     if (!(std::abs(p.x()) < 1e6 && std::abs(p.y()) < 1e6) || p.x() != std::floor(p.x()) || p.y() != std::floor(p.y()))
       return false;
-    if (i + 1 < n) {
+    if (i + 1 < points.size()) {
       const Vec2 d = points[i + 1] - p;
       if (std::abs(d.x()) > 1 || std::abs(d.y()) > 1 || (d.x() == 0 && d.y() == 0)) return false;
     }
-    if (closed && i == n - 1) break;  // the closing point is the first one
-    if (!index.emplace(pixelKey(std::lround(p.x()), std::lround(p.y())), i).second) return false;
   }
-  const auto at = [&](double x, double y) -> long {
-    const auto it = index.find(pixelKey(std::lround(x), std::lround(y)));
-    return it == index.end() ? -1 : static_cast<long>(it->second);
-  };
+  return true;
+}
+
+// A chain that simplifyPixelChain handles itself: an integer chain (above) with no repeated point
+// but a ring's closing one, no two diagonal steps crossing in a pixel square. Then every vertex of
+// CGAL's triangulation is a chain point with two constrained edges, no constraint passes through
+// another vertex, and CGAL's removal test is "no other vertex in the closed triangle". `grid`: the
+// chain's points but a ring's closing one.
+bool isPixelChain(const std::vector<Vec2>& points, const CellGrid& grid) {
+  const std::size_t n = points.size();
+  const bool closed = points.front() == points.back();
   const long m = closed ? static_cast<long>(n) - 1 : static_cast<long>(n);
   if (closed && m < 3) return false;  // a ring of two points runs one edge twice
+  for (long i = 0; i < m; ++i)
+    if (grid.find(points, points[i].x(), points[i].y()) != i) return false;  // an earlier point is there
   for (std::size_t i = 0; i + 1 < n; ++i) {
     const Vec2 a = points[i], b = points[i + 1];
     if (a.x() == b.x() || a.y() == b.y()) continue;
-    const long c = at(a.x(), b.y()), d = at(b.x(), a.y());  // the other diagonal of the square
+    const long c = grid.find(points, a.x(), b.y()), d = grid.find(points, b.x(), a.y());  // the other diagonal
     if (c < 0 || d < 0) continue;
     const long gap = std::abs(c - d);
     if (gap == 1 || (closed && gap == m - 1)) return false;
@@ -120,16 +149,26 @@ struct SegmentDistance {
     }
     ab = a * a + b * b;
   }
-  double operator()(double px, double py) const {
-    const double dx = px - sx, dy = py - sy;
-    const double d = dx * ex + dy * ey;
-    if (d <= 0) return dx * dx + dy * dy;
-    if (d > e) {
-      const double fx = px - tx, fy = py - ty;
-      return fx * fx + fy * fy;
+  /// The largest squared distance of points[first, last) to the segment, 0 for none. The distance
+  /// to the line is (n * n) / ab as in CGAL; the division is done once, for the largest n * n, which
+  /// is the same value (dividing by ab > 0 rounds monotonically).
+  double farthest(const std::vector<Vec2>& points, std::size_t first, std::size_t last) const {
+    double ends = 0.0, line = 0.0;
+    for (std::size_t i = first; i < last; ++i) {
+      const double px = points[i].x(), py = points[i].y();
+      const double dx = px - sx, dy = py - sy;
+      const double d = dx * ex + dy * ey;
+      if (d <= 0) {
+        ends = (std::max)(ends, dx * dx + dy * dy);
+      } else if (d > e) {
+        const double fx = px - tx, fy = py - ty;
+        ends = (std::max)(ends, fx * fx + fy * fy);
+      } else {
+        const double n = a * px + b * py + c;
+        line = (std::max)(line, n * n);
+      }
     }
-    const double n = a * px + b * py + c;
-    return (n * n) / ab;
+    return (std::max)(ends, line / ab);  // s == t: ab = 0, no point reaches the last branch, 0 / 0 is ignored
   }
 };
 
@@ -137,34 +176,18 @@ struct SegmentDistance {
 
 std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tolerance) {
   if (points.size() < 3 || !(tolerance >= 0) || !std::isfinite(tolerance)) return points;
-  std::unordered_map<std::uint64_t, std::size_t> index;
-  if (!isPixelChain(points, index)) return simplifyPolyline(points, tolerance);
-
+  if (!isIntegerChain(points)) return simplifyPolyline(points, tolerance);
   const std::size_t n = points.size();
   const bool closed = points.front() == points.back();
+  // The remaining vertices in a grid of 8-pixel cells (removed ones are skipped, not erased).
+  const CellGrid grid(points, closed ? n - 1 : n);
+  if (!isPixelChain(points, grid)) return simplifyPolyline(points, tolerance);
+
   std::vector<Point> pt;
   pt.reserve(n);
   for (const Vec2& p : points) pt.emplace_back(p.x(), p.y());
   // A ring's last point is its first vertex.
   const auto vertex = [&](std::size_t i) { return closed && i == n - 1 ? std::size_t{0} : i; };
-
-  // The remaining vertices in a grid of 8-pixel cells (removed ones are skipped, not erased).
-  constexpr long kCell = 8;
-  long x0 = std::lround(points[0].x()), y0 = std::lround(points[0].y()), x1 = x0, y1 = y0;
-  for (const Vec2& p : points) {
-    x0 = std::min(x0, std::lround(p.x())), x1 = std::max(x1, std::lround(p.x()));
-    y0 = std::min(y0, std::lround(p.y())), y1 = std::max(y1, std::lround(p.y()));
-  }
-  const long gw = (x1 - x0) / kCell + 1, gh = (y1 - y0) / kCell + 1;
-  const auto cellOf = [&](long x, long y) { return static_cast<std::size_t>(((y - y0) / kCell) * gw + (x - x0) / kCell); };
-  const std::size_t m = closed ? n - 1 : n;
-  std::vector<std::size_t> start(static_cast<std::size_t>(gw * gh) + 1, 0), members(m);
-  for (std::size_t i = 0; i < m; ++i) ++start[cellOf(std::lround(points[i].x()), std::lround(points[i].y())) + 1];
-  for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < m; ++i) members[fill[cellOf(std::lround(points[i].x()), std::lround(points[i].y()))]++] = i;
-  }
 
   std::vector<std::size_t> prev(n), next(n);
   for (std::size_t i = 0; i < n; ++i) prev[i] = i == 0 ? 0 : i - 1, next[i] = i + 1 == n ? n - 1 : i + 1;
@@ -176,10 +199,7 @@ std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tol
   // neighbours to the segment joining them.
   const auto costOf = [&](std::size_t q) {
     const Vec2 &s = points[prev[q]], &t = points[next[q]];
-    const SegmentDistance distance(s.x(), s.y(), t.x(), t.y());
-    double d = 0.0;
-    for (std::size_t i = prev[q] + 1; i < next[q]; ++i) d = (std::max)(d, distance(points[i].x(), points[i].y()));
-    return d;
+    return SegmentDistance(s.x(), s.y(), t.x(), t.y()).farthest(points, prev[q] + 1, next[q]);
   };
   // CGAL's removal test (Polyline_simplification_2::is_removable) on these chains.
   const auto canRemove = [&](std::size_t q) {
@@ -187,16 +207,17 @@ std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tol
     const CGAL::Orientation o = CGAL::orientation(pt[u], pt[q], pt[w]);
     if (o == CGAL::COLLINEAR) return true;
     if (vertex(next[w]) == vertex(u) || vertex(prev[u]) == vertex(w)) return false;  // u-w is a constraint
-    const long bx0 = std::lround(std::min({points[u].x(), points[q].x(), points[w].x()}));
-    const long bx1 = std::lround(std::max({points[u].x(), points[q].x(), points[w].x()}));
-    const long by0 = std::lround(std::min({points[u].y(), points[q].y(), points[w].y()}));
-    const long by1 = std::lround(std::max({points[u].y(), points[q].y(), points[w].y()}));
+    const long bx0 = static_cast<long>(std::min({points[u].x(), points[q].x(), points[w].x()}));
+    const long bx1 = static_cast<long>(std::max({points[u].x(), points[q].x(), points[w].x()}));
+    const long by0 = static_cast<long>(std::min({points[u].y(), points[q].y(), points[w].y()}));
+    const long by1 = static_cast<long>(std::max({points[u].y(), points[q].y(), points[w].y()}));
     const CGAL::Orientation away = o == CGAL::LEFT_TURN ? CGAL::RIGHT_TURN : CGAL::LEFT_TURN;
-    for (long cy = (by0 - y0) / kCell; cy <= (by1 - y0) / kCell; ++cy) {
-      for (long cx = (bx0 - x0) / kCell; cx <= (bx1 - x0) / kCell; ++cx) {
-        const std::size_t c = static_cast<std::size_t>(cy * gw + cx);
-        for (std::size_t k = start[c]; k < start[c + 1]; ++k) {
-          const std::size_t x = members[k];
+    constexpr long kCell = CellGrid::kCell;
+    for (long cy = (by0 - grid.y0) / kCell; cy <= (by1 - grid.y0) / kCell; ++cy) {
+      for (long cx = (bx0 - grid.x0) / kCell; cx <= (bx1 - grid.x0) / kCell; ++cx) {
+        const std::size_t c = static_cast<std::size_t>(cy * grid.gw + cx);
+        for (std::size_t k = grid.start[c]; k < grid.start[c + 1]; ++k) {
+          const std::size_t x = grid.members[k];
           if (!alive[x] || x == vertex(u) || x == q || x == vertex(w)) continue;
           const Vec2& p = points[x];
           if (p.x() < bx0 || p.x() > bx1 || p.y() < by0 || p.y() > by1) continue;

@@ -36,8 +36,9 @@ std::optional<std::vector<int>> rowHalfWidths(const cv::Mat& kernel) {
 // dst = 255 where every kernel pixel over the image is set in `src` (non-zero; with `invert`, zero),
 // else 0. Pixels outside the image are ignored, which for such kernels equals OpenCV's replicated
 // border. The kernel is the union of its rows: each row of the output is the AND of the rows around
-// it, each eroded horizontally by its kernel row's half-width (byte loops, vectorised).
-void erodeRows(const cv::Mat& src, cv::Mat& dst, const std::vector<int>& half, bool invert) {
+// it, each eroded horizontally by its kernel row's half-width (byte loops, vectorised; built for AVX2
+// too where the processor has it).
+__attribute__((target_clones("avx2", "default"))) void erodeRows(const cv::Mat& src, cv::Mat& dst, const std::vector<int>& half, bool invert) {
   const int w = src.cols, h = src.rows, r = static_cast<int>(half.size()) / 2;
   std::vector<int> levels(half);
   std::sort(levels.begin(), levels.end());
@@ -77,9 +78,11 @@ void erodeRows(const cv::Mat& src, cv::Mat& dst, const std::vector<int>& half, b
   std::vector<const cv::Mat*> of_row(half.size());
   for (std::size_t k = 0; k < half.size(); ++k)
     of_row[k] = &eroded[static_cast<std::size_t>(std::lower_bound(levels.begin(), levels.end(), half[k]) - levels.begin())];
-  cv::Mat out(h, w, CV_8UC1);
+  // `src` is no longer read: the output goes straight into dst (its own pixels when it already has the
+  // size, e.g. a view of an Image, or src itself).
+  dst.create(h, w, CV_8UC1);
   for (int y = 0; y < h; ++y) {
-    std::uint8_t* __restrict o = out.ptr<std::uint8_t>(y);
+    std::uint8_t* __restrict o = dst.ptr<std::uint8_t>(y);
     std::fill(o, o + w, std::uint8_t{255});
     for (int dy = -r; dy <= r; ++dy) {
       if (y + dy < 0 || y + dy >= h) continue;
@@ -89,7 +92,6 @@ void erodeRows(const cv::Mat& src, cv::Mat& dst, const std::vector<int>& half, b
     if (invert)
       for (int x = 0; x < w; ++x) o[x] = static_cast<std::uint8_t>(~o[x]);
   }
-  out.copyTo(dst);  // into dst's own pixels when it already has the size (a view of an Image)
 }
 
 // A mask that is all set or all clear stays as it is (outside pixels being ignored).
