@@ -485,22 +485,26 @@ double quantile(std::vector<double> v, double q) {
   return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
 }
 
-// Beyond the paper (§9): with the ground-arc model the found centre curve follows bends of radius
-// >= 15 m far better than the paper's straight model, which cuts them. Measured per frame: the
-// worst column error over the block rows where the road's centre is in the image. The circle fitted
-// to the edges on the ground, started from the image fit and from a consensus of exact circles on the
-// ground, each required to keep the vehicle on the road, puts the median frame within 3.2 px and
-// three frames in four within 11 px. Measured: median 3.12, 75 % 10.24, 90 % 60.1 px, worst found
-// 269 px, 2 frames failed (no centre line puts the vehicle on the road; before that rule they were
-// answered 1500 and 715 px off); 39 frames <= 2 px, 59 <= 3 px, 78 <= 5 px, 92 <= 10 px; angle error
-// at the bottom row median 1.41 deg, <= 1 deg on 48 frames. NOT the 2 px everywhere, and the
-// test prints each frame off it with its cause: on 39 frames no circle on the ground comes within
-// 2 px of the true centre line (bestCircleError(): a straight running into a bend, up to 22 px; the
-// map's 1.5 m chords on 15 m bends, 3.0-3.6 px); on the 86 where a circle can, the arc model meets
-// 2 px on 36. The rest miss because the mask shows under half of the road's true edge rows
-// (shoulders classed as road; the boundary beyond the shoulder is then fitted as the road's edge) or,
-// with the edges in view, the circle is extrapolated from the edges (seen only beyond ~4.5 m: the
-// 3 m road fills the image, 1.4 m wide at the bottom) to the bottom rows, where 1 cm is 3.7 px.
+// Beyond the paper (§9): with the ground-arc model the found centre curve follows the park map's real
+// bends far better than the paper's straight model, which cuts them. These bends are not the issue's
+// "curves of radius >= 15 m" as written: many frames see a straight running into a bend (curvature
+// changing in view) and the map's curves are polylines of 1.5 m chords; the item as written is
+// measured on true circles by ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves. Measured per frame
+// here: the worst column error over the block rows where the road's centre is in the image. The
+// circle fitted to the edges on the ground, started from the image fit and from a consensus of exact
+// circles on the ground, each required to keep the vehicle on the road, puts the median frame within
+// 3.2 px and three frames in four within 10 px. Measured: median 3.12, 75 % 9.91, 90 % 49.7 px, worst
+// found 386 px (frame 105, which failed before the ground consensus drew 1000 samples instead of 300),
+// 1 frame failed (no centre line puts the vehicle on the road); 39 frames <= 2 px, 59 <= 3 px, 80
+// <= 5 px, 94 <= 10 px; angle error at the bottom row median 1.37 deg, <= 1 deg on 49 frames. NOT the
+// issue's 2 px everywhere, and the test prints each frame off it with its cause: on 38 frames no circle
+// on the ground comes within 2 px of the true centre line (bestCircleError(): a straight running into
+// a bend, up to 22 px; the map's 1.5 m chords on 15 m bends, 3.0-3.6 px); on the 87 where a circle
+// can, the arc model meets 2 px on 36. The rest miss because the mask shows under half of the road's
+// true edge rows (shoulders classed as road; the boundary beyond the shoulder is then fitted as the
+// road's edge) or, with the edges in view, the circle is extrapolated from the edges (seen only beyond
+// ~4.5 m: the 3 m road fills the image, 1.4 m wide at the bottom) to the bottom rows, where 1 cm is
+// 3.7 px.
 TEST(ClusterPerceptron, ArcModelFollowsCurves) {
   const auto poses = curvePoses(3.0);
   ASSERT_GE(poses.size(), 100u);
@@ -559,8 +563,8 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
 
 // On straight stretches the arc model is no worse than the straight one: where the curvature does
 // not pay for its parameter (BIC on the edges' residuals) the line on the ground is kept. Measured:
-// arc median 0.26 px, 75 % 1.30, 90 % 3.55, worst 150 px; <= 2 px on 19 of 24, <= 3 px on 20, <= 5 px
-// on 22, <= 10 px on 23; bottom-row angle median 0.02 deg (worst 23 deg, the worst frame's); line
+// arc median 0.26 px, 75 % 1.30, 90 % 3.55, worst 166 px; <= 2 px on 19 of 24, <= 3 px on 20, <= 5 px
+// on 22, <= 10 px on 23; bottom-row angle median 0.02 deg (worst 26 deg, the worst frame's); line
 // median 2.82 px, worst 495 px. The arc's worst frame is a circle through 43 rows of the right edge,
 // seen only in the top right corner (the left shoulder is classed as road), extrapolated to the bottom;
 // it keeps the vehicle on the road, so the on-road rule does not reject it.
@@ -649,10 +653,23 @@ std::vector<RoadPose> circlePoses(double step) {
 }
 
 // The item as written: on curves of constant radius >= 15 m (circles(): true circles of 15,
-// 20, 30 and 50 m, left and right, 3 m asphalt between grass, the park's shadows) the arc model's
-// centre line within 2 px of the truth (the worst column error over the curve's rows, where the true
-// centre is in the image; the top-row offset is one of them) and its image angle at the bottom row
-// within 1 degree, on every frame.
+// 20, 30 and 50 m, left and right, 3 m asphalt between grass, the park's shadows; 11 poses on each,
+// ±0.2 m and ±2 deg off the centre line) the arc model's centre line within 2 px of the truth (the
+// worst column error over the curve's rows where the true centre is in the image; the top-row offset
+// is one of them, counted where the true centre is in the image on that row: on 15 m bends it leaves
+// the image's side above) and its image angle at the bottom row within 1 degree. The finder is
+// bootstrapped on each road's straight lead-in (§4: a trapezoid outline). Bootstrapped on the circle
+// itself, the outline touches the image's sides in every row, its per-row widths are the clipped
+// extents (1.4-2.8 m of the 3 m road), and the centre lines are put decimetres off the road's edge's
+// (median worst column error 137-209 px per radius, measured before the change to 1000 draws).
+// Measured: within 2 px and 1 deg on 81 of 88 frames, within 4 px and 1.1 deg on 87; per radius (arc
+// | straight model, worst column error median / max): 15 m 0.40 / 3.51 px | 95 / 732 px, 20 m 0.35 /
+// 1.23 | 104 / 989, 30 m 0.34 / 136 | 88 / 605, 50 m 0.28 / 2.16 | 61 / 207; bottom angle max 1.02,
+// 0.52, 20.3, 0.33 deg; top-row offset max 0.21 px (20 m), 2.65 (30 m), 0.28 (50 m). NOT every frame:
+// six miss by 2.1-3.5 px, each seeing the road's edges only from 5-8 m ahead (the 3 m road fills the
+// image below), so that the circle is extrapolated to the bottom row 2 m ahead, where 1 cm is 3.7 px;
+// one (30 m, right) misses by 136 px: shadowed grass classed as road hides all but the top 51 rows
+// of the outer edge, and a circle through the shadows' outline gathers more edges.
 TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
   const auto poses = circlePoses(2.0);
   ASSERT_EQ(poses.size(), 8u * 11u);
