@@ -435,6 +435,7 @@ void writeArcPicture(const std::string& dir, std::size_t i, const Frame& f, cons
 /// and the straight model's bottom angle error.
 struct ArcVsLine {
   std::vector<double> arc, line, curvature, angle, v_top, top, line_top, line_angle;
+  std::vector<double> bottom_sd;  // the arc model's RoadFinding::bottom_column_sd
   std::vector<EdgeRows> edge_rows;  // trueEdgeRowsInMask() of the arc model's mask
   std::vector<std::size_t> failed;
   std::vector<std::string> failed_reason;
@@ -469,6 +470,7 @@ ArcVsLine arcVsLine(const std::vector<RoadPose>& poses, const Map& map = park(),
     out.arc.push_back(ra.ok ? worstCurveError(ra, poses[i]) : 1e9);
     out.line.push_back(rl.ok ? worstCurveError(rl, poses[i]) : 1e9);
     out.curvature.push_back(ra.curvature);
+    out.bottom_sd.push_back(ra.bottom_column_sd);
     out.angle.push_back(ra.ok ? bottomAngleError(ra, poses[i]) : 180.0);
     out.v_top.push_back(ra.ok ? ra.centerline_curve.front().y() : 0.0);
     out.edge_rows.push_back(trueEdgeRowsInMask(ra.mask, poses[i]));
@@ -670,6 +672,19 @@ std::vector<RoadPose> circlePoses(double step) {
 // image below), so that the circle is extrapolated to the bottom row 2 m ahead, where 1 cm is 3.7 px;
 // one (30 m, right) misses by 136 px: shadowed grass classed as road hides all but the top 51 rows
 // of the outer edge, and a circle through the shadows' outline gathers more edges.
+// The six are the edges' information, not the fit's: their edges lie on the true edge with the pixel
+// quantisation's spread alone (measured against the projected true edges: mean 0.00-0.06 px, RMS
+// 0.27-0.30 px on frames 1, 5, 19, 63 (its 51 rows); 0.4-1.3 px on 62, 64, 69), and least squares on
+// them leaves the bottom row's column a standard error (RoadFinding::bottom_column_sd) of 0.84-6.0
+// px; each miss is within three of its standard errors, which the test asserts. Tried and not kept
+// (measured on this test): minimising Σ|r|⁴ over the edges within 1 px of the fit (for uniform
+// quantisation noise it converges faster than least squares): 56 of 88 (the mask's edges are not
+// independent uniform errors, and the largest residuals are its ragged runs); penalising a circle
+// for each row where its edge falls in the image but the mask holds road on both sides of it: 75 of
+// 88 and one failed frame (shadowed grass classed as road beyond the true edge contradicts the true
+// circle on most 15-20 m frames), frame 63 136 -> 59 px. The road filling the image below the
+// nearest edge bounds the centre only to ±0.8 m at the bottom row (the 3 m road against the image's
+// 1.4 m): no help at 1 cm.
 TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
   const auto poses = circlePoses(2.0);
   ASSERT_EQ(poses.size(), 8u * 11u);
@@ -707,11 +722,17 @@ TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
     if (e.arc[i] <= 2.0 && e.angle[i] <= 1.0) continue;
     const EdgeRows& er = e.edge_rows[i];
     std::printf("  frame %2zu (radius %2.0f m, %s, s %4.1f m): column %7.2f px, top row %5.2f px, bottom angle %5.2f deg, "
-                "curvature %.4f 1/m; true edge rows in the mask %3d / %3d, the nearest %.1f m ahead: %s\n",
+                "curvature %.4f 1/m; true edge rows in the mask %3d / %3d, the nearest %.1f m ahead; the edges' "
+                "quantisation alone leaves the bottom row's column a standard error of %.2f px: %s\n",
                 i, radiusOf(i), (poses[i].road - circles().roads().data()) % 2 == 0 ? "left" : "right", poses[i].s,
-                e.arc[i], e.top[i], e.angle[i], e.curvature[i], er.shown, er.in_image, er.nearest_m,
+                e.arc[i], e.top[i], e.angle[i], e.curvature[i], er.shown, er.in_image, er.nearest_m, e.bottom_sd[i],
                 e.arc[i] > 4.0 && 2 * er.shown < er.in_image ? "the mask shows under half the true edges' rows"
                                                              : "extrapolated from the edges seen to the bottom row");
+    // A miss with the road's edges in the mask is the extrapolation's: within three of its standard
+    // errors from quantisation alone (no fit to these edges can be sure of the bottom row's 2 px).
+    if (!(e.arc[i] > 4.0 && 2 * er.shown < er.in_image)) {
+      EXPECT_LE(e.arc[i], 3.0 * e.bottom_sd[i]) << "frame " << i;
+    }
   }
   std::printf("within 2 px and 1 deg on %d of %zu frames, within 4 px and 1.1 deg on %d; top-row offset <= 2 px on %d; "
               "the arc better than the straight model on %d\n",
