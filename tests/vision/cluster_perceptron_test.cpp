@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -14,6 +15,7 @@
 #include "eval_common.h"
 #include "mapnav/core/error.h"
 #include "mapnav/map/predict.h"
+#include "mapnav/sim/image.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/vision/cluster_perceptron.h"
 #include "mapnav/vision/pipelines.h"
@@ -31,15 +33,17 @@ WorldOptions parkWorld() {
   return wo;
 }
 
-/// A pose on a straight stretch: the road's centre line is straight from 2 m behind to 25 m ahead.
-struct StraightPose {
+/// A pose near a road's centre line, and the arc length s of the centre line's point it stands by
+/// (the truth the tests measure against: the centre line from s on, in the road's direction).
+struct RoadPose {
   Pose2 pose;
   const Road* road;
   double s;
 };
 
-std::vector<StraightPose> straightPoses(double step) {
-  std::vector<StraightPose> out;
+/// Poses on straight stretches: the road's centre line is straight from 2 m behind to 25 m ahead.
+std::vector<RoadPose> straightPoses(double step) {
+  std::vector<RoadPose> out;
   int k = 0;
   const double lateral[] = {0.0, 0.2, -0.25, 0.1};
   const double dheading[] = {0.0, 2.0, -2.5, 1.0};
@@ -63,7 +67,7 @@ std::vector<StraightPose> straightPoses(double step) {
 }
 
 /// The road's centre line projected into the image: u = a + b v.
-std::pair<double, double> truthLine(const StraightPose& sp) {
+std::pair<double, double> truthLine(const RoadPose& sp) {
   double n = 0, sv = 0, su = 0, svv = 0, svu = 0;
   for (double d = -2.0; d <= 25.0; d += 0.25) {
     const Vec2 w = sp.road->centerline.pointAt(sp.s + d);
@@ -79,9 +83,12 @@ std::pair<double, double> truthLine(const StraightPose& sp) {
   return {(su - b * sv) / n, b};
 }
 
-ClusterPerceptron trainedOn(const World& world, const Pose2& pose, double t, ClusterPerceptronOptions o = {}) {
+/// The finder trained on the frame of `world` (rendered from `map`) at `pose`, bootstrapped from the
+/// map's predicted road outline.
+ClusterPerceptron trainedOn(const World& world, const Pose2& pose, double t, ClusterPerceptronOptions o = {},
+                            const Map& map = park()) {
   const Frame f = world.render(cam(), pose, t);
-  const Prediction pred = predictView(park(), pose, cam());
+  const Prediction pred = predictView(map, pose, cam());
   const Image outline = predictedRoadMask(pred.view, cam());
   ClusterPerceptron cp(o);
   cp.trainClusters(f.rgb.data.data(), f.rgb.width, f.rgb.height);
@@ -227,8 +234,8 @@ TEST(ClusterPerceptron, HoughCentreLineOnStraightStretches) {
 
 /// Poses on bends: the centre line's heading turns by at least 10 degrees over the 12 m ahead, with a
 /// radius of curvature of 15 m or more everywhere in between (the park's tightest bends are 15 m).
-std::vector<StraightPose> curvePoses(double step) {
-  std::vector<StraightPose> out;
+std::vector<RoadPose> curvePoses(double step) {
+  std::vector<RoadPose> out;
   for (const Road& road : park().roads()) {
     const Polyline2& line = road.centerline;
     for (double s = 3.0; s + 14.0 < line.length(); s += step) {
@@ -261,7 +268,7 @@ TEST(ClusterPerceptron, ArcModelPremiseRowsSeeOneDistanceAndMapOffsetsAffinely) 
 
 /// The road's true centre line projected into the image, from 2 m behind the pose to 16 m ahead,
 /// every 5 cm (the points the camera sees).
-std::vector<Vec2> truthCurve(const StraightPose& sp) {
+std::vector<Vec2> truthCurve(const RoadPose& sp) {
   std::vector<Vec2> truth;
   for (double d = -2.0; d <= 16.0; d += 0.05)
     if (const auto p = cam().projectGround(sp.pose.inverseTransform(sp.road->centerline.pointAt(sp.s + d))))
@@ -279,7 +286,7 @@ std::optional<double> columnAt(const std::vector<Vec2>& curve, double v) {
 
 /// The worst column error of a found centre curve against the truth (the road's centre line
 /// projected, sampled densely), over the curve's points whose true column is in the image.
-double worstCurveError(const RoadFinding& r, const StraightPose& sp) {
+double worstCurveError(const RoadFinding& r, const RoadPose& sp) {
   const std::vector<Vec2> truth = truthCurve(sp);
   double worst = 0;
   for (const Vec2& p : r.centerline_curve)
@@ -290,7 +297,7 @@ double worstCurveError(const RoadFinding& r, const StraightPose& sp) {
 
 /// The image angle error at the bottom of a found centre curve, degrees: the direction (du/dv) of its
 /// last segment against the truth's (the road's centre line projected) between the same two rows.
-double bottomAngleError(const RoadFinding& r, const StraightPose& sp) {
+double bottomAngleError(const RoadFinding& r, const RoadPose& sp) {
   if (r.centerline_curve.size() < 2) return 180.0;
   const Vec2 a = r.centerline_curve[r.centerline_curve.size() - 2], b = r.centerline_curve.back();
   const std::vector<Vec2> curve = truthCurve(sp);
@@ -307,7 +314,7 @@ double bottomAngleError(const RoadFinding& r, const StraightPose& sp) {
 /// curvature changes in view (a straight running into a bend) or its polyline's 1.5 m chords leave
 /// the circle by their sagitta (1.8 cm on 15 m bends: 7 px at the bottom row's 2 m), no circle
 /// reaches 2 px.
-double bestCircleError(const StraightPose& sp, double v_top) {
+double bestCircleError(const RoadPose& sp, double v_top) {
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   for (double d = -2.0; d <= 16.0; d += 0.1) {
@@ -335,9 +342,14 @@ double bestCircleError(const StraightPose& sp, double v_top) {
 
 /// How many rows of the mask show the road's true edges: rows where a true edge (the centre line
 /// ±1.5 m, projected) is in the image and the mask changes class within 3 px of it, over both
-/// edges; and in how many rows a true edge is in the image.
-std::pair<int, int> trueEdgeRowsInMask(const Image& mask, const StraightPose& sp) {
+/// edges (`shown`); in how many rows a true edge is in the image (`in_image`); and the ground distance
+/// ahead of the nearest edge shown (`nearest_m`, infinite when none is).
+struct EdgeRows {
   int shown = 0, in_image = 0;
+  double nearest_m = std::numeric_limits<double>::infinity();
+};
+EdgeRows trueEdgeRowsInMask(const Image& mask, const RoadPose& sp) {
+  EdgeRows rows;
   for (const double side : {1.5, -1.5}) {
     int last = -1;
     for (double d = -2.0; d <= 16.0; d += 0.05) {
@@ -348,37 +360,104 @@ std::pair<int, int> trueEdgeRowsInMask(const Image& mask, const StraightPose& sp
       const int v = static_cast<int>(std::lround(p->y())), u = static_cast<int>(std::lround(p->x()));
       if (v == last || v < 0 || v >= mask.height || u < 3 || u > mask.width - 4) continue;
       last = v;
-      ++in_image;
+      ++rows.in_image;
       bool change = false;
       for (int k = u - 2; k <= u + 3; ++k)
         change = change || mask.data[static_cast<std::size_t>(v) * mask.width + k] !=
                                mask.data[static_cast<std::size_t>(v) * mask.width + k - 1];
-      shown += change;
+      rows.shown += change;
+      if (change) rows.nearest_m = std::min(rows.nearest_m, sp.pose.inverseTransform(g).x());
     }
   }
-  return {shown, in_image};
+  return rows;
+}
+
+/// The column error of a found centre curve at its first (top) row against the truth (the road's
+/// centre line projected); 0 where the true centre is outside the image on that row (on tight bends
+/// it leaves the image's side), as in worstCurveError(); 1e9 when the truth does not cross that row.
+double topRowError(const RoadFinding& r, const RoadPose& sp) {
+  if (r.centerline_curve.empty()) return 1e9;
+  const Vec2 top = r.centerline_curve.front();
+  const auto u = columnAt(truthCurve(sp), top.y());
+  if (!u) return 1e9;
+  return *u >= 0 && *u < cam().width() ? std::abs(top.x() - *u) : 0.0;
+}
+
+/// For looking at a frame (ARC_PNG_DIR set): <dir>/frame_<i>.png, the frame with the true centre line
+/// (green) and edges (yellow), the arc model's curve (red) and the straight model's (blue), beside the
+/// arc model's mask and the true road mask.
+void writeArcPicture(const std::string& dir, std::size_t i, const Frame& f, const RoadFinding& arc,
+                     const RoadFinding& line, const RoadPose& sp) {
+  Image pic(3 * f.rgb.width, f.rgb.height, 3);
+  for (int v = 0; v < f.rgb.height; ++v)
+    for (int u = 0; u < f.rgb.width; ++u) {
+      std::copy_n(f.rgb.pixel(u, v), 3, pic.pixel(u, v));
+      std::fill_n(pic.pixel(f.rgb.width + u, v), 3, arc.mask.empty() ? 0 : arc.mask.pixel(u, v)[0]);
+      std::fill_n(pic.pixel(2 * f.rgb.width + u, v), 3, f.mask.pixel(u, v)[0]);
+    }
+  const auto dot = [&](double u, double v, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+    const int iu = static_cast<int>(std::lround(u)), iv = static_cast<int>(std::lround(v));
+    for (const int side : {0, f.rgb.width})
+      if (iu >= 0 && iu < f.rgb.width && iv >= 0 && iv < f.rgb.height) {
+        std::uint8_t* p = pic.pixel(iu + side, iv);
+        p[0] = r;
+        p[1] = g;
+        p[2] = b;
+      }
+  };
+  const auto draw = [&](const std::vector<Vec2>& curve, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+    for (std::size_t k = 1; k < curve.size(); ++k)
+      for (double t = 0; t <= 1.0; t += 0.02)
+        dot(curve[k - 1].x() + t * (curve[k].x() - curve[k - 1].x()), curve[k - 1].y() + t * (curve[k].y() - curve[k - 1].y()),
+            r, g, b);
+  };
+  draw(truthCurve(sp), 0, 255, 0);
+  for (const double side : {1.5, -1.5}) {  // the road's true edges
+    std::vector<Vec2> edge;
+    for (double d = -2.0; d <= 16.0; d += 0.05) {
+      const Vec2 t = sp.road->centerline.tangentAt(sp.s + d);
+      if (const auto p = cam().projectGround(sp.pose.inverseTransform(sp.road->centerline.pointAt(sp.s + d) + side * Vec2(-t.y(), t.x()))))
+        edge.push_back(*p);
+    }
+    draw(edge, 255, 255, 0);
+  }
+  draw(line.centerline_curve, 0, 0, 255);
+  draw(arc.centerline_curve, 255, 0, 0);
+  char name[32];
+  std::snprintf(name, sizeof name, "/frame_%03zu.png", i);
+  writePng(pic, dir + name);
 }
 
 /// Per frame, the worst column error of the arc model's and of the straight model's centre curve
 /// (each retrained on the first frame of each road, frozen along it), the arc's curvature, its
 /// angle error at the bottom row, the first row of its curve, and whether it found a centre line
-/// (failed frames count as an error of 1e9 px).
+/// (failed frames count as an error of 1e9 px); the top-row offsets (topRowError()) of both models
+/// and the straight model's bottom angle error.
 struct ArcVsLine {
-  std::vector<double> arc, line, curvature, angle, v_top;
-  std::vector<std::pair<int, int>> edge_rows;  // trueEdgeRowsInMask() of the arc model's mask
+  std::vector<double> arc, line, curvature, angle, v_top, top, line_top, line_angle;
+  std::vector<double> bottom_sd;  // the arc model's RoadFinding::bottom_column_sd
+  std::vector<EdgeRows> edge_rows;  // trueEdgeRowsInMask() of the arc model's mask
   std::vector<std::size_t> failed;
   std::vector<std::string> failed_reason;
 };
-ArcVsLine arcVsLine(const std::vector<StraightPose>& poses) {
-  const World world(park(), parkWorld());
+/// With `bootstrap_s`, each road's models are trained on the frame at that arc length of the road (on
+/// its centre line, looking along it) instead of on the road's first pose.
+ArcVsLine arcVsLine(const std::vector<RoadPose>& poses, const Map& map = park(),
+                    std::optional<double> bootstrap_s = std::nullopt) {
+  const World world(map, parkWorld());
   ClusterPerceptronOptions o;
   o.road_model = RoadModel::Arc;
   std::optional<ClusterPerceptron> arc, line;
   ArcVsLine out;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     if (i == 0 || poses[i].road != poses[i - 1].road) {
-      arc = trainedOn(world, poses[i].pose, static_cast<double>(i), o);
-      line = trainedOn(world, poses[i].pose, static_cast<double>(i));
+      Pose2 at = poses[i].pose;
+      if (bootstrap_s) {
+        const Vec2 t = poses[i].road->centerline.tangentAt(*bootstrap_s);
+        at = Pose2(poses[i].road->centerline.pointAt(*bootstrap_s), std::atan2(t.y(), t.x()));
+      }
+      arc = trainedOn(world, at, static_cast<double>(i), o, map);
+      line = trainedOn(world, at, static_cast<double>(i), {}, map);
     }
     const Frame f = world.render(cam(), poses[i].pose, static_cast<double>(i));
     const RoadFinding ra = arc->find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
@@ -391,9 +470,14 @@ ArcVsLine arcVsLine(const std::vector<StraightPose>& poses) {
     out.arc.push_back(ra.ok ? worstCurveError(ra, poses[i]) : 1e9);
     out.line.push_back(rl.ok ? worstCurveError(rl, poses[i]) : 1e9);
     out.curvature.push_back(ra.curvature);
+    out.bottom_sd.push_back(ra.bottom_column_sd);
     out.angle.push_back(ra.ok ? bottomAngleError(ra, poses[i]) : 180.0);
     out.v_top.push_back(ra.ok ? ra.centerline_curve.front().y() : 0.0);
     out.edge_rows.push_back(trueEdgeRowsInMask(ra.mask, poses[i]));
+    out.top.push_back(ra.ok ? topRowError(ra, poses[i]) : 1e9);
+    out.line_top.push_back(rl.ok ? topRowError(rl, poses[i]) : 1e9);
+    out.line_angle.push_back(rl.ok ? bottomAngleError(rl, poses[i]) : 180.0);
+    if (const char* dir = std::getenv("ARC_PNG_DIR")) writeArcPicture(dir, i, f, ra, rl, poses[i]);
   }
   return out;
 }
@@ -403,22 +487,26 @@ double quantile(std::vector<double> v, double q) {
   return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
 }
 
-// Beyond the paper (§9): with the ground-arc model the found centre curve follows bends of radius
-// >= 15 m far better than the paper's straight model, which cuts them. Measured per frame: the
-// worst column error over the block rows where the road's centre is in the image. The circle fitted
-// to the edges on the ground, started from the image fit and from a consensus of exact circles on the
-// ground, each required to keep the vehicle on the road, puts the median frame within 3.2 px and
-// three frames in four within 11 px. Measured: median 3.12, 75 % 10.24, 90 % 60.1 px, worst found
-// 269 px, 2 frames failed (no centre line puts the vehicle on the road; before that rule they were
-// answered 1500 and 715 px off); 39 frames <= 2 px, 59 <= 3 px, 78 <= 5 px, 92 <= 10 px; angle error
-// at the bottom row median 1.41 deg, <= 1 deg on 48 frames. NOT the 2 px everywhere, and the
-// test prints each frame off it with its cause: on 39 frames no circle on the ground comes within
-// 2 px of the true centre line (bestCircleError(): a straight running into a bend, up to 22 px; the
-// map's 1.5 m chords on 15 m bends, 3.0-3.6 px); on the 86 where a circle can, the arc model meets
-// 2 px on 36. The rest miss because the mask shows under half of the road's true edge rows
-// (shoulders classed as road; the boundary beyond the shoulder is then fitted as the road's edge) or,
-// with the edges in view, the circle is extrapolated from the edges (seen only beyond ~4.5 m: the
-// 3 m road fills the image, 1.4 m wide at the bottom) to the bottom rows, where 1 cm is 3.7 px.
+// Beyond the paper (§9): with the ground-arc model the found centre curve follows the park map's real
+// bends far better than the paper's straight model, which cuts them. These bends are not the issue's
+// "curves of radius >= 15 m" as written: many frames see a straight running into a bend (curvature
+// changing in view) and the map's curves are polylines of 1.5 m chords; the item as written is
+// measured on true circles by ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves. Measured per frame
+// here: the worst column error over the block rows where the road's centre is in the image. The
+// circle fitted to the edges on the ground, started from the image fit and from a consensus of exact
+// circles on the ground, each required to keep the vehicle on the road, puts the median frame within
+// 3.2 px and three frames in four within 10 px. Measured: median 3.12, 75 % 9.91, 90 % 49.7 px, worst
+// found 386 px (frame 105, which failed before the ground consensus drew 1000 samples instead of 300),
+// 1 frame failed (no centre line puts the vehicle on the road); 39 frames <= 2 px, 59 <= 3 px, 80
+// <= 5 px, 94 <= 10 px; angle error at the bottom row median 1.37 deg, <= 1 deg on 49 frames. NOT the
+// issue's 2 px everywhere, and the test prints each frame off it with its cause: on 38 frames no circle
+// on the ground comes within 2 px of the true centre line (bestCircleError(): a straight running into
+// a bend, up to 22 px; the map's 1.5 m chords on 15 m bends, 3.0-3.6 px); on the 87 where a circle
+// can, the arc model meets 2 px on 36. The rest miss because the mask shows under half of the road's
+// true edge rows (shoulders classed as road; the boundary beyond the shoulder is then fitted as the
+// road's edge) or, with the edges in view, the circle is extrapolated from the edges (seen only beyond
+// ~4.5 m: the 3 m road fills the image, 1.4 m wide at the bottom) to the bottom rows, where 1 cm is
+// 3.7 px.
 TEST(ClusterPerceptron, ArcModelFollowsCurves) {
   const auto poses = curvePoses(3.0);
   ASSERT_GE(poses.size(), 100u);
@@ -450,11 +538,11 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
     if (e.arc[i] <= 2.0) continue;
     const char* cause = e.arc[i] >= 1e9 ? "failed: no centre line puts the vehicle on the road"
                         : best > 2.0   ? "no circle within 2 px of the truth (curvature changing in view, or 15 m bends' chords)"
-                        : 2 * e.edge_rows[i].first < e.edge_rows[i].second ? "the mask shows under half the true edges' rows"
+                        : 2 * e.edge_rows[i].shown < e.edge_rows[i].in_image ? "the mask shows under half the true edges' rows"
                                                                               : "circle off the edges' circle";
     std::printf("  frame %3zu: %7.2f px, bottom angle %5.2f deg, best circle %6.2f px, true edge rows in the mask "
                 "%3d / %3d: %s\n",
-                i, e.arc[i], e.angle[i], best, e.edge_rows[i].first, e.edge_rows[i].second, cause);
+                i, e.arc[i], e.angle[i], best, e.edge_rows[i].shown, e.edge_rows[i].in_image, cause);
   }
   const auto angle_within = [&](double deg) { return std::count_if(e.angle.begin(), e.angle.end(), [&](double x) { return x <= deg; }); };
   std::printf("a circle reaches 2 px on %d frames, the arc model meets 2 px on %d of them; bottom-row angle error "
@@ -477,8 +565,8 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
 
 // On straight stretches the arc model is no worse than the straight one: where the curvature does
 // not pay for its parameter (BIC on the edges' residuals) the line on the ground is kept. Measured:
-// arc median 0.26 px, 75 % 1.30, 90 % 3.55, worst 150 px; <= 2 px on 19 of 24, <= 3 px on 20, <= 5 px
-// on 22, <= 10 px on 23; bottom-row angle median 0.02 deg (worst 23 deg, the worst frame's); line
+// arc median 0.26 px, 75 % 1.30, 90 % 3.55, worst 166 px; <= 2 px on 19 of 24, <= 3 px on 20, <= 5 px
+// on 22, <= 10 px on 23; bottom-row angle median 0.02 deg (worst 26 deg, the worst frame's); line
 // median 2.82 px, worst 495 px. The arc's worst frame is a circle through 43 rows of the right edge,
 // seen only in the top right corner (the left shoulder is classed as road), extrapolated to the bottom;
 // it keeps the vehicle on the road, so the on-road rule does not reject it.
@@ -502,6 +590,172 @@ TEST(ClusterPerceptron, ArcModelOnStraightStretches) {
   EXPECT_LE(quantile(e.arc, 0.5), quantile(e.line, 0.5));
   EXPECT_LE(quantile(e.arc, 1.0), quantile(e.line, 1.0));
   EXPECT_GE(as_good, static_cast<int>(0.85 * static_cast<double>(e.arc.size())));
+}
+
+/// Scenes of true circular curves, the "curves of radius >= 15 m": for each radius of
+/// kCircleRadii a left and a right turn (in that order), each a road of the park's 3 m asphalt between
+/// grass: kCircleLeadIn m straight (where the finder is bootstrapped, §4: the outline a trapezoid),
+/// then kCircleLength m of the circle, tangent to it. The centre line sampled every 0.2 m (sagitta
+/// 0.2² / 8R: 0.33 mm on 15 m); each road 300 m from the next so that none sees another. 41 m of a
+/// 15 m circle turn 157 degrees: the road behind a pose never comes back into view.
+constexpr double kCircleRadii[] = {15.0, 20.0, 30.0, 50.0};
+constexpr double kCircleLeadIn = 14.0, kCircleLength = 41.0;
+const Map& circles() {
+  static const Map map = [] {
+    MapData data;
+    data.name = "circular curves";
+    data.surfaces = park().data().surfaces;
+    int k = 0;
+    for (const double radius : kCircleRadii)
+      for (const double turn : {1.0, -1.0}) {  // left, right
+        const Vec2 o(0.0, 300.0 * k);
+        std::vector<Vec2> pts;
+        for (int j = 0; j < static_cast<int>(kCircleLeadIn / 0.2); ++j) pts.push_back(o + Vec2(0.2 * j, 0.0));
+        const int n = static_cast<int>(std::ceil(kCircleLength / 0.2));
+        for (int j = 0; j <= n; ++j) {
+          const double a = kCircleLength * j / n / radius;
+          pts.push_back(o + Vec2(kCircleLeadIn + radius * std::sin(a), turn * radius * (1.0 - std::cos(a))));
+        }
+        const std::string id = std::to_string(k);
+        data.intersections.push_back({"A" + id, IntersectionKind::End, pts.front(), std::nullopt});
+        data.intersections.push_back({"B" + id, IntersectionKind::End, pts.back(), std::nullopt});
+        Road road;
+        road.id = "C" + id;
+        road.from = "A" + id;
+        road.to = "B" + id;
+        road.centerline = Polyline2(pts);
+        road.width = 3.0;
+        road.surface = "asphalt";
+        road.left = road.right = "grass";
+        data.roads.push_back(road);
+        ++k;
+      }
+    return Map(data, "circular curves");
+  }();
+  return map;
+}
+
+/// Poses on the circles every `step` m, from 2 m into the circle to 17 m before the road's end (the
+/// centre line is the circle from 2 m behind to 16 m ahead, all the camera sees: its top row is 12 m
+/// ahead), with lateral (±0.2 m) and heading (±2 degrees) offsets in a fixed pattern, as straightPoses().
+std::vector<RoadPose> circlePoses(double step) {
+  std::vector<RoadPose> out;
+  int k = 0;
+  const double lateral[] = {0.0, 0.2, -0.2, 0.1};
+  const double dheading[] = {0.0, 2.0, -2.0, 1.0};
+  for (const Road& road : circles().roads()) {
+    const Polyline2& line = road.centerline;
+    for (double s = kCircleLeadIn + 2.0; s + 17.0 <= line.length() + 1e-9; s += step, ++k) {
+      const Vec2 t = line.tangentAt(s), left(-t.y(), t.x());
+      const double heading = std::atan2(t.y(), t.x()) + dheading[k % 4] * std::numbers::pi / 180.0;
+      out.push_back({Pose2(line.pointAt(s) + lateral[k % 4] * left, heading), &road, s});
+    }
+  }
+  return out;
+}
+
+// The item as written: on curves of constant radius >= 15 m (circles(): true circles of 15,
+// 20, 30 and 50 m, left and right, 3 m asphalt between grass, the park's shadows; 11 poses on each,
+// ±0.2 m and ±2 deg off the centre line) the arc model's centre line within 2 px of the truth (the
+// worst column error over the curve's rows where the true centre is in the image; the top-row offset
+// is one of them, counted where the true centre is in the image on that row: on 15 m bends it leaves
+// the image's side above) and its image angle at the bottom row within 1 degree. The finder is
+// bootstrapped on each road's straight lead-in (§4: a trapezoid outline). Bootstrapped on the circle
+// itself, the outline touches the image's sides in every row, its per-row widths are the clipped
+// extents (1.4-2.8 m of the 3 m road), and the centre lines are put decimetres off the road's edge's
+// (median worst column error 137-209 px per radius, measured before the change to 1000 draws).
+// Measured: within 2 px and 1 deg on 81 of 88 frames, within 4 px and 1.1 deg on 87; per radius (arc
+// | straight model, worst column error median / max): 15 m 0.40 / 3.51 px | 95 / 732 px, 20 m 0.35 /
+// 1.23 | 104 / 989, 30 m 0.34 / 136 | 88 / 605, 50 m 0.28 / 2.16 | 61 / 207; bottom angle max 1.02,
+// 0.52, 20.3, 0.33 deg; top-row offset max 0.21 px (20 m), 2.65 (30 m), 0.28 (50 m). NOT every frame:
+// six miss by 2.1-3.5 px, each seeing the road's edges only from 5-8 m ahead (the 3 m road fills the
+// image below), so that the circle is extrapolated to the bottom row 2 m ahead, where 1 cm is 3.7 px;
+// one (30 m, right) misses by 136 px: shadowed grass classed as road hides all but the top 51 rows
+// of the outer edge, and a circle through the shadows' outline gathers more edges.
+// The six are the edges' information, not the fit's: their edges lie on the true edge with the pixel
+// quantisation's spread alone (measured against the projected true edges: mean 0.00-0.06 px, RMS
+// 0.27-0.30 px on frames 1, 5, 19, 63 (its 51 rows); 0.4-1.3 px on 62, 64, 69), and least squares on
+// them leaves the bottom row's column a standard error (RoadFinding::bottom_column_sd) of 0.84-6.0
+// px; each miss is within three of its standard errors, which the test asserts. Tried and not kept
+// (measured on this test): minimising Σ|r|⁴ over the edges within 1 px of the fit (for uniform
+// quantisation noise it converges faster than least squares): 56 of 88 (the mask's edges are not
+// independent uniform errors, and the largest residuals are its ragged runs); penalising a circle
+// for each row where its edge falls in the image but the mask holds road on both sides of it: 75 of
+// 88 and one failed frame (shadowed grass classed as road beyond the true edge contradicts the true
+// circle on most 15-20 m frames), frame 63 136 -> 59 px; MSAC in the ground consensus (per row side
+// Σ(2² − r²)⁺): 81 of 88 unchanged, frame 63's shadow circle still scores higher than the true one
+// (ArcModelOnStraightStretches' worst 166 -> 5.8 px, but ArcModelFollowsCurves <= 2/3/5/10 px each
+// one frame fewer). Frame 63 wants a mask that tells the shadowed grass from the road, not another
+// fit: by edge count and by residual the shadows' outline is the better circle, and the mask's own
+// classes (road beyond the true edge) move the fit only to 59 px. The road filling the image below
+// the nearest edge bounds the centre only to ±0.8 m at the bottom row (the 3 m road against the
+// image's 1.4 m): no help at 1 cm.
+TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
+  const auto poses = circlePoses(2.0);
+  ASSERT_EQ(poses.size(), 8u * 11u);
+  const ArcVsLine e = arcVsLine(poses, circles(), 0.5);
+  const auto radiusOf = [&](std::size_t i) {
+    return kCircleRadii[static_cast<std::size_t>(poses[i].road - circles().roads().data()) / 2];
+  };
+  for (const double radius : kCircleRadii) {
+    std::vector<double> arc, top, angle, line, line_top, line_angle;
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      if (radiusOf(i) != radius) continue;
+      arc.push_back(e.arc[i]);
+      top.push_back(e.top[i]);
+      angle.push_back(e.angle[i]);
+      line.push_back(e.line[i]);
+      line_top.push_back(e.line_top[i]);
+      line_angle.push_back(e.line_angle[i]);
+    }
+    std::printf("radius %2.0f m, %zu frames: arc model worst column error median %.2f px, max %.2f px; top-row offset "
+                "max %.2f px; bottom angle max %.2f deg | straight model median %.2f px, max %.2f px; top-row max "
+                "%.2f px; bottom angle max %.2f deg\n",
+                radius, arc.size(), quantile(arc, 0.5), quantile(arc, 1.0), quantile(top, 1.0), quantile(angle, 1.0),
+                quantile(line, 0.5), quantile(line, 1.0), quantile(line_top, 1.0), quantile(line_angle, 1.0));
+  }
+  // Every frame off 2 px or 1 degree, with its cause: where the mask shows under half the rows of the
+  // road's true edges (shadowed grass classed as road), the boundary beyond them can gather more edges
+  // than the road's; else the circle is extrapolated from the nearest edge the mask shows to the
+  // bottom row, 2 m ahead, where 1 cm is 3.7 px.
+  int met = 0, within4 = 0, top_met = 0, arc_better = 0;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    met += e.arc[i] <= 2.0 && e.angle[i] <= 1.0;
+    within4 += e.arc[i] <= 4.0 && e.angle[i] <= 1.1;
+    top_met += e.top[i] <= 2.0;
+    arc_better += e.arc[i] < e.line[i];
+    if (e.arc[i] <= 2.0 && e.angle[i] <= 1.0) continue;
+    const EdgeRows& er = e.edge_rows[i];
+    std::printf("  frame %2zu (radius %2.0f m, %s, s %4.1f m): column %7.2f px, top row %5.2f px, bottom angle %5.2f deg, "
+                "curvature %.4f 1/m; true edge rows in the mask %3d / %3d, the nearest %.1f m ahead; the edges' "
+                "quantisation alone leaves the bottom row's column a standard error of %.2f px: %s\n",
+                i, radiusOf(i), (poses[i].road - circles().roads().data()) % 2 == 0 ? "left" : "right", poses[i].s,
+                e.arc[i], e.top[i], e.angle[i], e.curvature[i], er.shown, er.in_image, er.nearest_m, e.bottom_sd[i],
+                e.arc[i] > 4.0 && 2 * er.shown < er.in_image ? "the mask shows under half the true edges' rows"
+                                                             : "extrapolated from the edges seen to the bottom row");
+    // A miss with the road's edges in the mask is the extrapolation's: within three of its standard
+    // errors from quantisation alone (no fit to these edges can be sure of the bottom row's 2 px).
+    if (!(e.arc[i] > 4.0 && 2 * er.shown < er.in_image)) {
+      EXPECT_LE(e.arc[i], 3.0 * e.bottom_sd[i]) << "frame " << i;
+    }
+  }
+  std::printf("within 2 px and 1 deg on %d of %zu frames, within 4 px and 1.1 deg on %d; top-row offset <= 2 px on %d; "
+              "the arc better than the straight model on %d\n",
+              met, poses.size(), within4, top_met, arc_better);
+  EXPECT_TRUE(e.failed.empty());
+  EXPECT_GE(met, 81);
+  EXPECT_GE(within4, 87);
+  EXPECT_GE(top_met, 87);
+  EXPECT_EQ(arc_better, static_cast<int>(poses.size()));
+  for (const double radius : {30.0, 50.0}) {
+    // On the gentler bends the road's inner edge is in view too: every frame within 3.5 px and 1 degree
+    // but where the mask hides the true edges.
+    for (std::size_t i = 0; i < poses.size(); ++i)
+      if (radiusOf(i) == radius && 2 * e.edge_rows[i].shown >= e.edge_rows[i].in_image) {
+        EXPECT_LE(e.arc[i], 3.5) << "frame " << i;
+        EXPECT_LE(e.angle[i], 1.0) << "frame " << i;
+      }
+  }
 }
 
 TEST(ClusterPerceptron, ArcModelFastPathEqualsReference) {
@@ -555,9 +809,9 @@ struct SceneChangeRun {
   double training_error = 0;  // the frozen model's (the adaptive one's before any retraining)
 };
 SceneChangeRun runSceneChange(const World& before, const World& after, std::size_t change, std::size_t frames) {
-  std::vector<StraightPose> poses;
+  std::vector<RoadPose> poses;
   const auto all = straightPoses(1.5);
-  for (const StraightPose& sp : all)
+  for (const RoadPose& sp : all)
     if (sp.road == all.front().road && poses.size() < frames) poses.push_back(sp);
   EXPECT_EQ(poses.size(), frames);
   ClusterPerceptronOptions o;

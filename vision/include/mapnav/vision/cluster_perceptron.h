@@ -127,6 +127,11 @@ struct RoadFinding {
   int clusters_added = 0;       ///< clusters the retraining added (a new colour in view)
   bool refined = false;      ///< the edge refinement found enough edge rows and moved the line
   int edge_rows = 0;         ///< rows with an edge that the refinement used
+  /// Arc model, refined: the standard error (pixels) of the centre line's column at the bottom row that
+  /// the edges' pixel quantisation alone leaves (σ = 1/√12 px per edge, least squares on the edges the
+  /// fit used). Where the mask shows the road's edges only far ahead it is pixels: the bottom row's
+  /// column is extrapolated. 0 when not refined.
+  double bottom_column_sd = 0;
   Image mask;                ///< 1 channel, 255 = perceptron output > 0
 };
 
