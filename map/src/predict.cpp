@@ -236,25 +236,11 @@ Polygon2 withinRange(const Polygon2& footprint, const Vec2& camera, double far) 
   });
 }
 
-// The view footprint within range, in the vehicle frame: it depends on the camera and the range
-// alone, not on the pose, so the last one is kept (per thread) and reused while they stay the same.
-// Building it (an exact intersection with a 96-gon) was about a third of predictView on the missions.
+// The view footprint within range, in the vehicle frame.
 Polygon2 vehicleFootprint(const Camera& camera, double near_m, double far_m) {
-  struct Last {
-    LensModel model{};
-    CameraIntrinsics intrinsics;
-    CameraMount mount;
-    double near_m = -1, far_m = -1;
-    Polygon2 footprint;
-  };
-  thread_local std::optional<Last> last;
-  if (!last || last->model != camera.model() || !(last->intrinsics == camera.intrinsics()) ||
-      !(last->mount == camera.mount()) || last->near_m != near_m || last->far_m != far_m) {
-    Polygon2 footprint = viewFootprint(camera, near_m, far_m);
-    if (footprint.size() >= 3) footprint = withinRange(footprint, camera.center().head<2>(), far_m);
-    last = Last{camera.model(), camera.intrinsics(), camera.mount(), near_m, far_m, std::move(footprint)};
-  }
-  return last->footprint;
+  Polygon2 footprint = viewFootprint(camera, near_m, far_m);
+  if (footprint.size() >= 3) footprint = withinRange(footprint, camera.center().head<2>(), far_m);
+  return footprint;
 }
 
 }  // namespace
@@ -268,6 +254,25 @@ struct ViewPredictor::Store {
   };
   std::unordered_map<const Road*, Parts> roads;
   std::unordered_map<const Intersection*, Parts> intersections;
+
+  // The view footprint within range (vehicle frame) of the last camera: it depends on the camera
+  // and the options' range alone, not on the pose, so it is kept while the camera stays the same.
+  // Building it (an exact intersection with a 96-gon) was about a third of a frame's prediction.
+  struct Footprint {
+    LensModel model{};
+    CameraIntrinsics intrinsics;
+    CameraMount mount;
+    Polygon2 ring;
+  };
+  std::optional<Footprint> footprint;
+
+  const Polygon2& footprintOf(const Camera& camera, const PredictOptions& options) {
+    if (!footprint || footprint->model != camera.model() || !(footprint->intrinsics == camera.intrinsics()) ||
+        !(footprint->mount == camera.mount()))
+      footprint = Footprint{camera.model(), camera.intrinsics(), camera.mount(),
+                            vehicleFootprint(camera, options.near_m, options.far_m)};
+    return footprint->ring;
+  }
 
   const Parts& of(const Road& road, const Predictor& predictor, const Map& map, const PredictOptions& options) {
     if (const auto it = roads.find(&road); it != roads.end()) return it->second;
@@ -295,7 +300,7 @@ Prediction ViewPredictor::predict(const Pose2& pose, const Camera& camera) {
   const PredictOptions& options = options_;
   Prediction out;
   out.pose = pose;
-  out.view.footprint = vehicleFootprint(camera, options.near_m, options.far_m);
+  out.view.footprint = store_->footprintOf(camera, options);
   if (out.view.footprint.size() < 3) {
     out.view.footprint.clear();
     return out;

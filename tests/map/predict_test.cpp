@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <set>
-#include <thread>
 
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
@@ -266,8 +265,8 @@ TEST(PredictView, OnAGridLookingAlongARoadSeesItsEdges) {
 }
 
 TEST(PredictView, TheFootprintFollowsTheCameraAndTheRange) {
-  // predictView keeps the last footprint (in the vehicle frame) for its camera and range: another
-  // tilt or range right after must give what a first call (a new thread: nothing kept) gives.
+  // A ViewPredictor keeps the last camera's footprint (in the vehicle frame): another tilt right
+  // after must give what a fresh predictor gives, and so must another range (another predictor).
   const Map map = [] {
     GridMapOptions o;
     o.columns = o.rows = 3;
@@ -278,20 +277,19 @@ TEST(PredictView, TheFootprintFollowsTheCameraAndTheRange) {
   PredictOptions shorter;
   shorter.far_m = 6.0;
   const auto fresh = [&](const Camera& camera, const PredictOptions& options) {
-    Polygon2 footprint;
-    std::thread([&] { footprint = predictView(map, pose, camera, options).view.footprint; }).join();
-    return footprint;
+    return ViewPredictor(map, options).predict(pose, camera).view.footprint;
   };
   const Polygon2 steep_first = fresh(*steep, {}), shallow_first = fresh(*shallow, {});
   const Polygon2 short_first = fresh(*shallow, shorter);
   ASSERT_GE(steep_first.size(), 3u);
   EXPECT_NE(steep_first, shallow_first);  // the tilt moves the footprint
   EXPECT_NE(shallow_first, short_first);  // and so does the range
-  EXPECT_EQ(predictView(map, pose, *steep).view.footprint, steep_first);
-  EXPECT_EQ(predictView(map, Pose2(4, 1, 0.5), *steep).view.footprint, steep_first);  // not the pose
-  EXPECT_EQ(predictView(map, pose, *shallow).view.footprint, shallow_first);
-  EXPECT_EQ(predictView(map, pose, *shallow, shorter).view.footprint, short_first);
-  EXPECT_EQ(predictView(map, pose, *steep).view.footprint, steep_first);
+  ViewPredictor kept(map), kept_shorter(map, shorter);
+  EXPECT_EQ(kept.predict(pose, *steep).view.footprint, steep_first);
+  EXPECT_EQ(kept.predict(Pose2(4, 1, 0.5), *steep).view.footprint, steep_first);  // not the pose
+  EXPECT_EQ(kept.predict(pose, *shallow).view.footprint, shallow_first);
+  EXPECT_EQ(kept_shorter.predict(pose, *shallow).view.footprint, short_first);
+  EXPECT_EQ(kept.predict(pose, *steep).view.footprint, steep_first);
 }
 
 // Two predictions are the same, to the last bit.

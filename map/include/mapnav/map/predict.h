@@ -58,12 +58,13 @@ struct Prediction {
 
 /// Predicted views of one map with one set of options, frame after frame. What does not depend on
 /// the pose — each road's and intersection's interest segments, simplified centre line and simple
-/// pieces — is worked out the first time the road or intersection comes into view and kept, so a
+/// pieces — is worked out the first time the road or intersection comes into view and kept, and so
+/// is the view footprint of the last camera (it depends on the camera and the range alone), so a
 /// frame pays for clipping to its footprint only. The answers are predictView's.
 ///
 /// It keeps a reference to `map`, which must outlive it and not change while it lives (the kept
 /// work is the map's); the options are copied (and validated: InvalidInput for bad ones). The store
-/// holds at most one entry per road and intersection. Not safe to share between threads: predict()
+/// holds at most one entry per road and intersection, and one footprint. Not safe to share between threads: predict()
 /// fills the store (use one per thread). A moved-from predictor may only be assigned to or destroyed.
 class ViewPredictor {
  public:
