@@ -65,6 +65,7 @@ void ClusterPerceptronOptions::validate() const {
   requireOption(min_road_fraction >= 0 && min_road_fraction <= 1, o, "min_road_fraction", min_road_fraction,
                 "in [0, 1]");
   requireOption(std::isfinite(prior_px) && prior_px >= 0, o, "prior_px", prior_px, ">= 0");
+  requireOption(carry_frames >= 0 && carry_frames <= 64, o, "carry_frames", carry_frames, "in [0, 64]");
 }
 
 std::string toString(RoadModel model) { return model == RoadModel::Arc ? "arc" : "line"; }
@@ -923,15 +924,22 @@ bool onRoad(const GroundArc& arc, double w) { return std::abs(arc.y0) <= 0.5 * w
 /// Edge consensus on the ground (RANSAC, seeded): the circle whose road edges pass exactly through three
 /// edge candidates in rows at least 16 apart (Gauss-Newton from the ground parabola y = y0 + t·x + c·x²/2
 /// through them, each moved half the width to the centre: θ = atan t, κ = c·cos³θ), kept when more
-/// rows' edges lie within 2 px of it than of `start` (up to 1000 draws). The image's consensus fits a
+/// rows' edges (and `carried` edges of earlier frames) lie within 2 px of it than of `start` (up to 1000
+/// draws). The image's consensus fits a
 /// parabola in the image, which on 15 m bends misses the far edges by more than its tolerance, so that
 /// the refinement from it can lock onto a few stray edges; this one finds where most of the road's
 /// edges are.
-GroundArc groundConsensus(const std::vector<GroundEdge>& edges, double w, const GroundArc& start,
-                          double max_curvature, std::uint64_t seed) {
+GroundArc groundConsensus(const std::vector<GroundEdge>& edges, const std::vector<GroundEdge>& carried, double w,
+                          const GroundArc& start, double max_curvature, std::uint64_t seed) {
   constexpr double tol = 2.0;
+  const auto support = [&](const GroundArc& h) {
+    const double c = std::cos(h.th), s = std::sin(h.th);
+    return groundSupport(edges, w, h, tol) + static_cast<int>(std::count_if(carried.begin(), carried.end(), [&](const GroundEdge& e) {
+             return std::abs(edgeResidual(h, w, e, c, s)) <= tol;
+           }));
+  };
   GroundArc best = start;
-  int best_n = onRoad(start, w) ? groundSupport(edges, w, start, tol) : -1;
+  int best_n = onRoad(start, w) ? support(start) : -1;
   if (edges.size() < 3) return best;
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<std::size_t> pick(0, edges.size() - 1);
@@ -965,11 +973,11 @@ GroundArc groundConsensus(const std::vector<GroundEdge>& edges, double w, const 
     if (!fitGroundArc(three, w, true, std::numeric_limits<double>::infinity(), h, 1) || std::abs(h.k) > max_curvature ||
         !onRoad(h, w))
       continue;
-    const int n = groundSupport(edges, w, h, tol);
+    const int n = support(h);
     if (n > best_n) {
       best_n = n;
       best = h;
-      const double frac = std::min(0.99, static_cast<double>(n) / static_cast<double>(edges.size()));
+      const double frac = std::min(0.99, static_cast<double>(n) / static_cast<double>(edges.size() + carried.size()));
       needed = static_cast<int>(std::ceil(std::log(0.001) / std::log(1.0 - std::pow(frac, 3))));
     }
   }
@@ -1052,13 +1060,16 @@ double bottomColumnSd(const std::vector<GroundEdge>& sel, double w, const Ground
 /// nearest the model's edges, within a tolerance that narrows from 4 to 1 px; the width from the rows
 /// where both edges show, else the bootstrap's), from two starts: the circle nearest the image fit's
 /// (`model`, a ground parabola) and the ground consensus's (groundConsensus()); the one that ends with
-/// more edges wins; a fit that puts the vehicle off the road (onRoad()) does not count. Then the
+/// more edges wins; a fit that puts the vehicle off the road (onRoad()) does not count. Earlier frames'
+/// edges (`carried`, row −1: ClusterPerceptronOptions::carry_frames) join every selection and the
+/// consensus's support where they lie within the tolerance, each as one row side's edge. Then the
 /// straight line fitted to the same edges, kept when the curvature does not pay for its parameter (BIC:
 /// n ln(RSS/n) + p ln n) and it keeps the vehicle on the road. False when too few edges support either
-/// fit.
+/// fit. `used`: the winning fit's edges (this frame's, with their rows, and the carried ones it kept).
 bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top, const CentreModel& model,
                      const RowGeometry& rows, const std::vector<double>& row_widths, double max_curvature,
-                     std::uint64_t seed, GroundArc& arc, int& edge_rows, double& bottom_sd) {
+                     std::uint64_t seed, const std::vector<GroundEdge>& carried, GroundArc& arc, int& edge_rows,
+                     double& bottom_sd, std::vector<GroundEdge>& used) {
   const double w0 = groundWidth(rows, row_widths, v_top, height);
   if (!(w0 > 0) || !groundCircleOf(model, rows, v_top, height, max_curvature, arc)) return false;
   std::vector<GroundEdge> all;
@@ -1103,6 +1114,9 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
         std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
         w = std::clamp(widths[widths.size() / 2], 0.8 * w0, 1.25 * w0);
       }
+      // Earlier frames' edges (v < 0) near the model's edges, as they are: each was one row side's.
+      for (const GroundEdge& e : carried)
+        if (std::abs(edgeResidual(arc, w, e, c, s)) <= tol) sel.push_back(e);
       GroundArc fitted = arc;
       if (!fitGroundArc(sel, w, true, 0.6, fitted)) return false;
       if (std::abs(fitted.k) > max_curvature) {
@@ -1121,7 +1135,7 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
   int rows_used = 0;
   std::vector<GroundEdge> sel;
   bool ok = refine(arc, w, sel, rows_used) && onRoad(arc, w);
-  GroundArc arc2 = groundConsensus(all, w0, arc, max_curvature, seed);
+  GroundArc arc2 = groundConsensus(all, carried, w0, arc, max_curvature, seed);
   double w2 = w0;
   int rows2 = 0;
   std::vector<GroundEdge> sel2;
@@ -1144,6 +1158,7 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
   }
   edge_rows = rows_used;
   bottom_sd = bottomColumnSd(sel, w, arc, rows, height - 1);
+  used.swap(sel);
   return true;
 }
 
@@ -1380,11 +1395,18 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       GroundArc g;
       int edge_rows = 0;
       double bottom_sd = 0;
+      std::vector<GroundEdge> carried, used;
+      for (const auto& frame : carried_)
+        for (const RoadEdgePoint& e : frame) carried.push_back({e.p.x(), e.p.y(), static_cast<double>(e.side), e.px_per_m, -1});
       if (refineGroundArc(cimg, width, height, v_top, model, RowGeometry{row_x_, row_a_, row_b_}, row_widths_,
-                          opt_.max_curvature, opt_.seed, g, edge_rows, bottom_sd)) {
+                          opt_.max_curvature, opt_.seed, carried, g, edge_rows, bottom_sd, used)) {
         res.refined = true;
         res.edge_rows = edge_rows;
         res.bottom_column_sd = bottom_sd;
+        for (const GroundEdge& e : used) {
+          if (e.v < 0) ++res.carried_edges;
+          else res.ground_edges.push_back({Vec2(e.x, e.y), e.side > 0 ? 1 : -1, e.px_per_m});
+        }
         ground = g;
       }
     }
@@ -1503,6 +1525,16 @@ RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int hei
   res.clusters_added = added;
   if (res.ok && (fits || retrained)) trusted_curve_ = res.centerline_curve;
   return res;
+}
+
+void ClusterPerceptron::advance(const RoadFinding& last, const Pose2& motion) {
+  if (opt_.carry_frames == 0) return;
+  carried_.push_back(last.ground_edges);
+  if (static_cast<int>(carried_.size()) > opt_.carry_frames) carried_.erase(carried_.begin());
+  for (auto& frame : carried_) {
+    for (RoadEdgePoint& e : frame) e.p = motion.inverseTransform(e.p);
+    std::erase_if(frame, [](const RoadEdgePoint& e) { return !(e.p.x() >= 0.0); });
+  }
 }
 
 int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int height, double threshold) {

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
+#include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/sim/image.h"
@@ -103,7 +104,25 @@ struct ClusterPerceptronOptions {
   /// the top and the bottom road rows lie within this many pixels of the prior's. 0 = the whole
   /// image (the paper).
   double prior_px = 0;
+  /// Arc model, beyond the paper (as Wallace 1985 §3.2 carries the last frame's edges into the new
+  /// one with the vehicle's motion): the ground fit also uses the road edges that the fits of the
+  /// last carry_frames frames used, moved by ClusterPerceptron::advance(). A frame's edges are its
+  /// mask's pixel boundaries, so that one frame leaves its centre line's column at the bottom row,
+  /// where the road fills the image and the circle is extrapolated from edges 5-8 m ahead, a
+  /// quantisation error of pixels (RoadFinding::bottom_column_sd); edges seen from other poses fall at
+  /// other sub-pixel phases, and those seen far ahead a few frames ago lie near the vehicle now. The
+  /// odometry's error goes into the carried edges. 0 = each frame alone (the paper), in [0, 64].
+  int carry_frames = 0;
   void validate() const;
+};
+
+/// A road edge on the ground as the arc model's fit used it: vehicle frame (m, x ahead, y left), the
+/// road side it bounds (+1 left, −1 right) and its image row's columns per metre of lateral offset
+/// (its weight: the pixel quantisation is the same in every row, its ground size is not).
+struct RoadEdgePoint {
+  Vec2 p = Vec2::Zero();
+  int side = 1;
+  double px_per_m = 0;
 };
 
 /// The result of one runtime frame.
@@ -132,6 +151,9 @@ struct RoadFinding {
   /// fit used). Where the mask shows the road's edges only far ahead it is pixels: the bottom row's
   /// column is extrapolated. 0 when not refined.
   double bottom_column_sd = 0;
+  /// Arc model, refined: this frame's road edges that the ground fit used (not the carried ones).
+  std::vector<RoadEdgePoint> ground_edges;
+  int carried_edges = 0;     ///< arc model: of the carried edges (options().carry_frames), those the fit used
   Image mask;                ///< 1 channel, 255 = perceptron output > 0
 };
 
@@ -184,6 +206,15 @@ class ClusterPerceptron {
   /// pixel in each direction (the last clustering's is trainingError()).
   double reconstructionError(const std::uint8_t* rgb, int width, int height, int stride) const;
   double trainingError() const { return train_error_; }
+  /// Arc model with options().carry_frames > 0: carries `last`'s ground edges (the frame find() or
+  /// track() just returned) and the ones carried before into the next frame, `motion` being the
+  /// vehicle's pose at the next frame in its frame at the last one (odometry). Edges now behind the
+  /// vehicle, and frames older than carry_frames, are dropped. Does nothing with carry_frames 0.
+  void advance(const RoadFinding& last, const Pose2& motion);
+  /// Forgets the carried edges (a new road, a jump in the pose).
+  void clearCarried() { carried_.clear(); }
+  /// The carried edges, oldest frame first.
+  const std::vector<std::vector<RoadEdgePoint>>& carried() const { return carried_; }
 
  private:
   int nearest(float r, float g, float b) const;
@@ -202,6 +233,7 @@ class ClusterPerceptron {
   std::vector<double> row_x_, row_a_, row_b_;
   std::vector<Vec2> trusted_curve_;    // track(): the last centre curve found under a fitting model
   std::vector<double> recent_errors_;  // track(): the training error, then the frames that fitted
+  std::vector<std::vector<RoadEdgePoint>> carried_;  // advance(): earlier frames' edges, this frame's vehicle frame
   /// track()'s cluster adaptation to a frame: adds clusters for colours whose error exceeds
   /// `threshold`, then moves them all; returns the clusters added.
   int adaptClusters(const std::uint8_t* rgb, int width, int height, double threshold);
