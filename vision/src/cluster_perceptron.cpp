@@ -924,19 +924,18 @@ bool onRoad(const GroundArc& arc, double w) { return std::abs(arc.y0) <= 0.5 * w
 /// Edge consensus on the ground (RANSAC, seeded): the circle whose road edges pass exactly through three
 /// edge candidates in rows at least 16 apart (Gauss-Newton from the ground parabola y = y0 + t·x + c·x²/2
 /// through them, each moved half the width to the centre: θ = atan t, κ = c·cos³θ), kept when more
-/// rows' edges (and `carried` edges of earlier frames) lie within 2 px of it than of `start` (up to 1000
-/// draws). The image's consensus fits a
-/// parabola in the image, which on 15 m bends misses the far edges by more than its tolerance, so that
-/// the refinement from it can lock onto a few stray edges; this one finds where most of the road's
-/// edges are.
+/// rows' edges (and `carried` edges of earlier frames) lie within 2 px of it than of `start` (up to
+/// 1000 draws). The image's consensus fits a parabola in the image, which on 15 m bends misses the far
+/// edges by more than its tolerance, so that the refinement from it can lock onto a few stray edges;
+/// this one finds where most of the road's edges are.
 GroundArc groundConsensus(const std::vector<GroundEdge>& edges, const std::vector<GroundEdge>& carried, double w,
                           const GroundArc& start, double max_curvature, std::uint64_t seed) {
   constexpr double tol = 2.0;
   const auto support = [&](const GroundArc& h) {
     const double c = std::cos(h.th), s = std::sin(h.th);
-    return groundSupport(edges, w, h, tol) + static_cast<int>(std::count_if(carried.begin(), carried.end(), [&](const GroundEdge& e) {
-             return std::abs(edgeResidual(h, w, e, c, s)) <= tol;
-           }));
+    int n = groundSupport(edges, w, h, tol);
+    for (const GroundEdge& e : carried) n += std::abs(edgeResidual(h, w, e, c, s)) <= tol;
+    return n;
   };
   GroundArc best = start;
   int best_n = onRoad(start, w) ? support(start) : -1;
@@ -1397,7 +1396,8 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       double bottom_sd = 0;
       std::vector<GroundEdge> carried, used;
       for (const auto& frame : carried_)
-        for (const RoadEdgePoint& e : frame) carried.push_back({e.p.x(), e.p.y(), static_cast<double>(e.side), e.px_per_m, -1});
+        for (const RoadEdgePoint& e : frame)
+          carried.push_back({e.p.x(), e.p.y(), static_cast<double>(e.side), e.px_per_m, -1});
       if (refineGroundArc(cimg, width, height, v_top, model, RowGeometry{row_x_, row_a_, row_b_}, row_widths_,
                           opt_.max_curvature, opt_.seed, carried, g, edge_rows, bottom_sd, used)) {
         res.refined = true;
