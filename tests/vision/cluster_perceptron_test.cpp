@@ -782,10 +782,11 @@ struct DriveFinder {
 /// motion, or what an OdometrySensor of its options reports for it (distance and heading change; dt
 /// = ds at 1 m/s). Evaluated at the 88 arc lengths of circlePoses(2.0), with this drive's offsets;
 /// returns those poses.
-std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders) {
+std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders, std::size_t roads) {
   const World world(circles(), parkWorld());
   std::vector<RoadPose> poses;
-  for (const Road& road : circles().roads()) {
+  for (std::size_t r = 0; r < roads; ++r) {
+    const Road& road = circles().roads()[r];
     const Polyline2& line = road.centerline;
     const Vec2 t0 = line.tangentAt(0.5);
     std::vector<ClusterPerceptron> cps;
@@ -855,6 +856,13 @@ std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders)
 // of 4 m along a 15 m bend moves it 2.4 mm); with calibrated odometry it trades a few frames of 2-5
 // px for a worst case of 1.8-35 px instead of 191; with uncalibrated odometry it does harm. Off by
 // default.
+// Under AddressSanitizer the drive (450 frames rendered) takes over 900 s: there it covers the 15 m
+// left circle alone, and only the per-frame assertions are checked.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
 TEST(ClusterPerceptron, ArcModelWithCarriedEdgesOnCircularCurves) {
   OdometryNoiseOptions calibrated;
   calibrated.seed = 9;
@@ -876,15 +884,15 @@ TEST(ClusterPerceptron, ArcModelWithCarriedEdgesOnCircularCurves) {
     finders[k].odometry->seed = 7 + k;
   }
   finders[7].odometry = park_loop;
-  const auto poses = carriedDrive(0.5, finders);
-  ASSERT_EQ(poses.size(), 88u);
+  const auto poses = carriedDrive(0.5, finders, kSanitized ? 1 : circles().roads().size());
+  ASSERT_EQ(poses.size(), kSanitized ? 11u : 88u);
   for (std::size_t k = 0; k < finders.size(); ++k) {
     const DriveFinder& d = finders[k];
     const std::string name = k == 0 ? "each frame alone" : k == 1 ? "carried, true motion" : k == 7 ? "carried, park_loop's odometry"
                                                                   : "carried, calibrated odometry, seed " + std::to_string(d.odometry->seed);
-    std::printf("%-40s within 2 px and 1 deg on %2d of 88, within 4 px and 1.1 deg on %2d; worst column error median "
+    std::printf("%-40s within 2 px and 1 deg on %2d of %zu, within 4 px and 1.1 deg on %2d; worst column error median "
                 "%.2f px, max %.2f px; bottom angle max %.2f deg; carried edges used median %.0f\n",
-                name.c_str(), d.within(), d.within(4.0, 1.1), quantile(d.column, 0.5), quantile(d.column, 1.0), quantile(d.angle, 1.0),
+                name.c_str(), d.within(), poses.size(), d.within(4.0, 1.1), quantile(d.column, 0.5), quantile(d.column, 1.0), quantile(d.angle, 1.0),
                 quantile(std::vector<double>(d.carried.begin(), d.carried.end()), 0.5));
   }
   for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -894,6 +902,7 @@ TEST(ClusterPerceptron, ArcModelWithCarriedEdgesOnCircularCurves) {
     EXPECT_GT(finders[1].carried[i], 0) << "frame " << i;
     EXPECT_EQ(finders[0].carried[i], 0) << "frame " << i;
   }
+  if (kSanitized) return;
   EXPECT_GE(finders[0].within(), 84);
   EXPECT_LT(finders[0].within(), 88);  // alone, not every frame: what carrying adds
   // Calibrated odometry: within 4 px and 1.1 degrees on 85 or more frames whatever the noise's seed
