@@ -454,8 +454,8 @@ ArcVsLine arcVsLine(const std::vector<RoadPose>& poses, const Map& map = park(),
     if (i == 0 || poses[i].road != poses[i - 1].road) {
       Pose2 at = poses[i].pose;
       if (bootstrap_s) {
-        const Vec2 t = poses[i].road->centerline.tangentAt(*bootstrap_s);
-        at = Pose2(poses[i].road->centerline.pointAt(*bootstrap_s), std::atan2(t.y(), t.x()));
+        const Polyline2& line = poses[i].road->centerline;
+        at = Pose2(line.pointAt(*bootstrap_s), line.headingAt(*bootstrap_s));
       }
       arc = trainedOn(world, at, static_cast<double>(i), o, map);
       line = trainedOn(world, at, static_cast<double>(i), {}, map);
@@ -788,14 +788,13 @@ std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders,
   for (std::size_t r = 0; r < roads; ++r) {
     const Road& road = circles().roads()[r];
     const Polyline2& line = road.centerline;
-    const Vec2 t0 = line.tangentAt(0.5);
     std::vector<ClusterPerceptron> cps;
     std::vector<std::optional<OdometrySensor>> odos;
     for (const DriveFinder& d : finders) {
       ClusterPerceptronOptions o;
       o.road_model = RoadModel::Arc;
       o.carry_frames = d.carry_frames;
-      cps.push_back(trainedOn(world, Pose2(line.pointAt(0.5), std::atan2(t0.y(), t0.x())), 0.0, o, circles()));
+      cps.push_back(trainedOn(world, Pose2(line.pointAt(0.5), line.headingAt(0.5)), 0.0, o, circles()));
       odos.emplace_back(d.odometry ? std::optional<OdometrySensor>(*d.odometry) : std::nullopt);
     }
     const auto weave = [&](double q) {
