@@ -226,6 +226,8 @@ void WorldOptions::validate() const {
   requireOption(finiteIn(noise_sigma, 0, 1e3), kOwner, "noise_sigma", noise_sigma, "finite and >= 0");
   requireOption(std::isfinite(tv_hue_shift_rad), kOwner, "tv_hue_shift_rad", tv_hue_shift_rad, "finite");
   requireOption(finiteIn(tv_chroma_gain, 0, 2), kOwner, "tv_chroma_gain", tv_chroma_gain, "in [0, 2]");
+  requireOption(paved_edge_samples >= 1 && paved_edge_samples <= 16, kOwner, "paved_edge_samples",
+                paved_edge_samples, "in [1, 16]");
   requireOption(tv_chroma_blur_px >= 0 && tv_chroma_blur_px <= 16, kOwner, "tv_chroma_blur_px", tv_chroma_blur_px,
                 "in [0, 16]");
 }
@@ -837,6 +839,49 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
     buf[3 * i] = c.r;
     buf[3 * i + 1] = c.g;
     buf[3 * i + 2] = c.b;
+  }
+  if (o.paved_edge_samples > 1) {
+    // The pixels the paved area's edge crosses: the mean of n × n samples spread over the pixel's
+    // ground footprint, its sides taken from the neighbouring pixels' rays (locally affine).
+    const int ns = o.paved_edge_samples;
+    const auto ground = [&](int u, int v) {
+      return u >= 0 && u < w && v >= 0 && v < h && rays.at(u, v).kind == RayTable::Kind::Ground;
+    };
+    const auto point = [&](int u, int v) { return Vec2(rays.at(u, v).x, rays.at(u, v).y); };
+    // Half the step to the next pixel along u (dv = 0) or v, from the neighbours that are ground.
+    const auto halfStep = [&](int u, int v, int du, int dv) {
+      const bool fwd = ground(u + du, v + dv), back = ground(u - du, v - dv);
+      if (fwd && back) return Vec2(0.25 * (point(u + du, v + dv) - point(u - du, v - dv)));
+      if (fwd) return Vec2(0.5 * (point(u + du, v + dv) - point(u, v)));
+      if (back) return Vec2(0.5 * (point(u, v) - point(u - du, v - dv)));
+      return Vec2(0, 0);
+    };
+    const std::vector<std::uint8_t> mask = frame.mask.data;  // the centres' classes, before any mixing
+    const auto differs = [&](int u, int v, std::uint8_t m) {
+      return ground(u, v) && mask[static_cast<std::size_t>(v) * w + u] != m;
+    };
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * w + u;
+        const std::uint8_t m = mask[i];
+        if (!ground(u, v) || !(differs(u - 1, v, m) || differs(u + 1, v, m) || differs(u, v - 1, m) || differs(u, v + 1, m)))
+          continue;
+        const RayTable::Ray& r = rays.at(u, v);
+        const Vec2 su = halfStep(u, v, 1, 0), sv = halfStep(u, v, 0, 1);
+        C3 sum{0, 0, 0};
+        for (int a = 0; a < ns; ++a)
+          for (int b = 0; b < ns; ++b) {
+            const double fa = (2.0 * a + 1.0) / ns - 1.0, fb = (2.0 * b + 1.0) / ns - 1.0;  // in (−1, 1)
+            const Vec2 q = Vec2(r.x, r.y) + fa * su + fb * sv;
+            const Vec2 p(ch * q.x() - sh * q.y() + tx, sh * q.x() + ch * q.y() + ty);
+            bool paved = false;
+            sum = sum + im.shade(p, r.footprint, r.range, paved);
+          }
+        const float k = 1.0f / static_cast<float>(ns * ns);
+        buf[3 * i] = sum.r * k;
+        buf[3 * i + 1] = sum.g * k;
+        buf[3 * i + 2] = sum.b * k;
+      }
   }
 
   // Slow drifts of brightness and white balance along the mission.

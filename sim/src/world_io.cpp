@@ -39,6 +39,7 @@ WorldOptions parseWorldOptions(const std::string& json, const std::string& point
   for (const auto& [name, member] : numbers) {
     if (const auto v = block.number(name, false)) o.*member = *v;
   }
+  if (const auto v = block.number("paved_edge_samples", false, 1, 16)) o.paved_edge_samples = static_cast<int>(std::lround(*v));
   if (const auto v = block.number("tv_chroma_blur_px", false, 0, 16)) o.tv_chroma_blur_px = static_cast<int>(std::lround(*v));
   if (const auto v = block.boolean("tv_color_shift", false)) o.tv_color_shift = *v;
   if (const auto v = block.boolean("low_dynamic_range", false)) o.low_dynamic_range = *v;

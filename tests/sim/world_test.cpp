@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
 
 #include "mapnav/core/error.h"
 #include "mapnav/geometry/polygon.h"
 #include "mapnav/map/map_io.h"
+#include "mapnav/sim/world_io.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -267,11 +270,130 @@ TEST(WorldOptions, DefaultsAreValidAndBadValuesAreNamed) {
   o.tv_chroma_blur_px = -1;
   expectBad(o, "tv_chroma_blur_px");
   o = {};
+  o.paved_edge_samples = 0;
+  expectBad(o, "paved_edge_samples");
+  o = {};
+  o.paved_edge_samples = 17;
+  expectBad(o, "paved_edge_samples");
+  Issues issues;
+  EXPECT_EQ(parseWorldOptions(R"({"paved_edge_samples": 4})", "/world", issues).paved_edge_samples, 4);
+  EXPECT_TRUE(issues.empty());
+  parseWorldOptions(R"({"paved_edge_samples": 0})", "/world", issues);
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].where, "/world/paved_edge_samples");
+  o = {};
   o.shadow_blue_shift = 1;
   expectBad(o, "shadow_blue_shift");
   o = {};
   o.shadow_k = 2;
   EXPECT_THROW(World(campus(), o), InvalidInput);
+}
+
+// A straight 3 m asphalt road between grass along the world's x axis, every texture, shadow, drift and
+// noise off: the pavement and the lawn each one flat colour (the lawn's worn strip changes over
+// decimetres, not within a pixel).
+struct FlatRoad {
+  Map map;
+  WorldOptions options;
+};
+FlatRoad flatRoad(int paved_edge_samples) {
+  MapData data;
+  data.name = "flat road";
+  data.surfaces = loadMap(testing::mapPath("park_path.json")).data().surfaces;
+  data.intersections.push_back({"A", IntersectionKind::End, Vec2(0, 0), std::nullopt});
+  data.intersections.push_back({"B", IntersectionKind::End, Vec2(80, 0), std::nullopt});
+  Road road;
+  road.id = "R";
+  road.from = "A";
+  road.to = "B";
+  road.centerline = Polyline2({Vec2(0, 0), Vec2(80, 0)});
+  road.width = 3.0;
+  road.surface = "asphalt";
+  road.left = road.right = "grass";
+  data.roads.push_back(road);
+  WorldOptions o;
+  o.pavement_noise = o.ground_noise = o.crack_density = o.dust = o.shadow_density = o.leaf_density = 0;
+  o.slab_spacing_m = o.illumination_drift = o.white_balance_drift = o.haze_distance_m = o.noise_sigma = 0;
+  o.paved_edge_samples = paved_edge_samples;
+  return {Map(data, "flat road"), o};
+}
+
+// Area sampling at the paved area's edge: the two pixels either side of a class change in a row hold,
+// between them, as much asphalt as the true edge leaves them. Measured per edge crossing against the
+// edge projected by the camera (independent of the renderer's ray table): the asphalt in the pair
+// from their colours, each pixel's fraction along the grass-to-asphalt colour of the pure pixels
+// beside the pair. Sampled at the centre alone, the pair holds one pixel of asphalt whatever the
+// edge's phase: an error uniform in ±0.5 px (RMS 0.29).
+TEST(World, PavedEdgePixelsMixBothSurfacesByTheirArea) {
+  const auto cam = pinhole512();
+  const Pose2 pose(5.0, 0.3, degToRad(3.0));  // the edges cross the columns at every phase
+  // The true edge's column at the centre of row v: the ground point of that row on the edge line
+  // y = ±1.5, by bisection on the distance ahead.
+  const auto edgeColumn = [&](double y, int v) -> std::optional<double> {
+    double lo = pose.x() + 1.0, hi = pose.x() + 60.0;
+    const auto at = [&](double x) { return cam->projectGround(pose.inverseTransform(Vec2(x, y))); };
+    const auto plo = at(lo), phi = at(hi);
+    if (!plo || !phi || !(plo->y() > v && phi->y() < v)) return std::nullopt;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      const auto p = at(mid);
+      if (!p) return std::nullopt;
+      (p->y() > v ? lo : hi) = mid;
+    }
+    return at(0.5 * (lo + hi))->x();
+  };
+  for (const int samples : {1, 4}) {
+    const FlatRoad fr = flatRoad(samples);
+    const World world(fr.map, fr.options);
+    const Frame f = world.render(*cam, pose, 0.0);
+    const auto paved = [&](int u, int v) { return f.mask.pixel(u, v)[0] == 255; };
+    double sum2 = 0, worst = 0;
+    int n = 0;
+    for (int v = 0; v < f.rgb.height; ++v) {
+      for (int u = 3; u + 2 < f.rgb.width; ++u) {
+        const bool road_right = paved(u, v);
+        if (paved(u - 1, v) == road_right) continue;
+        // The pure pixels beside the pair, two away: grass on one side, asphalt on the other.
+        const int g = road_right ? u - 2 : u + 1, r = road_right ? u + 1 : u - 2;
+        if (paved(g, v) || !paved(r, v)) continue;
+        double asphalt = 0;  // in the pair, px
+        for (const int k : {u - 1, u}) {
+          double num = 0, den = 0;
+          for (int c = 0; c < 3; ++c) {
+            const double d = f.rgb.pixel(r, v)[c] - f.rgb.pixel(g, v)[c];
+            num += (f.rgb.pixel(k, v)[c] - f.rgb.pixel(g, v)[c]) * d;
+            den += d * d;
+          }
+          asphalt += num / den;
+        }
+        // The true edge through the pair (the nearer of the road's two), and the asphalt it leaves
+        // the pair's columns [u − 1.5, u + 0.5].
+        std::optional<double> ue;
+        for (const double y : {-1.5, 1.5})
+          if (const auto c = edgeColumn(y, v); c && (!ue || std::abs(*c - (u - 0.5)) < std::abs(*ue - (u - 0.5)))) ue = c;
+        ASSERT_TRUE(ue) << "row " << v;
+        ASSERT_LE(std::abs(*ue - (u - 0.5)), 0.5) << "row " << v << ": the class change is not at the true edge";
+        const double truth = road_right ? u + 0.5 - *ue : *ue - (u - 1.5);
+        const double err = asphalt - truth;
+        sum2 += err * err;
+        worst = std::max(worst, std::abs(err));
+        ++n;
+      }
+    }
+    const double rms = std::sqrt(sum2 / n);
+    std::printf("paved_edge_samples %d: %d edge crossings, the asphalt in the pair off the true edge's by RMS %.3f px, "
+                "worst %.3f px\n",
+                samples, n, rms, worst);
+    ASSERT_GE(n, 300);
+    if (samples == 1) {
+      // A whole pixel of asphalt in the pair wherever the edge is: uniform quantisation, RMS 1/√12.
+      EXPECT_NEAR(rms, 1 / std::sqrt(12.0), 0.03);
+      EXPECT_GT(worst, 0.45);
+    } else {
+      EXPECT_LT(rms, 0.05);
+      EXPECT_LT(worst, 0.15);
+    }
+  }
 }
 
 // Pictures for people: run with --gtest_also_run_disabled_tests; writes /tmp/world_*.png.

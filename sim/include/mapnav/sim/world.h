@@ -73,6 +73,13 @@ struct WorldOptions {
   // --- Camera --------------------------------------------------------------------------------------
   /// Standard deviation of the sensor noise, 8-bit levels (0 = none). ≥ 0.
   double noise_sigma = 2.0;
+  /// A real sensor integrates light over each pixel, so a pixel the paved area's edge crosses is
+  /// a mix of pavement and shoulder. The renderer samples every pixel at its centre (textures,
+  /// lines and shadows are filtered by the pixel's footprint), and a pixel whose centre's class
+  /// (paved or not) differs from a 4-neighbour's is rendered as the mean of n × n samples over
+  /// the pixel. 1 = the centre alone (the edge a whole pixel, as rendered before this option).
+  /// Frame::mask stays the centre's class. In [1, 16].
+  int paved_edge_samples = 1;
   /// The paper's TV transmission (3.4.2): chroma turned by tv_hue_shift_rad (plus a slow wobble of
   /// ±0.05 rad), scaled by tv_chroma_gain and blurred horizontally over ±tv_chroma_blur_px pixels.
   bool tv_color_shift = false;
