@@ -757,6 +757,30 @@ void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, st
   }
 }
 
+/// The column of the edge of a candidate (`u` the first pixel of the class that begins, the boundary
+/// u − 0.5) within the pair of pixels u − 1, u by their colours (ClusterPerceptronOptions::
+/// subpixel_edges): the class that begins fills [x, u + 0.5] of the pair, x = u + 0.5 − Σ share, each
+/// pixel's share its place, clamped to [0, 1], on the colour line from the ending class's pure pixels
+/// (u − 3, u − 2) to the beginning class's (u + 1, u + 2). The boundary where their colours differ by
+/// under 16 levels.
+double subpixelEdge(const std::uint8_t* row_rgb, int width, int u) {
+  double from[3], to[3], d2 = 0;
+  const int last = std::min(u + 2, width - 1);
+  for (int c = 0; c < 3; ++c) {
+    from[c] = 0.5 * (row_rgb[3 * (u - 3) + c] + row_rgb[3 * (u - 2) + c]);
+    to[c] = 0.5 * (row_rgb[3 * (u + 1) + c] + row_rgb[3 * last + c]);
+    d2 += (to[c] - from[c]) * (to[c] - from[c]);
+  }
+  if (d2 < 16.0 * 16.0) return u - 0.5;
+  double share = 0;
+  for (const int k : {u - 1, u}) {
+    double dot = 0;
+    for (int c = 0; c < 3; ++c) dot += (row_rgb[3 * k + c] - from[c]) * (to[c] - from[c]);
+    share += std::clamp(dot / d2, 0.0, 1.0);
+  }
+  return u + 0.5 - share;
+}
+
 /// How many row sides of `edges` (in row order, `.v` the row) hold an edge that `near` accepts: each
 /// row counts a left (`isLeft`) and a right edge at most once. The support of a consensus model.
 template <typename Edge, typename IsLeft, typename Near>
@@ -1065,7 +1089,8 @@ double bottomColumnSd(const std::vector<GroundEdge>& sel, double w, const Ground
 /// straight line fitted to the same edges, kept when the curvature does not pay for its parameter (BIC:
 /// n ln(RSS/n) + p ln n) and it keeps the vehicle on the road. False when too few edges support either
 /// fit. `used`: the winning fit's edges (this frame's, with their rows, and the carried ones it kept).
-bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top, const CentreModel& model,
+bool refineGroundArc(const std::uint8_t* cimg, const std::uint8_t* rgb, int width, int height, int v_top,
+                     const CentreModel& model,
                      const RowGeometry& rows, const std::vector<double>& row_widths, double max_curvature,
                      std::uint64_t seed, const std::vector<GroundEdge>& carried, GroundArc& arc, int& edge_rows,
                      double& bottom_sd, std::vector<GroundEdge>& used) {
@@ -1076,8 +1101,12 @@ bool refineGroundArc(const std::uint8_t* cimg, int width, int height, int v_top,
   for (int v = v_top; v < height; ++v) {
     cands.clear();
     rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, 0, width, cands);
-    for (const EdgeCandidate& e : cands)
-      all.push_back({rows.x[v], (e.u - rows.a[v]) / rows.b[v], e.left ? 1.0 : -1.0, std::abs(rows.b[v]), v});
+    for (const EdgeCandidate& e : cands) {
+      const double u = rgb != nullptr ? subpixelEdge(rgb + static_cast<std::size_t>(v) * width * 3, width,
+                                                     static_cast<int>(e.u + 0.5))
+                                      : e.u;
+      all.push_back({rows.x[v], (u - rows.a[v]) / rows.b[v], e.left ? 1.0 : -1.0, std::abs(rows.b[v]), v});
+    }
   }
   // The refinement from a start: in each row and side the candidate nearest the model's edge, within
   // a tolerance that narrows, and the circle fitted to them; false when too few edges support it.
@@ -1398,7 +1427,7 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       for (const auto& frame : carried_)
         for (const RoadEdgePoint& e : frame)
           carried.push_back({e.p.x(), e.p.y(), static_cast<double>(e.side), e.px_per_m, -1});
-      if (refineGroundArc(cimg, width, height, v_top, model, RowGeometry{row_x_, row_a_, row_b_}, row_widths_,
+      if (refineGroundArc(cimg, opt_.subpixel_edges ? rgb : nullptr, width, height, v_top, model, RowGeometry{row_x_, row_a_, row_b_}, row_widths_,
                           opt_.max_curvature, opt_.seed, carried, g, edge_rows, bottom_sd, used)) {
         res.refined = true;
         res.edge_rows = edge_rows;
@@ -1641,6 +1670,8 @@ const std::vector<OptionSpec>& specs() {
        "beyond the paper (9): the Hough searches ground arcs y = y0 + theta x + kappa x^2 / 2 too, so that curves are not cut"},
       {"max_curvature", 0.07, false, false, 1e-6, 1, "arc model: largest curvature searched, 1/m"},
       {"curvature_steps", 10, false, true, 1, 100, "arc model: curvatures tried on each side of 0 before refining"},
+      {"subpixel_edges", 0, true, false, 0, 1,
+       "arc model: each road edge placed within its pair of pixels by their colours (for cameras that integrate over the pixel)"},
       {"adaptive", 0, true, false, 0, 1,
        "beyond the paper (9): add clusters for new colours, move them and retrain the perceptron when a frame's reconstruction error "
        "exceeds adaptive_error_ratio x the recent frames' median, bootstrapped from the last trusted road"},
@@ -1774,6 +1805,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.road_model = options_.b("arc") ? RoadModel::Arc : RoadModel::Line;
     o.max_curvature = options_["max_curvature"];
     o.curvature_steps = options_.i("curvature_steps");
+    o.subpixel_edges = options_.b("subpixel_edges");
     o.adaptive = options_.b("adaptive");
     o.adaptive_error_ratio = options_["adaptive_error_ratio"];
     o.adaptive_stride = options_.i("adaptive_stride");

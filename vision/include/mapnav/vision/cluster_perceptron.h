@@ -113,6 +113,14 @@ struct ClusterPerceptronOptions {
   /// other sub-pixel phases, and those seen far ahead a few frames ago lie near the vehicle now. The
   /// odometry's error goes into the carried edges. 0 = each frame alone (the paper), in [0, 64].
   int carry_frames = 0;
+  /// Arc model, beyond the paper: each road edge the ground fit uses is placed within the pair of
+  /// pixels either side of the class change by their colours. A camera integrates light over the
+  /// pixel, so the pair holds between them as much road as the edge leaves them; each pixel's share
+  /// is its place on the colour line from the pure pixels beside the pair (two and three away).
+  /// Without it (or where those colours differ by under 16 levels) an edge is the pixel boundary,
+  /// a quantisation error of ±0.5 px. On point-sampled frames (WorldOptions::paved_edge_samples 1)
+  /// the pair holds one pixel of each class and the colours add their texture's noise.
+  bool subpixel_edges = false;
   void validate() const;
 };
 
