@@ -699,6 +699,15 @@ std::vector<RoadPose> circlePoses(double step) {
 // classes (road beyond the true edge) move the fit only to 59 px. The road filling the image below
 // the nearest edge bounds the centre only to ±0.8 m at the bottom row (the 3 m road against the
 // image's 1.4 m): no help at 1 cm.
+// Under AddressSanitizer rendering is about ten times slower: the carried-edges drive (450 frames
+// rendered) took over the stage's 900 s. There it covers the 15 m left circle alone, the area-sampled
+// circles test the 15 m circles, and only their per-frame and edge assertions are checked.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+
 double circleRadiusOf(const RoadPose& p) {
   return kCircleRadii[static_cast<std::size_t>(p.road - circles().roads().data()) / 2];
 }
@@ -797,7 +806,8 @@ double medianAbs(std::vector<double> v) {
 // 155 and 137 px: shadowed grass classed as road), 64 (2.8 px, standard error 2.3 px). Point-sampled
 // frames with subpixel_edges (not asserted): 82 of 88.
 TEST(ClusterPerceptron, ArcModelWithSubpixelEdgesOnAreaSampledCircularCurves) {
-  const auto poses = circlePoses(2.0);
+  auto poses = circlePoses(2.0);
+  if (kSanitized) std::erase_if(poses, [](const RoadPose& p) { return circleRadiusOf(p) != 15.0; });
   WorldOptions wo = parkWorld();
   wo.paved_edge_samples = 4;
   const ArcVsLine boundary = arcVsLine(poses, circles(), 0.5, wo, false);
@@ -811,6 +821,7 @@ TEST(ClusterPerceptron, ArcModelWithSubpixelEdgesOnAreaSampledCircularCurves) {
               medianAbs(boundary.edge_px), boundary.edge_px.size(), medianAbs(sub.edge_px), sub.edge_px.size());
   EXPECT_LT(medianAbs(sub.edge_px), 0.7 * medianAbs(boundary.edge_px));
   EXPECT_TRUE(sub.failed.empty());
+  if (kSanitized) return;
   EXPECT_GE(cs.met, 84);
   EXPECT_GT(cs.met, cb.met);
   EXPECT_GE(cs.within4, 85);
@@ -912,13 +923,6 @@ std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders,
 // of 4 m along a 15 m bend moves it 2.4 mm); with calibrated odometry it trades a few frames of 2-5
 // px for a worst case of 1.8-35 px instead of 191; with uncalibrated odometry it does harm. Off by
 // default.
-// Under AddressSanitizer the drive (450 frames rendered) takes over 900 s: there it covers the 15 m
-// left circle alone, and only the per-frame assertions are checked.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
 TEST(ClusterPerceptron, ArcModelWithCarriedEdgesOnCircularCurves) {
   OdometryNoiseOptions calibrated;
   calibrated.seed = 9;
