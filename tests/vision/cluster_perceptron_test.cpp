@@ -730,6 +730,7 @@ CircleScore scoreCircles(const std::vector<RoadPose>& poses, const ArcVsLine& e,
       line_top.push_back(e.line_top[i]);
       line_angle.push_back(e.line_angle[i]);
     }
+    if (arc.empty()) continue;
     std::printf("radius %2.0f m, %zu frames: arc model worst column error median %.2f px, max %.2f px; top-row offset "
                 "max %.2f px; bottom angle max %.2f deg | straight model median %.2f px, max %.2f px; top-row max "
                 "%.2f px; bottom angle max %.2f deg\n",
