@@ -1090,10 +1090,9 @@ double bottomColumnSd(const std::vector<GroundEdge>& sel, double w, const Ground
 /// n ln(RSS/n) + p ln n) and it keeps the vehicle on the road. False when too few edges support either
 /// fit. `used`: the winning fit's edges (this frame's, with their rows, and the carried ones it kept).
 bool refineGroundArc(const std::uint8_t* cimg, const std::uint8_t* rgb, int width, int height, int v_top,
-                     const CentreModel& model,
-                     const RowGeometry& rows, const std::vector<double>& row_widths, double max_curvature,
-                     std::uint64_t seed, const std::vector<GroundEdge>& carried, GroundArc& arc, int& edge_rows,
-                     double& bottom_sd, std::vector<GroundEdge>& used) {
+                     const CentreModel& model, const RowGeometry& rows, const std::vector<double>& row_widths,
+                     double max_curvature, std::uint64_t seed, const std::vector<GroundEdge>& carried, GroundArc& arc,
+                     int& edge_rows, double& bottom_sd, std::vector<GroundEdge>& used) {
   const double w0 = groundWidth(rows, row_widths, v_top, height);
   if (!(w0 > 0) || !groundCircleOf(model, rows, v_top, height, max_curvature, arc)) return false;
   std::vector<GroundEdge> all;
@@ -1427,8 +1426,9 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
       for (const auto& frame : carried_)
         for (const RoadEdgePoint& e : frame)
           carried.push_back({e.p.x(), e.p.y(), static_cast<double>(e.side), e.px_per_m, -1});
-      if (refineGroundArc(cimg, opt_.subpixel_edges ? rgb : nullptr, width, height, v_top, model, RowGeometry{row_x_, row_a_, row_b_}, row_widths_,
-                          opt_.max_curvature, opt_.seed, carried, g, edge_rows, bottom_sd, used)) {
+      if (refineGroundArc(cimg, opt_.subpixel_edges ? rgb : nullptr, width, height, v_top, model,
+                          RowGeometry{row_x_, row_a_, row_b_}, row_widths_, opt_.max_curvature, opt_.seed, carried, g,
+                          edge_rows, bottom_sd, used)) {
         res.refined = true;
         res.edge_rows = edge_rows;
         res.bottom_column_sd = bottom_sd;
