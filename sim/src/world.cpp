@@ -856,7 +856,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
       if (back) return Vec2(0.5 * (point(u, v) - point(u - du, v - dv)));
       return Vec2(0, 0);
     };
-    const std::vector<std::uint8_t> mask = frame.mask.data;  // the centres' classes, before any mixing
+    const std::vector<std::uint8_t>& mask = frame.mask.data;  // the centres' classes (mixing leaves them)
     const auto differs = [&](int u, int v, std::uint8_t m) {
       return ground(u, v) && mask[static_cast<std::size_t>(v) * w + u] != m;
     };

@@ -762,13 +762,12 @@ void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, st
 /// subpixel_edges): the class that begins fills [x, u + 0.5] of the pair, x = u + 0.5 − Σ share, each
 /// pixel's share its place, clamped to [0, 1], on the colour line from the ending class's pure pixels
 /// (u − 3, u − 2) to the beginning class's (u + 1, u + 2). The boundary where their colours differ by
-/// under 16 levels.
-double subpixelEdge(const std::uint8_t* row_rgb, int width, int u) {
+/// under 16 levels. `u` is in [3, width − 3], as rowCandidates() gives it.
+double subpixelEdge(const std::uint8_t* row_rgb, int u) {
   double from[3], to[3], d2 = 0;
-  const int last = std::min(u + 2, width - 1);
   for (int c = 0; c < 3; ++c) {
     from[c] = 0.5 * (row_rgb[3 * (u - 3) + c] + row_rgb[3 * (u - 2) + c]);
-    to[c] = 0.5 * (row_rgb[3 * (u + 1) + c] + row_rgb[3 * last + c]);
+    to[c] = 0.5 * (row_rgb[3 * (u + 1) + c] + row_rgb[3 * (u + 2) + c]);
     d2 += (to[c] - from[c]) * (to[c] - from[c]);
   }
   if (d2 < 16.0 * 16.0) return u - 0.5;
@@ -1101,9 +1100,8 @@ bool refineGroundArc(const std::uint8_t* cimg, const std::uint8_t* rgb, int widt
     cands.clear();
     rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, 0, width, cands);
     for (const EdgeCandidate& e : cands) {
-      const double u = rgb != nullptr ? subpixelEdge(rgb + static_cast<std::size_t>(v) * width * 3, width,
-                                                     static_cast<int>(e.u + 0.5))
-                                      : e.u;
+      const double u =
+          rgb != nullptr ? subpixelEdge(rgb + static_cast<std::size_t>(v) * width * 3, static_cast<int>(e.u + 0.5)) : e.u;
       all.push_back({rows.x[v], (u - rows.a[v]) / rows.b[v], e.left ? 1.0 : -1.0, std::abs(rows.b[v]), v});
     }
   }
