@@ -64,8 +64,9 @@ struct Prediction {
 ///
 /// It keeps a reference to `map`, which must outlive it and not change while it lives (the kept
 /// work is the map's); the options are copied (and validated: InvalidInput for bad ones). The store
-/// holds at most one entry per road and intersection, and one footprint. Not safe to share between threads: predict()
-/// fills the store (use one per thread). A moved-from predictor may only be assigned to or destroyed.
+/// holds at most one entry per road and intersection, and one footprint. Not safe to share between
+/// threads: predict() fills the store (use one per thread). A moved-from predictor may only be
+/// assigned to or destroyed.
 class ViewPredictor {
  public:
   explicit ViewPredictor(const Map& map, const PredictOptions& options = {});
