@@ -444,14 +444,13 @@ struct ArcVsLine {
 };
 /// With `bootstrap_s`, each road's models are trained on the frame at that arc length of the road (on
 /// its centre line, looking along it) instead of on the road's first pose.
-/// `world_options`: the renderer's; `subpixel_edges`: the arc model's option of that name.
+/// `world_options`: the renderer's; `arc_options`: the arc model's (road_model set to Arc here).
 ArcVsLine arcVsLine(const std::vector<RoadPose>& poses, const Map& map = park(),
                     std::optional<double> bootstrap_s = std::nullopt, const WorldOptions& world_options = parkWorld(),
-                    bool subpixel_edges = false) {
+                    ClusterPerceptronOptions arc_options = {}) {
   const World world(map, world_options);
-  ClusterPerceptronOptions o;
+  ClusterPerceptronOptions& o = arc_options;
   o.road_model = RoadModel::Arc;
-  o.subpixel_edges = subpixel_edges;
   std::optional<ClusterPerceptron> arc, line;
   ArcVsLine out;
   for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -685,20 +684,23 @@ std::vector<RoadPose> circlePoses(double step) {
 // quantisation's spread alone (measured against the projected true edges: mean 0.00-0.06 px, RMS
 // 0.27-0.30 px on frames 1, 5, 19, 63 (its 51 rows); 0.4-1.3 px on 62, 64, 69), and least squares on
 // them leaves the bottom row's column a standard error (RoadFinding::bottom_column_sd) of 0.84-6.0
-// px; each miss is within three of its standard errors, which the test asserts. Tried and not kept
-// (measured on this test): minimising Σ|r|⁴ over the edges within 1 px of the fit (for uniform
-// quantisation noise it converges faster than least squares): 56 of 88 (the mask's edges are not
-// independent uniform errors, and the largest residuals are its ragged runs); penalising a circle
-// for each row where its edge falls in the image but the mask holds road on both sides of it: 75 of
-// 88 and one failed frame (shadowed grass classed as road beyond the true edge contradicts the true
-// circle on most 15-20 m frames), frame 63 136 -> 59 px; MSAC in the ground consensus (per row side
-// Σ(2² − r²)⁺): 81 of 88 unchanged, frame 63's shadow circle still scores higher than the true one
-// (ArcModelOnStraightStretches' worst 166 -> 5.8 px, but ArcModelFollowsCurves <= 2/3/5/10 px each
-// one frame fewer). Frame 63 wants a mask that tells the shadowed grass from the road, not another
-// fit: by edge count and by residual the shadows' outline is the better circle, and the mask's own
-// classes (road beyond the true edge) move the fit only to 59 px. The road filling the image below
-// the nearest edge bounds the centre only to ±0.8 m at the bottom row (the 3 m road against the
-// image's 1.4 m): no help at 1 cm.
+// px; each miss is within three of its standard errors, which the test asserts. But the edges seen
+// were few and far because shaded grass classed as road hid the nearer ones: the masks show 9 949 of
+// the 13 527 true edge rows in view; in normalised colour 13 491, and all six pass (the next test).
+// Tried and not kept (measured on this test): minimising Σ|r|⁴ over the edges within 1 px of the
+// fit (for uniform quantisation noise it converges faster than least squares): 56 of 88 (the mask's
+// edges are not independent uniform errors, and the largest residuals are its ragged runs);
+// penalising a circle for each row where its edge falls in the image but the mask holds road on
+// both sides of it: 75 of 88 and one failed frame (shadowed grass classed as road beyond the true
+// edge contradicts the true circle on most 15-20 m frames), frame 63 136 -> 59 px; MSAC in the
+// ground consensus (per row side Σ(2² − r²)⁺): 81 of 88 unchanged, frame 63's shadow circle still
+// scores higher than the true one (ArcModelOnStraightStretches' worst 166 -> 5.8 px, but
+// ArcModelFollowsCurves <= 2/3/5/10 px each one frame fewer). Frame 63 wants a mask that tells the
+// shadowed grass from the road, not another fit (normalised colour is one:
+// ArcModelInNormalisedColour... below meets 88 of 88): by edge count and by residual the shadows'
+// outline is the better circle, and the mask's own classes (road beyond the true edge) move the fit
+// only to 59 px. The road filling the image below the nearest edge bounds the centre only to ±0.8 m
+// at the bottom row (the 3 m road against the image's 1.4 m): no help at 1 cm.
 // Under AddressSanitizer rendering is about ten times slower: the carried-edges drive (450 frames
 // rendered) took over the stage's 900 s. There it covers the 15 m left circle alone, the area-sampled
 // circles test the 15 m circles, and only their per-frame and edge assertions are checked.
@@ -742,7 +744,10 @@ CircleScore scoreCircles(const std::vector<RoadPose>& poses, const ArcVsLine& e,
   // than the road's; else the circle is extrapolated from the nearest edge the mask shows to the
   // bottom row, 2 m ahead, where 1 cm is 3.7 px.
   CircleScore c;
+  long shown = 0, in_image = 0;
   for (std::size_t i = 0; i < poses.size(); ++i) {
+    shown += e.edge_rows[i].shown;
+    in_image += e.edge_rows[i].in_image;
     c.met += e.arc[i] <= 2.0 && e.angle[i] <= 1.0;
     c.within4 += e.arc[i] <= 4.0 && e.angle[i] <= 1.1;
     c.top_met += e.top[i] <= 2.0;
@@ -764,8 +769,8 @@ CircleScore scoreCircles(const std::vector<RoadPose>& poses, const ArcVsLine& e,
     }
   }
   std::printf("within 2 px and 1 deg on %d of %zu frames, within 4 px and 1.1 deg on %d; top-row offset <= 2 px on %d; "
-              "the arc better than the straight model on %d\n",
-              c.met, poses.size(), c.within4, c.top_met, c.arc_better);
+              "the arc better than the straight model on %d; the masks show %ld of the %ld true edge rows in view\n",
+              c.met, poses.size(), c.within4, c.top_met, c.arc_better, shown, in_image);
   return c;
 }
 
@@ -790,6 +795,35 @@ TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
   }
 }
 
+// The item in normalised colour (ClusterPerceptronOptions::normalized_color, Wallace et al. 1985
+// §3.4.3) with 8 clusters: the same circles, poses and point-sampled frames as above, the clusters
+// and the perceptron on (R, G, B) / (R + G + B). A tree shadow scales a colour (C1 = k·C2, here tinted
+// 12 % toward blue); normalised, the shaded grass keeps the grass's chromaticity instead of joining
+// the dark asphalt's cluster, so the mask shows the road's true edges on every frame and the circle
+// is fitted to more of them. Measured: within 2 px and 1 deg on 88 of 88 frames (81 in RGB above);
+// per radius worst column error median / max 15 m 0.36 / 0.61 px, 20 m 0.18 / 0.77, 30 m 0.33 / 0.75,
+// 50 m 0.13 / 0.40; bottom angle max 0.51, 0.50, 0.36, 0.22 deg; the masks show 13 491 of the 13 527
+// true edge rows in view (RGB above: 9 949). With the paper's 5 clusters the same 88 here (13 497
+// rows), but 5 are too few for two dimensions of colour elsewhere: on the area-sampled frames of the
+// next test, with subpixel_edges, 87 of 88 (frame 56, 30 m right: a cluster between the grass's and
+// the asphalt's chromaticity classes the far sunlit grass as road in speckles, and the circle bends
+// to them: 59.8 px; 88 with 8 or 12 clusters), and the closed loop on park_loop leaves the path at a
+// dirt shoulder (ParkLoopStretch.ClusterPerceptronInNormalisedColourStaysOnThePath).
+TEST(ClusterPerceptron, ArcModelInNormalisedColourWithinTwoPixelsAndOneDegreeOnEveryCircleFrame) {
+  const auto poses = circlePoses(2.0);
+  ASSERT_EQ(poses.size(), 8u * 11u);
+  ClusterPerceptronOptions o;
+  o.normalized_color = true;
+  o.clusters = 8;
+  const ArcVsLine e = arcVsLine(poses, circles(), 0.5, parkWorld(), o);
+  const CircleScore c = scoreCircles(poses, e);
+  EXPECT_TRUE(e.failed.empty());
+  EXPECT_EQ(c.met, static_cast<int>(poses.size()));
+  EXPECT_EQ(c.top_met, static_cast<int>(poses.size()));
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    EXPECT_GE(2 * e.edge_rows[i].shown, e.edge_rows[i].in_image) << "frame " << i << ": the mask hides the true edges";
+}
+
 /// The median of |x|.
 double medianAbs(std::vector<double> v) {
   for (double& x : v) x = std::abs(x);
@@ -811,10 +845,12 @@ TEST(ClusterPerceptron, ArcModelWithSubpixelEdgesOnAreaSampledCircularCurves) {
   if (kSanitized) std::erase_if(poses, [](const RoadPose& p) { return circleRadiusOf(p) != 15.0; });
   WorldOptions wo = parkWorld();
   wo.paved_edge_samples = 4;
-  const ArcVsLine boundary = arcVsLine(poses, circles(), 0.5, wo, false);
+  const ArcVsLine boundary = arcVsLine(poses, circles(), 0.5, wo);
   std::printf("edges at the pixel boundaries:\n");
   const CircleScore cb = scoreCircles(poses, boundary, false);
-  const ArcVsLine sub = arcVsLine(poses, circles(), 0.5, wo, true);
+  ClusterPerceptronOptions subpixel;
+  subpixel.subpixel_edges = true;
+  const ArcVsLine sub = arcVsLine(poses, circles(), 0.5, wo, subpixel);
   std::printf("edges placed by their pixels' colours:\n");
   const CircleScore cs = scoreCircles(poses, sub);
   std::printf("the fits' ground edges off the true edges, median |offset|: at the pixel boundaries %.3f px (%zu edges), "
@@ -1224,6 +1260,113 @@ TEST(ClusterPerceptron, RawRgbPerceptronLearnsTheRoadAndItsTableIsExact) {
   EXPECT_GE(iou, 0.95);
 }
 
+// Wallace et al. 1985 §3.4.3: a shadow scales a colour by k (C1 = k·C2), which the normalised colour
+// does not see. Finders trained on a sunlit frame (no tree shadows) classify the same view in full
+// shadow (WorldOptions::shadow_density 1: k = 0.45 everywhere), untinted and with the default
+// skylight tint (12 % toward blue). Measured (IoU of the road mask against the truth): RGB sunlit
+// 0.9991, shaded 0.9141, tinted 0.9141; normalised sunlit 0.9999, shaded 0.9985, tinted 0.9987.
+TEST(ClusterPerceptron, NormalisedColourClassifiesAShadedViewAsTheSunlitOne) {
+  WorldOptions sunlit = parkWorld();
+  sunlit.shadow_density = 0;
+  WorldOptions shaded = sunlit, tinted = sunlit;
+  shaded.shadow_density = tinted.shadow_density = 1.0;
+  shaded.shadow_blue_shift = 0;
+  const World sun(park(), sunlit), shade(park(), shaded), tint(park(), tinted);
+  const Pose2 pose = straightPoses(10.0).front().pose;
+  const auto iou = [&](const ClusterPerceptron& cp, const World& world) {
+    const Frame f = world.render(cam(), pose, 0.0);
+    const RoadFinding r = cp.find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
+    double tp = 0, fp = 0, fn = 0;
+    for (std::size_t k = 0; k < r.mask.data.size(); ++k) {
+      const bool d = r.mask.data[k] != 0, t = f.mask.data[k] != 0;
+      tp += d && t;
+      fp += d && !t;
+      fn += !d && t;
+    }
+    return tp / (tp + fp + fn);
+  };
+  ClusterPerceptronOptions o;
+  const ClusterPerceptron rgb = trainedOn(sun, pose, 0.0, o);
+  o.normalized_color = true;
+  const ClusterPerceptron normalised = trainedOn(sun, pose, 0.0, o);
+  const double rgb_sun = iou(rgb, sun), rgb_shade = iou(rgb, shade), rgb_tint = iou(rgb, tint);
+  const double n_sun = iou(normalised, sun), n_shade = iou(normalised, shade), n_tint = iou(normalised, tint);
+  std::printf("road IoU, trained sunlit: RGB sunlit %.4f, shaded %.4f, tinted %.4f; normalised sunlit %.4f, shaded %.4f, "
+              "tinted %.4f\n",
+              rgb_sun, rgb_shade, rgb_tint, n_sun, n_shade, n_tint);
+  EXPECT_GE(rgb_sun, 0.95);
+  EXPECT_GE(n_sun, 0.95);
+  EXPECT_GE(n_shade, 0.95);
+  EXPECT_GE(n_tint, 0.95);
+  EXPECT_LT(rgb_shade, 0.95);  // the issue's bar, which RGB meets sunlit and misses in the shade
+  // The reconstruction (§3.2) in normalised colour: each pixel its cluster's chromaticity at its own
+  // brightness, R + G + B kept to the rounding of the three bands.
+  const Frame f = shade.render(cam(), pose, 0.0);
+  const Image rec = normalised.reconstruct(f.rgb.data.data(), f.rgb.width, f.rgb.height);
+  int worst = 0;
+  for (std::size_t i = 0; i < rec.data.size(); i += 3) {
+    const int sum = rec.data[i] + rec.data[i + 1] + rec.data[i + 2];
+    const int was = f.rgb.data[i] + f.rgb.data[i + 1] + f.rgb.data[i + 2];
+    worst = std::max(worst, std::abs(sum - was));
+  }
+  EXPECT_LE(worst, 1);  // three roundings of at most 0.5
+}
+
+// The lookup table stays exact in normalised colour: every one of the 2^24 colours (68.3 frames of
+// them) gets the reference path's class, for the clusters' perceptron and for raw_rgb's. And a colour
+// and its double have the same normalised colour to the bit, so the same output.
+TEST(ClusterPerceptron, NormalisedColourTableIsExactForEveryColour) {
+  const World world(park(), parkWorld());
+  const Pose2 pose = straightPoses(10.0).front().pose;
+  const int w = cam().width(), h = cam().height();
+  const std::uint32_t per_frame = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
+  for (const bool raw : {false, true}) {
+    ClusterPerceptronOptions o;
+    o.normalized_color = true;
+    o.raw_rgb = raw;
+    const ClusterPerceptron fast = trainedOn(world, pose, 0.0, o);
+    ClusterPerceptron ref = fast;
+    ref.setFast(false);
+    std::size_t differing = 0, road = 0, total = 0;
+    Image frame(w, h, 3);
+    for (std::uint32_t first = 0; first < (1u << 24); first += per_frame) {
+      for (std::uint32_t i = 0; i < per_frame; ++i) {
+        const std::uint32_t c = (first + i) & 0xFFFFFFu;
+        frame.data[3 * i] = static_cast<std::uint8_t>(c >> 16);
+        frame.data[3 * i + 1] = static_cast<std::uint8_t>(c >> 8);
+        frame.data[3 * i + 2] = static_cast<std::uint8_t>(c);
+      }
+      const RoadFinding a = fast.find(frame.data.data(), w, h, true);
+      const RoadFinding b = ref.find(frame.data.data(), w, h, true);
+      ASSERT_EQ(a.mask.data.size(), b.mask.data.size());
+      for (std::size_t k = 0; k < a.mask.data.size(); ++k) {
+        differing += a.mask.data[k] != b.mask.data[k];
+        road += b.mask.data[k] != 0;
+      }
+      total += b.mask.data.size();
+      EXPECT_EQ(a.ok, b.ok);
+      EXPECT_EQ(a.shift, b.shift);
+      EXPECT_EQ(a.intercept_col, b.intercept_col);
+    }
+    int halved_differ = 0;
+    for (int r = 0; r < 128; ++r)
+      for (int g = 0; g < 128; ++g)
+        for (int b = 0; b < 128; ++b)
+          halved_differ += ref.outputReference(static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g),
+                                               static_cast<std::uint8_t>(b)) !=
+                           ref.outputReference(static_cast<std::uint8_t>(2 * r), static_cast<std::uint8_t>(2 * g),
+                                               static_cast<std::uint8_t>(2 * b));
+    std::printf("normalised colour%s: %zu of %zu colours differ between the table and the reference, %.1f %% road; "
+                "%d colours differ from their doubles\n",
+                raw ? ", raw_rgb" : "", differing, total, 100.0 * static_cast<double>(road) / static_cast<double>(total),
+                halved_differ);
+    EXPECT_EQ(differing, 0u);
+    EXPECT_GT(road, total / 100);
+    EXPECT_LT(road, total - total / 100);
+    EXPECT_EQ(halved_differ, 0);
+  }
+}
+
 TEST(ClusterPerceptron, FastPathEqualsReferenceOn100Frames) {
   const World world(park(), parkWorld());
   const std::vector<Pose2> poses = visiontest::roadPoses(park(), 5.0);
@@ -1265,6 +1408,7 @@ TEST(ClusterPerceptron, ParkPipelineRegisteredAndFindsTheCentreLine) {
   EXPECT_THROW(p->configure(R"({"nope": 1})"), InvalidInput);
   EXPECT_NO_THROW(createPipeline("cluster-perceptron", R"({"arc": true, "subpixel_edges": true})"));
   EXPECT_THROW(p->configure(R"({"subpixel_edges": 2})"), InvalidInput);
+  EXPECT_THROW(p->configure(R"({"normalized_color": 1})"), InvalidInput);
   const World world(park(), parkWorld());
   const auto poses = straightPoses(6.0);
   for (std::size_t i = 0; i < std::min<std::size_t>(poses.size(), 8); ++i) {
@@ -1289,6 +1433,20 @@ TEST(ClusterPerceptron, ParkPipelineRegisteredAndFindsTheCentreLine) {
   VisionFrame vf{f.rgb.width, f.rgb.height, f.rgb.data.data(), &cam(), 0.0};
   const DetectedObject d = p->detect(vf, PredictedObject{});
   EXPECT_EQ(d.status, DetectedObject::Status::Ok) << d.reason;
+  // A grey frame is clustered on its texture features, which normalized_color leaves alone: the same
+  // answer with it as without (normalised, R = G = B would be one grey and the texture gone).
+  Image grey = f.rgb;
+  for (std::size_t i = 0; i < grey.data.size(); i += 3) std::fill_n(&grey.data[i], 3, grey.data[i + 1]);
+  const VisionFrame gf{grey.width, grey.height, grey.data.data(), &cam(), 0.0};
+  const Prediction pred = predictView(park(), poses.front().pose, cam());
+  const DetectedObject plain = createPipeline("cluster-perceptron", "{}")->detect(gf, pred.view);
+  const DetectedObject normalised =
+      createPipeline("cluster-perceptron", R"({"normalized_color": true})")->detect(gf, pred.view);
+  ASSERT_EQ(plain.status, DetectedObject::Status::Ok) << plain.reason;
+  ASSERT_EQ(normalised.status, DetectedObject::Status::Ok) << normalised.reason;
+  EXPECT_EQ(plain.centerline_vehicle->a, normalised.centerline_vehicle->a);
+  EXPECT_EQ(plain.centerline_vehicle->b, normalised.centerline_vehicle->b);
+  EXPECT_EQ(plain.confidence, normalised.confidence);
 }
 
 // Grey frames: the feature image that stands in for R, G, B. A 40 x 20 frame, flat 100 on the left

@@ -85,7 +85,14 @@ void ClusterPerceptron::setThreads(int threads) {
   opt_ = o;
 }
 
-int ClusterPerceptron::nearest(float r, float g, float b) const {
+Vec3 ClusterPerceptron::feature(double r, double g, double b) const {
+  if (!opt_.normalized_color) return Vec3(r, g, b);
+  const double sum = r + g + b;
+  return sum > 0 ? Vec3(Vec3(r, g, b) * (255.0 / sum)) : Vec3::Constant(85.0);
+}
+
+int ClusterPerceptron::nearest(const Vec3& f) const {
+  const auto r = static_cast<float>(f.x()), g = static_cast<float>(f.y()), b = static_cast<float>(f.z());
   int best = 0;
   float bd = std::numeric_limits<float>::max();
   for (std::size_t k = 0; k < means_.size(); ++k) {
@@ -109,7 +116,10 @@ std::vector<Vec3> ClusterPerceptron::trainClusters(const std::uint8_t* rgb, int 
   std::uniform_real_distribution<double> uni(0.0, 255.0);
   recent_errors_.clear();
   means_.assign(static_cast<std::size_t>(n), Vec3::Zero());
-  for (Vec3& m : means_) m = Vec3(uni(rng), uni(rng), uni(rng));
+  for (Vec3& m : means_) {
+    m = Vec3(uni(rng), uni(rng), uni(rng));
+    m = feature(m.x(), m.y(), m.z());
+  }
   return clusterFrom(rgb, width, height);
 }
 
@@ -130,8 +140,9 @@ std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int wi
     for (int v = 0; v < height; v += st)
       for (int u = 0; u < width; u += st) {
         const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
-        const int k = nearest(p[0], p[1], p[2]);
-        const double er = p[0] - means_[k].x(), eg = p[1] - means_[k].y(), eb = p[2] - means_[k].z();
+        const Vec3 f = feature(p[0], p[1], p[2]);
+        const int k = nearest(f);
+        const double er = f.x() - means_[k].x(), eg = f.y() - means_[k].y(), eb = f.z() - means_[k].z();
         cnt[k] += 1;
         dr[k] += er;
         dg[k] += eg;
@@ -185,8 +196,8 @@ double ClusterPerceptron::reconstructionError(const std::uint8_t* rgb, int width
   for (int v = 0; v < height; v += stride)
     for (int u = 0; u < width; u += stride) {
       const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
-      const Vec3& m = means_[static_cast<std::size_t>(nearest(p[0], p[1], p[2]))];
-      err += (Vec3(p[0], p[1], p[2]) - m).squaredNorm();
+      const Vec3 f = feature(p[0], p[1], p[2]);
+      err += (f - means_[static_cast<std::size_t>(nearest(f))]).squaredNorm();
       total += 1;
     }
   return err / (3.0 * total);
@@ -196,9 +207,12 @@ Image ClusterPerceptron::reconstruct(const std::uint8_t* rgb, int width, int hei
   Image out(width, height, 3);
   if (means_.empty()) return out;
   for (std::size_t i = 0; i < static_cast<std::size_t>(width) * height; ++i) {
-    const int k = nearest(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
-    for (int c = 0; c < 3; ++c)
-      out.data[3 * i + c] = static_cast<std::uint8_t>(std::clamp(std::lround(means_[k][c]), 0L, 255L));
+    const std::uint8_t* p = rgb + 3 * i;
+    Vec3 c = means_[static_cast<std::size_t>(nearest(p[0], p[1], p[2]))];
+    // Normalised colour: the cluster's chromaticity at the pixel's own brightness.
+    if (opt_.normalized_color) c *= (p[0] + p[1] + p[2]) / 255.0;
+    for (int b = 0; b < 3; ++b)
+      out.data[3 * i + b] = static_cast<std::uint8_t>(std::clamp(std::lround(c[b]), 0L, 255L));
   }
   return out;
 }
@@ -288,10 +302,10 @@ std::vector<double> ClusterPerceptron::runLms(std::size_t inputs, double total,
 }
 
 namespace {
-/// The raw-RGB perceptron's input for one band: the level scaled to [-1, 1].
-double rgbInput(std::uint8_t x) { return x / 127.5 - 1.0; }
-double netRgb(const std::vector<double>& w, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-  return w[0] * rgbInput(r) + w[1] * rgbInput(g) + w[2] * rgbInput(b) + w[3];
+/// The raw-RGB perceptron's input for one band of a feature: the level scaled to [-1, 1].
+double rgbInput(double x) { return x / 127.5 - 1.0; }
+double netRgb(const std::vector<double>& w, const Vec3& f) {
+  return w[0] * rgbInput(f.x()) + w[1] * rgbInput(f.y()) + w[2] * rgbInput(f.z()) + w[3];
 }
 }  // namespace
 
@@ -325,13 +339,13 @@ std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rg
   return runLms(4, total, [&](std::vector<double>& grad) {
     double err = 0;
     for (const auto& [key, pn] : colours) {
-      const std::uint8_t r = key >> 16, g = (key >> 8) & 255, b = key & 255;
-      const double y = std::tanh(netRgb(weights_, r, g, b));
+      const Vec3 f = feature(key >> 16, (key >> 8) & 255, key & 255);
+      const double y = std::tanh(netRgb(weights_, f));
       const double e = pn.first * (1.0 - y) + pn.second * (-1.0 - y);
       err += pn.first * std::abs(1.0 - y) + pn.second * std::abs(-1.0 - y);
-      grad[0] += e * rgbInput(r);
-      grad[1] += e * rgbInput(g);
-      grad[2] += e * rgbInput(b);
+      grad[0] += e * rgbInput(f.x());
+      grad[1] += e * rgbInput(f.y());
+      grad[2] += e * rgbInput(f.z());
       grad[3] += e;
     }
     return err;
@@ -339,7 +353,7 @@ std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rg
 }
 
 double ClusterPerceptron::outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const {
-  if (opt_.raw_rgb) return std::tanh(netRgb(weights_, r, g, b));
+  if (opt_.raw_rgb) return std::tanh(netRgb(weights_, feature(r, g, b)));
   return std::tanh(netFor(weights_, nearest(r, g, b)));
 }
 
@@ -347,7 +361,9 @@ void ClusterPerceptron::buildLut() {
   if (opt_.raw_rgb) {
     // The net input is linear in the colour: over a cell it lies between its values at the corners,
     // and the certainty, monotonic in it, is uniform when it is the same at both ends (a hair wider,
-    // against rounding); other cells get their exact 8³ table.
+    // against rounding); other cells get their exact 8³ table. In normalised colour the net input is
+    // a ratio of two linear functions of the colour, which also takes its extremes over a box at the
+    // corners where the denominator R + G + B stays positive: everywhere but in the cell of black.
     lut_.assign(32 * 32 * 32, 0);
     sub_offset_.assign(32 * 32 * 32, 0);
     sub_.clear();
@@ -355,29 +371,29 @@ void ClusterPerceptron::buildLut() {
       const int r0 = (cell >> 10) * 8, g0 = ((cell >> 5) & 31) * 8, b0 = (cell & 31) * 8;
       double lo = std::numeric_limits<double>::max(), hi = -lo;
       for (int m = 0; m < 8; ++m) {
-        const double net = netRgb(weights_, static_cast<std::uint8_t>(r0 + 7 * (m & 1)),
-                                  static_cast<std::uint8_t>(g0 + 7 * ((m >> 1) & 1)),
-                                  static_cast<std::uint8_t>(b0 + 7 * ((m >> 2) & 1)));
+        const double net =
+            netRgb(weights_, feature(r0 + 7 * (m & 1), g0 + 7 * ((m >> 1) & 1), b0 + 7 * ((m >> 2) & 1)));
         lo = std::min(lo, net);
         hi = std::max(hi, net);
       }
       const std::uint8_t c = certaintyOf(std::tanh(lo - 1e-9));
-      if (c == certaintyOf(std::tanh(hi + 1e-9))) {
+      if (c == certaintyOf(std::tanh(hi + 1e-9)) && !(opt_.normalized_color && cell == 0)) {
         lut_[cell] = c;
         continue;
       }
       lut_[cell] = kAmbiguous;
       sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
       for (int i = 0; i < 512; ++i)
-        sub_.push_back(certaintyOf(std::tanh(netRgb(weights_, static_cast<std::uint8_t>(r0 + (i >> 6)),
-                                                    static_cast<std::uint8_t>(g0 + ((i >> 3) & 7)),
-                                                    static_cast<std::uint8_t>(b0 + (i & 7))))));
+        sub_.push_back(
+            certaintyOf(std::tanh(netRgb(weights_, feature(r0 + (i >> 6), g0 + ((i >> 3) & 7), b0 + (i & 7))))));
     }
     return;
   }
   // Cell q covers the colours [8q, 8q + 7] per band. A cell whose 8 corners share their nearest
   // cluster lies wholly in that cluster's (convex) Voronoi cell: its certainty is exact. Others are
-  // marked ambiguous and classified per pixel, so the fast path equals the reference path.
+  // marked ambiguous and classified per pixel, so the fast path equals the reference path. In
+  // normalised colour f = 255 C / (R + G + B), "nearer mean k than mean j" is linear in f and so, times
+  // R + G + B, a half-space through black in RGB: the same holds in every cell but black's.
   const int n = static_cast<int>(means_.size());
   std::vector<std::uint8_t> cert(n);
   for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
@@ -388,13 +404,11 @@ void ClusterPerceptron::buildLut() {
     for (int b = 0; b < 64; ++b)
       for (int c = 0; c < 64; ++c)
         near[(a * 64 + b) * 64 + c] = static_cast<std::uint8_t>(
-            nearest(static_cast<float>(corner(a)), static_cast<float>(corner(b)), static_cast<float>(corner(c))));
+            nearest(corner(a), corner(b), corner(c)));
   // Exact test for a cell spanning clusters of equal certainty c: no point of the cube has a cluster j
   // of another certainty as its nearest if, for every such j, some cluster k of certainty c is nearer
   // than j at all 8 corners (the region nearer k than j is a half-space, so the whole cube is).
-  auto d2 = [&](int k, double x, double y, double z) {
-    return (means_[k] - Vec3(x, y, z)).squaredNorm();
-  };
+  auto d2 = [&](int k, double x, double y, double z) { return (means_[k] - feature(x, y, z)).squaredNorm(); };
   auto uniform = [&](int r, int g, int b, std::uint8_t c) {
     for (int j = 0; j < n; ++j) {
       if (cert[j] == c) continue;
@@ -423,6 +437,7 @@ void ClusterPerceptron::buildLut() {
         if (!same) same = uniform(r, g, b, cert[k0]);
         lut_[(r << 10) | (g << 5) | b] = same ? cert[k0] : kAmbiguous;
       }
+  if (opt_.normalized_color) lut_[0] = kAmbiguous;
   // Second level: every ambiguous cell gets its own 8×8×8 table of exact certainties, so the fast
   // path needs no distance computation at all and still equals the reference path colour by colour.
   sub_offset_.assign(32 * 32 * 32, 0);
@@ -432,8 +447,7 @@ void ClusterPerceptron::buildLut() {
     sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
     const int r0 = (cell >> 10) * 8, g0 = ((cell >> 5) & 31) * 8, b0 = (cell & 31) * 8;
     for (int i = 0; i < 512; ++i)
-      sub_.push_back(cert[nearest(static_cast<float>(r0 + (i >> 6)), static_cast<float>(g0 + ((i >> 3) & 7)),
-                                  static_cast<float>(b0 + (i & 7)))]);
+      sub_.push_back(cert[nearest(r0 + (i >> 6), g0 + ((i >> 3) & 7), b0 + (i & 7))]);
   }
 }
 
@@ -1575,16 +1589,15 @@ int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int hei
     for (int v = 0; v < height; v += opt_.adaptive_stride)
       for (int u = 0; u < width; u += opt_.adaptive_stride) {
         const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
-        const Vec3 c(p[0], p[1], p[2]);
-        px.emplace_back((c - means_[static_cast<std::size_t>(nearest(p[0], p[1], p[2]))]).squaredNorm(), c);
+        const Vec3 f = feature(p[0], p[1], p[2]);
+        px.emplace_back((f - means_[static_cast<std::size_t>(nearest(f))]).squaredNorm(), f);
       }
     const std::size_t worst = std::max<std::size_t>(1, px.size() / 50);
     std::nth_element(px.begin(), px.begin() + static_cast<std::ptrdiff_t>(worst), px.end(),
                      [](const auto& a, const auto& b) { return a.first > b.first; });
     Vec3 candidate = Vec3::Zero();
     for (std::size_t i = 0; i < worst; ++i) candidate += px[i].second / static_cast<double>(worst);
-    const Vec3& near = means_[static_cast<std::size_t>(nearest(static_cast<float>(candidate.x()), static_cast<float>(candidate.y()),
-                                                               static_cast<float>(candidate.z())))];
+    const Vec3& near = means_[static_cast<std::size_t>(nearest(candidate))];
     if ((candidate - near).squaredNorm() / 3.0 <= threshold) break;
     means_.push_back(candidate);
     ++added;
@@ -1681,6 +1694,9 @@ const std::vector<OptionSpec>& specs() {
        "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
       {"raw_rgb", 0, true, false, 0, 1,
        "beyond the paper (9): the perceptron's inputs are the pixel's R, G, B instead of the clusters' winner code"},
+      {"normalized_color", 0, true, false, 0, 1,
+       "beyond the paper (Wallace et al. 1985, 3.4.3): clusters and perceptron see (R, G, B) / (R + G + B), which a "
+       "shadow (C1 = k C2) does not change, so that shaded grass is not taken for asphalt; brightness is lost"},
       {"balance_classes", 0, true, false, 0, 1,
        "beyond the paper: the bootstrap weighs the road (inside the outline) and the rest equally, for frames "
        "where the road is a small part"},
@@ -1740,7 +1756,10 @@ class ClusterPerceptronPipeline : public VisionPipeline {
                                     Vec2(cx - bw / 2, h - 1.0)}},
                                   w, h);
       }
-      finder_ = ClusterPerceptron(opts_);
+      ClusterPerceptronOptions o = opts_;
+      // Grey frames' texture features are not colours: normalised, their texture would be gone.
+      if (pixels != frame.rgb) o.normalized_color = false;
+      finder_ = ClusterPerceptron(o);
       finder_.trainClusters(pixels, w, h);
       finder_.setRowWidths(trapezoidRowWidths(outline));
       finder_.setCamera(cam);
@@ -1812,6 +1831,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     o.refine_edges = options_.b("refine_edges");
     o.threads = options_.i("threads");
     o.raw_rgb = options_.b("raw_rgb");
+    o.normalized_color = options_.b("normalized_color");
     o.balance_classes = options_.b("balance_classes");
     o.fast = options_["fast"] != 0;
     o.min_road_fraction = options_["min_road_fraction"];

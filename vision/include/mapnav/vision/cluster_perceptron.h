@@ -88,6 +88,16 @@ struct ClusterPerceptronOptions {
   /// Beyond the paper (§9): the perceptron's inputs are the pixel's R, G, B (scaled to [-1, 1])
   /// instead of the clusters' winner-take-all code. The clusters are still trained (reconstruction).
   bool raw_rgb = false;
+  /// Beyond the paper, from Wallace et al. 1985 §3.4.3: the clusters and the perceptron see every
+  /// colour normalised, (R, G, B) · 255 / (R + G + B), instead of (R, G, B). A shadow scales a colour
+  /// by k (C1 = k·C2), which the normalised colour does not see: shaded grass stays green instead of
+  /// joining the dark asphalt's cluster. Brightness is lost with it (black counts as grey), so
+  /// surfaces that differ in brightness alone (gravel and asphalt) merge. The lookup table stays exact:
+  /// the pixels nearer one normalised mean than another form a half-space through black in RGB.
+  /// Use it with about 8 clusters: the paper's 5 are too few to part the grass, dirt and asphalt
+  /// chromaticities (park_loop's dirt shoulder was taken for road). The clusters' means, reconstruction
+  /// errors and raw_rgb's inputs are then in normalised levels.
+  bool normalized_color = false;
   /// Beyond the paper: the perceptron's bootstrap counts the road (inside the outline) and the rest
   /// equally, each road pixel weighted by (pixels outside) / (pixels inside). Without it a cluster is
   /// road only when most of its pixels lie inside the outline, which fails when the road is a small
@@ -190,7 +200,8 @@ class ClusterPerceptron {
   /// ground distance); an approximation for other cameras.
   void setCamera(const Camera& camera);
 
-  /// §3.2: every pixel replaced by its cluster's mean (debugging).
+  /// §3.2: every pixel replaced by its cluster's mean (debugging); with normalized_color, by the
+  /// mean's chromaticity at the pixel's own brightness R + G + B.
   Image reconstruct(const std::uint8_t* rgb, int width, int height) const;
   const std::vector<Vec3>& means() const { return means_; }
   /// Per cluster, then the bias; with raw_rgb: R, G, B, bias.
@@ -225,7 +236,11 @@ class ClusterPerceptron {
   const std::vector<std::vector<RoadEdgePoint>>& carried() const { return carried_; }
 
  private:
-  int nearest(float r, float g, float b) const;
+  /// The colour the clusters and the perceptron see (options().normalized_color).
+  Vec3 feature(double r, double g, double b) const;
+  /// The cluster whose mean is nearest a feature(), by float distance (ties: the first).
+  int nearest(const Vec3& f) const;
+  int nearest(double r, double g, double b) const { return nearest(feature(r, g, b)); }
   std::vector<double> trainRgbPerceptron(const std::uint8_t* rgb, int width, int height, const std::uint8_t* road);
   /// The LMS loop both perceptrons share: `pass` adds one iteration's gradient (Σ (target − output)
   /// · input, over the pixels) into its argument and returns the summed absolute error; the weights
