@@ -23,16 +23,27 @@ struct Setup {
   mapnav::ClusterPerceptron finder;
 };
 
+/// `mapnav bench`'s finder options at size × size; `normalised`: in normalised colour with 8 clusters
+/// (ClusterPerceptronOptions::normalized_color, as its tests use it).
+mapnav::ClusterPerceptronOptions finderOptions(int size, bool normalised) {
+  mapnav::ClusterPerceptronOptions o = mapnav::cli::parkFinderOptions(size);
+  if (normalised) {
+    o.normalized_color = true;
+    o.clusters = 8;
+  }
+  return o;
+}
+
 // The shared park scene at size × size, trained on the first frame from the predicted road outline;
-// built once per size.
-const Setup& setup(int size) {
-  static std::map<int, Setup> cache;
-  auto it = cache.find(size);
+// built once per size and colour space.
+const Setup& setup(int size, bool normalised = false) {
+  static std::map<std::pair<int, bool>, Setup> cache;
+  auto it = cache.find({size, normalised});
   if (it != cache.end()) return it->second;
   mapnav::cli::ParkScene scene = mapnav::cli::makeParkScene(parkMap(), size);
-  mapnav::ClusterPerceptron finder = mapnav::cli::trainParkFinder(scene, mapnav::cli::parkFinderOptions(size)).finder;
+  mapnav::ClusterPerceptron finder = mapnav::cli::trainParkFinder(scene, finderOptions(size, normalised)).finder;
   Setup s{std::move(scene), std::move(finder)};
-  return cache.emplace(size, std::move(s)).first->second;
+  return cache.emplace(std::make_pair(size, normalised), std::move(s)).first->second;
 }
 
 void counters(benchmark::State& state, int size) {
@@ -41,9 +52,9 @@ void counters(benchmark::State& state, int size) {
   state.counters["px/s"] = benchmark::Counter(n * size * size, benchmark::Counter::kIsRate);
 }
 
-void runFinder(benchmark::State& state, bool fast) {
+void runFinder(benchmark::State& state, bool fast, bool normalised = false) {
   const int size = static_cast<int>(state.range(0));
-  const Setup& s = setup(size);
+  const Setup& s = setup(size, normalised);
   mapnav::ClusterPerceptron finder = s.finder;
   finder.setFast(fast);
   std::size_t k = 0;
@@ -59,6 +70,20 @@ void runFinder(benchmark::State& state, bool fast) {
 void BM_ParkRoadFinderFast(benchmark::State& state) { runFinder(state, true); }
 // The same with the per-pixel reference classification (float distance to every cluster, std::tanh).
 void BM_ParkRoadFinderReference(benchmark::State& state) { runFinder(state, false); }
+// The runtime in normalised colour (8 clusters): the lookup table absorbs the normalisation.
+void BM_ParkRoadFinderFastNormalised(benchmark::State& state) { runFinder(state, true, true); }
+
+// Training on the first frame (clustering, perceptron, lookup table); range(1) = normalised colour
+// with 8 clusters.
+void BM_ParkTraining(benchmark::State& state) {
+  const int size = static_cast<int>(state.range(0));
+  const bool normalised = state.range(1) != 0;
+  const Setup& s = setup(size);
+  for (auto _ : state) {
+    mapnav::cli::TrainedParkFinder t = mapnav::cli::trainParkFinder(s.scene, finderOptions(size, normalised));
+    benchmark::DoNotOptimize(t.finder.weights().data());
+  }
+}
 
 // A plain copy of the same frame, for scale.
 void BM_ParkFrameMemcpy(benchmark::State& state) {
@@ -78,5 +103,7 @@ void BM_ParkFrameMemcpy(benchmark::State& state) {
 BENCHMARK(BM_ParkRoadFinderFast)->Arg(64)->Arg(128)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ParkRoadFinderReference)->Arg(64)->Arg(128)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ParkFrameMemcpy)->Arg(64)->Arg(128)->Arg(256)->Arg(512)->Arg(1024)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ParkRoadFinderFastNormalised)->Arg(512)->Arg(1024)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ParkTraining)->Args({512, 0})->Args({512, 1})->Unit(benchmark::kMillisecond);
 
 }  // namespace
