@@ -808,10 +808,12 @@ TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
 // next test, with subpixel_edges, 87 of 88 (frame 56, 30 m right: a cluster between the grass's and
 // the asphalt's chromaticity classes the far sunlit grass as road in speckles, and the circle bends
 // to them: 59.8 px; 88 with 8 or 12 clusters), and the closed loop on park_loop leaves the path at a
-// dirt shoulder (ParkLoopStretch.ClusterPerceptronInNormalisedColourStaysOnThePath).
+// dirt shoulder (ParkLoopStretch.ClusterPerceptronInNormalisedColourStaysOnThePath). Under
+// AddressSanitizer, the 15 m circles alone.
 TEST(ClusterPerceptron, ArcModelInNormalisedColourWithinTwoPixelsAndOneDegreeOnEveryCircleFrame) {
-  const auto poses = circlePoses(2.0);
+  auto poses = circlePoses(2.0);
   ASSERT_EQ(poses.size(), 8u * 11u);
+  if (kSanitized) std::erase_if(poses, [](const RoadPose& p) { return circleRadiusOf(p) != 15.0; });
   ClusterPerceptronOptions o;
   o.normalized_color = true;
   o.clusters = 8;
