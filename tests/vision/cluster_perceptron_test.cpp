@@ -1299,15 +1299,7 @@ TEST(ClusterPerceptron, NormalisedColourClassifiesAShadedViewAsTheSunlitOne) {
   const Pose2 pose = straightPoses(10.0).front().pose;
   const auto iou = [&](const ClusterPerceptron& cp, const World& world) {
     const Frame f = world.render(cam(), pose, 0.0);
-    const RoadFinding r = cp.find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true);
-    double tp = 0, fp = 0, fn = 0;
-    for (std::size_t k = 0; k < r.mask.data.size(); ++k) {
-      const bool d = r.mask.data[k] != 0, t = f.mask.data[k] != 0;
-      tp += d && t;
-      fp += d && !t;
-      fn += !d && t;
-    }
-    return tp / (tp + fp + fn);
+    return maskIoU(cp.find(f.rgb.data.data(), f.rgb.width, f.rgb.height, true).mask, f.mask);
   };
   ClusterPerceptronOptions o;
   const ClusterPerceptron rgb = trainedOn(sun, pose, 0.0, o);
