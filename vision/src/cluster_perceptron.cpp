@@ -358,96 +358,93 @@ double ClusterPerceptron::outputReference(std::uint8_t r, std::uint8_t g, std::u
 }
 
 void ClusterPerceptron::buildLut() {
+  // Cell q covers the colours [8q, 8q + 7] per band. A cell whose certainty its 8 corners prove to be
+  // the same everywhere in it gets that certainty; every other cell is marked ambiguous and gets its
+  // own 8×8×8 table of each colour's certainty (`exact`: the reference path's, certaintyOf(
+  // outputReference()), computed the cheaper way), so the fast path needs no distance computation at
+  // all and still equals the reference path colour by colour. `uniform` is the proof for one
+  // perceptron: the certainty, or nothing.
+  std::function<std::optional<std::uint8_t>(int, int, int)> uniform;
+  std::function<std::uint8_t(int, int, int)> exact;
+  std::vector<std::uint8_t> cert, near;
+  auto corner = [](int i) { return i % 2 == 0 ? (i / 2) * 8 : (i / 2) * 8 + 7; };  // 8q and 8q + 7
   if (opt_.raw_rgb) {
     // The net input is linear in the colour: over a cell it lies between its values at the corners,
     // and the certainty, monotonic in it, is uniform when it is the same at both ends (a hair wider,
-    // against rounding); other cells get their exact 8³ table. In normalised colour the net input is
-    // a ratio of two linear functions of the colour, which also takes its extremes over a box at the
-    // corners where the denominator R + G + B stays positive: everywhere but in the cell of black.
-    lut_.assign(32 * 32 * 32, 0);
-    sub_offset_.assign(32 * 32 * 32, 0);
-    sub_.clear();
-    for (int cell = 0; cell < 32 * 32 * 32; ++cell) {
-      const int r0 = (cell >> 10) * 8, g0 = ((cell >> 5) & 31) * 8, b0 = (cell & 31) * 8;
+    // against rounding). In normalised colour the net input is a ratio of two linear functions of
+    // the colour, which also takes its extremes over a box at the corners where the denominator
+    // R + G + B stays positive.
+    uniform = [&](int r, int g, int b) -> std::optional<std::uint8_t> {
       double lo = std::numeric_limits<double>::max(), hi = -lo;
       for (int m = 0; m < 8; ++m) {
-        const double net =
-            netRgb(weights_, feature(r0 + 7 * (m & 1), g0 + 7 * ((m >> 1) & 1), b0 + 7 * ((m >> 2) & 1)));
+        const Vec3 f = feature(corner(2 * r + (m & 1)), corner(2 * g + ((m >> 1) & 1)), corner(2 * b + ((m >> 2) & 1)));
+        const double net = netRgb(weights_, f);
         lo = std::min(lo, net);
         hi = std::max(hi, net);
       }
       const std::uint8_t c = certaintyOf(std::tanh(lo - 1e-9));
-      if (c == certaintyOf(std::tanh(hi + 1e-9)) && !(opt_.normalized_color && cell == 0)) {
-        lut_[cell] = c;
-        continue;
-      }
-      lut_[cell] = kAmbiguous;
-      sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
-      for (int i = 0; i < 512; ++i)
-        sub_.push_back(
-            certaintyOf(std::tanh(netRgb(weights_, feature(r0 + (i >> 6), g0 + ((i >> 3) & 7), b0 + (i & 7))))));
-    }
-    return;
-  }
-  // Cell q covers the colours [8q, 8q + 7] per band. A cell whose 8 corners share their nearest
-  // cluster lies wholly in that cluster's (convex) Voronoi cell: its certainty is exact. Others are
-  // marked ambiguous and classified per pixel, so the fast path equals the reference path. In
-  // normalised colour f = 255 C / (R + G + B), "nearer mean k than mean j" is linear in f and so, times
-  // R + G + B, a half-space through black in RGB: the same holds in every cell but black's.
-  const int n = static_cast<int>(means_.size());
-  std::vector<std::uint8_t> cert(n);
-  for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
-  // Nearest cluster of every lattice corner (33 values per band: 8q and 8q + 7 for q < 32).
-  auto corner = [](int i) { return i % 2 == 0 ? (i / 2) * 8 : (i / 2) * 8 + 7; };
-  std::vector<std::uint8_t> near(64 * 64 * 64);
-  for (int a = 0; a < 64; ++a)
-    for (int b = 0; b < 64; ++b)
-      for (int c = 0; c < 64; ++c)
-        near[(a * 64 + b) * 64 + c] = static_cast<std::uint8_t>(
-            nearest(corner(a), corner(b), corner(c)));
-  // Exact test for a cell spanning clusters of equal certainty c: no point of the cube has a cluster j
-  // of another certainty as its nearest if, for every such j, some cluster k of certainty c is nearer
-  // than j at all 8 corners (the region nearer k than j is a half-space, so the whole cube is).
-  auto d2 = [&](int k, double x, double y, double z) { return (means_[k] - feature(x, y, z)).squaredNorm(); };
-  auto uniform = [&](int r, int g, int b, std::uint8_t c) {
-    for (int j = 0; j < n; ++j) {
-      if (cert[j] == c) continue;
-      bool excluded = false;
-      for (int k = 0; k < n && !excluded; ++k) {
-        if (cert[k] != c) continue;
-        excluded = true;
-        for (int m = 0; m < 8 && excluded; ++m) {
-          const double x = corner(2 * r + (m & 1)), y = corner(2 * g + ((m >> 1) & 1)),
-                       z = corner(2 * b + ((m >> 2) & 1));
-          excluded = d2(k, x, y, z) < d2(j, x, y, z);
+      if (c == certaintyOf(std::tanh(hi + 1e-9))) return c;
+      return std::nullopt;
+    };
+    exact = [&](int r, int g, int b) { return certaintyOf(std::tanh(netRgb(weights_, feature(r, g, b)))); };
+  } else {
+    // A cell whose 8 corners share their nearest cluster lies wholly in that cluster's (convex)
+    // Voronoi cell. In normalised colour f = 255 C / (R + G + B), "nearer mean k than mean j" is
+    // linear in f and so, times R + G + B, a half-space through black in RGB: the same holds.
+    const int n = static_cast<int>(means_.size());
+    cert.resize(n);
+    for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
+    // Nearest cluster of every lattice corner (33 values per band: 8q and 8q + 7 for q < 32).
+    near.resize(64 * 64 * 64);
+    for (int a = 0; a < 64; ++a)
+      for (int b = 0; b < 64; ++b)
+        for (int c = 0; c < 64; ++c)
+          near[(a * 64 + b) * 64 + c] = static_cast<std::uint8_t>(nearest(corner(a), corner(b), corner(c)));
+    // (`uniform` and `exact` outlive this block: they use only what the function's scope holds.)
+    uniform = [&, n](int r, int g, int b) -> std::optional<std::uint8_t> {
+      const int k0 = near[((2 * r) * 64 + 2 * g) * 64 + 2 * b];
+      const std::uint8_t c = cert[k0];
+      bool same = true;
+      for (int m = 1; m < 8 && same; ++m)
+        same = near[((2 * r + (m & 1)) * 64 + 2 * g + ((m >> 1) & 1)) * 64 + 2 * b + ((m >> 2) & 1)] == k0;
+      if (same) return c;
+      // Exact test for a cell spanning clusters of equal certainty c: no point of the cube has a
+      // cluster j of another certainty as its nearest if, for every such j, some cluster k of
+      // certainty c is nearer than j at all 8 corners (the region nearer k than j is a half-space, so
+      // the whole cube is).
+      const auto d2 = [&](int k, double x, double y, double z) { return (means_[k] - feature(x, y, z)).squaredNorm(); };
+      for (int j = 0; j < n; ++j) {
+        if (cert[j] == c) continue;
+        bool out = false;
+        for (int k = 0; k < n && !out; ++k) {
+          if (cert[k] != c) continue;
+          out = true;
+          for (int m = 0; m < 8 && out; ++m) {
+            const double x = corner(2 * r + (m & 1)), y = corner(2 * g + ((m >> 1) & 1)),
+                         z = corner(2 * b + ((m >> 2) & 1));
+            out = d2(k, x, y, z) < d2(j, x, y, z);
+          }
         }
+        if (!out) return std::nullopt;
       }
-      if (!excluded) return false;
-    }
-    return true;
-  };
+      return c;
+    };
+    exact = [&](int r, int g, int b) { return cert[nearest(r, g, b)]; };
+  }
   lut_.assign(32 * 32 * 32, 0);
-  for (int r = 0; r < 32; ++r)
-    for (int g = 0; g < 32; ++g)
-      for (int b = 0; b < 32; ++b) {
-        const int k0 = near[((2 * r) * 64 + 2 * g) * 64 + 2 * b];
-        bool same = true;
-        for (int m = 1; m < 8 && same; ++m)
-          same = near[((2 * r + (m & 1)) * 64 + 2 * g + ((m >> 1) & 1)) * 64 + 2 * b + ((m >> 2) & 1)] == k0;
-        if (!same) same = uniform(r, g, b, cert[k0]);
-        lut_[(r << 10) | (g << 5) | b] = same ? cert[k0] : kAmbiguous;
-      }
-  if (opt_.normalized_color) lut_[0] = kAmbiguous;
-  // Second level: every ambiguous cell gets its own 8×8×8 table of exact certainties, so the fast
-  // path needs no distance computation at all and still equals the reference path colour by colour.
   sub_offset_.assign(32 * 32 * 32, 0);
   sub_.clear();
   for (int cell = 0; cell < 32 * 32 * 32; ++cell) {
-    if (lut_[cell] != kAmbiguous) continue;
+    const int r = cell >> 10, g = (cell >> 5) & 31, b = cell & 31;
+    // Black's cell proves nothing from its corners in normalised colour: black counts as grey there.
+    const auto c = opt_.normalized_color && cell == 0 ? std::nullopt : uniform(r, g, b);
+    if (c) {
+      lut_[cell] = *c;
+      continue;
+    }
+    lut_[cell] = kAmbiguous;
     sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
-    const int r0 = (cell >> 10) * 8, g0 = ((cell >> 5) & 31) * 8, b0 = (cell & 31) * 8;
-    for (int i = 0; i < 512; ++i)
-      sub_.push_back(cert[nearest(r0 + (i >> 6), g0 + ((i >> 3) & 7), b0 + (i & 7))]);
+    for (int i = 0; i < 512; ++i) sub_.push_back(exact(8 * r + (i >> 6), 8 * g + ((i >> 3) & 7), 8 * b + (i & 7)));
   }
 }
 
