@@ -37,7 +37,7 @@ std::vector<std::string> evalArgs(const fs::path& dir, const std::vector<std::st
 }
 
 TEST(EvalCli, ScoresThreeCamVidPhotosWithOverlays) {
-  ASSERT_TRUE(fs::is_directory(testing::realDataPath("camvid"))) << "no ../shared/data/real/camvid";
+  ASSERT_TRUE(testing::realDataPresent("camvid"));
   const fs::path dir = threeImages();
   // The sidewalk pipeline's options for photos (docs/eval.md): its defaults are for the campus
   // simulation and give up on most CamVid photos.
@@ -80,7 +80,7 @@ TEST(EvalCli, ScoresThreeCamVidPhotosWithOverlays) {
 }
 
 TEST(EvalCli, BadInputNamesTheFileAndWritesNothing) {
-  ASSERT_TRUE(fs::is_directory(testing::realDataPath("camvid"))) << "no ../shared/data/real/camvid";
+  ASSERT_TRUE(testing::realDataPresent("camvid"));
   const fs::path dir = threeImages();
   const std::string overlays = (dir / "overlays").string();
 

@@ -51,7 +51,8 @@ class RealKittiSequence : public ::testing::Test {
     dir_ = nullptr;
   }
   void SetUp() override {
-    if (dir_ == nullptr) GTEST_SKIP() << "no ../shared/data/real/kitti_vo_seq1";
+    ASSERT_TRUE(testing::realDataPresent("kitti_vo_seq1"));
+    ASSERT_NE(dir_, nullptr) << "the import of kitti_vo_seq1 failed (SetUpTestSuite)";
   }
   // `mapnav log track` --json over the imported log.
   static nlohmann::json track(const std::vector<std::string>& more) {

@@ -12,6 +12,7 @@ namespace fs = std::filesystem;
 using testing::runCli;
 
 TEST(ImportOsmCli, TheRealCampusImportsWithItsRepairsListedAndValidates) {
+  ASSERT_TRUE(testing::realDataPresent("osm/nu_campus_south.osm"));
   const fs::path dir = testing::freshTempDir();
   const fs::path out = dir / "campus.json";
   const auto r = runCli({"map", "import-osm", testing::realDataPath("osm/nu_campus_south.osm").string(), "-o",
@@ -28,6 +29,7 @@ TEST(ImportOsmCli, TheRealCampusImportsWithItsRepairsListedAndValidates) {
 }
 
 TEST(ImportOsmCli, BadInputExitsNonZeroNamingTheProblemAndWritesNothing) {
+  ASSERT_TRUE(testing::realDataPresent("osm/nu_campus_south.osm"));
   const fs::path dir = testing::freshTempDir();
   const fs::path broken = dir / "broken.osm", out = dir / "out.json";
   std::ofstream(broken) << "<?xml version='1.0'?>\n<osm version=\"0.6\">\n  <way id=\"1\">\n</osm>\n";

@@ -216,8 +216,8 @@ TEST(OsmImport, BadFilesAndOptionsSayWhatIsWrong) {
 // network (the data does not connect them). The pieces come from the Map (a union-find over roads),
 // the routes from Boost.Graph: two independent answers that must agree.
 TEST(OsmImportReal, CampusImportsValidAndRoutesOrExplains100RandomPairs) {
+  ASSERT_TRUE(testing::realDataPresent("osm/nu_campus_south.osm"));
   const auto file = realDataPath("osm/nu_campus_south.osm");
-  ASSERT_TRUE(std::filesystem::exists(file)) << file << " (../shared/data/real beside the repository)";
   OsmImportOptions options;
   options.repair = true;
   const OsmImport imported = importOsm(file, options);

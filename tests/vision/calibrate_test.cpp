@@ -247,8 +247,8 @@ TEST(Chessboard, FindsAndDrawsCornersAndRejectsBoardlessImages) {
 }
 
 TEST(Chessboard, RealPhotosCalibrateWithSubPixelError) {
+  ASSERT_TRUE(testing::realDataPresent("calibration"));
   const std::filesystem::path dir = testing::realDataPath("calibration");
-  ASSERT_TRUE(std::filesystem::is_directory(dir)) << "no real calibration photos at " << dir << " (../shared/data/real)";
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     if (e.path().extension() == ".jpg") names.push_back(e.path().string());
@@ -262,7 +262,7 @@ TEST(Chessboard, RealPhotosCalibrateWithSubPixelError) {
     images.push_back(std::move(img));
     used_names.push_back(n);
   }
-  if (images.size() < 3) GTEST_SKIP() << "too few 1280x720 photos";
+  ASSERT_GE(images.size(), 3u) << "too few 1280x720 photos in " << dir;
   const ChessboardResult res = calibrateChessboard(images, 9, 6, 0.025, used_names);
   std::printf("real photos: %d/%zu used, fx %.2f fy %.2f cx %.2f cy %.2f, RMS %.4f px\n", res.images_used,
               images.size(), res.intrinsics.fx, res.intrinsics.fy, res.intrinsics.cx, res.intrinsics.cy,

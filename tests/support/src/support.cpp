@@ -16,6 +16,14 @@ fs::path fixturePath(const std::string& name) { return sourceDir() / "tests" / "
 
 fs::path realDataPath(const std::string& name) { return sourceDir().parent_path() / "shared" / "data" / "real" / name; }
 
+::testing::AssertionResult realDataPresent(const std::string& name) {
+  const fs::path path = realDataPath(name);
+  if (fs::exists(path)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "missing ../shared/data/real/" << name << " (looked for " << path.string()
+                                       << "): this test needs the real data sets beside the repository "
+                                          "(../shared/data/real/README.md)";
+}
+
 fs::path freshTempDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = "mapnav-test-" + std::to_string(::getpid());

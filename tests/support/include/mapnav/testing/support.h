@@ -21,6 +21,9 @@ std::filesystem::path fixturePath(const std::string& name);
 /// `../shared/data/real/NAME` beside the source tree: real data recorded by others (its README),
 /// read in place, never copied into the repository.
 std::filesystem::path realDataPath(const std::string& name);
+/// Success when realDataPath(name) exists; otherwise a failure naming the missing folder or file.
+/// Tests that need real data fail without it (never skip): `ASSERT_TRUE(realDataPresent("camvid"))`.
+::testing::AssertionResult realDataPresent(const std::string& name);
 /// A fresh empty folder under the system temp dir, unique to the running test.
 std::filesystem::path freshTempDir();
 
