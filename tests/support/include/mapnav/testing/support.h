@@ -24,6 +24,16 @@ std::filesystem::path realDataPath(const std::string& name);
 /// Success when realDataPath(name) exists; otherwise a failure naming the missing folder or file.
 /// Tests that need real data fail without it (never skip): `ASSERT_TRUE(realDataPresent("camvid"))`.
 ::testing::AssertionResult realDataPresent(const std::string& name);
+/// True in the sanitizer build (build-asan/, AddressSanitizer), where the code runs 5-10 times
+/// slower: the long closed-loop and evaluation tests drive a shorter stretch there, and the release
+/// stage of scripts/test runs them whole.
+inline constexpr bool kUnderSanitizers =
+#if defined(__SANITIZE_ADDRESS__)
+    true;
+#else
+    false;
+#endif
+
 /// A fresh empty folder under the system temp dir, unique to the running test.
 std::filesystem::path freshTempDir();
 
