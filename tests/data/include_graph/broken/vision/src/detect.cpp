@@ -1,0 +1,2 @@
+#include "mapnav/core/error.h"
+#include "mapnav/map/map.h"
