@@ -3,6 +3,8 @@
 // loop reaches the goal, and the trace reads back as the paper's dialogue.
 #include "mapnav/mission/runner.h"
 
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -27,7 +29,9 @@ std::size_t count(const std::string& text, const std::string& what) {
   return n;
 }
 
-// One simulated log of the short crossing, shared by the tests of this suite.
+// One simulated log of the short crossing, shared by the tests of this suite: under ctest the one
+// the fixture MissionFixture.SimulateShortCrossingLog wrote with `mapnav simulate` (each ctest test is
+// a process of its own; tests/mission/CMakeLists.txt), read only; run by hand, simulated here.
 class ReplayShortCrossing : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -35,18 +39,27 @@ class ReplayShortCrossing : public ::testing::Test {
     dir_ = new fs::path(fs::temp_directory_path() / ("mapnav-runner-test-" + std::to_string(::getpid())));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
-    const SimulateResult r = simulate(shortCrossing(), *dir_ / "log");
-    ASSERT_TRUE(r.reached_goal);
+    const char* made = std::getenv("MAPNAV_SHORT_CROSSING_LOG");
+    log_ = new fs::path(made != nullptr ? fs::path(made) : *dir_ / "log");
+    if (made != nullptr) {
+      ASSERT_TRUE(fs::is_regular_file(*log_ / "frames.jsonl")) << "the fixture's log " << *log_ << " is missing";
+    } else {
+      const SimulateResult r = simulate(shortCrossing(), *log_);
+      ASSERT_TRUE(r.reached_goal);
+    }
   }
   static void TearDownTestSuite() {
     fs::remove_all(*dir_);
     delete dir_;
+    delete log_;
   }
-  static fs::path log() { return *dir_ / "log"; }
+  static fs::path log() { return *log_; }
   static fs::path dir() { return *dir_; }
   static fs::path* dir_;
+  static fs::path* log_;
 };
 fs::path* ReplayShortCrossing::dir_ = nullptr;
+fs::path* ReplayShortCrossing::log_ = nullptr;
 
 TEST_F(ReplayShortCrossing, ReachesTheGoalWithTheTargetsWhileOdometryAloneDrifts) {
   const MissionRun run = runReplay(shortCrossing(), log());
