@@ -211,10 +211,8 @@ TEST(ParkLoopStretch, ClusterPerceptronStaysOnThePathSteeringOnTheEstimate) {
 }
 
 // The same in normalised colour (normalized_color: shadows do not change a colour's class) with 8
-// clusters. Measured: lateral RMS 0.165 m, max offset from the centre line 0.767 m (RGB above: 0.170,
-// 0.558 m). With the paper's 5 clusters it left the path in R2's 15 m hairpin, whose right shoulder
-// is dirt (normalised (109, 85, 61), 37 levels from the asphalt's (84, 84, 88) against the grass's
-// (74, 128, 53)), from frame 186 on: 33 frames off the path, 3.3 m from the centre line.
+// clusters: with the paper's 5 the dirt shoulder of R2's 15 m hairpin, between the grass's and the
+// asphalt's chromaticities, is taken for road (docs/measurements.md, park loop).
 TEST(ParkLoopStretch, ClusterPerceptronInNormalisedColourStaysOnThePath) {
   expectStretchStaysOnThePath("cluster-perceptron", kStretchFrames, R"({"normalized_color": true, "clusters": 8})");
 }
