@@ -77,18 +77,17 @@ std::vector<PathPoint> wanderPath(const Polyline2& route, double amplitude) {
 }
 
 DriveLoopResult driveLoop(SkidSteerVehicle& vehicle, const DriveLoopOptions& options,
-                          const std::function<bool(double, const Pose2&, const TrueMotion&)>& on_frame,
+                          const std::function<bool(double, const Pose2&, const MotionIncrement&, double)>& on_frame,
                           const std::function<VehicleCommand(double)>& command,
                           const std::function<bool()>& finished) {
   DriveLoopResult result;
   double t = 0, next_frame = 0, last_frame_t = 0;
-  TrueMotion motion;
+  MotionIncrement motion;  // the true motion since the last frame
   while (true) {
     throwIfInterrupted();  // Ctrl-C: unwind, so that the log writer removes its temporary folder
     if (t >= next_frame - 1e-9) {
-      motion.dt_s = t - last_frame_t;
-      const bool go_on = on_frame(t, vehicle.pose(), motion);
-      motion = TrueMotion{};
+      const bool go_on = on_frame(t, vehicle.pose(), motion, t - last_frame_t);
+      motion = MotionIncrement{};
       last_frame_t = t;
       next_frame += options.frame_dt_s;
       ++result.frames;

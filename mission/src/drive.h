@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/geometry/motion.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/route.h"
@@ -42,13 +43,6 @@ std::vector<RoadPosition> missionStops(const MissionFile& mission);
 /// `amplitude` metres and a 25 m wavelength, faded in and out over the first and last 5 m).
 std::vector<PathPoint> wanderPath(const Polyline2& route, double amplitude);
 
-/// The true motion between two camera frames.
-struct TrueMotion {
-  double distance_m = 0;    ///< driven, m
-  double dheading_rad = 0;  ///< heading change, rad
-  double dt_s = 0;          ///< time since the previous frame (0 for the first)
-};
-
 struct DriveLoopOptions {
   double frame_dt_s = 0.5;    ///< between camera frames, s
   double control_dt_s = 0.05; ///< between control steps, s
@@ -63,11 +57,11 @@ struct DriveLoopResult {
   bool finished = false;  ///< `finished()` said so (not a limit, not `on_frame`)
 };
 
-/// The loop: at t = 0, frame_dt, 2 frame_dt, ... `on_frame(t, vehicle pose, motion since the last
-/// frame)` (false: stop); between frames `finished()` is asked (true: stop), then the vehicle steps
+/// The loop: at t = 0, frame_dt, 2 frame_dt, ... `on_frame(t, vehicle pose, true motion since the
+/// last frame, time since the last frame (0 for the first))` (false: stop); between frames `finished()` is asked (true: stop), then the vehicle steps
 /// `control_dt_s` with `command(t)`.
 DriveLoopResult driveLoop(SkidSteerVehicle& vehicle, const DriveLoopOptions& options,
-                          const std::function<bool(double, const Pose2&, const TrueMotion&)>& on_frame,
+                          const std::function<bool(double, const Pose2&, const MotionIncrement&, double)>& on_frame,
                           const std::function<VehicleCommand(double)>& command,
                           const std::function<bool()>& finished);
 

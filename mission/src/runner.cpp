@@ -133,7 +133,7 @@ class ModuleLoop {
   }
 
   /// One frame; false when the mission ends here (a halt with no resume).
-  bool frame(std::size_t index, double t, const Image& rgb, const VehicleMotion& odometry,
+  bool frame(std::size_t index, double t, const Image& rgb, const MotionIncrement& odometry,
              const std::optional<Pose2>& truth, const std::string& image_path) {
     flush();  // anything dropped between frames (Motion Control's reads) belongs before this frame
     // The operator hands control back once the halt has lasted its frames.
@@ -337,7 +337,7 @@ LogFaultKind faultKind(const std::string& check) {
 }
 
 // The motion of two consecutive intervals as one.
-void carry(Odometry& into, const Odometry& more) {
+void carry(MotionIncrement& into, const MotionIncrement& more) {
   into.distance_m += more.distance_m;
   into.dheading_rad += more.dheading_rad;
 }
@@ -374,7 +374,7 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
   // moved the vehicle: its odometry goes to the next frame. A line out of time order is dropped whole.
   const std::vector<SkippedLine>& skipped = log.skippedLines();
   std::size_t next_skipped = 0;
-  Odometry carried;
+  MotionIncrement carried;
   auto faultsBefore = [&](int line) {
     for (; next_skipped < skipped.size() && skipped[next_skipped].line < line; ++next_skipped) {
       const SkippedLine& s = skipped[next_skipped];
@@ -390,7 +390,7 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
   const std::vector<LogFrame>& frames = log.frames();
   const std::size_t total = options.max_frames > 0 ? std::min(options.max_frames, frames.size()) : frames.size();
   std::optional<double> last_t;       // the previous frame the modules saw
-  std::optional<Odometry> last_rate;  // its odometry per second, to replace a spike
+  std::optional<MotionIncrement> last_rate;  // its odometry per second, to replace a spike
   bool ended = true;                  // the log was read to its end
   for (std::size_t i = 0; i < total; ++i) {
     throwIfInterrupted();
@@ -419,9 +419,9 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
     }
     // The odometry since the previous frame the modules saw (with that of the frames skipped since):
     // faster than a vehicle goes, it is a spike and the previous rate stands in for it.
-    Odometry odo = carried;
+    MotionIncrement odo = carried;
     carry(odo, f.odometry);
-    carried = Odometry{};
+    carried = MotionIncrement{};
     const double dt = last_t ? f.t - *last_t : 1.0 / log.header().frame_rate_hz;
     if (std::abs(odo.distance_m) > options.max_odometry_speed_mps * dt ||
         std::abs(odo.dheading_rad) > degToRad(options.max_odometry_turn_rate_deg_s) * dt) {
@@ -435,14 +435,13 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
                      last_rate ? "odometry replaced by the previous frame's rate" : "odometry replaced by no motion",
                      text},
             "log.odometry_spike", "/odometry");
-      odo = last_rate ? Odometry{last_rate->distance_m * dt, last_rate->dheading_rad * dt} : Odometry{};
+      odo = last_rate ? MotionIncrement{last_rate->distance_m * dt, last_rate->dheading_rad * dt} : MotionIncrement{};
     } else {
-      last_rate = Odometry{odo.distance_m / dt, odo.dheading_rad / dt};
+      last_rate = MotionIncrement{odo.distance_m / dt, odo.dheading_rad / dt};
     }
     last_t = f.t;
     run.distance_m += odo.distance_m;
-    const VehicleMotion odometry{odo.distance_m, odo.dheading_rad};
-    const bool go_on = loop.frame(i, f.t, rgb, odometry, f.truth, f.image);
+    const bool go_on = loop.frame(i, f.t, rgb, odo, f.truth, f.image);
     progress(options, i + 1, total, f.t);
     if (!go_on) {
       ended = false;
@@ -505,10 +504,10 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
   std::size_t index = 0;
   const detail::DriveLoopResult driven = detail::driveLoop(
       vehicle, drive,
-      [&](double t, const Pose2& truth, const detail::TrueMotion& motion) {
+      [&](double t, const Pose2& truth, const MotionIncrement& motion, double dt_s) {
         const Frame frame = world.render(rays, truth, t);  // not in the latency
-        const Odometry o = sensor.measure(motion.distance_m, motion.dheading_rad, motion.dt_s);
-        const bool go_on = loop.frame(index, t, frame.rgb, VehicleMotion{o.distance_m, o.dheading_rad}, truth, "");
+        const MotionIncrement odometry = sensor.measure(motion.distance_m, motion.dheading_rad, dt_s);
+        const bool go_on = loop.frame(index, t, frame.rgb, odometry, truth, "");
         ++index;
         progress(options, index, std::max(total, index), t);
         return go_on;

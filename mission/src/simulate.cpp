@@ -62,11 +62,11 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   loop.max_frames = options.max_frames;
   const detail::DriveLoopResult driven = detail::driveLoop(
       vehicle, loop,
-      [&](double t, const Pose2& pose, const detail::TrueMotion& motion) {
+      [&](double t, const Pose2& pose, const MotionIncrement& motion, double dt_s) {
         const Frame frame = world.render(*camera, pose, t);
         LogFrame entry;
         entry.t = t;
-        entry.odometry = odometry.measure(motion.distance_m, motion.dheading_rad, motion.dt_s);
+        entry.odometry = odometry.measure(motion.distance_m, motion.dheading_rad, dt_s);
         entry.truth = pose;
         writer.add(entry, frame.rgb, &frame.mask);
         return true;
