@@ -27,7 +27,7 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   options.validate();
   const Map map = loadMap(mission.map);
   const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
-  const detail::SimulationSettings settings = detail::simulationSettings(mission, options.seed);
+  const PlantOptions settings = detail::simulationSettings(mission, options.seed);
 
   SimulateResult result;
   RoadGraph graph(map);
