@@ -537,7 +537,7 @@ PoseFilter::PoseFilter(const Pose2& pose, const Mat3& covariance, const FilterOp
   }
 }
 
-void PoseFilter::predict(const VehicleMotion& motion) {
+void PoseFilter::predict(const MotionIncrement& motion) {
   const double d = motion.distance_m, dh = motion.dheading_rad;
   const double hm = pose_.heading() + 0.5 * dh;  // the mid-step heading
   const double c = std::cos(hm), s = std::sin(hm);
@@ -693,7 +693,7 @@ std::optional<double> groundMetresPerPixel(const Camera& camera, const Segment2&
   return std::abs((*q - mid).dot(leftNormal(line.direction())));
 }
 
-CurrentPosition localize(PoseFilter& filter, const VehicleMotion& motion, const Prediction& prediction,
+CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, const Prediction& prediction,
                          const DetectedObject& detected, const LocalizeOptions& options, const Map* map,
                          const Camera* camera) {
   options.validate();

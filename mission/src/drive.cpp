@@ -9,9 +9,9 @@
 
 namespace mapnav::detail {
 
-SimulationSettings simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed) {
+PlantOptions simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed) {
   Issues issues;
-  SimulationSettings s{parseWorldOptions(mission.world_json, "/world", issues),
+  PlantOptions s{parseWorldOptions(mission.world_json, "/world", issues),
                        parseOdometryNoise(mission.odometry_json, "/odometry", issues)};
   if (hasErrors(issues)) throw ValidationError(mission.name, std::move(issues));
   if (seed) {
@@ -76,39 +76,54 @@ std::vector<PathPoint> wanderPath(const Polyline2& route, double amplitude) {
   return densePath(Polyline2(std::move(shifted)), 0.25);
 }
 
+Drive::Drive(SkidSteerVehicle& vehicle, const DriveLoopOptions& options) : vehicle_(vehicle), options_(options) {}
+
+Drive::Step Drive::toNextFrame(const std::function<VehicleCommand(double)>& command,
+                               const std::function<bool()>& finished) {
+  while (true) {
+    if (stepped_) {
+      throwIfInterrupted();  // Ctrl-C: unwind, so that the log writer removes its temporary folder
+      if (t_ >= next_frame_ - 1e-9) {
+        const Step frame{Stop::Frame, motion_, t_ - last_frame_t_};
+        motion_ = MotionIncrement{};
+        last_frame_t_ = t_;
+        next_frame_ += options_.frame_dt_s;
+        ++frames_;
+        stepped_ = false;
+        return frame;
+      }
+    }
+    if (finished()) return Step{Stop::Finished, {}, 0};
+    if (t_ > options_.time_limit_s) return Step{Stop::TimeLimit, {}, 0};
+    const Pose2 before = vehicle_.pose();
+    vehicle_.step(command(t_), options_.control_dt_s);
+    const double step = (vehicle_.pose().translation() - before.translation()).norm();
+    motion_.distance_m += step;
+    distance_m_ += step;
+    motion_.dheading_rad += normalizeAngle(vehicle_.pose().heading() - before.heading());
+    t_ += options_.control_dt_s;
+    stepped_ = true;
+  }
+}
+
 DriveLoopResult driveLoop(SkidSteerVehicle& vehicle, const DriveLoopOptions& options,
-                          const std::function<bool(double, const Pose2&, const TrueMotion&)>& on_frame,
+                          const std::function<bool(double, const Pose2&, const MotionIncrement&, double)>& on_frame,
                           const std::function<VehicleCommand(double)>& command,
                           const std::function<bool()>& finished) {
+  Drive drive(vehicle, options);
   DriveLoopResult result;
-  double t = 0, next_frame = 0, last_frame_t = 0;
-  TrueMotion motion;
   while (true) {
-    throwIfInterrupted();  // Ctrl-C: unwind, so that the log writer removes its temporary folder
-    if (t >= next_frame - 1e-9) {
-      motion.dt_s = t - last_frame_t;
-      const bool go_on = on_frame(t, vehicle.pose(), motion);
-      motion = TrueMotion{};
-      last_frame_t = t;
-      next_frame += options.frame_dt_s;
-      ++result.frames;
-      if (!go_on) break;
-      if (options.max_frames > 0 && result.frames >= options.max_frames) break;
-    }
-    if (finished()) {
-      result.finished = true;
+    const Drive::Step step = drive.toNextFrame(command, finished);
+    if (step.stop != Drive::Stop::Frame) {
+      result.finished = step.stop == Drive::Stop::Finished;
       break;
     }
-    if (t > options.time_limit_s) break;
-    const Pose2 before = vehicle.pose();
-    vehicle.step(command(t), options.control_dt_s);
-    const double step = (vehicle.pose().translation() - before.translation()).norm();
-    motion.distance_m += step;
-    result.distance_m += step;
-    motion.dheading_rad += normalizeAngle(vehicle.pose().heading() - before.heading());
-    t += options.control_dt_s;
+    if (!on_frame(drive.t(), vehicle.pose(), step.motion, step.dt_s)) break;
+    if (options.max_frames > 0 && drive.frames() >= options.max_frames) break;
   }
-  result.duration_s = t;
+  result.frames = drive.frames();
+  result.distance_m = drive.distance_m();
+  result.duration_s = drive.t();
   return result;
 }
 

@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/geometry/motion.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/vehicle.h"
-#include "mapnav/sim/odometry.h"
-#include "mapnav/sim/world.h"
+#include "mapnav/sim/plant.h"
 
 namespace mapnav::detail {
 
@@ -29,11 +29,7 @@ Route planThrough(RoadGraph& graph, const RoadPosition& from, const std::vector<
 /// The synthetic world and odometry noise of a mission's `world` and `odometry` objects, `seed`
 /// overriding the world's seed and the odometry's (seed + 1): same seed, same bytes. Throws
 /// ValidationError naming the mission and every bad field.
-struct SimulationSettings {
-  WorldOptions world;
-  OdometryNoiseOptions odometry;
-};
-SimulationSettings simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed);
+PlantOptions simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed);
 
 /// The mission's stops after the start: its via points, then the goal.
 std::vector<RoadPosition> missionStops(const MissionFile& mission);
@@ -41,13 +37,6 @@ std::vector<RoadPosition> missionStops(const MissionFile& mission);
 /// The path the simulator's driver follows: the route with a gentle lateral wander (a sine of
 /// `amplitude` metres and a 25 m wavelength, faded in and out over the first and last 5 m).
 std::vector<PathPoint> wanderPath(const Polyline2& route, double amplitude);
-
-/// The true motion between two camera frames.
-struct TrueMotion {
-  double distance_m = 0;    ///< driven, m
-  double dheading_rad = 0;  ///< heading change, rad
-  double dt_s = 0;          ///< time since the previous frame (0 for the first)
-};
 
 struct DriveLoopOptions {
   double frame_dt_s = 0.5;    ///< between camera frames, s
@@ -63,11 +52,44 @@ struct DriveLoopResult {
   bool finished = false;  ///< `finished()` said so (not a limit, not `on_frame`)
 };
 
-/// The loop: at t = 0, frame_dt, 2 frame_dt, ... `on_frame(t, vehicle pose, motion since the last
-/// frame)` (false: stop); between frames `finished()` is asked (true: stop), then the vehicle steps
+/// The vehicle between camera frames: the frame clock (frames due at t = 0, frame_dt, 2 frame_dt, ...)
+/// and the control steps in between, summing the true motion since the last frame.
+class Drive {
+ public:
+  enum class Stop { Frame, Finished, TimeLimit };
+  struct Step {
+    Stop stop = Stop::Frame;
+    MotionIncrement motion;  ///< Frame: the true motion since the previous frame (none for the first)
+    double dt_s = 0;         ///< Frame: the time since the previous frame (0 for the first)
+  };
+
+  /// `vehicle` is stepped in place; options.max_frames is the caller's to check (frames()).
+  Drive(SkidSteerVehicle& vehicle, const DriveLoopOptions& options);
+
+  /// Steps the vehicle control_dt_s at a time with `command(t)` until a frame is due, and takes it
+  /// (Frame; the first is due at once, and each later one after at least one step). Before each
+  /// step `finished()` is asked (true: Finished), then the time limit (past it: TimeLimit).
+  Step toNextFrame(const std::function<VehicleCommand(double)>& command, const std::function<bool()>& finished);
+
+  double t() const { return t_; }                    ///< mission time, s
+  double distance_m() const { return distance_m_; }  ///< driven (true), m
+  std::size_t frames() const { return frames_; }     ///< frames taken
+
+ private:
+  SkidSteerVehicle& vehicle_;
+  DriveLoopOptions options_;
+  double t_ = 0, next_frame_ = 0, last_frame_t_ = 0;
+  double distance_m_ = 0;
+  std::size_t frames_ = 0;
+  MotionIncrement motion_;  // the true motion since the last frame
+  bool stepped_ = true;     // a step since the last frame taken (none is needed before the first)
+};
+
+/// The loop: at t = 0, frame_dt, 2 frame_dt, ... `on_frame(t, vehicle pose, true motion since the
+/// last frame, time since the last frame (0 for the first))` (false: stop); between frames `finished()` is asked (true: stop), then the vehicle steps
 /// `control_dt_s` with `command(t)`.
 DriveLoopResult driveLoop(SkidSteerVehicle& vehicle, const DriveLoopOptions& options,
-                          const std::function<bool(double, const Pose2&, const TrueMotion&)>& on_frame,
+                          const std::function<bool(double, const Pose2&, const MotionIncrement&, double)>& on_frame,
                           const std::function<VehicleCommand(double)>& command,
                           const std::function<bool()>& finished);
 

@@ -85,7 +85,7 @@ MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, c
   start_along_sigma_m_ = alongSigma(position_);
 }
 
-void MapModule::predict(Blackboard& board, double t, const VehicleMotion& odometry) {
+void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odometry) {
   pending_ = odometry;
   read_m_ += odometry.distance_m;
   pending_.distance_m *= scale_;
@@ -129,13 +129,13 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     // should be.
     const double s = options_.park_reset_sigma_m, h = degToRad(options_.park_reset_heading_sigma_deg);
     filter_ = PoseFilter(filter_.pose(), Vec3(s * s, s * s, h * h).asDiagonal(), filter_.options());
-    position_ = mapnav::localize(filter_, VehicleMotion{}, prediction_, *detected, options_.localize, &map_, &camera_);
+    position_ = mapnav::localize(filter_, MotionIncrement{}, prediction_, *detected, options_.localize, &map_, &camera_);
     position_.reason += " (after " + std::to_string(park_rejections_) + " rejected frames, the covariance widened)";
     park_rejections_ = 0;
   }
   position_.timestamp = t;
   calibrate();
-  pending_ = VehicleMotion{};
+  pending_ = MotionIncrement{};
   board.post(Module::Map, position_);
   return position_;
 }

@@ -27,7 +27,7 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   options.validate();
   const Map map = loadMap(mission.map);
   const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
-  const detail::SimulationSettings settings = detail::simulationSettings(mission, options.seed);
+  const PlantOptions settings = detail::simulationSettings(mission, options.seed);
 
   SimulateResult result;
   RoadGraph graph(map);
@@ -62,11 +62,11 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   loop.max_frames = options.max_frames;
   const detail::DriveLoopResult driven = detail::driveLoop(
       vehicle, loop,
-      [&](double t, const Pose2& pose, const detail::TrueMotion& motion) {
+      [&](double t, const Pose2& pose, const MotionIncrement& motion, double dt_s) {
         const Frame frame = world.render(*camera, pose, t);
         LogFrame entry;
         entry.t = t;
-        entry.odometry = odometry.measure(motion.distance_m, motion.dheading_rad, motion.dt_s);
+        entry.odometry = odometry.measure(motion.distance_m, motion.dheading_rad, dt_s);
         entry.truth = pose;
         writer.add(entry, frame.rgb, &frame.mask);
         return true;

@@ -36,9 +36,9 @@ OdometrySensor::OdometrySensor(const OdometryNoiseOptions& options) : options_(o
   options_.validate();
 }
 
-Odometry OdometrySensor::measure(double distance_m, double dheading_rad, double dt) {
+MotionIncrement OdometrySensor::measure(double distance_m, double dheading_rad, double dt) {
   std::normal_distribution<double> unit(0.0, 1.0);
-  Odometry o;
+  MotionIncrement o;
   o.distance_m = distance_m * (1.0 + options_.scale_error) + options_.distance_sigma_m * unit(rng_);
   o.dheading_rad = dheading_rad + degToRad(options_.gyro_bias_deg_s) * dt + degToRad(options_.heading_sigma_deg) * unit(rng_);
   return o;

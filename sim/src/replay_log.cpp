@@ -131,7 +131,7 @@ std::string lineCheck(const std::string& check) {
 struct ParsedLine {
   std::optional<LogFrame> frame;
   std::optional<double> t;
-  std::optional<Odometry> odometry;
+  std::optional<MotionIncrement> odometry;
 };
 
 /// Reads one frames.jsonl line. Every issue found is appended to `issues` (errors, with their JSON
@@ -153,13 +153,13 @@ ParsedLine parseFrame(std::string_view text, const fs::path& dir, const ReadOpti
     const auto t = top.number("t");
     const auto image = top.string("image");
     const auto mask = top.string("mask", false);
-    std::optional<Odometry> odometry;
+    std::optional<MotionIncrement> odometry;
     if (const Json* odo_json = top.member("odometry", true)) {
       JsonObject odo(*odo_json, "/odometry", found);
       const auto distance = odo.number("distance_m");
       const auto dheading = odo.number("dheading_deg");
       odo.rejectUnknownMembers();
-      if (distance && dheading) odometry = Odometry{*distance, degToRad(*dheading)};
+      if (distance && dheading) odometry = MotionIncrement{*distance, degToRad(*dheading)};
     }
     if (const Json* truth_json = top.member("truth", false)) {
       JsonObject truth(*truth_json, "/truth", found);

@@ -49,7 +49,7 @@ TEST(MissionModules, MapPredictsForThePredictedPoseAndFallsBackToOdometryWithout
   Blackboard board;
   std::vector<Posting> posted;
   board.onPost([&](const Posting& p) { posted.push_back(p); });
-  map.predict(board, 0.5, VehicleMotion{1.0, 0.0});
+  map.predict(board, 0.5, MotionIncrement{1.0, 0.0});
   ASSERT_EQ(posted.size(), 1u);
   const auto& prediction = std::get<PredictionToken>(posted[0].token);
   EXPECT_POSE_NEAR(prediction.made_for, Pose2(52, 40, kPi), 1e-9);
@@ -80,7 +80,7 @@ double scaleAfterADrive(bool fix_at_the_end, double prior_sigma) {
   for (int frame = 1; frame <= 22; ++frame) {
     const double t = frame;
     const Pose2 truth(80 - frame, 40, kPi);
-    map.predict(board, t, VehicleMotion{1.02, 0.0});
+    map.predict(board, t, MotionIncrement{1.02, 0.0});
     if (frame > 20 && fix_at_the_end) {
       const Prediction& prediction = map.prediction();
       DetectedObject seen;

@@ -129,7 +129,7 @@ void expectTheResetTakesTheThirdFrame(const std::function<DetectedObject(const P
     Blackboard board;
     for (int frame = 1; frame <= 3; ++frame) {
       const double t = frame;
-      map.predict(board, t, VehicleMotion{});
+      map.predict(board, t, MotionIncrement{});
       DetectedObject detected = seen(map.prediction(), truth);
       detected.timestamp = t;
       board.post(Module::Vision, detected);

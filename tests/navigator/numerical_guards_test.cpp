@@ -253,7 +253,7 @@ CurrentPosition matchFromOffsetPrior(const Vec2& centre, const Pose2& truth_rel)
   }
   const Pose2 prior(truth.translation() + Vec2(0.0, 0.3), truth.heading() + degToRad(2.0));
   PoseFilter filter(prior, Mat3(Vec3(0.25, 0.25, 0.01).asDiagonal()));
-  return localize(filter, VehicleMotion{}, predictView(map, prior, *camera), detected);
+  return localize(filter, MotionIncrement{}, predictView(map, prior, *camera), detected);
 }
 
 TEST(HugeCoordinates, MatchingCorrectsAnOffsetPriorAsAtTheOrigin) {
@@ -282,7 +282,7 @@ TEST(SkyCamera, LookingUpPredictsNothingAndLocalizesByOdometry) {
     EXPECT_TRUE(p.empty()) << tilt;
     EXPECT_TRUE(p.footprint_world.empty()) << tilt;
     PoseFilter filter(pose, Mat3(Vec3(0.01, 0.01, 0.001).asDiagonal()));
-    const CurrentPosition position = localize(filter, VehicleMotion{0.3, 0.0}, p, DetectedObject{});
+    const CurrentPosition position = localize(filter, MotionIncrement{0.3, 0.0}, p, DetectedObject{});
     EXPECT_TRUE(finite(position.pose)) << tilt;
     EXPECT_EQ(position.status, PositionStatus::OdometryOnly) << tilt;
     EXPECT_NEAR(position.pose.x(), pose.x() - 0.3, 1e-9);  // it drove 0.3 m west

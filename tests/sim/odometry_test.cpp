@@ -11,7 +11,7 @@ namespace {
 
 TEST(OdometrySensor, WithoutNoiseReportsTheTrueMotion) {
   OdometrySensor sensor(OdometryNoiseOptions{});
-  const Odometry o = sensor.measure(0.75, 0.1, 0.5);
+  const MotionIncrement o = sensor.measure(0.75, 0.1, 0.5);
   EXPECT_EQ(o.distance_m, 0.75);
   EXPECT_EQ(o.dheading_rad, 0.1);
 }
@@ -21,7 +21,7 @@ TEST(OdometrySensor, ScaleErrorAndGyroBiasAreSystematic) {
   options.scale_error = 0.02;
   options.gyro_bias_deg_s = 0.5;
   OdometrySensor sensor(options);
-  const Odometry o = sensor.measure(10.0, 0.0, 4.0);
+  const MotionIncrement o = sensor.measure(10.0, 0.0, 4.0);
   EXPECT_NEAR(o.distance_m, 10.2, 1e-12);
   EXPECT_NEAR(o.dheading_rad, degToRad(2.0), 1e-12);  // 0.5 deg/s for 4 s
 }
@@ -35,7 +35,7 @@ TEST(OdometrySensor, NoiseHasTheStatedSpreadAndTheSameSeedRepeatsIt) {
   double sum = 0, sum2 = 0, hsum2 = 0;
   constexpr int n = 20000;
   for (int i = 0; i < n; ++i) {
-    const Odometry x = a.measure(1.0, 0.0, 0.1), y = b.measure(1.0, 0.0, 0.1);
+    const MotionIncrement x = a.measure(1.0, 0.0, 0.1), y = b.measure(1.0, 0.0, 0.1);
     ASSERT_EQ(x, y);
     sum += x.distance_m - 1.0;
     sum2 += (x.distance_m - 1.0) * (x.distance_m - 1.0);

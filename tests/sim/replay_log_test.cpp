@@ -64,7 +64,7 @@ Image maskImage(int k) {
 LogFrame makeFrame(double t, double distance, double dheading_deg) {
   LogFrame frame;
   frame.t = t;
-  frame.odometry = Odometry{distance, degToRad(dheading_deg)};
+  frame.odometry = MotionIncrement{distance, degToRad(dheading_deg)};
   return frame;
 }
 

@@ -947,7 +947,7 @@ std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders,
           Pose2 motion = last->inverse() * pose;
           if (odos[k]) {
             const Pose2::Tangent xi = motion.log();
-            const Odometry m = odos[k]->measure(xi[0], xi[2], ds);
+            const MotionIncrement m = odos[k]->measure(xi[0], xi[2], ds);
             motion = Pose2::exp(Pose2::Tangent(m.distance_m, 0.0, m.dheading_rad));
           }
           cps[k].advance(found[k], motion);

@@ -24,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/geometry/types.h"
@@ -164,12 +165,6 @@ std::optional<LineCorrespondence> centerlineCorrespondence(const Map& map, const
 // ---------------------------------------------------------------------------------------------
 // The filter
 
-/// The vehicle's motion between two frames, as odometry reports it.
-struct VehicleMotion {
-  double distance_m = 0.0;    ///< driven, m (negative: backwards)
-  double dheading_rad = 0.0;  ///< heading change, left positive, rad
-};
-
 /// Odometry noise (as AMCL's alphas): each step's standard deviations grow with the motion.
 struct MotionNoiseOptions {
   double distance_sigma_per_m = 0.02;     ///< distance sigma per metre driven, m/m
@@ -233,7 +228,7 @@ class PoseFilter {
   const FilterOptions& options() const { return options_; }
 
   /// Dead reckoning: move by `motion` (along the mid-step heading) and grow the covariance.
-  void predict(const VehicleMotion& motion);
+  void predict(const MotionIncrement& motion);
 
   /// Fuses line correspondences: a robust fit finds the inliers, the gate compares the fitted pose
   /// with the prior in the observed directions, and an iterated EKF update uses the inliers' stacked
@@ -276,7 +271,7 @@ struct LocalizeOptions {
 /// `detected` has a centre line and `map` is given, that centre line against the nearest road's.
 /// A failed DetectedObject, or nothing to match, leaves the pose to odometry and says so. `camera`:
 /// the one the frame was taken with, for LocalizeOptions::edge_sigma_px.
-CurrentPosition localize(PoseFilter& filter, const VehicleMotion& motion, const Prediction& prediction,
+CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, const Prediction& prediction,
                          const DetectedObject& detected, const LocalizeOptions& options = {},
                          const Map* map = nullptr, const Camera* camera = nullptr);
 

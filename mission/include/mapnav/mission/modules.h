@@ -110,7 +110,7 @@ class MapModule {
   /// A frame's first step: dead-reckon the filter with `odometry` (the motion since the previous
   /// frame) and post the PredictedObject for the predicted pose ("Vision will see ..."); an empty
   /// one when less than min_visible_px of road would be in the image.
-  void predict(Blackboard& board, double t, const VehicleMotion& odometry);
+  void predict(Blackboard& board, double t, const MotionIncrement& odometry);
 
   /// After Vision: match this frame's DetectedObject (a failed one, or none: odometry only, "never
   /// jumps") and post the CurrentPosition.
@@ -131,7 +131,7 @@ class MapModule {
   MapModuleOptions options_;
   ViewPredictor predictor_;  // of map_ with options_.predict
   PoseFilter filter_;
-  VehicleMotion pending_;   // odometry of the frame being processed (scaled)
+  MotionIncrement pending_;  // odometry of the frame being processed (scaled)
   Pose2 predicted_;         // the filter's pose after the prediction, before the update
   Prediction prediction_;
   CurrentPosition position_;

@@ -49,7 +49,7 @@ struct TraceFrame {
   std::size_t index = 0;
   double t = 0;
   std::string image;            ///< replay: the PNG, relative to the log folder ("" in closed loop)
-  VehicleMotion odometry;       ///< since the previous frame
+  MotionIncrement odometry;     ///< since the previous frame
   std::optional<Pose2> truth;
   Pose2 odometry_only;          ///< dead reckoning alone from the start
 };

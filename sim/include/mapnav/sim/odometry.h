@@ -28,7 +28,7 @@ class OdometrySensor {
  public:
   explicit OdometrySensor(const OdometryNoiseOptions& options);
   /// What the sensors report for a true motion of `distance_m` and `dheading_rad` over `dt` s.
-  Odometry measure(double distance_m, double dheading_rad, double dt);
+  MotionIncrement measure(double distance_m, double dheading_rad, double dt);
 
  private:
   OdometryNoiseOptions options_;

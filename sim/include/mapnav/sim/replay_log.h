@@ -15,6 +15,7 @@
 
 #include "mapnav/core/issue.h"
 #include "mapnav/geometry/camera.h"
+#include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/sim/image.h"
@@ -22,14 +23,6 @@
 namespace mapnav {
 
 inline constexpr std::string_view kLogFormat = "mapnav-log/1";
-
-/// The vehicle's own motion measured between two frames (wheel encoders and a gyro).
-struct Odometry {
-  double distance_m = 0.0;    ///< distance driven since the previous frame (the first frame: since the start), m
-  double dheading_rad = 0.0;  ///< heading change over the same interval, left positive, rad
-
-  bool operator==(const Odometry&) const = default;
-};
 
 /// A satellite position fix in the world frame.
 struct GnssFix {
@@ -44,7 +37,7 @@ struct LogFrame {
   double t = 0.0;                   ///< seconds since an arbitrary epoch; finite, strictly increasing
   std::string image;                ///< PNG path relative to the log folder ("images/000000.png")
   std::optional<std::string> mask;  ///< ground-truth road mask PNG (1 channel, 255 = road), relative path
-  Odometry odometry;                ///< since the previous frame
+  MotionIncrement odometry;         ///< measured since the previous frame (wheel encoders and a gyro)
   std::optional<Pose2> truth;       ///< the vehicle's true pose, world frame
   std::optional<GnssFix> gnss;      ///< a GNSS fix taken with this frame
 };
@@ -126,7 +119,7 @@ struct SkippedLine {
   std::string message;               ///< that issue's message (the JSON Pointer first, as in issues())
   std::string where;                 ///< that issue's JSON Pointer inside the line ("/image", "/t", "")
   std::optional<double> t;           ///< the line's `t`, when it could be read
-  std::optional<Odometry> odometry;  ///< the line's odometry, when it could be read (the vehicle still moved)
+  std::optional<MotionIncrement> odometry;  ///< the line's odometry, when it could be read (the vehicle still moved)
 };
 
 /// Reads one frames.jsonl line, as ReplayLog::open does for each: `dir` is the log folder (the image

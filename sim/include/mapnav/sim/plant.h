@@ -1,0 +1,40 @@
+#pragma once
+// The simulated plant of a closed-loop run: what the vehicle's camera sees at a pose and time (a
+// frame rendered from the synthetic world, sim/world.h) and what its odometry reports for a true
+// motion (the noisy sensor, sim/odometry.h). Poses are world frame (x, y in m, heading in rad);
+// motions are per interval in the vehicle frame (geometry/motion.h); times in seconds.
+#include "mapnav/geometry/camera.h"
+#include "mapnav/geometry/motion.h"
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/map/map.h"
+#include "mapnav/sim/odometry.h"
+#include "mapnav/sim/world.h"
+
+namespace mapnav {
+
+/// The synthetic world and the odometry noise of a simulation (a mission's `world` and `odometry`
+/// objects, their seeds included).
+struct PlantOptions {
+  WorldOptions world;
+  OdometryNoiseOptions odometry;
+};
+
+class SimulatedPlant {
+ public:
+  /// The world of `map` (copied: the map need not outlive the plant) seen through `camera` (its ray
+  /// table built once). Throws InvalidInput for invalid options.
+  SimulatedPlant(const Map& map, const Camera& camera, const PlantOptions& options);
+
+  /// The camera frame at `pose` (world frame) at mission time `t` s, with its ground-truth mask.
+  Frame render(const Pose2& pose, double t) const;
+  /// What the odometry sensor reports for the true motion `truth` over `dt_s` s (the noise's random
+  /// stream advances: the same calls in the same order give the same readings).
+  MotionIncrement odometry(const MotionIncrement& truth, double dt_s);
+
+ private:
+  World world_;
+  RayTable rays_;
+  OdometrySensor sensor_;
+};
+
+}  // namespace mapnav

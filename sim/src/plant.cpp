@@ -1,0 +1,15 @@
+// The simulated plant: the synthetic world rendered through a kept ray table, and the odometry sensor.
+#include "mapnav/sim/plant.h"
+
+namespace mapnav {
+
+SimulatedPlant::SimulatedPlant(const Map& map, const Camera& camera, const PlantOptions& options)
+    : world_(map, options.world), rays_(camera), sensor_(options.odometry) {}
+
+Frame SimulatedPlant::render(const Pose2& pose, double t) const { return world_.render(rays_, pose, t); }
+
+MotionIncrement SimulatedPlant::odometry(const MotionIncrement& truth, double dt_s) {
+  return sensor_.measure(truth.distance_m, truth.dheading_rad, dt_s);
+}
+
+}  // namespace mapnav
