@@ -26,6 +26,9 @@ int runPipelines(const PipelinesConfig& config, std::ostream& out, std::ostream&
       for (const OptionInfo& option : info.options) {
         out << "    " << option.name << " = " << option.default_json << "    " << option.description << "\n";
       }
+      for (const OptionPreset& preset : info.presets) {
+        out << "    preset " << preset.name << " = " << preset.json << "    " << preset.description << "\n";
+      }
     }
     return static_cast<int>(kOk);
   });

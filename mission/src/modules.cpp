@@ -5,7 +5,7 @@
 #include <exception>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/navigator/path.h"
 
 #include "drive.h"
@@ -15,26 +15,35 @@ namespace mapnav {
 // ---------------------------------------------------------------------------------------------
 // Map
 
+namespace {
+
+const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
+  using O = MapModuleOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("MapModuleOptions")
+          .field("initial_sigma_m", &O::initial_sigma_m, above(0), "1-sigma of the start position in x and y, m")
+          .field("initial_heading_sigma_deg", &O::initial_heading_sigma_deg, above(0),
+                 "1-sigma of the start heading, degrees")
+          .field("min_visible_px", &O::min_visible_px, atLeast(0),
+                 "a prediction whose paved area covers fewer image pixels is \"no road in view\"")
+          .field("scale_prior_sigma", &O::scale_prior_sigma, inRange(0, 0.5),
+                 "odometry scale calibration: a priori sigma of the encoders' relative scale error; 0 = none")
+          .field("scale_limit", &O::scale_limit, inRange(0, 0.5), "odometry scale calibration: the scale within 1 +- this")
+          .field("park_reset_after_rejections", &O::park_reset_after_rejections, atLeast(0),
+                 "park mode: widen the covariance after this many consecutive frames the gate rejected (0: never)")
+          .field("park_reset_sigma_m", &O::park_reset_sigma_m, above(0), "park mode's widened position sigma, m")
+          .field("park_reset_heading_sigma_deg", &O::park_reset_heading_sigma_deg, above(0),
+                 "park mode's widened heading sigma, degrees");
+  return table;
+}
+
+}  // namespace
+
 void MapModuleOptions::validate() const {
   predict.validate();
   filter.validate();
   localize.validate();
-  requireOption(std::isfinite(initial_sigma_m) && initial_sigma_m > 0, "MapModuleOptions", "initial_sigma_m",
-                initial_sigma_m, "finite and > 0");
-  requireOption(std::isfinite(initial_heading_sigma_deg) && initial_heading_sigma_deg > 0, "MapModuleOptions",
-                "initial_heading_sigma_deg", initial_heading_sigma_deg, "finite and > 0");
-  requireOption(std::isfinite(min_visible_px) && min_visible_px >= 0, "MapModuleOptions", "min_visible_px",
-                min_visible_px, "finite and >= 0");
-  requireOption(std::isfinite(scale_prior_sigma) && scale_prior_sigma >= 0 && scale_prior_sigma <= 0.5,
-                "MapModuleOptions", "scale_prior_sigma", scale_prior_sigma, "in [0, 0.5]");
-  requireOption(std::isfinite(scale_limit) && scale_limit >= 0 && scale_limit <= 0.5, "MapModuleOptions", "scale_limit",
-                scale_limit, "in [0, 0.5]");
-  requireOption(park_reset_after_rejections >= 0, "MapModuleOptions", "park_reset_after_rejections",
-                park_reset_after_rejections, ">= 0");
-  requireOption(std::isfinite(park_reset_sigma_m) && park_reset_sigma_m > 0, "MapModuleOptions", "park_reset_sigma_m",
-                park_reset_sigma_m, "finite and > 0");
-  requireOption(std::isfinite(park_reset_heading_sigma_deg) && park_reset_heading_sigma_deg > 0, "MapModuleOptions",
-                "park_reset_heading_sigma_deg", park_reset_heading_sigma_deg, "finite and > 0");
+  mapModuleOptionTable().validate(*this);
 }
 
 namespace {
@@ -200,14 +209,25 @@ std::string VisionModule::pipelineName() const { return pipeline_->name(); }
 // ---------------------------------------------------------------------------------------------
 // Navigator
 
+namespace {
+
+const OptionTable<NavigatorOptions>& navigatorOptionTable() {
+  using O = NavigatorOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("NavigatorOptions")
+          .field("plan_behind_m", &O::plan_behind_m, atLeast(0),
+                 "the steering plan starts this far behind the estimated position, m")
+          .field("plan_ahead_m", &O::plan_ahead_m, above(0), "... and ends this far ahead of it, m");
+  return table;
+}
+
+}  // namespace
+
 void NavigatorOptions::validate() const {
   route.validate();
   progress.validate();
   steering.validate();
-  requireOption(std::isfinite(plan_behind_m) && plan_behind_m >= 0, "NavigatorOptions", "plan_behind_m", plan_behind_m,
-                "finite and >= 0");
-  requireOption(std::isfinite(plan_ahead_m) && plan_ahead_m > 0, "NavigatorOptions", "plan_ahead_m", plan_ahead_m,
-                "finite and > 0");
+  navigatorOptionTable().validate(*this);
 }
 
 struct NavigatorModule::Impl {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "mapnav/core/options.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/sim/plant.h"
@@ -19,19 +19,31 @@
 
 namespace mapnav {
 
+namespace {
+
+const OptionTable<RunOptions>& runOptionTable() {
+  using O = RunOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("RunOptions")
+          .field("control_dt_s", &O::control_dt_s, aboveUpTo(0, 0.5),
+                 "closed loop: the control period of Motion Control and the vehicle, s")
+          .field("token_validity_frames", &O::token_validity_frames, above(0),
+                 "a prediction, detection or position is used within this many frame periods")
+          .field("command_validity_frames", &O::command_validity_frames, above(0),
+                 "a steering plan is used within this many frame periods")
+          .field("max_odometry_speed_mps", &O::max_odometry_speed_mps, above(0),
+                 "replay: odometry faster than this is a spike, m/s")
+          .field("max_odometry_turn_rate_deg_s", &O::max_odometry_turn_rate_deg_s, above(0),
+                 "replay: odometry turning faster than this is a spike, deg/s")
+          .field("vehicle_width_m", &O::vehicle_width_m, atLeast(0),
+                 "the vehicle's width for \"stays on the path\", m");
+  return table;
+}
+
+}  // namespace
+
 void RunOptions::validate() const {
-  requireOption(std::isfinite(control_dt_s) && control_dt_s > 0 && control_dt_s <= 0.5, "RunOptions", "control_dt_s",
-                control_dt_s, "in (0, 0.5]");
-  requireOption(std::isfinite(token_validity_frames) && token_validity_frames > 0, "RunOptions",
-                "token_validity_frames", token_validity_frames, "finite and > 0");
-  requireOption(std::isfinite(command_validity_frames) && command_validity_frames > 0, "RunOptions",
-                "command_validity_frames", command_validity_frames, "finite and > 0");
-  requireOption(std::isfinite(max_odometry_speed_mps) && max_odometry_speed_mps > 0, "RunOptions",
-                "max_odometry_speed_mps", max_odometry_speed_mps, "finite and > 0");
-  requireOption(std::isfinite(max_odometry_turn_rate_deg_s) && max_odometry_turn_rate_deg_s > 0, "RunOptions",
-                "max_odometry_turn_rate_deg_s", max_odometry_turn_rate_deg_s, "finite and > 0");
-  requireOption(std::isfinite(vehicle_width_m) && vehicle_width_m >= 0, "RunOptions", "vehicle_width_m",
-                vehicle_width_m, "finite and >= 0");
+  runOptionTable().validate(*this);
   map.validate();
   navigator.validate();
 }

@@ -2,8 +2,6 @@
 // Hough road finder over (top-row intercept column × angle). See cluster_perceptron.h.
 #include "mapnav/vision/cluster_perceptron.h"
 
-#include "pipeline_options.h"
-
 #include <algorithm>
 #include <functional>
 #include <array>
@@ -19,7 +17,6 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
-#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #ifdef _OPENMP
@@ -1658,71 +1655,106 @@ std::optional<Segment2> maskCentreLine(const Image& mask) {
   return Segment2{Vec2(line.u(line.v0), line.v0), Vec2(line.u(line.v1), line.v1)};
 }
 
-const std::vector<OptionSpec>& specs() {
-  static const std::vector<OptionSpec> s = {
-      {"clusters", 5, false, true, 1, 30, "colour clusters (competitive learning units), 1..30"},
-      {"seed", 1, false, true, 0, 1e15, "seed of the random initial cluster means"},
-      {"max_cluster_iterations", 30, false, true, 1, 1000, "clustering iterations at most"},
-      {"cluster_slope_threshold", 0.5, false, false, 0, 1e9,
-       "clustering stops when every band's mean squared reconstruction error changes by less than this (levels^2)"},
-      {"max_perceptron_iterations", 2000, false, true, 1, 1e6, "perceptron LMS iterations at most"},
-      {"perceptron_rate", 0.3, false, false, 1e-9, 100, "perceptron LMS learning rate"},
-      {"perceptron_tolerance", 1e-6, false, false, 0, 1, "perceptron training stops when the mean error changes by less"},
-      {"train_stride", 1, false, true, 1, 64, "training uses every n-th pixel in each direction"},
-      {"block_size", 8, false, true, 1, 256, "side of a road-certainty block, pixels"},
-      {"max_shift_blocks", 32, false, true, 0, 1024, "Hough: largest shift of the bottom road row, blocks"},
-      {"trapezoid_top", 0.0, false, false, 0, 0.999, "default bootstrap trapezoid (no predicted road): top row, fraction of the height"},
-      {"trapezoid_top_width", 0.45, false, false, 1e-6, 10, "default trapezoid: top width, fraction of the image width"},
-      {"trapezoid_bottom_width", 1.6, false, false, 1e-6, 10, "default trapezoid: bottom width, fraction of the image width"},
-      {"arc", 0, true, false, 0, 1,
-       "beyond the paper (9): the Hough searches ground arcs y = y0 + theta x + kappa x^2 / 2 too, so that curves are not cut"},
-      {"max_curvature", 0.07, false, false, 1e-6, 1, "arc model: largest curvature searched, 1/m"},
-      {"curvature_steps", 10, false, true, 1, 100, "arc model: curvatures tried on each side of 0 before refining"},
-      {"subpixel_edges", 0, true, false, 0, 1,
-       "arc model: each road edge placed within its pair of pixels by their colours (for cameras that integrate over the pixel)"},
-      {"adaptive", 0, true, false, 0, 1,
-       "beyond the paper (9): add clusters for new colours, move them and retrain the perceptron when a frame's reconstruction error "
-       "exceeds adaptive_error_ratio x the recent frames' median, bootstrapped from the last trusted road"},
-      {"adaptive_error_ratio", 3.0, false, false, 1.000001, 1e6, "adaptive: retrain above this multiple of the recent frames' median error"},
-      {"adaptive_stride", 4, false, true, 1, 64, "adaptive: the reconstruction error uses every n-th pixel each way"},
-      {"adaptive_window", 9, false, true, 1, 1000, "adaptive: the reference is the median error of this many recent frames"},
-      {"adaptive_max_clusters", 30, false, true, 1, 30, "adaptive: clusters at most after additions"},
-      {"refine_edges", 1, true, false, 0, 1,
-       "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)"},
-      {"raw_rgb", 0, true, false, 0, 1,
-       "beyond the paper (9): the perceptron's inputs are the pixel's R, G, B instead of the clusters' winner code"},
-      {"normalized_color", 0, true, false, 0, 1,
-       "beyond the paper (Wallace et al. 1985, 3.4.3): clusters and perceptron see (R, G, B) / (R + G + B), which a "
-       "shadow (C1 = k C2) does not change, so that shaded grass is not taken for asphalt; brightness is lost"},
-      {"balance_classes", 0, true, false, 0, 1,
-       "beyond the paper: the bootstrap weighs the road (inside the outline) and the rest equally, for frames "
-       "where the road is a small part"},
-      {"threads", 1, false, true, 0, 256, "runtime threads (0 = every core); the answer does not depend on it"},
-      {"fast", 1, true, false, 0, 1,
-       "runtime through a 32x32x32 colour lookup table (exact: boundary cells are classified per pixel); false = "
-       "per-pixel reference path"},
-      {"min_road_fraction", 0.02, false, false, 0, 1, "fewer road pixels than this fraction of the frame: Failed"},
-      {"grey_features", 1, true, false, 0, 1,
-       "beyond the paper: a grey frame (R = G = B everywhere) is clustered on (local mean, 4 x mean |Laplacian|, "
-       "4 x local standard deviation) instead of (R, G, B), so that texture can separate asphalt from grass and "
-       "paving; colour frames are not affected"},
-      {"texture_window", 7, false, true, 3, 63, "grey_features: side of the box of the local mean, Laplacian and deviation, pixels (odd)"},
-      {"prior_px", 0, false, false, 0, 1e6,
-       "beyond the paper: the Hough and the edge consensus keep to centre lines whose columns on the top and bottom road "
-       "rows are within this many pixels of the predicted road's centre line (the middle of the prediction's road "
-       "region, row by row); 0 = the whole image (the paper)"},
-  };
-  return s;
+}  // namespace
+
+const OptionTable<ClusterPerceptronPipelineOptions>& clusterPerceptronPipelineOptionTable() {
+  using O = ClusterPerceptronPipelineOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("ClusterPerceptronPipelineOptions")
+          .field("clusters", &O::clusters, inRange(1, 30), "colour clusters (competitive learning units), 1..30")
+          .field("seed", &O::seed, inRange(0, 1e15), "seed of the random initial cluster means")
+          .field("max_cluster_iterations", &O::max_cluster_iterations, inRange(1, 1000), "clustering iterations at most")
+          .field("cluster_slope_threshold", &O::cluster_slope_threshold, inRange(0, 1e9),
+                 "clustering stops when every band's mean squared reconstruction error changes by less than this "
+                 "(levels^2)")
+          .field("max_perceptron_iterations", &O::max_perceptron_iterations, inRange(1, 1e6),
+                 "perceptron LMS iterations at most")
+          .field("perceptron_rate", &O::perceptron_rate, inRange(1e-9, 100), "perceptron LMS learning rate")
+          .field("perceptron_tolerance", &O::perceptron_tolerance, inRange(0, 1),
+                 "perceptron training stops when the mean error changes by less")
+          .field("train_stride", &O::train_stride, inRange(1, 64), "training uses every n-th pixel in each direction")
+          .field("block_size", &O::block_size, inRange(1, 256), "side of a road-certainty block, pixels")
+          .field("max_shift_blocks", &O::max_shift_blocks, inRange(0, 1024),
+                 "Hough: largest shift of the bottom road row, blocks")
+          .field("trapezoid_top", &O::trapezoid_top, inRange(0, 0.999),
+                 "default bootstrap trapezoid (no predicted road): top row, fraction of the height")
+          .field("trapezoid_top_width", &O::trapezoid_top_width, inRange(1e-6, 10),
+                 "default trapezoid: top width, fraction of the image width")
+          .field("trapezoid_bottom_width", &O::trapezoid_bottom_width, inRange(1e-6, 10),
+                 "default trapezoid: bottom width, fraction of the image width")
+          .computed(
+              "arc", [](const O& o) { return o.road_model == RoadModel::Arc; },
+              [](O& o, bool arc) { o.road_model = arc ? RoadModel::Arc : RoadModel::Line; },
+              "beyond the paper (9): the Hough searches ground arcs y = y0 + theta x + kappa x^2 / 2 too, so that "
+              "curves are not cut")
+          .field("max_curvature", &O::max_curvature, inRange(1e-6, 1), "arc model: largest curvature searched, 1/m")
+          .field("curvature_steps", &O::curvature_steps, inRange(1, 100),
+                 "arc model: curvatures tried on each side of 0 before refining")
+          .field("subpixel_edges", &O::subpixel_edges,
+                 "arc model: each road edge placed within its pair of pixels by their colours (for cameras that "
+                 "integrate over the pixel)")
+          .field("adaptive", &O::adaptive,
+                 "beyond the paper (9): add clusters for new colours, move them and retrain the perceptron when a "
+                 "frame's reconstruction error exceeds adaptive_error_ratio x the recent frames' median, "
+                 "bootstrapped from the last trusted road")
+          .field("adaptive_error_ratio", &O::adaptive_error_ratio, inRange(1.000001, 1e6),
+                 "adaptive: retrain above this multiple of the recent frames' median error")
+          .field("adaptive_stride", &O::adaptive_stride, inRange(1, 64),
+                 "adaptive: the reconstruction error uses every n-th pixel each way")
+          .field("adaptive_window", &O::adaptive_window, inRange(1, 1000),
+                 "adaptive: the reference is the median error of this many recent frames")
+          .field("adaptive_max_clusters", &O::adaptive_max_clusters, inRange(1, 30),
+                 "adaptive: clusters at most after additions")
+          .field("refine_edges", &O::refine_edges,
+                 "beyond the paper: refine the Hough centre line to the pixel from the road edges (robust fit)")
+          .field("raw_rgb", &O::raw_rgb,
+                 "beyond the paper (9): the perceptron's inputs are the pixel's R, G, B instead of the clusters' "
+                 "winner code")
+          .field("normalized_color", &O::normalized_color,
+                 "beyond the paper (Wallace et al. 1985, 3.4.3): clusters and perceptron see (R, G, B) / (R + G + "
+                 "B), which a shadow (C1 = k C2) does not change, so that shaded grass is not taken for asphalt; "
+                 "brightness is lost")
+          .field("balance_classes", &O::balance_classes,
+                 "beyond the paper: the bootstrap weighs the road (inside the outline) and the rest equally, for "
+                 "frames where the road is a small part")
+          .field("threads", &O::threads, inRange(0, 256),
+                 "runtime threads (0 = every core); the answer does not depend on it")
+          .field("fast", &O::fast,
+                 "runtime through a 32x32x32 colour lookup table (exact: boundary cells are classified per pixel); "
+                 "false = per-pixel reference path")
+          .field("min_road_fraction", &O::min_road_fraction, inRange(0, 1),
+                 "fewer road pixels than this fraction of the frame: Failed")
+          .field("grey_features", &O::grey_features,
+                 "beyond the paper: a grey frame (R = G = B everywhere) is clustered on (local mean, 4 x mean "
+                 "|Laplacian|, 4 x local standard deviation) instead of (R, G, B), so that texture can separate "
+                 "asphalt from grass and paving; colour frames are not affected")
+          .field("texture_window", &O::texture_window, oddIn(inRange(3, 63)),
+                 "grey_features: side of the box of the local mean, Laplacian and deviation, pixels (odd)")
+          .field("prior_px", &O::prior_px, inRange(0, 1e6),
+                 "beyond the paper: the Hough and the edge consensus keep to centre lines whose columns on the top "
+                 "and bottom road rows are within this many pixels of the predicted road's centre line (the middle "
+                 "of the prediction's road region, row by row); 0 = the whole image (the paper)")
+          .preset("park-shadows", R"({"arc": true, "normalized_color": true, "clusters": 8})",
+                  "park paths with bends and tree shadows: the arc model, so that bends are not cut, in normalised "
+                  "colour, which a shadow does not change, with the 8 clusters that normalised colour needs to part "
+                  "grass, dirt and asphalt (5 took park_loop's dirt shoulder for road)");
+  return table;
 }
 
+void ClusterPerceptronPipelineOptions::validate() const {
+  clusterPerceptronPipelineOptionTable().validate(*this);
+  ClusterPerceptronOptions::validate();
+}
+
+namespace {
 
 class ClusterPerceptronPipeline : public VisionPipeline {
  public:
-  ClusterPerceptronPipeline() : options_(specs()) { apply(); }
+  ClusterPerceptronPipeline() { reset(); }
   std::string name() const override { return "cluster-perceptron"; }
   void configure(const std::string& text) override {
-    options_.configure("cluster-perceptron", text);
-    apply();
+    opts_ = clusterPerceptronPipelineOptionTable().parse(text, opts_, "pipeline \"cluster-perceptron\"");
+    reset();
   }
   void reset() override { finder_ = ClusterPerceptron(opts_); }
 
@@ -1737,8 +1769,8 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     // Grey frames: texture features in place of the colours (both runtime paths see the same image).
     Image features;
     const std::uint8_t* pixels = frame.rgb;
-    if (grey_features_ && isGreyFrame(frame.rgb, w, h)) {
-      features = greyTextureFeatures(frame.rgb, w, h, texture_window_);
+    if (opts_.grey_features && isGreyFrame(frame.rgb, w, h)) {
+      features = greyTextureFeatures(frame.rgb, w, h, opts_.texture_window);
       pixels = features.data.data();
     }
     if (!finder_.trained() || static_cast<int>(finder_.rowWidths().size()) != h) {
@@ -1801,52 +1833,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
   }
 
  private:
-  void apply() {
-    ClusterPerceptronOptions o;
-    o.clusters = static_cast<int>(options_["clusters"]);
-    o.seed = static_cast<std::uint64_t>(options_["seed"]);
-    o.max_cluster_iterations = static_cast<int>(options_["max_cluster_iterations"]);
-    o.cluster_slope_threshold = options_["cluster_slope_threshold"];
-    o.max_perceptron_iterations = static_cast<int>(options_["max_perceptron_iterations"]);
-    o.perceptron_rate = options_["perceptron_rate"];
-    o.perceptron_tolerance = options_["perceptron_tolerance"];
-    o.train_stride = static_cast<int>(options_["train_stride"]);
-    o.block_size = static_cast<int>(options_["block_size"]);
-    o.max_shift_blocks = static_cast<int>(options_["max_shift_blocks"]);
-    o.trapezoid_top = options_["trapezoid_top"];
-    o.trapezoid_top_width = options_["trapezoid_top_width"];
-    o.trapezoid_bottom_width = options_["trapezoid_bottom_width"];
-    o.road_model = options_.b("arc") ? RoadModel::Arc : RoadModel::Line;
-    o.max_curvature = options_["max_curvature"];
-    o.curvature_steps = options_.i("curvature_steps");
-    o.subpixel_edges = options_.b("subpixel_edges");
-    o.adaptive = options_.b("adaptive");
-    o.adaptive_error_ratio = options_["adaptive_error_ratio"];
-    o.adaptive_stride = options_.i("adaptive_stride");
-    o.adaptive_window = options_.i("adaptive_window");
-    o.adaptive_max_clusters = options_.i("adaptive_max_clusters");
-    o.refine_edges = options_.b("refine_edges");
-    o.threads = options_.i("threads");
-    o.raw_rgb = options_.b("raw_rgb");
-    o.normalized_color = options_.b("normalized_color");
-    o.balance_classes = options_.b("balance_classes");
-    o.fast = options_["fast"] != 0;
-    o.min_road_fraction = options_["min_road_fraction"];
-    o.prior_px = options_["prior_px"];
-    o.validate();
-    const int window = options_.i("texture_window");
-    if (window % 2 == 0)
-      throw InvalidInput("pipeline \"cluster-perceptron\": option \"texture_window\" " + std::to_string(window) +
-                         " is not odd");
-    opts_ = o;
-    grey_features_ = options_.b("grey_features");
-    texture_window_ = window;
-    reset();
-  }
-  PipelineOptions options_;
-  ClusterPerceptronOptions opts_;
-  bool grey_features_ = true;
-  int texture_window_ = 7;
+  ClusterPerceptronPipelineOptions opts_;
   ClusterPerceptron finder_;
 };
 
@@ -1855,7 +1842,5 @@ class ClusterPerceptronPipeline : public VisionPipeline {
 std::unique_ptr<VisionPipeline> createClusterPerceptronPipeline() {
   return std::make_unique<ClusterPerceptronPipeline>();
 }
-
-std::vector<OptionInfo> clusterPerceptronOptionInfos() { return optionInfos(specs()); }
 
 }  // namespace mapnav

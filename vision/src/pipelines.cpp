@@ -2,16 +2,13 @@
 #include "mapnav/vision/pipelines.h"
 
 #include "binary_morph.h"
-#include "pipeline_options.h"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <mutex>
 #include <optional>
-#include <sstream>
 
-#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -26,80 +23,6 @@
 namespace mapnav {
 
 namespace {
-
-// --- PipelineOptions -----------------------------------------------------------------------------------
-
-
-
-std::vector<OptionSpec> commonSpecs() {
-  return {
-      {"dark_level", 20, false, false, 0, 255,
-       "mean grey level (0-255) of the ground pixels below which the frame fails: \"frame too dark\""},
-      {"saturated_level", 250, false, false, 0, 255, "a pixel is saturated when all its channels are at least this"},
-      {"overexposed_fraction", 0.5, false, false, 0, 1,
-       "fraction of saturated ground pixels above which the frame fails: \"frame over-exposed\""},
-      {"min_predicted_px", 500, false, true, 0, 1e9,
-       "fewer predicted road pixels in the image than this: \"nothing predicted in view\""},
-      {"min_region_fraction", 0.15, false, false, 0, 10,
-       "a reproduced region smaller than this fraction of the predicted road area: \"no road-coloured region\""},
-      {"smooth_px", 2, false, true, 0, 50, "box-filter radius applied to the per-pixel road score before the threshold"},
-      {"block_size", 8, false, true, 1, 256, "region reproduction: block side, pixels"},
-      {"block_fraction", 0.5, false, false, 1e-9, 1, "a block is road when at least this fraction of its pixels is"},
-      {"morph_iterations", 1, false, true, 0, 10, "block-level closings then openings (3 x 3)"},
-      {"refine_margin_blocks", 1, false, true, 0, 10, "pixel region may reach this many blocks beyond the block region"},
-      {"pixel_morph_px", 2, false, true, 0, 50, "pixel-level closing then opening radius"},
-      {"fill_holes", 1, true, false, 0, 1, "fill holes in the region (leaves, cracks, slab gaps)"},
-      {"region_tolerance_px", 0.75, false, false, 1e-6, 100, "polygon tolerance of region_image, pixels"},
-      {"simplify_tolerance_px", 3.0, false, false, 1e-6, 100, "polygon fit tolerance for lines, pixels"},
-      {"min_line_length_px", 12, false, false, 0, 1e6, "shorter polygon edges are dropped, pixels"},
-      {"frame_edge_px", 4, false, false, 0, 100, "lines within this of the image border or ground edge are frame edges"},
-      {"max_angle_deg", 10, false, false, 1e-6, 90, "label match: angle on the ground within this"},
-      {"max_distance_m", 0.4, false, false, 1e-6, 100, "label match: both end points within this of the predicted line"},
-      {"min_overlap", 0.5, false, false, 0, 1, "label match: this fraction of the line overlaps the predicted segment"},
-      {"relation_tolerance_m", 0.5, false, false, 1e-6, 100,
-       "a labelled parallel pair must be within this of the predicted separation"},
-      {"grid_px", 2, false, true, 1, 8,
-       "classify and reproduce the region on a grid of cells this many pixels a side (the frame averaged over each "
-       "cell; the options in pixels above are divided by it), the boundary mapped back to pixels; 1 = every pixel. "
-       "The default 2 runs the loop about 2.6 times faster than 1 (campus_dialogue replay: 1.6 against 4.0 ms "
-       "median) and meets the same localisation targets (campus_tour replay: along-road error after intersections "
-       "0.12 against 0.10 m) with a coarser edge (lateral RMS 1.6 against 1.0 cm)"},
-      {"reference", 0, true, false, 0, 1,
-       "run every pixel (grid_px 1) with the reference implementations (double-precision per-pixel log-odds, "
-       "OpenCV's box filter (double-precision sums), morphology and distance transform, CGAL simplification): the "
-       "answers of grid_px 1, several times slower; for tests and benchmarks"},
-  };
-}
-
-std::vector<OptionSpec> classifierSpecs() {
-  std::vector<OptionSpec> s = {
-      {"adaptive", 1, true, false, 0, 1, "keep the colour models from frame to frame, blending in each frame's estimate"},
-      {"blend", 0.5, false, false, 1e-9, 1, "weight of a frame's estimate in the blended model"},
-      {"max_mean_shift_sigma", 4, false, false, 1e-9, 1e6,
-       "refuse a class estimate whose mean moved more than this many sigma (drift guard)"},
-      {"min_training_pixels", 400, false, true, 1, 1e9,
-       "refuse a class estimate from fewer labelled training cells (training reads every 2nd cell of every 2nd row)"},
-      {"label_erosion_px", 6, false, true, 0, 200,
-       "training labels: the predicted road eroded by this, non-road = the rest of the view eroded by this"},
-      {"outlier_llr", 6, false, false, 0, 1e6,
-       "adaptive: drop training pixels whose label the current model contradicts by more than this log-odds"},
-      {"llr_threshold", 0, false, false, -1e6, 1e6, "road where the smoothed log-odds exceed this"},
-      {"min_separation", 0.5, false, false, 0, 1e6,
-       "Bhattacharyya distance between the class models below which: \"no road-coloured region\""},
-  };
-  for (auto& c : commonSpecs()) s.push_back(c);
-  return s;
-}
-
-std::vector<OptionSpec> blueSpecs() {
-  std::vector<OptionSpec> s = {
-      {"threshold", -1, false, false, -1, 255, "road where blue >= this; -1 = Otsu's threshold on the ground pixels"},
-  };
-  for (auto& c : commonSpecs()) s.push_back(c);
-  return s;
-}
-
-
 
 // --- Frame geometry ---------------------------------------------------------------------------------
 
@@ -231,9 +154,8 @@ __attribute__((target_clones("avx2", "default"))) Exposure exposure(const std::u
 
 class BasePipeline : public VisionPipeline {
  public:
-  BasePipeline(std::string name, std::vector<OptionSpec> specs) : name_(std::move(name)), opts_(std::move(specs)) {}
+  explicit BasePipeline(std::string name) : name_(std::move(name)) {}
   std::string name() const override { return name_; }
-  void configure(const std::string& options_json) override { opts_.configure(name_, options_json); }
 
   DetectedObject detect(const VisionFrame& frame, const PredictedObject& prediction) override {
     if (frame.camera == nullptr) throw InvalidInput("pipeline \"" + name_ + "\": the frame has no camera");
@@ -248,12 +170,12 @@ class BasePipeline : public VisionPipeline {
     const GridFrame grid = gridFrame(frame, scale);
     const int w = grid.width, h = grid.height;
 
-    const auto sat = static_cast<std::uint8_t>(static_cast<int>(opts_["saturated_level"]));  // 0..255
+    const auto sat = static_cast<std::uint8_t>(static_cast<int>(common().saturated_level));  // 0..255
     const Exposure exposed = exposure(grid.rgb, valid.data.data(), w, h, sat);
     if (exposed.count == 0) return fail(frame, "no ground in view");
-    if (static_cast<double>(exposed.sum) / 3.0 / static_cast<double>(exposed.count) < opts_["dark_level"])
+    if (static_cast<double>(exposed.sum) / 3.0 / static_cast<double>(exposed.count) < common().dark_level)
       return fail(frame, "frame too dark");
-    if (static_cast<double>(exposed.saturated) / exposed.count > opts_["overexposed_fraction"])
+    if (static_cast<double>(exposed.saturated) / exposed.count > common().overexposed_fraction)
       return fail(frame, "frame over-exposed");
 
     // The prediction in the image.
@@ -263,7 +185,7 @@ class BasePipeline : public VisionPipeline {
     Image predicted = fillRings(road_rings, cam, scale, w, h);
     cv::bitwise_and(wrap(predicted), wrap(valid), wrap(predicted));
     const int predicted_px = cv::countNonZero(wrap(predicted)) * scale * scale;
-    if (predicted_px < opts_.i("min_predicted_px")) return fail(frame, "nothing predicted in view");
+    if (predicted_px < common().min_predicted_px) return fail(frame, "nothing predicted in view");
 
     // Per-cell road decision.
     std::string why;
@@ -271,16 +193,16 @@ class BasePipeline : public VisionPipeline {
     if (!road) return fail(frame, why);
 
     RegionOptions ro;
-    ro.block_size = onGrid(opts_.i("block_size"), scale, 1);
-    ro.block_fraction = opts_["block_fraction"];
-    ro.morph_iterations = opts_.i("morph_iterations");
-    ro.refine_margin_blocks = opts_.i("refine_margin_blocks");
-    ro.pixel_morph_px = onGrid(opts_.i("pixel_morph_px"), scale);
-    ro.fill_holes = opts_.b("fill_holes");
-    ro.reference = opts_.b("reference");
+    ro.block_size = onGrid(common().block_size, scale, 1);
+    ro.block_fraction = common().block_fraction;
+    ro.morph_iterations = common().morph_iterations;
+    ro.refine_margin_blocks = common().refine_margin_blocks;
+    ro.pixel_morph_px = onGrid(common().pixel_morph_px, scale);
+    ro.fill_holes = common().fill_holes;
+    ro.reference = common().reference;
     RegionResult region = reproduceRegion(*road, valid, predicted, ro);
     const double area_px = region.area_px * scale * scale;
-    if (!region.found || area_px < opts_["min_region_fraction"] * predicted_px)
+    if (!region.found || area_px < common().min_region_fraction * predicted_px)
       return fail(frame, "no road-coloured region");
 
     // The boundary is simplified on the grid (the tolerances divided by the cell side: the same
@@ -291,20 +213,20 @@ class BasePipeline : public VisionPipeline {
     if (frame.want_region) {  // only the trace and the report read the outline
       std::vector<Vec2> ring = region.contour;
       ring.push_back(ring.front());
-      std::vector<Vec2> poly = toPixels(simplifyRing(ring, opts_["region_tolerance_px"] / scale, opts_.b("reference")));
+      std::vector<Vec2> poly = toPixels(simplifyRing(ring, common().region_tolerance_px / scale, common().reference));
       d.region_image = poly;
       for (const Vec2& p : poly)
         if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
     }
     LineOptions lo;
-    lo.simplify_tolerance_px = opts_["simplify_tolerance_px"];
-    lo.min_length_px = opts_["min_line_length_px"];
-    lo.frame_edge_px = opts_["frame_edge_px"];
-    lo.max_angle_deg = opts_["max_angle_deg"];
-    lo.max_distance_m = opts_["max_distance_m"];
-    lo.min_overlap = opts_["min_overlap"];
-    lo.relation_tolerance_m = opts_["relation_tolerance_m"];
-    lo.reference = opts_.b("reference");
+    lo.simplify_tolerance_px = common().simplify_tolerance_px;
+    lo.min_length_px = common().min_line_length_px;
+    lo.frame_edge_px = common().frame_edge_px;
+    lo.max_angle_deg = common().max_angle_deg;
+    lo.max_distance_m = common().max_distance_m;
+    lo.min_overlap = common().min_overlap;
+    lo.relation_tolerance_m = common().relation_tolerance_m;
+    lo.reference = common().reference;
     const std::vector<Vec2> polygon =
         toPixels(contourPolygon(region.contour, lo.simplify_tolerance_px / scale, lo.reference));
     d.lines = polygonLines(polygon, cam, full_valid, lo);
@@ -324,13 +246,13 @@ class BasePipeline : public VisionPipeline {
                                         const Image& valid, const Image& predicted, std::string& why) = 0;
 
   /// The side of the grid's cells, pixels: 1 for the reference.
-  int gridScale() const { return opts_.b("reference") ? 1 : opts_.i("grid_px"); }
+  int gridScale() const { return common().reference ? 1 : common().grid_px; }
 
   /// Smooths a per-cell score (box filter of radius smooth_px) and thresholds it inside `valid`.
   Image threshold(std::vector<float>& score, int w, int h, const Image& valid, double t, int scale) const {
     cv::Mat s(h, w, CV_32FC1, score.data());
-    const int r = onGrid(opts_.i("smooth_px"), scale);
-    if (r > 0 && opts_.b("reference")) {
+    const int r = onGrid(common().smooth_px, scale);
+    if (r > 0 && common().reference) {
       cv::blur(s, s, cv::Size(2 * r + 1, 2 * r + 1), cv::Point(-1, -1), cv::BORDER_REPLICATE);
     } else if (r > 0) {  // the same box filter as two passes of single-precision taps, ~3 times faster (to ~1e-6)
       const cv::Mat k = cv::Mat::ones(2 * r + 1, 1, CV_32F) / static_cast<float>(2 * r + 1);
@@ -346,8 +268,12 @@ class BasePipeline : public VisionPipeline {
 
   static std::vector<Vec2> simplifyRing(const std::vector<Vec2>& ring, double tol, bool reference);
 
+  /// The options every region pipeline has (the subclass's struct).
+  virtual const RegionPipelineOptions& common() const = 0;
+  /// Who configure()'s errors name: `pipeline "sidewalk"`.
+  std::string who() const { return "pipeline \"" + name_ + "\""; }
+
   std::string name_;
-  PipelineOptions opts_;
 
  private:
   DetectedObject fail(const VisionFrame& frame, const std::string& why) {
@@ -416,11 +342,11 @@ std::vector<Vec2> BasePipeline::simplifyRing(const std::vector<Vec2>& ring, doub
 class ClassifierPipeline : public BasePipeline {
  public:
   ClassifierPipeline(std::string name, ColorSpace space)
-      : BasePipeline(std::move(name), classifierSpecs()), space_(space) {
+      : BasePipeline(std::move(name)), space_(space) {
     reset();
   }
   void configure(const std::string& options_json) override {
-    BasePipeline::configure(options_json);
+    options_ = colorPipelineOptionTable().parse(options_json, options_, who());
     reset();
   }
   void reset() override { classifiers_.clear(); }
@@ -440,10 +366,10 @@ class ClassifierPipeline : public BasePipeline {
     cv::Mat vm = wrap(view_mask);
     cv::bitwise_and(vm, wrap(valid), vm);
     Image non_lab(w, h, 1);
-    const int e = onGrid(opts_.i("label_erosion_px"), frame.scale);
+    const int e = onGrid(options_.label_erosion_px, frame.scale);
     const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * e + 1, 2 * e + 1));
     cv::Mat pm(h, w, CV_8UC1, const_cast<std::uint8_t*>(predicted.data.data()));
-    const bool reference = opts_.b("reference");
+    const bool reference = options_.reference;
     auto erode = [&](const cv::Mat& in, cv::Mat& out) {
       if (reference) cv::erode(in, out, k, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
       else detail::erodeBinary(in, out, k);  // the same mask, a fraction of the cost
@@ -459,7 +385,7 @@ class ClassifierPipeline : public BasePipeline {
       auto& rings = by_surface[r.surface];
       rings.insert(rings.end(), r.vehicle.begin(), r.vehicle.end());
     }
-    if (!opts_.b("adaptive")) reset();
+    if (!options_.adaptive) reset();
     std::vector<float> best;
     for (const auto& [surface, rings] : by_surface) {
       // The surface's training pixels: its own predicted area, less where another surface's overlaps it.
@@ -478,7 +404,7 @@ class ClassifierPipeline : public BasePipeline {
       erode(wrap(own), road_view);
       ColorClassifier& classifier = classifiers_.try_emplace(surface, classifierOptions()).first->second;
       train(classifier, frame, road_lab, non_lab);
-      if (!classifier.trained() || classifier.separation() < opts_["min_separation"]) continue;
+      if (!classifier.trained() || classifier.separation() < options_.min_separation) continue;
       std::vector<float> llr = reference ? classifier.logOddsReference(frame.rgb, w, h, valid.data.data())
                                          : classifier.logOdds(frame.rgb, w, h, valid.data.data());
       if (best.empty()) best = std::move(llr);
@@ -495,7 +421,7 @@ class ClassifierPipeline : public BasePipeline {
     // along-road error at campus_tour's I8 and I9. (5 localised better still, I8/I9 0.01/0.10 m
     // against 0.14/0.14 m with 8, but put grid_px 2's labelled lines up to 7 px from the reference's.)
     constexpr double kLogOddsReach = 8.0;
-    const double t = opts_["llr_threshold"];
+    const double t = options_.llr_threshold;
     const auto lo = static_cast<float>(t - kLogOddsReach), hi = static_cast<float>(t + kLogOddsReach);
     for (float& v : best) v = std::clamp(v, lo, hi);
     return threshold(best, w, h, valid, t, frame.scale);
@@ -505,9 +431,9 @@ class ClassifierPipeline : public BasePipeline {
   ColorClassifierOptions classifierOptions() const {
     ColorClassifierOptions co;
     co.space = space_;
-    co.blend = opts_["blend"];
-    co.max_mean_shift_sigma = opts_["max_mean_shift_sigma"];
-    co.min_pixels = opts_.i("min_training_pixels");
+    co.blend = options_.blend;
+    co.max_mean_shift_sigma = options_.max_mean_shift_sigma;
+    co.min_pixels = options_.min_training_pixels;
     co.stride = 1;  // train() gathers the training cells
     return co;
   }
@@ -532,8 +458,8 @@ class ClassifierPipeline : public BasePipeline {
       }
     }
     if (classifier.trained()) {
-      const float out = static_cast<float>(opts_["outlier_llr"]);
-      const bool reference = opts_.b("reference");
+      const float out = static_cast<float>(options_.outlier_llr);
+      const bool reference = options_.reference;
       // The fast path evaluates all labelled samples at once (vectorised; the same values as one by one).
       std::vector<float> before;
       if (!reference) {
@@ -554,13 +480,19 @@ class ClassifierPipeline : public BasePipeline {
   /// Training reads one cell in four (about one pixel in 16 at grid_px 2; the reference, one in four).
   static constexpr int kTrainingStride = 2;
   std::vector<std::uint8_t> sample_rgb_, sample_road_, sample_non_;  ///< the training cells (reused)
+  const RegionPipelineOptions& common() const override { return options_; }
+
+  ColorPipelineOptions options_;
   ColorSpace space_;
   std::map<std::string, ColorClassifier> classifiers_;  ///< by road surface name
 };
 
 class BlueBandPipeline : public BasePipeline {
  public:
-  BlueBandPipeline() : BasePipeline("blue-band", blueSpecs()) {}
+  BlueBandPipeline() : BasePipeline("blue-band") {}
+  void configure(const std::string& options_json) override {
+    options_ = blueBandOptionTable().parse(options_json, options_, who());
+  }
   void reset() override {}
 
  protected:
@@ -568,7 +500,7 @@ class BlueBandPipeline : public BasePipeline {
                                 std::string&) override {
     const int w = frame.width, h = frame.height;
     const std::size_t n = static_cast<std::size_t>(w) * h;
-    double t = opts_["threshold"];
+    double t = options_.threshold;
     if (t < 0) {
       std::vector<std::uint8_t> blue;
       blue.reserve(n);
@@ -581,6 +513,11 @@ class BlueBandPipeline : public BasePipeline {
     for (std::size_t i = 0; i < n; ++i) score[i] = frame.rgb[3 * i + 2];
     return threshold(score, w, h, valid, t - 0.5, frame.scale);
   }
+
+ private:
+  const RegionPipelineOptions& common() const override { return options_; }
+
+  BlueBandOptions options_;
 };
 
 }  // namespace
@@ -591,19 +528,22 @@ void registerBuiltinPipelines() {
     registerPipeline({"blue-band",
                       "Threshold on the blue band (Wallace 1985, 3.6.3, the Warp runs): road is bright in blue, "
                       "grass dark; then region reproduction and line labelling",
-                      optionInfos(blueSpecs()), [] { return std::make_unique<BlueBandPipeline>(); }});
+                      blueBandOptionTable().list(), [] { return std::make_unique<BlueBandPipeline>(); },
+                      blueBandOptionTable().presets()});
     registerPipeline({"color-rgb",
                       "Gaussian road/non-road classes in RGB (3.4), one road class per surface in view, trained from "
                       "the prediction, adaptive; region "
                       "reproduction (2.2.1) and line labelling (2.2.2)",
-                      optionInfos(classifierSpecs()),
-                      [] { return std::make_unique<ClassifierPipeline>("color-rgb", ColorSpace::RGB); }});
+                      colorPipelineOptionTable().list(),
+                      [] { return std::make_unique<ClassifierPipeline>("color-rgb", ColorSpace::RGB); },
+                      colorPipelineOptionTable().presets()});
     registerPipeline({"sidewalk",
                       "The default: Gaussian classes in normalised colour rg (3.4.3, robust to shadows), one road "
                       "class per surface in view, trained from the prediction, adaptive with a drift guard; region reproduction (2.2.1) and line "
                       "labelling (2.2.2)",
-                      optionInfos(classifierSpecs()),
-                      [] { return std::make_unique<ClassifierPipeline>("sidewalk", ColorSpace::NormalizedRG); }});
+                      colorPipelineOptionTable().list(),
+                      [] { return std::make_unique<ClassifierPipeline>("sidewalk", ColorSpace::NormalizedRG); },
+                      colorPipelineOptionTable().presets()});
 
     // --- cluster-perceptron (Jochem & Baluja 1993; vision/src/cluster_perceptron.cpp) ---
     registerPipeline({"cluster-perceptron",
@@ -611,7 +551,8 @@ void registerBuiltinPipelines() {
                       "tanh perceptron road/non-road combiner bootstrapped from the predicted road outline in the "
                       "first frame, block road certainty and a Hough over (top-row column x angle) for the centre "
                       "line; frozen after the first frame (reset() retrains)",
-                      clusterPerceptronOptionInfos(), [] { return createClusterPerceptronPipeline(); }});
+                      clusterPerceptronPipelineOptionTable().list(), [] { return createClusterPerceptronPipeline(); },
+                      clusterPerceptronPipelineOptionTable().presets()});
     // --- end cluster-perceptron ---
 
     // --- edge-tracker (Wallace 1985, 3.1-3.2; vision/src/edge_tracker.cpp) ---
@@ -619,7 +560,8 @@ void registerBuiltinPipelines() {
                       "Oriented step-edge tracker (3.1-3.2): traces the road's left and right edges up the image "
                       "from the predicted interest segments (or the previous frame's edges, or option start "
                       "points), checks them on the ground for parallelism and width",
-                      edgeTrackerOptionInfos(), [] { return createEdgeTrackerPipeline(); }});
+                      edgeTrackerOptionTable().list(), [] { return createEdgeTrackerPipeline(); },
+                      edgeTrackerOptionTable().presets()});
     // --- end edge-tracker ---
   });
 }

@@ -17,6 +17,7 @@
 #include <optional>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/segment2.h"
@@ -291,11 +292,22 @@ Image predictedRoadMask(const PredictedObject& prediction, const Camera& camera)
 /// `window` is odd, in [3, 63].
 Image greyTextureFeatures(const std::uint8_t* rgb, int width, int height, int window);
 
+/// The "cluster-perceptron" pipeline's options: the road finder's (the option "arc" picks
+/// RoadModel::Arc; carry_frames is not an option of the pipeline) and the grey frames' features.
+struct ClusterPerceptronPipelineOptions : ClusterPerceptronOptions {
+  /// Beyond the paper: a grey frame (R = G = B everywhere) is clustered on greyTextureFeatures()
+  /// instead of (R, G, B), so that texture can separate asphalt from grass and paving.
+  bool grey_features = true;
+  int texture_window = 7;  ///< greyTextureFeatures()' window side, pixels: odd, in [3, 63]
+
+  /// The table's ranges, then ClusterPerceptronOptions::validate(). Throws InvalidInput naming the field.
+  void validate() const;
+};
+/// Its table: the options' names, ranges and descriptions, and the presets ("park-shadows").
+const OptionTable<ClusterPerceptronPipelineOptions>& clusterPerceptronPipelineOptionTable();
+
 class VisionPipeline;
-struct OptionInfo;
-/// The "cluster-perceptron" pipeline and its documented options (registered by
-/// registerBuiltinPipelines()).
+/// The "cluster-perceptron" pipeline (registered by registerBuiltinPipelines()).
 std::unique_ptr<VisionPipeline> createClusterPerceptronPipeline();
-std::vector<OptionInfo> clusterPerceptronOptionInfos();
 
 }  // namespace mapnav

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/vision_iface/detected_object.h"
@@ -148,7 +149,7 @@ struct EdgeTrackerOptions {
   /// the normalised bands they do not appear (both edges within 1.3 px there).
   bool single_edge = true;
 
-  /// Throws InvalidInput naming the field.
+  /// The table's ranges and max_points >= min_points. Throws InvalidInput naming the field.
   void validate() const;
 };
 
@@ -224,10 +225,9 @@ class EdgeTracker {
   std::optional<Carried> last_left_, last_right_;
 };
 
-/// Options from JSON (absent members keep the defaults); throws InvalidInput naming the option.
-EdgeTrackerOptions edgeTrackerOptionsFromJson(const std::string& json, const EdgeTrackerOptions& base = {});
-/// The documented options with defaults, for registerPipeline.
-std::vector<OptionInfo> edgeTrackerOptionInfos();
+/// The options' table: names, ranges and the descriptions `mapnav pipelines` lists; the pipeline
+/// reads its JSON options with it (absent members keep their values).
+const OptionTable<EdgeTrackerOptions>& edgeTrackerOptionTable();
 /// The "edge-tracker" pipeline.
 std::unique_ptr<VisionPipeline> createEdgeTrackerPipeline();
 

@@ -3,8 +3,12 @@
 //   "sidewalk"  normalised-rg Gaussian classifier + region reproduction + line labelling (the default)
 //   "color-rgb" the same with an RGB classifier (3.4, before 3.4.3)
 //   "blue-band" a threshold on the blue channel (3.6.3, the Warp runs), region + labelling
-// Their options, with defaults, are listed in PipelineInfo::options (listPipelines()).
-#include <string>
+// and the options of these three region pipelines: a struct each, whose member initialisers are the
+// defaults, described by an option table (core/option_table.h) that configure() reads the JSON
+// options with and listPipelines() lists (PipelineInfo::options, `mapnav pipelines`). The
+// "cluster-perceptron" and "edge-tracker" pipelines' options are in cluster_perceptron.h and
+// edge_tracker.h.
+#include "mapnav/core/option_table.h"
 
 namespace mapnav {
 
@@ -13,5 +17,69 @@ void registerBuiltinPipelines();
 
 /// The default pipeline's name: "sidewalk".
 inline constexpr const char* kDefaultPipeline = "sidewalk";
+
+/// What every region pipeline has: the frame's checks, the road score's smoothing, region
+/// reproduction (Wallace 1985, 2.2.1), the polygon's lines and their labels (2.2.2), and the grid.
+/// Lengths in pixels are at full resolution (divided by grid_px on the grid).
+struct RegionPipelineOptions {
+  double dark_level = 20;             ///< ground mean grey (0-255) below which: "frame too dark"
+  double saturated_level = 250;       ///< a pixel is saturated when all its channels reach this
+  double overexposed_fraction = 0.5;  ///< saturated ground fraction above which: "frame over-exposed"
+  int min_predicted_px = 500;         ///< fewer predicted road pixels in view: "nothing predicted in view"
+  double min_region_fraction = 0.15;  ///< region / predicted road area below which: "no road-coloured region"
+  int smooth_px = 2;                  ///< box-filter radius on the per-pixel road score
+  int block_size = 8;                 ///< region reproduction: block side, pixels
+  double block_fraction = 0.5;        ///< a block is road when at least this fraction of it is
+  int morph_iterations = 1;           ///< block-level 3 x 3 closings, then openings
+  int refine_margin_blocks = 1;       ///< the pixel region reaches at most this many blocks beyond the blocks'
+  int pixel_morph_px = 2;             ///< pixel-level closing, then opening radius
+  bool fill_holes = true;             ///< fill the region's holes (leaves, cracks, slab gaps)
+  double region_tolerance_px = 0.75;  ///< polygon tolerance of the region outline (region_image)
+  double simplify_tolerance_px = 3.0; ///< polygon fit tolerance for the lines
+  double min_line_length_px = 12;     ///< shorter polygon edges are dropped
+  double frame_edge_px = 4;           ///< lines this near the image border or the ground's edge are frame edges
+  double max_angle_deg = 10;          ///< label match: angle on the ground
+  double max_distance_m = 0.4;        ///< label match: both end points this near the predicted line
+  double min_overlap = 0.5;           ///< label match: this fraction of the line overlaps the predicted segment
+  double relation_tolerance_m = 0.5;  ///< a labelled parallel pair within this of the predicted separation
+  /// Classify and reproduce the region on cells of grid_px x grid_px pixels (the frame averaged over
+  /// each); 1 = every pixel. 2 runs the loop ~2.6 times faster with the same localisation.
+  int grid_px = 2;
+  /// Every pixel with the reference implementations (double precision, OpenCV, CGAL): grid_px 1's
+  /// answers, several times slower; for tests and benchmarks.
+  bool reference = false;
+
+  /// Throws InvalidInput "RegionPipelineOptions::FIELD = VALUE: must be ..." for a field out of its range.
+  void validate() const;
+};
+
+/// "sidewalk" and "color-rgb": one Gaussian road class per surface in view against a non-road
+/// class, trained from the prediction each frame (ColorClassifier).
+struct ColorPipelineOptions : RegionPipelineOptions {
+  bool adaptive = true;               ///< keep the models from frame to frame, blending in each frame's
+  double blend = 0.5;                 ///< weight of a frame's estimate in the blended model, (0, 1]
+  double max_mean_shift_sigma = 4;    ///< drift guard: refuse an estimate whose mean moved more sigma
+  int min_training_pixels = 400;      ///< refuse an estimate from fewer labelled training cells
+  int label_erosion_px = 6;           ///< training labels: the predicted road and the rest eroded by this
+  double outlier_llr = 6;             ///< adaptive: drop training pixels the model contradicts by more log-odds
+  double llr_threshold = 0;           ///< road where the smoothed log-odds exceed this
+  double min_separation = 0.5;        ///< Bhattacharyya distance of the classes below which: "no road-coloured region"
+
+  /// Throws InvalidInput "ColorPipelineOptions::FIELD = VALUE: must be ..." for a field out of its range.
+  void validate() const;
+};
+
+/// "blue-band": road where the blue channel is bright (Wallace 1985, 3.6.3).
+struct BlueBandOptions : RegionPipelineOptions {
+  double threshold = -1;  ///< road where blue >= this; -1 = Otsu's threshold on the ground pixels
+
+  /// Throws InvalidInput "BlueBandOptions::FIELD = VALUE: must be ..." for a field out of its range.
+  void validate() const;
+};
+
+/// The options' tables: names, ranges and the descriptions `mapnav pipelines` shows.
+const OptionTable<RegionPipelineOptions>& regionPipelineOptionTable();
+const OptionTable<ColorPipelineOptions>& colorPipelineOptionTable();
+const OptionTable<BlueBandOptions>& blueBandOptionTable();
 
 }  // namespace mapnav

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_info.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/vision_iface/detected_object.h"
 #include "mapnav/vision_iface/predicted_object.h"
@@ -22,13 +23,6 @@ struct VisionFrame {
   /// The caller reads the detection's road region (region_image, region_vehicle); when false a
   /// pipeline may leave them empty and save the work (the mission loop when it writes no trace).
   bool want_region = true;
-};
-
-/// One documented option of a pipeline, for `mapnav pipelines` and validation messages.
-struct OptionInfo {
-  std::string name;
-  std::string default_json;  ///< the default, as JSON text
-  std::string description;
 };
 
 class VisionPipeline {
@@ -51,6 +45,8 @@ struct PipelineInfo {
   std::string description;
   std::vector<OptionInfo> options;
   std::function<std::unique_ptr<VisionPipeline>()> create;
+  /// Named option sets, chosen with `"preset": "NAME"` in the options (listed by `mapnav pipelines`).
+  std::vector<OptionPreset> presets = {};
 };
 
 /// Adds a pipeline to the registry (replacing one of the same name).

@@ -1,0 +1,263 @@
+#pragma once
+// A declarative table of an option struct's fields: each field is a name, the member it reads and
+// writes, its rule (a range; integers; odd) and its documentation. The struct's member initialisers
+// are the only defaults (as in Ceres' option structs): the table reads them from a default-constructed
+// struct. From the one table come
+//   parse()    a JSON object of options onto a struct, `"preset": "NAME"` applied before the other
+//              members; errors name who is configured, the option and its bad value,
+//   validate() the rules, in requireOption's words ("OWNER::FIELD = VALUE: must be RULE"),
+//   list()     the documented options with their defaults as JSON text (`mapnav pipelines`),
+//   json()     a struct's values as a JSON object (parse() reads it back).
+// The JSON is read and written in core/src/option_table.cpp: this header needs no JSON library.
+//
+//   const OptionTable<FooOptions>& fooOptionTable() {
+//     static const OptionTable<FooOptions> table = OptionTable<FooOptions>("FooOptions")
+//         .field("iterations", &FooOptions::iterations, inRange(1, 100), "iterations at most")
+//         .field("fast", &FooOptions::fast, "the lookup table instead of the reference path")
+//         .preset("quick", R"({"iterations": 5, "fast": true})", "for previews");
+//     return table;
+//   }
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/option_info.h"
+
+namespace mapnav {
+
+/// The values a number option allows: finite, within [min, max] (either end open; an infinite end
+/// is no bound), and odd when `odd`.
+struct OptionRule {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_open = false, max_open = false;
+  bool odd = false;
+
+  /// Finite and within the range (oddness aside).
+  bool allows(double value) const;
+  /// "in [0, 255]", "in (0, 4]", ">= 4", "> 0", "<= 1" or "finite"; `finite` writes "finite and "
+  /// before a one-sided range (for floating-point fields, where infinity would pass it).
+  std::string rangeText(bool finite) const;
+};
+
+/// [min, max]
+inline OptionRule inRange(double min, double max) { return {.min = min, .max = max}; }
+/// (min, max]
+inline OptionRule aboveUpTo(double min, double max) { return {.min = min, .max = max, .min_open = true}; }
+/// >= min
+inline OptionRule atLeast(double min) { return {.min = min}; }
+/// > min
+inline OptionRule above(double min) { return {.min = min, .min_open = true}; }
+/// `rule`, and odd.
+inline OptionRule oddIn(OptionRule rule) {
+  rule.odd = true;
+  return rule;
+}
+
+enum class OptionKind { Bool, Integer, Number, String, Choice };
+
+/// One option's value as the table moves it: Bool -> bool; Integer and Number -> double (integers
+/// exact up to 2^53); String and Choice (an enum's name) -> std::string.
+using OptionValue = std::variant<bool, double, std::string>;
+
+/// One field of a table, as the JSON code sees it (without its member).
+struct OptionFieldSpec {
+  std::string name = {};
+  OptionKind kind = OptionKind::Number;
+  OptionRule rule = {};                     ///< Integer, Number
+  double integer_min = 0, integer_max = 0;  ///< Integer: what the member's type holds
+  std::vector<std::string> choices = {};    ///< Choice: the names of the enum's values
+  std::string doc = {};
+};
+
+namespace detail {
+
+/// The members of the JSON object `text` ("" = {}) as (field index, value), checked against
+/// `fields` and in the order to apply them: a preset's members first (`"preset": "NAME"`), then the
+/// others. Throws InvalidInput "WHO: ..." naming the option and its bad value (not JSON, not an
+/// object, unknown option or preset, wrong type, out of range, not an integer, not odd).
+std::vector<std::pair<std::size_t, OptionValue>> parseOptionMembers(const std::vector<OptionFieldSpec>& fields,
+                                                                    const std::vector<OptionPreset>& presets,
+                                                                    std::string_view who, std::string_view text);
+/// Throws InvalidInput "OWNER::FIELD = VALUE: must be RULE" (requireOption) unless `value` keeps
+/// the field's rule.
+void checkOptionValue(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value);
+/// The value as JSON text: true, 12, 0.5, 1e-06, "luminance".
+std::string optionValueJson(const OptionFieldSpec& field, const OptionValue& value);
+/// {"NAME": VALUE, ...} on one line, in the fields' order.
+std::string optionObjectJson(const std::vector<OptionFieldSpec>& fields, const std::vector<OptionValue>& values);
+
+template <class M>
+constexpr OptionKind optionKindOf() {
+  if constexpr (std::is_same_v<M, bool>) return OptionKind::Bool;
+  else if constexpr (std::is_integral_v<M>) return OptionKind::Integer;
+  else if constexpr (std::is_floating_point_v<M>) return OptionKind::Number;
+  else {
+    static_assert(std::is_same_v<M, std::string>, "an option is a bool, an integer, a double, a string or an enum");
+    return OptionKind::String;
+  }
+}
+
+template <class M>
+OptionValue toOptionValue(const M& value) {
+  if constexpr (std::is_same_v<M, bool> || std::is_same_v<M, std::string>) return value;
+  else return static_cast<double>(value);
+}
+
+template <class M>
+M fromOptionValue(const OptionValue& value) {
+  if constexpr (std::is_same_v<M, bool> || std::is_same_v<M, std::string>) return std::get<M>(value);
+  else return static_cast<M>(std::get<double>(value));
+}
+
+}  // namespace detail
+
+/// The table of option struct T's fields. Build it once (a function-local static) with the chained
+/// field(), choice(), computed(), include() and preset() calls; then it only reads.
+template <class T>
+class OptionTable {
+ public:
+  using Getter = std::function<OptionValue(const T&)>;
+  using Setter = std::function<void(T&, const OptionValue&)>;
+
+  /// `owner`: the struct's name in validate()'s messages ("EdgeTrackerOptions").
+  explicit OptionTable(std::string owner) : owner_(std::move(owner)) {}
+
+  /// A bool, integer (int, std::uint64_t, ...), double or std::string member of T (or of a base of T).
+  template <class M, class C>
+  OptionTable& field(std::string name, M C::*member, OptionRule rule, std::string doc) {
+    static_assert(std::is_base_of_v<C, T>, "a member of the struct or of its base");
+    return computed(
+        std::move(name), [member](const T& o) -> M { return o.*member; }, [member](T& o, M v) { o.*member = std::move(v); },
+        rule, std::move(doc));
+  }
+  template <class M, class C>
+  OptionTable& field(std::string name, M C::*member, std::string doc) {
+    return field(std::move(name), member, OptionRule{}, std::move(doc));
+  }
+
+  /// An enum member, written as one of `names` (each value's name).
+  template <class E, class C>
+  OptionTable& choice(std::string name, E C::*member, std::vector<std::pair<E, std::string>> names, std::string doc) {
+    static_assert(std::is_enum_v<E> && std::is_base_of_v<C, T>);
+    OptionFieldSpec spec{.name = std::move(name), .kind = OptionKind::Choice, .doc = std::move(doc)};
+    for (const auto& entry : names) spec.choices.push_back(entry.second);
+    Getter get = [member, names](const T& o) -> OptionValue {
+      for (const auto& [value, text] : names)
+        if (value == o.*member) return text;
+      return std::string("?");
+    };
+    Setter set = [member, names](T& o, const OptionValue& v) {
+      for (const auto& [value, text] : names)
+        if (text == std::get<std::string>(v)) o.*member = value;
+    };
+    return add(std::move(spec), std::move(get), std::move(set));
+  }
+
+  /// An option that is not one member as it is: read with get(const T&) -> M, written with
+  /// set(T&, M) (a bool that picks an enum's value, a member of a member).
+  template <class Get, class Set>
+  OptionTable& computed(std::string name, Get get, Set set, OptionRule rule, std::string doc) {
+    using M = std::remove_cvref_t<std::invoke_result_t<Get, const T&>>;
+    OptionFieldSpec spec{.name = std::move(name), .kind = detail::optionKindOf<M>(), .rule = rule, .doc = std::move(doc)};
+    if constexpr (std::is_integral_v<M> && !std::is_same_v<M, bool>) {
+      constexpr double kExact = 9007199254740992.0;  // 2^53: the doubles that are integers beyond are not all
+      spec.integer_min = std::max(-kExact, static_cast<double>(std::numeric_limits<M>::min()));
+      spec.integer_max = std::min(kExact, static_cast<double>(std::numeric_limits<M>::max()));
+    }
+    return add(
+        std::move(spec), [get](const T& o) { return detail::toOptionValue<M>(get(o)); },
+        [set](T& o, const OptionValue& v) { set(o, detail::fromOptionValue<M>(v)); });
+  }
+  template <class Get, class Set>
+  OptionTable& computed(std::string name, Get get, Set set, std::string doc) {
+    return computed(std::move(name), std::move(get), std::move(set), OptionRule{}, std::move(doc));
+  }
+
+  /// Every field of a base struct's table, in its order.
+  template <class Base>
+  OptionTable& include(const OptionTable<Base>& base) {
+    static_assert(std::is_base_of_v<Base, T>);
+    for (std::size_t i = 0; i < base.specs_.size(); ++i) {
+      add(base.specs_[i], [get = base.getters_[i]](const T& o) { return get(o); },
+          [set = base.setters_[i]](T& o, const OptionValue& v) { set(o, v); });
+    }
+    return *this;
+  }
+
+  /// A named set of values (a JSON object of this table's options), chosen with `"preset": "NAME"`.
+  OptionTable& preset(std::string name, std::string json, std::string doc) {
+    presets_.push_back({std::move(name), std::move(doc), std::move(json)});
+    return *this;
+  }
+
+  const std::string& owner() const { return owner_; }
+  const std::vector<OptionFieldSpec>& fields() const { return specs_; }
+  const std::vector<OptionPreset>& presets() const { return presets_; }
+  OptionValue get(const T& options, std::size_t field) const { return getters_.at(field)(options); }
+  void set(T& options, std::size_t field, const OptionValue& value) const { setters_.at(field)(options, value); }
+
+  /// Throws InvalidInput "OWNER::FIELD = VALUE: must be RULE" for the first field that breaks its rule.
+  void validate(const T& options) const {
+    for (std::size_t i = 0; i < specs_.size(); ++i) detail::checkOptionValue(specs_[i], owner_, getters_[i](options));
+  }
+
+  /// `base` with the members of the JSON object `text` ("" = {}), a preset's first; then T::validate()
+  /// when T has one (its cross-field rules), else validate(). Throws InvalidInput beginning "WHO: "
+  /// (`pipeline "sidewalk"`) naming the option and its bad value; `base` is never changed.
+  T parse(std::string_view text, const T& base, std::string_view who) const {
+    T out = base;
+    for (const auto& [field, value] : detail::parseOptionMembers(specs_, presets_, who, text)) setters_[field](out, value);
+    try {
+      if constexpr (requires { out.validate(); }) out.validate();
+      else validate(out);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(std::string(who) + ": " + e.what());
+    }
+    return out;
+  }
+
+  /// The documented options, each with a default-constructed T's value.
+  std::vector<OptionInfo> list() const {
+    const T defaults{};
+    std::vector<OptionInfo> out;
+    for (std::size_t i = 0; i < specs_.size(); ++i)
+      out.push_back({specs_[i].name, detail::optionValueJson(specs_[i], getters_[i](defaults)), specs_[i].doc});
+    return out;
+  }
+
+  /// Every option's value in `options` as one JSON object.
+  std::string json(const T& options) const {
+    std::vector<OptionValue> values;
+    for (const Getter& get : getters_) values.push_back(get(options));
+    return detail::optionObjectJson(specs_, values);
+  }
+
+ private:
+  template <class>
+  friend class OptionTable;
+
+  OptionTable& add(OptionFieldSpec spec, Getter get, Setter set) {
+    specs_.push_back(std::move(spec));
+    getters_.push_back(std::move(get));
+    setters_.push_back(std::move(set));
+    return *this;
+  }
+
+  std::string owner_;
+  std::vector<OptionFieldSpec> specs_;
+  std::vector<Getter> getters_;  ///< parallel to specs_
+  std::vector<Setter> setters_;
+  std::vector<OptionPreset> presets_;
+};
+
+}  // namespace mapnav

@@ -1,0 +1,172 @@
+// The JSON side of option tables (option_table.h): reading an options object against the fields'
+// specs, checking values against their rules, and writing values as JSON text.
+#include "mapnav/core/option_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "mapnav/core/options.h"
+
+namespace mapnav {
+
+namespace {
+
+/// A number as people write it: the shortest of 6 significant digits ("1e-06", "0.15", "1e+09")
+/// when that reads back exactly, else 17.
+std::string numberText(double value) {
+  std::ostringstream s;
+  s << value;
+  if (std::strtod(s.str().c_str(), nullptr) == value) return s.str();
+  std::ostringstream exact;
+  exact.precision(17);
+  exact << value;
+  return exact.str();
+}
+
+bool isOdd(double value) { return std::fmod(std::abs(value), 2.0) == 1.0; }
+
+/// "\"a\", \"b\" or \"c\""
+std::string choicesText(const std::vector<std::string>& choices) {
+  std::string out;
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    if (i > 0) out += i + 1 == choices.size() ? " or " : ", ";
+    out += nlohmann::json(choices[i]).dump();
+  }
+  return out;
+}
+
+std::string presetNames(const std::vector<OptionPreset>& presets) {
+  if (presets.empty()) return "there are none";
+  std::string out = "presets: ";
+  for (std::size_t i = 0; i < presets.size(); ++i) out += (i > 0 ? ", " : "") + presets[i].name;
+  return out;
+}
+
+/// One member's value, checked against its field; throws InvalidInput "WHO: option KEY = VALUE: must be ...".
+OptionValue memberValue(const OptionFieldSpec& field, const nlohmann::json& value, std::string_view who) {
+  const auto bad = [&](const std::string& rule) {
+    return InvalidInput(std::string(who) + ": option " + field.name + " = " + value.dump() + ": must be " + rule);
+  };
+  switch (field.kind) {
+    case OptionKind::Bool:
+      if (!value.is_boolean()) throw bad("true or false");
+      return value.get<bool>();
+    case OptionKind::String:
+      if (!value.is_string()) throw bad("a string");
+      return value.get<std::string>();
+    case OptionKind::Choice:
+      if (!value.is_string() || std::find(field.choices.begin(), field.choices.end(), value.get<std::string>()) ==
+                                    field.choices.end())
+        throw bad(choicesText(field.choices));
+      return value.get<std::string>();
+    case OptionKind::Integer:
+    case OptionKind::Number:
+      break;
+  }
+  if (!value.is_number() || !std::isfinite(value.get<double>())) throw bad("a number");
+  const double v = value.get<double>();
+  if (!field.rule.allows(v)) throw bad(field.rule.rangeText(false));
+  if (field.kind == OptionKind::Integer) {
+    if (v != std::floor(v)) throw bad("an integer");
+    if (v < field.integer_min || v > field.integer_max)
+      throw bad("an integer in [" + numberText(field.integer_min) + ", " + numberText(field.integer_max) + "]");
+  }
+  if (field.rule.odd && !isOdd(v)) throw bad("odd");
+  return v;
+}
+
+/// The members of `object` (but "preset") as (field index, value), appended to `out`.
+void readMembers(const std::vector<OptionFieldSpec>& fields, const nlohmann::json& object, std::string_view who,
+                 std::vector<std::pair<std::size_t, OptionValue>>& out) {
+  for (const auto& [key, value] : object.items()) {
+    if (key == "preset") continue;
+    const auto it = std::find_if(fields.begin(), fields.end(), [&](const OptionFieldSpec& f) { return f.name == key; });
+    if (it == fields.end()) throw InvalidInput(std::string(who) + ": unknown option \"" + key + "\"");
+    out.emplace_back(static_cast<std::size_t>(it - fields.begin()), memberValue(*it, value, who));
+  }
+}
+
+}  // namespace
+
+bool OptionRule::allows(double value) const {
+  if (!std::isfinite(value)) return false;
+  if (min_open ? !(value > min) : !(value >= min)) return false;
+  return max_open ? value < max : value <= max;
+}
+
+std::string OptionRule::rangeText(bool finite) const {
+  const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
+  if (has_min && has_max)
+    return std::string("in ") + (min_open ? "(" : "[") + numberText(min) + ", " + numberText(max) + (max_open ? ")" : "]");
+  const std::string prefix = finite ? "finite and " : "";
+  if (has_min) return prefix + (min_open ? "> " : ">= ") + numberText(min);
+  if (has_max) return prefix + (max_open ? "< " : "<= ") + numberText(max);
+  return "finite";
+}
+
+namespace detail {
+
+std::vector<std::pair<std::size_t, OptionValue>> parseOptionMembers(const std::vector<OptionFieldSpec>& fields,
+                                                                    const std::vector<OptionPreset>& presets,
+                                                                    std::string_view who, std::string_view text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text.empty() ? std::string_view("{}") : text);
+  } catch (const nlohmann::json::exception& e) {
+    throw InvalidInput(std::string(who) + ": options are not JSON: " + e.what());
+  }
+  if (!j.is_object()) throw InvalidInput(std::string(who) + ": options must be a JSON object");
+  std::vector<std::pair<std::size_t, OptionValue>> out;
+  if (const auto p = j.find("preset"); p != j.end()) {
+    if (!p->is_string()) throw InvalidInput(std::string(who) + ": option preset = " + p->dump() + ": must be a string (" + presetNames(presets) + ")");
+    const std::string name = p->get<std::string>();
+    const auto preset = std::find_if(presets.begin(), presets.end(), [&](const OptionPreset& s) { return s.name == name; });
+    if (preset == presets.end())
+      throw InvalidInput(std::string(who) + ": unknown preset \"" + name + "\" (" + presetNames(presets) + ")");
+    const std::string in_preset = std::string(who) + ", preset \"" + name + "\"";
+    const nlohmann::json values = nlohmann::json::parse(preset->json, nullptr, false);
+    if (!values.is_object() || values.contains("preset"))
+      throw InvalidInput(in_preset + ": must be a JSON object of options (without \"preset\")");
+    readMembers(fields, values, in_preset, out);
+  }
+  readMembers(fields, j, who, out);
+  return out;
+}
+
+void checkOptionValue(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value) {
+  if (field.kind != OptionKind::Integer && field.kind != OptionKind::Number) return;
+  const double v = std::get<double>(value);
+  requireOption(field.rule.allows(v), owner, field.name, v, field.rule.rangeText(field.kind == OptionKind::Number));
+  if (field.rule.odd) requireOption(isOdd(v), owner, field.name, v, "odd");
+}
+
+std::string optionValueJson(const OptionFieldSpec& field, const OptionValue& value) {
+  switch (field.kind) {
+    case OptionKind::Bool:
+      return std::get<bool>(value) ? "true" : "false";
+    case OptionKind::String:
+    case OptionKind::Choice:
+      return nlohmann::json(std::get<std::string>(value)).dump();
+    case OptionKind::Integer:
+      return std::to_string(static_cast<long long>(std::get<double>(value)));
+    case OptionKind::Number:
+      break;
+  }
+  const double v = std::get<double>(value);
+  return std::isfinite(v) ? numberText(v) : "null";
+}
+
+std::string optionObjectJson(const std::vector<OptionFieldSpec>& fields, const std::vector<OptionValue>& values) {
+  std::string out = "{";
+  for (std::size_t i = 0; i < fields.size() && i < values.size(); ++i)
+    out += (i > 0 ? ", " : "") + nlohmann::json(fields[i].name).dump() + ": " + optionValueJson(fields[i], values[i]);
+  return out + "}";
+}
+
+}  // namespace detail
+
+}  // namespace mapnav
