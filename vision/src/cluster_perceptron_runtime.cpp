@@ -122,8 +122,10 @@ __attribute__((target_clones("avx2", "default"))) HoughPeak houghSearch(const st
 }
 
 /// The fast path's classification of one row: the colour's cell in the 32³ table, and for the
-/// cells that straddle a cluster boundary, the colour's entry in the cell's exact 8³ table.
-void classifyRow(const std::uint8_t* __restrict p, std::uint8_t* __restrict c, int width,
+/// cells that straddle a cluster boundary, the colour's entry in the cell's exact 8³ table. Not
+/// inlined: on its own its pointers and tables stay in registers (inlined into the band loop, the
+/// table's pointer was reloaded from the stack for every pixel).
+__attribute__((noinline)) void classifyRow(const std::uint8_t* __restrict p, std::uint8_t* __restrict c, int width,
                  const std::uint8_t* __restrict lut, const std::uint32_t* __restrict sub_offset,
                  const std::uint8_t* __restrict sub) {
   // The cell index per band from small tables: three loads and two ors instead of six shifts.
