@@ -1,0 +1,201 @@
+// The cluster-perceptron's image edge refinement (beyond the paper): the Hough answer is good to about
+// a block; the road's edges in the mask put the centre model to the pixel. Edge candidates per row, the
+// model most of them support (edge consensus), and the robust fit of the centre model to the edges
+// near it. See cluster_perceptron.h.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "cluster_perceptron_internal.h"
+
+namespace mapnav {
+
+bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreModel& model) {
+  const int m = degree + 1;
+  if (static_cast<int>(vu.size()) < 4 * m) return false;
+  for (int it = 0; it < 8; ++it) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Vec3 rhs = Vec3::Zero();
+    for (const Vec2& s : vu) {
+      const double r = std::abs(s.y() - model.u(s.x()));
+      const double w = r <= k ? 1.0 : k / r;
+      const Vec3 phi = model.basis(s.x());
+      A.topLeftCorner(m, m) += w * phi.head(m) * phi.head(m).transpose();
+      rhs.head(m) += w * phi.head(m) * (s.y() - (m < 3 ? model.p[2] * phi[2] : 0.0));
+    }
+    Vec3 p = Vec3(0.0, 0.0, m < 3 ? model.p[2] : 0.0);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(A.topLeftCorner(m, m));
+    if (ldlt.info() != Eigen::Success) return false;
+    p.head(m) = ldlt.solve(rhs.head(m));
+    if (!p.allFinite()) return false;
+    const double change = (p - model.p).cwiseAbs().maxCoeff();
+    model.p = p;
+    if (change < 1e-3) break;
+  }
+  return true;
+}
+
+void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, std::vector<EdgeCandidate>& out) {
+  auto road = [row](int u) { return row[u] > 127; };
+  const int u0 = std::max(3, lo), u1 = std::min(width - 3, hi);
+  for (int u = u0; u <= u1; ++u) {
+    // Eight pixels from u − 1 of one class hold no change: skip them.
+    if (u + 7 <= width) {
+      std::uint64_t word;
+      std::memcpy(&word, row + u - 1, 8);
+      const std::uint64_t top = word & 0x8080808080808080ULL;
+      if (top == 0 || top == 0x8080808080808080ULL) {
+        u += 6;
+        continue;
+      }
+    }
+    const bool now = road(u);
+    if (road(u - 1) == now) continue;
+    if (road(u - 3) != now && road(u - 2) != now && road(u + 1) == now && (u + 2 >= width || road(u + 2) == now))
+      out.push_back({v, u - 0.5, now});
+  }
+}
+
+namespace {
+
+/// How many candidates lie within `tol` pixels of the road edges the model puts at
+/// centre ∓ width/2 (each row counts a left and a right edge at most once).
+int edgeSupport(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m,
+                double tol) {
+  return rowSideSupport(
+      cands, [](const EdgeCandidate& e) { return e.left; },
+      [&](const EdgeCandidate& e) { return !(std::abs(e.u - (m.u(e.v) + (e.left ? -0.5 : 0.5) * widths[e.v])) > tol); });
+}
+
+/// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
+/// candidates in different rows, kept when more candidates support them than support `model` and
+/// `allowed` admits them.
+CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths,
+                          const CentreModel& model, int degree, std::uint64_t seed, int iterations, double tol,
+                          double max_curvature, const std::function<bool(const CentreModel&)>& allowed) {
+  CentreModel best = model;
+  int best_n = edgeSupport(cands, widths, model, tol);
+  if (cands.size() < static_cast<std::size_t>(degree + 1)) return best;
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, cands.size() - 1);
+  const int m = degree + 1;
+  // Adaptive: stop once a better model is unlikely (probability 0.999) given the best one's support.
+  int needed = iterations;
+  for (int it = 0; it < std::min(iterations, needed); ++it) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+    Vec3 rhs = Vec3::Zero();
+    bool ok = true;
+    std::array<int, 3> rows{-1000, -1000, -1000};
+    for (int k = 0; k < m && ok; ++k) {
+      const EdgeCandidate& e = cands[pick(rng)];
+      for (int j = 0; j < k; ++j) ok = ok && std::abs(e.v - rows[j]) >= 16;
+      rows[k] = e.v;
+      A.row(k) = model.basis(e.v).transpose();
+      rhs[k] = e.u + (e.left ? 0.5 : -0.5) * widths[e.v];
+    }
+    if (!ok) continue;
+    CentreModel h = model;
+    h.p = Vec3::Zero();
+    h.p.head(m) = A.topLeftCorner(m, m).partialPivLu().solve(rhs.head(m));
+    if (!h.p.allFinite() || std::abs(h.p[2]) > max_curvature || !allowed(h)) continue;
+    const int n = edgeSupport(cands, widths, h, tol);
+    if (n > best_n) {
+      best_n = n;
+      best = h;
+      const double w = std::min(0.99, static_cast<double>(n) / static_cast<double>(cands.size()));
+      needed = static_cast<int>(std::ceil(std::log(0.001) / std::log(1.0 - std::pow(w, m))));
+    }
+  }
+  return best;
+}
+
+/// Each row's left and right candidates nearest the model's two edges (centre ∓ half the row's
+/// width), within `tol` pixels (NaN: none).
+void edgesNearModel(const std::uint8_t* cimg, int width, int height, int v_top, const std::vector<double>& row_widths,
+                    const CentreModel& model, double tol, std::vector<double>& left, std::vector<double>& right) {
+  // Every row's candidates near the model's two edges.
+  std::vector<EdgeCandidate> cands;
+  for (int v = v_top; v < height; ++v)
+    for (const double side : {-0.5, 0.5}) {
+      const double want = model.u(v) + side * row_widths[v];
+      if (want < -tol || want > width + tol) continue;
+      rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, static_cast<int>(std::floor(want - tol)),
+                    static_cast<int>(std::ceil(want + tol)) + 1, cands);
+    }
+  left.assign(height, std::nan(""));
+  right.assign(height, std::nan(""));
+  for (const EdgeCandidate& e : cands) {
+    const double want = model.u(e.v) + (e.left ? -0.5 : 0.5) * row_widths[e.v];
+    double& slot = e.left ? left[e.v] : right[e.v];
+    if (std::abs(e.u - want) <= tol && !(std::abs(slot - want) <= std::abs(e.u - want))) slot = e.u;
+  }
+}
+
+/// The centre estimates (v, u) of the rows' edges: the pair's middle, or one edge plus half the row's
+/// width, scaled by the median ratio of the widths measured where both show (at least 8 rows) to the
+/// bootstrap's, within [0.8, 1.25].
+std::vector<Vec2> centreSamples(const std::vector<double>& left, const std::vector<double>& right, int v_top,
+                                int height, const std::vector<double>& row_widths) {
+  std::vector<double> ratios;
+  for (int v = v_top; v < height; ++v)
+    if (!std::isnan(left[v]) && !std::isnan(right[v])) ratios.push_back((right[v] - left[v]) / row_widths[v]);
+  double scale = 1.0;
+  if (ratios.size() >= 8) {
+    std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+    scale = std::clamp(ratios[ratios.size() / 2], 0.8, 1.25);
+  }
+  std::vector<Vec2> vu;
+  for (int v = v_top; v < height; ++v) {
+    const double hw = 0.5 * scale * row_widths[v];
+    const bool l = !std::isnan(left[v]), r = !std::isnan(right[v]);
+    if (l && r) vu.emplace_back(v, 0.5 * (left[v] + right[v]));
+    else if (l) vu.emplace_back(v, left[v] + hw);
+    else if (r) vu.emplace_back(v, right[v] - hw);
+  }
+  return vu;
+}
+
+}  // namespace
+
+CentreModel edgeConsensusModel(const std::uint8_t* cimg, int width, int height, int v_top,
+                               const std::vector<double>& row_widths, const CentreModel& model, int degree,
+                               const ClusterPerceptronOptions& opt, const std::function<bool(const CentreModel&)>& admits) {
+  // The Hough line counts road-coloured area, which shaded shoulders of road colour can pull; the
+  // road's edges are straight and a known width apart, which those shadows' outlines are not.
+  // Start from the model that most edge candidates support.
+  std::vector<EdgeCandidate> cands;
+  for (int v = v_top; v < height; v += 4) rowCandidates(cimg + static_cast<std::size_t>(v) * width, width, v, 0, width, cands);
+  return edgeConsensus(cands, row_widths, model, degree, opt.seed, 200, 2.0, opt.max_curvature, admits);
+}
+
+void fitModelToEdges(const std::uint8_t* cimg, int width, int height, int v_top, const std::vector<double>& row_widths,
+                     int degree, double max_curvature, CentreModel& model, RoadFinding& res) {
+  // In each row the left and right candidates nearest the model's edges, each turned into a centre
+  // estimate (the pair's middle, or one edge plus half the row's width scaled by the widths measured
+  // where both show), by robust least squares; three times, each time with the edges nearer the last
+  // fit.
+  std::vector<double> left, right;
+  for (const double tol : {2.0, 1.5, 1.0}) {
+    edgesNearModel(cimg, width, height, v_top, row_widths, model, tol, left, right);
+    const std::vector<Vec2> vu = centreSamples(left, right, v_top, height, row_widths);
+    CentreModel fitted = model;
+    // The arc's curvature within the searched range; else the line part with the curvature kept.
+    if (!fitCentreModel(vu, degree, 0.6, fitted)) break;
+    if (degree == 2 && std::abs(fitted.p[2]) > max_curvature) {
+      fitted = model;
+      if (!fitCentreModel(vu, 1, 0.6, fitted)) break;
+    }
+    model = fitted;
+    res.refined = true;
+    res.edge_rows = static_cast<int>(vu.size());
+  }
+}
+
+}  // namespace mapnav

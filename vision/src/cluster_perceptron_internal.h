@@ -1,0 +1,160 @@
+#pragma once
+// Internal to vision/: what the cluster-perceptron's files share (see cluster_perceptron.h): the
+// certainty levels of the perceptron's output (lookup table, runtime), the image
+// centre model and its fit (runtime, edge refinement, pipeline), the row's edge candidates (image and
+// ground refinement), and the arc model's ground road and its refinement (runtime).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "mapnav/geometry/types.h"
+#include "mapnav/vision/cluster_perceptron.h"
+
+namespace mapnav {
+
+// --- The certainty levels -------------------------------------------------------------------------------
+
+/// A pixel's road certainty: the perceptron output y in [-1, 1] quantised to 16 levels, 16 apart
+/// (0 = surely not road, 240 = surely road; > 127 ⇔ y > 0 but for y within 1/15 of 0). Coarser
+/// than a byte on purpose: clusters of almost the same output (two shades of lit asphalt at 0.99
+/// and 0.995) share a level, so the lookup table's cells between them are not boundary cells.
+constexpr int kCertaintyMax = 240;
+inline std::uint8_t certaintyOf(double y) {
+  return static_cast<std::uint8_t>(16 * std::lround(std::clamp((y + 1.0) * 7.5, 0.0, 15.0)));
+}
+constexpr std::uint8_t kAmbiguous = 255;  // LUT cell spanning a cluster boundary: classify exactly
+
+// --- The image centre model -----------------------------------------------------------------------------
+
+/// The arc model's offset per unit curvature (pixels per 1/m) of the rows: the column of the ground
+/// parabola κ·(x − x0)(x − x1)/2, which vanishes at the rows v0 and v1 (ground distances x0, x1),
+/// so that with it the centre line is an image line through (a, v0), (a + b, v1) plus κ times this.
+/// The parabola differs from κx²/2 by a ground line, whose image is an image line: the same family.
+struct ArcBasis {
+  const std::vector<double>* x = nullptr;  // per image row: ground distance, m
+  const std::vector<double>* b = nullptr;  // per image row: columns per metre of lateral offset
+  double x0 = 0, x1 = 0;
+  static double at(const std::vector<double>& f, double v) {
+    const double c = std::clamp(v, 0.0, static_cast<double>(f.size() - 1));
+    const std::size_t i = std::min(static_cast<std::size_t>(c), f.size() - 2);
+    return f[i] + (c - static_cast<double>(i)) * (f[i + 1] - f[i]);
+  }
+  ArcBasis(const std::vector<double>& xs, const std::vector<double>& bs, double v0, double v1)
+      : x(&xs), b(&bs), x0(at(xs, v0)), x1(at(xs, v1)) {}
+  ArcBasis() = default;
+  double operator()(double v) const {
+    if (x == nullptr) return 0.0;
+    const double xv = at(*x, v);
+    return 0.5 * at(*b, v) * (xv - x0) * (xv - x1);
+  }
+};
+
+/// The road model of the image centre line, t = (v − v0) / (v1 − v0): u = a + b t (the line), or
+/// u = a + b t + κ·arc(v) (the ground arc; p[2] = κ, 1/m).
+struct CentreModel {
+  double v0 = 0, v1 = 1;
+  Vec3 p = Vec3::Zero();  // a, b, κ
+  ArcBasis arc;
+  double t(double v) const { return (v - v0) / (v1 - v0); }
+  Vec3 basis(double v) const { return Vec3(1.0, t(v), arc.x ? arc(v) : 0.0); }
+  double u(double v) const { return p[0] + t(v) * p[1] + (arc.x ? p[2] * arc(v) : 0.0); }
+};
+
+/// Least-squares fit of the model's `degree + 1` coefficients to (v, u) samples with Huber
+/// weights (IRLS, `k` pixels), starting from the model's own coefficients for the weights.
+bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreModel& model);
+
+// --- Edge candidates (cluster_perceptron_edges.cpp) ------------------------------------------------------
+
+/// A place in a row where the class changes and stays changed for 3 pixels on each side (isolated
+/// pixels of the other class are no edge): a left road edge (road starts, going right) or a right one.
+struct EdgeCandidate {
+  int v;
+  double u;  // pixel boundary, x.5
+  bool left;
+};
+
+/// The candidates of one row (certainties; road ⇔ > 127 ⇔ the byte's top bit) with u in [lo, hi].
+void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, std::vector<EdgeCandidate>& out);
+
+/// How many row sides of `edges` (in row order, `.v` the row) hold an edge that `near` accepts: each
+/// row counts a left (`isLeft`) and a right edge at most once. The support of a consensus model.
+template <typename Edge, typename IsLeft, typename Near>
+int rowSideSupport(const std::vector<Edge>& edges, IsLeft isLeft, Near near) {
+  int n = 0, last_v = -1;
+  bool got_l = false, got_r = false;
+  for (const Edge& e : edges) {
+    if (e.v != last_v) {
+      last_v = e.v;
+      got_l = got_r = false;
+    }
+    bool& got = isLeft(e) ? got_l : got_r;
+    if (got || !near(e)) continue;
+    got = true;
+    ++n;
+  }
+  return n;
+}
+
+/// The image edge refinement of find() (beyond the paper): the Hough's `model` (its `degree + 1`
+/// coefficients) moved to the model most edge candidates support (edge consensus; `admits` the prior's
+/// window), for the arc model the place to start the ground fit from.
+CentreModel edgeConsensusModel(const std::uint8_t* cimg, int width, int height, int v_top,
+                               const std::vector<double>& row_widths, const CentreModel& model, int degree,
+                               const ClusterPerceptronOptions& opt, const std::function<bool(const CentreModel&)>& admits);
+/// Then the model fitted to the edges that support it (robust least squares, in narrowing windows);
+/// sets `res`'s refined and edge_rows where a fit succeeds.
+void fitModelToEdges(const std::uint8_t* cimg, int width, int height, int v_top, const std::vector<double>& row_widths,
+                     int degree, double max_curvature, CentreModel& model, RoadFinding& res);
+
+// --- The arc model on the ground (cluster_perceptron_arc.cpp) -------------------------------------------
+
+/// The arc model's road on the ground (vehicle frame: x ahead, y left): the centre line is the
+/// circle (a line when κ = 0) through (0, y0) with heading θ and curvature κ (1/m, left positive);
+/// the road's edges are the concentric circles half the road's width to either side.
+struct GroundArc {
+  double y0 = 0, th = 0, k = 0;
+  /// The signed perpendicular offset of the ground point (x, y) from the centre line (left
+  /// positive), ℓ = N / (1 + D) with N = 2n − κa, D = √(1 − κN) (n the offset from the tangent
+  /// line, a the squared distance to (0, y0)): exact for circles and lines alike. With its
+  /// derivatives by y0, θ and κ when `jac` is given: (κ·dy − cos θ)/D, −along/D and (ℓ² − a)/(2D).
+  double offset(double x, double y, double c, double s, Vec3* jac = nullptr) const {
+    const double dy = y - y0, along = c * x + s * dy, n = -s * x + c * dy, a = x * x + dy * dy;
+    const double N = 2.0 * n - k * a, D = std::sqrt(std::max(1e-12, 1.0 - k * N)), l = N / (1.0 + D);
+    if (jac != nullptr) *jac = Vec3((k * dy - c) / D, -along / D, (l * l - a) / (2.0 * D));
+    return l;
+  }
+  /// The centre line's lateral offset at ground distance x: y0 + x(κx + 2 sin θ) / (cos θ + √(1 − s²)),
+  /// s = κx + sin θ; NaN where the circle turns back before x.
+  double at(double x) const {
+    const double s = k * x + std::sin(th);
+    if (std::abs(s) >= 1.0) return std::nan("");
+    return y0 + x * (k * x + 2.0 * std::sin(th)) / (std::cos(th) + std::sqrt(1.0 - s * s));
+  }
+};
+
+/// The camera's per-row geometry for the arc model (ClusterPerceptron::setCamera()).
+struct RowGeometry {
+  const std::vector<double>& x;  // ground distance, m
+  const std::vector<double>& a;  // column of lateral offset 0
+  const std::vector<double>& b;  // columns per metre of lateral offset
+};
+
+/// The arc model's refinement of find() on the ground, from the image model `model`: the circle (or
+/// line) fitted to the road's edges on the ground (this frame's and the `carried` ones), or nothing
+/// when too few edges support a fit. Sets `res`'s refined, edge_rows, bottom_column_sd, ground_edges
+/// and carried_edges when it succeeds. `rgb`: the frame (its colours place the edges with
+/// opt.subpixel_edges).
+std::optional<GroundArc> refineOnGround(const std::uint8_t* cimg, const std::uint8_t* rgb, int width, int height,
+                                        int v_top, const CentreModel& model, const RowGeometry& rows,
+                                        const std::vector<double>& row_widths, const ClusterPerceptronOptions& opt,
+                                        const std::vector<std::vector<RoadEdgePoint>>& carried, RoadFinding& res);
+/// The image model's centre line, taken to the ground, passes farther than half the road's width from
+/// the vehicle, which stands on the road.
+bool leavesTheVehicleOffRoad(const CentreModel& model, const RowGeometry& rows, const std::vector<double>& row_widths,
+                             int v_top, int height, double max_curvature);
+
+}  // namespace mapnav

@@ -1,0 +1,377 @@
+// The cluster-perceptron's training (Jochem & Baluja 1993 §3-4): colour clustering by competitive
+// learning (isodata), the perceptron over the clusters' code (or raw RGB) by LMS, and the colour
+// lookup table that collapses both for the fast runtime path. See cluster_perceptron.h.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <random>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "cluster_perceptron_internal.h"
+#include "mapnav/core/error.h"
+#include "mapnav/vision/cluster_perceptron.h"
+
+namespace mapnav {
+
+Vec3 ClusterPerceptron::feature(double r, double g, double b) const {
+  if (!opt_.normalized_color) return Vec3(r, g, b);
+  const double sum = r + g + b;
+  return sum > 0 ? Vec3(Vec3(r, g, b) * (255.0 / sum)) : Vec3::Constant(85.0);
+}
+
+int ClusterPerceptron::nearest(const Vec3& f) const {
+  const auto r = static_cast<float>(f.x()), g = static_cast<float>(f.y()), b = static_cast<float>(f.z());
+  int best = 0;
+  float bd = std::numeric_limits<float>::max();
+  for (std::size_t k = 0; k < means_.size(); ++k) {
+    const float dr = r - static_cast<float>(means_[k].x()), dg = g - static_cast<float>(means_[k].y()),
+                db = b - static_cast<float>(means_[k].z());
+    const float d = dr * dr + dg * dg + db * db;
+    if (d < bd) {
+      bd = d;
+      best = static_cast<int>(k);
+    }
+  }
+  return best;
+}
+
+// --- §3 clustering ---------------------------------------------------------------------------------
+
+std::vector<Vec3> ClusterPerceptron::trainClusters(const std::uint8_t* rgb, int width, int height) {
+  if (rgb == nullptr || width <= 0 || height <= 0) throw InvalidInput("trainClusters: empty frame");
+  const int n = opt_.clusters;
+  std::mt19937_64 rng(opt_.seed);
+  std::uniform_real_distribution<double> uni(0.0, 255.0);
+  recent_errors_.clear();
+  means_.assign(static_cast<std::size_t>(n), Vec3::Zero());
+  for (Vec3& m : means_) {
+    m = Vec3(uni(rng), uni(rng), uni(rng));
+    m = feature(m.x(), m.y(), m.z());
+  }
+  return clusterFrom(rgb, width, height);
+}
+
+std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int width, int height) {
+  const int n = static_cast<int>(means_.size());
+  trained_ = false;
+  const int st = opt_.train_stride;
+
+  // One pass: each pixel's winner; counts, difference sums and the reconstruction error per band.
+  std::vector<double> cnt(n), dr(n), dg(n), db(n);
+  auto pass = [&]() {
+    std::fill(cnt.begin(), cnt.end(), 0.0);
+    std::fill(dr.begin(), dr.end(), 0.0);
+    std::fill(dg.begin(), dg.end(), 0.0);
+    std::fill(db.begin(), db.end(), 0.0);
+    Vec3 err = Vec3::Zero();
+    double total = 0;
+    for (int v = 0; v < height; v += st)
+      for (int u = 0; u < width; u += st) {
+        const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
+        const Vec3 f = feature(p[0], p[1], p[2]);
+        const int k = nearest(f);
+        const double er = f.x() - means_[k].x(), eg = f.y() - means_[k].y(), eb = f.z() - means_[k].z();
+        cnt[k] += 1;
+        dr[k] += er;
+        dg[k] += eg;
+        db[k] += eb;
+        err += Vec3(er * er, eg * eg, eb * eb);
+        total += 1;
+      }
+    return Vec3(err / total);
+  };
+
+  std::vector<Vec3> history;
+  history.push_back(pass());
+  for (int it = 0; it < opt_.max_cluster_iterations; ++it) {
+    // The adjustments are computed from the current means before any is applied.
+    std::vector<Vec3> next = means_;
+    for (int k = 0; k < n; ++k) {
+      if (cnt[k] > 0) {
+        next[k] += Vec3(dr[k], dg[k], db[k]) / cnt[k];  // learning rate 1: isodata
+      } else {
+        // Empty cluster: move it toward the nearest cluster that classified pixels (the paper's
+        // heuristic; a nearest one that is empty too would leave both stranded). A small offset per
+        // cluster keeps two empty clusters from landing on the same point, which would tie forever.
+        int best = -1;
+        double bd = std::numeric_limits<double>::max();
+        for (int j = 0; j < n; ++j) {
+          if (j == k || cnt[j] == 0) continue;
+          const double d = (means_[j] - means_[k]).squaredNorm();
+          if (d < bd) {
+            bd = d;
+            best = j;
+          }
+        }
+        if (best >= 0) {
+          const double off = (k % 2 == 0 ? 1.0 : -1.0) * (1.0 + 0.5 * k);
+          next[k] = means_[best] + Vec3(off, -off, off);
+        }
+      }
+    }
+    means_ = next;
+    history.push_back(pass());
+    const Vec3 slope = history.back() - history[history.size() - 2];
+    if (slope.cwiseAbs().maxCoeff() < opt_.cluster_slope_threshold) break;
+  }
+  train_error_ = history.back().mean();
+  return history;
+}
+
+double ClusterPerceptron::reconstructionError(const std::uint8_t* rgb, int width, int height, int stride) const {
+  if (means_.empty() || rgb == nullptr || width <= 0 || height <= 0 || stride < 1) return 0;
+  double err = 0, total = 0;
+  for (int v = 0; v < height; v += stride)
+    for (int u = 0; u < width; u += stride) {
+      const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
+      const Vec3 f = feature(p[0], p[1], p[2]);
+      err += (f - means_[static_cast<std::size_t>(nearest(f))]).squaredNorm();
+      total += 1;
+    }
+  return err / (3.0 * total);
+}
+
+Image ClusterPerceptron::reconstruct(const std::uint8_t* rgb, int width, int height) const {
+  Image out(width, height, 3);
+  if (means_.empty()) return out;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(width) * height; ++i) {
+    const std::uint8_t* p = rgb + 3 * i;
+    Vec3 c = means_[static_cast<std::size_t>(nearest(p[0], p[1], p[2]))];
+    // Normalised colour: the cluster's chromaticity at the pixel's own brightness.
+    if (opt_.normalized_color) c *= (p[0] + p[1] + p[2]) / 255.0;
+    for (int b = 0; b < 3; ++b)
+      out.data[3 * i + b] = static_cast<std::uint8_t>(std::clamp(std::lround(c[b]), 0L, 255L));
+  }
+  return out;
+}
+
+// --- §4 perceptron ---------------------------------------------------------------------------------
+
+namespace {
+/// Net input for a pixel won by cluster k: +w_k, -w_j for every other j, + bias.
+double netFor(const std::vector<double>& w, int k) {
+  const int n = static_cast<int>(w.size()) - 1;
+  double net = w[static_cast<std::size_t>(n)];
+  for (int j = 0; j < n; ++j) net += (j == k ? 1.0 : -1.0) * w[static_cast<std::size_t>(j)];
+  return net;
+}
+/// The raw-RGB perceptron's input for one band of a feature: the level scaled to [-1, 1].
+double rgbInput(double x) { return x / 127.5 - 1.0; }
+double netRgb(const std::vector<double>& w, const Vec3& f) {
+  return w[0] * rgbInput(f.x()) + w[1] * rgbInput(f.y()) + w[2] * rgbInput(f.z()) + w[3];
+}
+}  // namespace
+
+std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, int width, int height,
+                                                       const std::uint8_t* road) {
+  if (opt_.raw_rgb) return trainRgbPerceptron(rgb, width, height, road);
+  if (means_.empty()) throw InvalidInput("trainPerceptron: the clusters are not trained");
+  const int n = static_cast<int>(means_.size());
+  // Every pixel won by the same cluster has the same inputs, so the per-pixel LMS sums reduce exactly
+  // to per-cluster counts of road and non-road pixels.
+  std::vector<double> pos(n, 0.0), neg(n, 0.0);
+  double total = 0;
+  const int st = opt_.train_stride;
+  for (int v = 0; v < height; v += st)
+    for (int u = 0; u < width; u += st) {
+      const std::size_t i = static_cast<std::size_t>(v) * width + u;
+      const int k = nearest(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+      (road[i] != 0 ? pos : neg)[k] += 1;
+      total += 1;
+    }
+  if (opt_.balance_classes) {
+    double inside = 0, outside = 0;
+    for (int k = 0; k < n; ++k) {
+      inside += pos[k];
+      outside += neg[k];
+    }
+    if (inside > 0 && outside > 0) {
+      for (double& p : pos) p *= outside / inside;
+      total = 2 * outside;
+    }
+  }
+  return runLms(static_cast<std::size_t>(n) + 1, total, [&](std::vector<double>& grad) {
+    double err = 0;
+    for (int k = 0; k < n; ++k) {
+      const double y = std::tanh(netFor(weights_, k));
+      const double e = pos[k] * (1.0 - y) + neg[k] * (-1.0 - y);  // Σ (target − output)
+      err += pos[k] * std::abs(1.0 - y) + neg[k] * std::abs(-1.0 - y);
+      for (int j = 0; j < n; ++j) grad[j] += e * (j == k ? 1.0 : -1.0);
+      grad[n] += e;  // bias input 1
+    }
+    return err;
+  });
+}
+
+std::vector<double> ClusterPerceptron::runLms(std::size_t inputs, double total,
+                                              const std::function<double(std::vector<double>&)>& pass) {
+  weights_.assign(inputs, 0.0);
+  std::vector<double> history;
+  double prev = std::numeric_limits<double>::max();
+  int calm = 0;
+  for (int it = 0; it < opt_.max_perceptron_iterations; ++it) {
+    std::vector<double> grad(inputs, 0.0);
+    const double err = pass(grad) / total;
+    history.push_back(err);
+    for (std::size_t j = 0; j < grad.size(); ++j) weights_[j] += opt_.perceptron_rate * grad[j] / total;
+    // Stop when the mean error has changed by less than the tolerance for 3 iterations running
+    // (a single small change can be a plateau while the bias settles).
+    calm = std::abs(prev - err) < opt_.perceptron_tolerance ? calm + 1 : 0;
+    if (calm >= 3) break;
+    prev = err;
+  }
+  buildLut();
+  trained_ = !row_widths_.empty();
+  return history;
+}
+
+std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rgb, int width, int height,
+                                                          const std::uint8_t* road) {
+  // Pixels of the same colour have the same inputs: the LMS sums reduce exactly to per-colour counts.
+  std::unordered_map<std::uint32_t, std::pair<double, double>> counts;  // colour → (road, not road)
+  double total = 0;
+  const int st = opt_.train_stride;
+  for (int v = 0; v < height; v += st)
+    for (int u = 0; u < width; u += st) {
+      const std::size_t i = static_cast<std::size_t>(v) * width + u;
+      const std::uint32_t key = (std::uint32_t{rgb[3 * i]} << 16) | (std::uint32_t{rgb[3 * i + 1]} << 8) | rgb[3 * i + 2];
+      auto& c = counts[key];
+      (road[i] != 0 ? c.first : c.second) += 1;
+      total += 1;
+    }
+  if (opt_.balance_classes) {
+    double inside = 0, outside = 0;
+    for (const auto& [key, c] : counts) {
+      inside += c.first;
+      outside += c.second;
+    }
+    if (inside > 0 && outside > 0) {
+      for (auto& [key, c] : counts) c.first *= outside / inside;
+      total = 2 * outside;
+    }
+  }
+  std::vector<std::pair<std::uint32_t, std::pair<double, double>>> colours(counts.begin(), counts.end());
+  std::sort(colours.begin(), colours.end());  // a fixed summation order: the same weights every run
+  return runLms(4, total, [&](std::vector<double>& grad) {
+    double err = 0;
+    for (const auto& [key, pn] : colours) {
+      const Vec3 f = feature(key >> 16, (key >> 8) & 255, key & 255);
+      const double y = std::tanh(netRgb(weights_, f));
+      const double e = pn.first * (1.0 - y) + pn.second * (-1.0 - y);
+      err += pn.first * std::abs(1.0 - y) + pn.second * std::abs(-1.0 - y);
+      grad[0] += e * rgbInput(f.x());
+      grad[1] += e * rgbInput(f.y());
+      grad[2] += e * rgbInput(f.z());
+      grad[3] += e;
+    }
+    return err;
+  });
+}
+
+double ClusterPerceptron::outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const {
+  if (opt_.raw_rgb) return std::tanh(netRgb(weights_, feature(r, g, b)));
+  return std::tanh(netFor(weights_, nearest(r, g, b)));
+}
+
+void ClusterPerceptron::buildLut() {
+  // Cell q covers the colours [8q, 8q + 7] per band. A cell whose certainty its 8 corners prove to be
+  // the same everywhere in it gets that certainty; every other cell is marked ambiguous and gets its
+  // own 8×8×8 table of each colour's certainty (`exact`: the reference path's, certaintyOf(
+  // outputReference()), computed the cheaper way), so the fast path needs no distance computation at
+  // all and still equals the reference path colour by colour. `uniform` is the proof for one
+  // perceptron: the certainty, or nothing.
+  std::function<std::optional<std::uint8_t>(int, int, int)> uniform;
+  std::function<std::uint8_t(int, int, int)> exact;
+  std::vector<std::uint8_t> cert, near;
+  auto corner = [](int i) { return i % 2 == 0 ? (i / 2) * 8 : (i / 2) * 8 + 7; };  // 8q and 8q + 7
+  if (opt_.raw_rgb) {
+    // The net input is linear in the colour: over a cell it lies between its values at the corners,
+    // and the certainty, monotonic in it, is uniform when it is the same at both ends (a hair wider,
+    // against rounding). In normalised colour the net input is a ratio of two linear functions of
+    // the colour, which also takes its extremes over a box at the corners where the denominator
+    // R + G + B stays positive.
+    uniform = [&](int r, int g, int b) -> std::optional<std::uint8_t> {
+      double lo = std::numeric_limits<double>::max(), hi = -lo;
+      for (int m = 0; m < 8; ++m) {
+        const Vec3 f = feature(corner(2 * r + (m & 1)), corner(2 * g + ((m >> 1) & 1)), corner(2 * b + ((m >> 2) & 1)));
+        const double net = netRgb(weights_, f);
+        lo = std::min(lo, net);
+        hi = std::max(hi, net);
+      }
+      const std::uint8_t c = certaintyOf(std::tanh(lo - 1e-9));
+      if (c == certaintyOf(std::tanh(hi + 1e-9))) return c;
+      return std::nullopt;
+    };
+    exact = [&](int r, int g, int b) { return certaintyOf(std::tanh(netRgb(weights_, feature(r, g, b)))); };
+  } else {
+    // A cell whose 8 corners share their nearest cluster lies wholly in that cluster's (convex)
+    // Voronoi cell. In normalised colour f = 255 C / (R + G + B), "nearer mean k than mean j" is
+    // linear in f and so, times R + G + B, a half-space through black in RGB: the same holds.
+    const int n = static_cast<int>(means_.size());
+    cert.resize(n);
+    for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
+    // Nearest cluster of every lattice corner (33 values per band: 8q and 8q + 7 for q < 32).
+    near.resize(64 * 64 * 64);
+    for (int a = 0; a < 64; ++a)
+      for (int b = 0; b < 64; ++b)
+        for (int c = 0; c < 64; ++c)
+          near[(a * 64 + b) * 64 + c] = static_cast<std::uint8_t>(nearest(corner(a), corner(b), corner(c)));
+    // (`uniform` and `exact` outlive this block: they use only what the function's scope holds.)
+    uniform = [&, n](int r, int g, int b) -> std::optional<std::uint8_t> {
+      const int k0 = near[((2 * r) * 64 + 2 * g) * 64 + 2 * b];
+      const std::uint8_t c = cert[k0];
+      bool same = true;
+      for (int m = 1; m < 8 && same; ++m)
+        same = near[((2 * r + (m & 1)) * 64 + 2 * g + ((m >> 1) & 1)) * 64 + 2 * b + ((m >> 2) & 1)] == k0;
+      if (same) return c;
+      // Exact test for a cell spanning clusters of equal certainty c: no point of the cube has a
+      // cluster j of another certainty as its nearest if, for every such j, some cluster k of
+      // certainty c is nearer than j at all 8 corners (the region nearer k than j is a half-space, so
+      // the whole cube is).
+      const auto d2 = [&](int k, double x, double y, double z) { return (means_[k] - feature(x, y, z)).squaredNorm(); };
+      for (int j = 0; j < n; ++j) {
+        if (cert[j] == c) continue;
+        bool out = false;
+        for (int k = 0; k < n && !out; ++k) {
+          if (cert[k] != c) continue;
+          out = true;
+          for (int m = 0; m < 8 && out; ++m) {
+            const double x = corner(2 * r + (m & 1)), y = corner(2 * g + ((m >> 1) & 1)),
+                         z = corner(2 * b + ((m >> 2) & 1));
+            out = d2(k, x, y, z) < d2(j, x, y, z);
+          }
+        }
+        if (!out) return std::nullopt;
+      }
+      return c;
+    };
+    exact = [&](int r, int g, int b) { return cert[nearest(r, g, b)]; };
+  }
+  lut_.assign(32 * 32 * 32, 0);
+  sub_offset_.assign(32 * 32 * 32, 0);
+  sub_.clear();
+  for (int cell = 0; cell < 32 * 32 * 32; ++cell) {
+    const int r = cell >> 10, g = (cell >> 5) & 31, b = cell & 31;
+    // Black's cell proves nothing from its corners in normalised colour: black counts as grey there.
+    const auto c = opt_.normalized_color && cell == 0 ? std::nullopt : uniform(r, g, b);
+    if (c) {
+      lut_[cell] = *c;
+      continue;
+    }
+    lut_[cell] = kAmbiguous;
+    sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
+    for (int i = 0; i < 512; ++i) sub_.push_back(exact(8 * r + (i >> 6), 8 * g + ((i >> 3) & 7), 8 * b + (i & 7)));
+  }
+}
+
+void ClusterPerceptron::setRowWidths(std::vector<double> widths) {
+  row_widths_ = std::move(widths);
+  trained_ = !weights_.empty() && !row_widths_.empty();
+}
+
+}  // namespace mapnav
