@@ -14,8 +14,8 @@
 
 #include "eval_common.h"
 #include "mapnav/core/error.h"
+#include "mapnav/image/png.h"
 #include "mapnav/map/predict.h"
-#include "mapnav/sim/image.h"
 #include "mapnav/sim/odometry.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/vision/cluster_perceptron.h"

@@ -12,7 +12,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/geometry/simplify.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 
 namespace mapnav {
 
