@@ -8,7 +8,7 @@
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/png.h"
 #include "mapnav/sim/replay_log.h"
 
 namespace mapnav::cli {

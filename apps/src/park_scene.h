@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
+#include "mapnav/image/image.h"
 #include "mapnav/map/map.h"
-#include "mapnav/sim/image.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/vision/cluster_perceptron.h"
 

@@ -13,8 +13,8 @@
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
-#include "mapnav/sim/image.h"
 #include "mapnav/vision/calibrate.h"
 
 namespace mapnav::cli {

@@ -12,7 +12,7 @@
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/navigator/vehicle.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 
 namespace mapnav::detail {
 

@@ -10,12 +10,12 @@
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/options.h"
+#include "mapnav/image/png.h"
 #include "mapnav/map/geodesy.h"
 #include "mapnav/map/map_render.h"
 #include "mapnav/mission/trace.h"
 #include "mapnav/render/canvas.h"
 #include "mapnav/render/xml.h"
-#include "mapnav/sim/image.h"
 
 namespace mapnav {
 

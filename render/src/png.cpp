@@ -1,17 +1,19 @@
-// Canvas → PNG bytes with OpenCV (the only file of mapnav that uses OpenCV for drawing).
-// Anti-aliased (cv::LINE_AA) with sub-pixel coordinates (shift = 4, i.e. 1/16 px).
+// Canvas → PNG bytes: drawn with OpenCV (the only file of mapnav that uses OpenCV for drawing),
+// anti-aliased (cv::LINE_AA) with sub-pixel coordinates (shift = 4, i.e. 1/16 px), into an Image
+// that mapnav::image encodes.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "detail.h"
 #include "mapnav/core/error.h"
+#include "mapnav/image/png.h"
 #include "mapnav/render/canvas.h"
 
 namespace mapnav::render {
@@ -21,7 +23,9 @@ constexpr int kShift = 4;
 constexpr double kOne = 1 << kShift;
 constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
 
-cv::Scalar bgr(const Rgb& c) { return {static_cast<double>(c.b), static_cast<double>(c.g), static_cast<double>(c.r)}; }
+/// A colour in the channel order of the image drawn into (RGB, mapnav::Image's). OpenCV's drawing
+/// treats the channels alike, so the order is only the colours'.
+cv::Scalar rgb(const Rgb& c) { return {static_cast<double>(c.r), static_cast<double>(c.g), static_cast<double>(c.b)}; }
 
 /// Canvas pixel coordinates (pixel i covers [i, i+1)) → OpenCV fixed point (pixel i centred on i),
 /// relative to `origin` (the top-left of the image being drawn into).
@@ -102,7 +106,7 @@ std::vector<std::vector<Vec2>> dashPieces(const std::vector<Vec2>& path, double 
 void strokePath(cv::Mat& img, const cv::Point& origin, std::vector<Vec2> path, bool closed, const Style& style) {
   const double w = detail::sanitizeStrokeWidth(style.stroke_width_px);
   const int thickness = detail::strokeThickness(w);
-  const cv::Scalar color = bgr(*style.stroke);
+  const cv::Scalar color = rgb(*style.stroke);
   if (!style.dashed) {
     const std::vector<std::vector<cv::Point>> contour{fixedPoints(path, origin)};
     cv::polylines(img, contour, closed, color, thickness, cv::LINE_AA, kShift);
@@ -141,7 +145,7 @@ class PngPainter {
                 [&](cv::Mat& target, const cv::Point& origin) {
                   if (style.fill && ring.size() >= 3) {
                     const std::vector<std::vector<cv::Point>> contour{fixedPoints(ring, origin)};
-                    cv::fillPoly(target, contour, bgr(*style.fill), cv::LINE_AA, kShift);
+                    cv::fillPoly(target, contour, rgb(*style.fill), cv::LINE_AA, kShift);
                   }
                   if (style.stroke) strokePath(target, origin, ring, true, style);
                 });
@@ -171,8 +175,8 @@ class PngPainter {
     drawBlended(img_, bounds, detail::sanitizeOpacity(style.opacity), [&](cv::Mat& target, const cv::Point& origin) {
       const cv::Point c = fixedPoint(cmd.center, origin);
       const int r = static_cast<int>(std::lround(cmd.radius * kOne));
-      if (style.fill) cv::circle(target, c, r, bgr(*style.fill), cv::FILLED, cv::LINE_AA, kShift);
-      if (style.stroke) cv::circle(target, c, r, bgr(*style.stroke), thickness, cv::LINE_AA, kShift);
+      if (style.fill) cv::circle(target, c, r, rgb(*style.fill), cv::FILLED, cv::LINE_AA, kShift);
+      if (style.stroke) cv::circle(target, c, r, rgb(*style.stroke), thickness, cv::LINE_AA, kShift);
     });
   }
 
@@ -194,9 +198,9 @@ class PngPainter {
     const cv::Point org(static_cast<int>(std::lround(u)), static_cast<int>(std::lround(cmd.position.y() - 0.5)));
     if (cmd.style.halo) {
       const int halo = thickness + 2 * static_cast<int>(std::lround(detail::haloReachPx(size)));
-      cv::putText(img_, text, org, kFont, scale, bgr(*cmd.style.halo), halo, cv::LINE_AA);
+      cv::putText(img_, text, org, kFont, scale, rgb(*cmd.style.halo), halo, cv::LINE_AA);
     }
-    cv::putText(img_, text, org, kFont, scale, bgr(cmd.style.color), thickness, cv::LINE_AA);
+    cv::putText(img_, text, org, kFont, scale, rgb(cmd.style.color), thickness, cv::LINE_AA);
   }
 
  private:
@@ -207,13 +211,12 @@ class PngPainter {
 
 std::string Canvas::toPng() const {
   try {
-    cv::Mat img(height_, width_, CV_8UC3, bgr(background_));
+    Image image(width_, height_, 3);
+    cv::Mat img(height_, width_, CV_8UC3, image.data.data());  // a view: drawing fills `image`
+    img.setTo(rgb(background_));
     const PngPainter painter(img);
     for (const Command& cmd : commands_) std::visit(painter, cmd);
-    std::vector<uchar> bytes;
-    if (!cv::imencode(".png", img, bytes, {cv::IMWRITE_PNG_COMPRESSION, 3})) {
-      throw Error("render: PNG encoding failed");
-    }
+    const std::vector<std::uint8_t> bytes = encodePng(image, PngCompression::Balanced);
     return std::string(bytes.begin(), bytes.end());
   } catch (const cv::Exception& e) {
     // OpenCV's exception types stay inside this file.

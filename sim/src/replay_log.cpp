@@ -15,6 +15,7 @@
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/options.h"
+#include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
 
 namespace mapnav {

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mapnav/core/io.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/png.h"
 #include "mapnav/sim/replay_log.h"
 #include "mapnav/testing/support.h"
 

@@ -4,7 +4,7 @@
 
 #include "fuzz_support.h"
 #include "mapnav/core/error.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/png.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace mapnav;

@@ -9,9 +9,9 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/image/png.h"
 #include "mapnav/map/geodesy.h"
 #include "mapnav/map/map_io.h"
-#include "mapnav/sim/image.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {

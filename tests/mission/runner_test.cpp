@@ -11,9 +11,9 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/image/png.h"
 #include "mapnav/mission/simulate.h"
 #include "mapnav/mission/trace.h"
-#include "mapnav/sim/image.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 

@@ -14,6 +14,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
+#include "mapnav/image/png.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {

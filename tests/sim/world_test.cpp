@@ -11,6 +11,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/geometry/polygon.h"
+#include "mapnav/image/png.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/sim/world_io.h"
 #include "mapnav/testing/support.h"

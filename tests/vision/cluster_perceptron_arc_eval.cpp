@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "mapnav/sim/image.h"
+#include "mapnav/image/png.h"
 #include "mapnav/sim/world.h"
 
 namespace mapnav::visiontest {

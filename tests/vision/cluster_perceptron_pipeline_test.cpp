@@ -12,7 +12,7 @@
 #include "cluster_perceptron_test_util.h"
 #include "mapnav/core/error.h"
 #include "mapnav/map/predict.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"

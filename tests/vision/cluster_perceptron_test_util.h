@@ -8,7 +8,7 @@
 
 #include "eval_common.h"
 #include "mapnav/map/predict.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/vision/cluster_perceptron.h"
 

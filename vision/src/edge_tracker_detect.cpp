@@ -16,7 +16,7 @@
 #include "edge_tracker_internal.h"
 #include "mapnav/core/error.h"
 #include "mapnav/geometry/simplify.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 #include "mapnav/vision/edge_tracker.h"
 
 namespace mapnav {

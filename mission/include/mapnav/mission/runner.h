@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/image/image.h"
 #include "mapnav/mission/metrics.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/modules.h"
-#include "mapnav/sim/image.h"
 
 namespace mapnav {
 

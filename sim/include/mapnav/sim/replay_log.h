@@ -18,7 +18,7 @@
 #include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 
 namespace mapnav {
 

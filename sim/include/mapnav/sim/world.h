@@ -15,8 +15,8 @@
 
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
+#include "mapnav/image/image.h"
 #include "mapnav/map/map.h"
-#include "mapnav/sim/image.h"
 
 namespace mapnav {
 

@@ -17,7 +17,7 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/geometry/types.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 
 namespace mapnav {
 

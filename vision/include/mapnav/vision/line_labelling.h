@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 #include "mapnav/vision_iface/detected_object.h"
 #include "mapnav/vision_iface/predicted_object.h"
 

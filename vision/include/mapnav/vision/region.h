@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "mapnav/geometry/types.h"
-#include "mapnav/sim/image.h"
+#include "mapnav/image/image.h"
 
 namespace mapnav {
 

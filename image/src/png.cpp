@@ -1,4 +1,5 @@
-#include "mapnav/sim/image.h"
+// The PNG codec (see png.h): OpenCV's imgcodecs, whose types stay in this file.
+#include "mapnav/image/png.h"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -29,31 +30,22 @@ cv::Mat toMat(const Image& image) {
 
 }  // namespace
 
-bool isGreyFrame(const std::uint8_t* rgb, int width, int height) {
-  const std::size_t n = static_cast<std::size_t>(width) * height;
-  for (std::size_t i = 0; i < n; ++i, rgb += 3)
-    if (rgb[0] != rgb[1] || rgb[0] != rgb[2]) return false;
-  return true;
-}
-
-Image toRgb(Image image) {
-  if (image.channels == 3) return image;
-  Image rgb(image.width, image.height, 3);
-  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t v = image.data[i * image.channels];
-    rgb.data[3 * i] = rgb.data[3 * i + 1] = rgb.data[3 * i + 2] = v;
-  }
-  return rgb;
-}
-
-std::vector<std::uint8_t> encodePng(const Image& image) {
+std::vector<std::uint8_t> encodePng(const Image& image, PngCompression compression) {
   if (image.empty() || (image.channels != 1 && image.channels != 3)) {
     throw InvalidInput("encodePng: an image needs 1 or 3 channels and a size, got " + std::to_string(image.width) +
                        "x" + std::to_string(image.height) + "x" + std::to_string(image.channels));
   }
+  // No parameters is OpenCV's fast setting; naming a level also switches to zlib's default strategy.
+  std::vector<int> params;
+  if (compression == PngCompression::Balanced) params = {cv::IMWRITE_PNG_COMPRESSION, 3};
   std::vector<std::uint8_t> bytes;
-  cv::imencode(".png", toMat(image), bytes);
+  bool encoded = false;
+  try {
+    encoded = cv::imencode(".png", toMat(image), bytes, params);
+  } catch (const cv::Exception& e) {
+    throw Error(std::string("encodePng: ") + e.what());
+  }
+  if (!encoded) throw Error("encodePng: PNG encoding failed");
   return bytes;
 }
 

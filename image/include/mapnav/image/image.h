@@ -1,10 +1,8 @@
 #pragma once
 // A plain 8-bit image, so that camera frames and masks cross module boundaries without OpenCV in
-// any public header.
+// any public header. Pixel (x, y): column x from the left, row y from the top.
+#include <cstddef>
 #include <cstdint>
-#include <filesystem>
-#include <span>
-#include <string_view>
 #include <vector>
 
 namespace mapnav {
@@ -31,20 +29,5 @@ Image toRgb(Image image);
 /// Whether every pixel of an RGB frame has R = G = B (a grey camera's frame given as RGB, as toRgb
 /// makes it).
 bool isGreyFrame(const std::uint8_t* rgb, int width, int height);
-
-/// The largest image decodePng accepts, in pixels (2^26: 8192 x 8192).
-inline constexpr std::uint64_t kMaxPngPixels = std::uint64_t{1} << 26;
-
-/// Decodes PNG bytes (8-bit grey or RGB; RGBA loses its alpha). Throws InvalidInput starting with
-/// `source` (the file name, for messages) when they are not a decodable PNG, or when its header
-/// claims more than kMaxPngPixels pixels (refused before any decoding).
-Image decodePng(std::span<const std::uint8_t> bytes, std::string_view source);
-/// decodePng on a file. Throws IoError when the file cannot be read, InvalidInput naming the file
-/// when it is not a decodable PNG.
-Image readPng(const std::filesystem::path& path);
-/// Writes a PNG atomically (deterministic bytes for the same image). Throws IoError.
-void writePng(const Image& image, const std::filesystem::path& path);
-/// PNG bytes in memory.
-std::vector<std::uint8_t> encodePng(const Image& image);
 
 }  // namespace mapnav

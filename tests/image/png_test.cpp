@@ -1,4 +1,4 @@
-#include "mapnav/sim/image.h"
+#include "mapnav/image/png.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,101 @@
+#pragma once
+// The synthetic world's noise (internal to sim/src): hashing, value noise and its fractal sums
+// filtered by a pixel's footprint, coverage of thin lines and cracks, and colour arithmetic. All of
+// it is a pure function of the seed and the world point, so frames are deterministic.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "mapnav/geometry/types.h"
+
+namespace mapnav::world_detail {
+
+// ---------------------------------------------------------------------------------------------
+// Hashing and noise.
+
+inline std::uint64_t mix64(std::uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ULL;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebULL;
+  x ^= x >> 31;
+  return x;
+}
+inline std::uint64_t hash2(std::uint64_t salt, std::int64_t a, std::int64_t b) {
+  return mix64(salt ^ (static_cast<std::uint64_t>(a) * 0x9E3779B97F4A7C15ULL) ^
+               (static_cast<std::uint64_t>(b) * 0xC2B2AE3D27D4EB4FULL));
+}
+/// [0, 1)
+inline float unit01(std::uint64_t h) { return static_cast<float>(h >> 40) * (1.0f / 16777216.0f); }
+/// [-1, 1)
+inline float unitSigned(std::uint64_t h) { return unit01(h) * 2.0f - 1.0f; }
+
+/// Smooth value noise in [-1, 1], unit lattice.
+inline float valueNoise(std::uint64_t salt, double x, double y) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+  const float tx = static_cast<float>(x - fx), ty = static_cast<float>(y - fy);
+  const float ux = tx * tx * (3.0f - 2.0f * tx), uy = ty * ty * (3.0f - 2.0f * ty);
+  const float a = unitSigned(hash2(salt, ix, iy)), b = unitSigned(hash2(salt, ix + 1, iy));
+  const float c = unitSigned(hash2(salt, ix, iy + 1)), d = unitSigned(hash2(salt, ix + 1, iy + 1));
+  const float ab = a + (b - a) * ux, cd = c + (d - c) * ux;
+  return ab + (cd - ab) * uy;
+}
+
+/// How much of a pattern of `freq` cycles/m survives a pixel `footprint` m wide.
+inline float filterWeight(double freq, double footprint) {
+  return static_cast<float>(std::clamp(2.0 - 4.0 * freq * footprint, 0.0, 1.0));
+}
+
+/// Fractal value noise, octaves from base_freq doubling; octaves finer than the footprint fade out
+/// (the result keeps its normalisation, so far away it tends to 0 = the mean colour).
+inline float fbm(std::uint64_t salt, const Vec2& p, double base_freq, int octaves, double footprint) {
+  float sum = 0, norm = 0, amp = 1;
+  double f = base_freq;
+  for (int o = 0; o < octaves; ++o) {
+    const float w = filterWeight(f, footprint);
+    if (w > 0) sum += amp * w * valueNoise(salt + static_cast<std::uint64_t>(o) * 0x51ED27ULL, p.x() * f, p.y() * f);
+    norm += amp;
+    amp *= 0.5f;
+    f *= 2.0;
+  }
+  return sum / norm;
+}
+
+inline float smoothstep(float e0, float e1, float x) {
+  const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+/// Coverage (0..1) of a dark line of `width` at distance `d` from the pixel centre, for a pixel
+/// `footprint` wide (box-filtered).
+inline float lineCoverage(double d, double width, double footprint) {
+  const double fp = std::max(footprint, 1e-4);
+  const double overlap = std::min(d + fp / 2, width / 2) - std::max(d - fp / 2, -width / 2);
+  return static_cast<float>(std::clamp(overlap / fp, 0.0, 1.0));
+}
+
+/// Thin wandering crack lines: where ridged noise is near zero. Returns coverage 0..1.
+inline float crackCoverage(std::uint64_t salt, const Vec2& p, double footprint, double width) {
+  constexpr double kFreq = 0.9;
+  if (footprint > 0.08) return 0.0f;
+  const double n = valueNoise(salt, p.x() * kFreq, p.y() * kFreq) +
+                   0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5) +
+                   0.08 * valueNoise(salt + 9, p.x() * kFreq * 23, p.y() * kFreq * 23);
+  // |grad| of the noise is ~2.4 × freq per unit: distance to the zero line in metres.
+  const double d = std::abs(n) / (2.4 * kFreq);
+  return lineCoverage(d, width, footprint) * (1.0f - static_cast<float>(footprint / 0.08));
+}
+
+struct C3 {
+  float r = 0, g = 0, b = 0;
+};
+inline C3 operator+(C3 a, C3 b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
+inline C3 operator*(C3 a, float k) { return {a.r * k, a.g * k, a.b * k}; }
+inline C3 operator*(C3 a, C3 b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
+inline C3 lerp(C3 a, C3 b, float t) { return a + (b + a * -1.0f) * t; }
+inline C3 fromVec(const Vec3& v) {
+  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+}
+
+}  // namespace mapnav::world_detail

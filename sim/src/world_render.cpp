@@ -1,0 +1,223 @@
+// The synthetic world's renderer: the ray table of a camera (each pixel's ground point, range and
+// footprint, or its sky elevation), and World::render, which shades every pixel and its mask,
+// re-samples the pixels the paved edge crosses, then applies the camera's illumination drift, TV
+// colour shift and sensor noise.
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "world_scene.h"
+
+namespace mapnav {
+
+using namespace world_detail;
+
+RayTable::RayTable(const Camera& camera)
+    : model_(camera.model()), intrinsics_(camera.intrinsics()), mount_(camera.mount()),
+      width_(camera.width()), height_(camera.height()),
+      rays_(static_cast<std::size_t>(width_) * height_) {
+  const Vec3 center = camera.center();
+  for (int v = 0; v < height_; ++v) {
+    for (int u = 0; u < width_; ++u) {
+      Ray& r = rays_[static_cast<std::size_t>(v) * width_ + u];
+      const Vec2 pixel(u, v);
+      const auto dir = camera.ray(pixel);
+      if (!dir) continue;
+      const auto ground = (dir->z() < 0) ? camera.backproject(pixel) : std::nullopt;
+      if (ground) {
+        r.kind = Kind::Ground;
+        r.x = static_cast<float>(ground->x());
+        r.y = static_cast<float>(ground->y());
+        r.range = static_cast<float>((Vec3(ground->x(), ground->y(), 0.0) - center).norm());
+      } else {
+        r.kind = Kind::Sky;
+        r.elevation = static_cast<float>(std::asin(std::clamp(dir->z(), -1.0, 1.0)));
+      }
+    }
+  }
+  // Footprint: the largest distance to a neighbouring pixel's ground point.
+  for (int v = 0; v < height_; ++v) {
+    for (int u = 0; u < width_; ++u) {
+      Ray& r = rays_[static_cast<std::size_t>(v) * width_ + u];
+      if (r.kind != Kind::Ground) continue;
+      float fp = 0;
+      const std::array<std::pair<int, int>, 4> nb{{{u - 1, v}, {u + 1, v}, {u, v - 1}, {u, v + 1}}};
+      for (const auto& [nu, nv] : nb) {
+        if (nu < 0 || nv < 0 || nu >= width_ || nv >= height_) continue;
+        const Ray& o = rays_[static_cast<std::size_t>(nv) * width_ + nu];
+        if (o.kind == Kind::Ground) fp = std::max(fp, std::hypot(o.x - r.x, o.y - r.y));
+        else fp = std::max(fp, r.range * 0.05f);  // next to the horizon: very oblique
+      }
+      r.footprint = fp > 0 ? fp : r.range * 0.01f;
+    }
+  }
+}
+
+bool RayTable::matches(const Camera& camera) const {
+  return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
+}
+
+Frame World::render(const Camera& camera, const Pose2& pose, double t) const {
+  std::shared_ptr<const RayTable> table;
+  {
+    std::lock_guard lock(impl_->cache_mutex);
+    auto& cache = impl_->cache;
+    for (std::size_t i = 0; i < cache.size(); ++i) {
+      if (cache[i]->matches(camera)) {
+        table = cache[i];
+        std::rotate(cache.begin(), cache.begin() + static_cast<std::ptrdiff_t>(i), cache.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+        break;
+      }
+    }
+  }
+  if (!table) {
+    table = std::make_shared<const RayTable>(camera);
+    std::lock_guard lock(impl_->cache_mutex);
+    impl_->cache.insert(impl_->cache.begin(), table);
+    if (impl_->cache.size() > 4) impl_->cache.pop_back();
+  }
+  return render(*table, pose, t);
+}
+
+Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
+  const Impl& im = *impl_;
+  const WorldOptions& o = im.options;
+  const int w = rays.width(), h = rays.height();
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  Frame frame{Image(w, h, 3), Image(w, h, 1)};
+  std::vector<float> buf(n * 3);
+
+  const double ch = std::cos(pose.heading()), sh = std::sin(pose.heading());
+  const double tx = pose.x(), ty = pose.y();
+  for (std::size_t i = 0; i < n; ++i) {
+    const RayTable::Ray& r = rays.rays()[i];
+    C3 c;
+    if (r.kind == RayTable::Kind::Ground) {
+      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
+      bool paved = false;
+      c = im.shade(p, r.footprint, r.range, paved);
+      frame.mask.data[i] = paved ? 255 : 0;
+    } else if (r.kind == RayTable::Kind::Sky) {
+      c = im.sky(r.elevation);
+    }
+    buf[3 * i] = c.r;
+    buf[3 * i + 1] = c.g;
+    buf[3 * i + 2] = c.b;
+  }
+  if (o.paved_edge_samples > 1) {
+    // The pixels the paved area's edge crosses: the mean of n × n samples spread over the pixel's
+    // ground footprint, its sides taken from the neighbouring pixels' rays (locally affine).
+    const int ns = o.paved_edge_samples;
+    const auto ground = [&](int u, int v) {
+      return u >= 0 && u < w && v >= 0 && v < h && rays.at(u, v).kind == RayTable::Kind::Ground;
+    };
+    const auto point = [&](int u, int v) { return Vec2(rays.at(u, v).x, rays.at(u, v).y); };
+    // Half the step to the next pixel along u (dv = 0) or v, from the neighbours that are ground.
+    const auto halfStep = [&](int u, int v, int du, int dv) {
+      const bool fwd = ground(u + du, v + dv), back = ground(u - du, v - dv);
+      if (fwd && back) return Vec2(0.25 * (point(u + du, v + dv) - point(u - du, v - dv)));
+      if (fwd) return Vec2(0.5 * (point(u + du, v + dv) - point(u, v)));
+      if (back) return Vec2(0.5 * (point(u, v) - point(u - du, v - dv)));
+      return Vec2(0, 0);
+    };
+    const std::vector<std::uint8_t>& mask = frame.mask.data;  // the centres' classes (mixing leaves them)
+    const auto differs = [&](int u, int v, std::uint8_t m) {
+      return ground(u, v) && mask[static_cast<std::size_t>(v) * w + u] != m;
+    };
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * w + u;
+        const std::uint8_t m = mask[i];
+        if (!ground(u, v) || !(differs(u - 1, v, m) || differs(u + 1, v, m) || differs(u, v - 1, m) || differs(u, v + 1, m)))
+          continue;
+        const RayTable::Ray& r = rays.at(u, v);
+        const Vec2 su = halfStep(u, v, 1, 0), sv = halfStep(u, v, 0, 1);
+        C3 sum{0, 0, 0};
+        for (int a = 0; a < ns; ++a)
+          for (int b = 0; b < ns; ++b) {
+            const double fa = (2.0 * a + 1.0) / ns - 1.0, fb = (2.0 * b + 1.0) / ns - 1.0;  // in (−1, 1)
+            const Vec2 q = Vec2(r.x, r.y) + fa * su + fb * sv;
+            const Vec2 p(ch * q.x() - sh * q.y() + tx, sh * q.x() + ch * q.y() + ty);
+            bool paved = false;
+            sum = sum + im.shade(p, r.footprint, r.range, paved);
+          }
+        const float k = 1.0f / static_cast<float>(ns * ns);
+        buf[3 * i] = sum.r * k;
+        buf[3 * i + 1] = sum.g * k;
+        buf[3 * i + 2] = sum.b * k;
+      }
+  }
+
+  // Slow drifts of brightness and white balance along the mission.
+  const double phase = 2 * kPi * t / o.illumination_period_s;
+  const auto gain = static_cast<float>(1.0 + o.illumination_drift * std::sin(phase));
+  const auto wb = static_cast<float>(o.white_balance_drift * std::sin(phase / 1.618));
+  const std::array<float, 3> g{gain * (1 + wb), gain, gain * (1 - wb)};
+  for (std::size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) buf[3 * i + static_cast<std::size_t>(k)] *= g[static_cast<std::size_t>(k)];
+
+  if (o.tv_color_shift) {
+    // Chroma (B − Y, R − Y) turned, scaled and smeared along rows, as by the TV link.
+    const double theta = o.tv_hue_shift_rad + 0.05 * std::sin(2 * kPi * t / 37.0);
+    const auto cs = static_cast<float>(std::cos(theta) * o.tv_chroma_gain);
+    const auto sn = static_cast<float>(std::sin(theta) * o.tv_chroma_gain);
+    std::vector<float> y(static_cast<std::size_t>(w)), cb(static_cast<std::size_t>(w)), cr(static_cast<std::size_t>(w));
+    const int rad = o.tv_chroma_blur_px;
+    for (int v = 0; v < h; ++v) {
+      float* row = buf.data() + static_cast<std::size_t>(v) * w * 3;
+      for (int u = 0; u < w; ++u) {
+        const float R = row[3 * u], G = row[3 * u + 1], B = row[3 * u + 2];
+        const float Y = 0.299f * R + 0.587f * G + 0.114f * B;
+        const float b = B - Y, r = R - Y;
+        y[static_cast<std::size_t>(u)] = Y;
+        cb[static_cast<std::size_t>(u)] = cs * b - sn * r;
+        cr[static_cast<std::size_t>(u)] = sn * b + cs * r;
+      }
+      for (int u = 0; u < w; ++u) {
+        float sb = 0, sr = 0;
+        int cnt = 0;
+        for (int d = -rad; d <= rad; ++d) {
+          const int uu = std::clamp(u + d, 0, w - 1);
+          sb += cb[static_cast<std::size_t>(uu)];
+          sr += cr[static_cast<std::size_t>(uu)];
+          ++cnt;
+        }
+        const float b = sb / static_cast<float>(cnt), r = sr / static_cast<float>(cnt), Y = y[static_cast<std::size_t>(u)];
+        const float R = Y + r, B = Y + b;
+        const float G = (Y - 0.299f * R - 0.114f * B) / 0.587f;
+        row[3 * u] = R;
+        row[3 * u + 1] = G;
+        row[3 * u + 2] = B;
+      }
+    }
+  }
+
+  // Sensor noise: seeded per frame (seed, pose, time), ≈ Gaussian (a sum of four uniforms).
+  std::uint64_t frame_seed = mix64(o.seed ^ 0x5E45ULL);
+  for (double v : {pose.x(), pose.y(), pose.heading(), t}) frame_seed = mix64(frame_seed ^ std::bit_cast<std::uint64_t>(v));
+  const auto sigma = static_cast<float>(o.noise_sigma * 1.7320508);  // sum of 4 U(-.5,.5) has sd 1/√3
+  const float lo = o.low_dynamic_range ? 37.0f : 0.0f;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool lit = rays.rays()[i].kind != RayTable::Kind::None;
+    for (std::size_t k = 0; k < 3; ++k) {
+      float v = buf[3 * i + k];
+      if (sigma > 0 && lit) {
+        const std::uint64_t hsh = mix64(frame_seed + (3 * i + k) * 0x9E3779B97F4A7C15ULL);
+        const float s = static_cast<float>(hsh & 0xFFFF) + static_cast<float>((hsh >> 16) & 0xFFFF) +
+                        static_cast<float>((hsh >> 32) & 0xFFFF) + static_cast<float>(hsh >> 48);
+        v += sigma * (s / 65536.0f - 2.0f);
+      }
+      v = std::clamp(std::round(v), lo, 255.0f);
+      frame.rgb.data[3 * i + k] = static_cast<std::uint8_t>(v);
+    }
+  }
+  return frame;
+}
+
+}  // namespace mapnav

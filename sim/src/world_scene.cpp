@@ -1,0 +1,298 @@
+// The synthetic world's scene: the map's surfaces, paved polygons, centre-line segments and tree
+// canopies gathered into the lookup grid (see world_scene.h), and the lookups a ground point needs:
+// which paved polygon holds it, how deep in tree shadow it lies.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "mapnav/map/predict.h"  // intersectionSurface
+#include "world_scene.h"
+
+namespace mapnav {
+
+using namespace world_detail;
+
+namespace {
+
+constexpr double kBand = 1.0;   // y-band of a polygon's edge index, m
+
+Material materialOf(const std::string& name) {
+  if (name == "concrete") return Material::Concrete;
+  if (name == "asphalt") return Material::Asphalt;
+  if (name == "grass") return Material::Grass;
+  if (name == "dirt") return Material::Dirt;
+  if (name == "gravel") return Material::Gravel;
+  if (name == "brick") return Material::Brick;
+  return Material::Other;
+}
+
+bool crossingContains(const PavedPolygon& poly, const Vec2& p) {
+  if (!poly.box.contains(p)) return false;
+  const auto band = static_cast<std::size_t>(
+      std::clamp((p.y() - poly.band_y0) / kBand, 0.0, static_cast<double>(poly.bands.size() - 1)));
+  bool inside = false;
+  const std::size_t n = poly.ring.size();
+  for (std::uint32_t i : poly.bands[band]) {
+    const Vec2& a = poly.ring[i];
+    const Vec2& b = poly.ring[(i + 1) % n];
+    if ((a.y() > p.y()) != (b.y() > p.y())) {
+      const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      if (p.x() < x) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+/// A splitmix64 stream for placement (portable, unlike std distributions).
+class Stream {
+ public:
+  explicit Stream(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() { return mix64(state_ += 0x9E3779B97F4A7C15ULL); }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
+
+ private:
+  std::uint64_t state_;
+};
+
+}  // namespace
+
+int World::Impl::surfaceIndex(const Map& map, const std::string& name) {
+  const Appearance* a = map.findSurface(name);
+  Surface s;
+  s.material = materialOf(name);
+  if (a != nullptr) {
+    s.rgb = fromVec(a->rgb);
+    s.spread = fromVec(a->spread);
+  } else {  // a name the map does not describe: a neutral grey
+    s.rgb = {128, 128, 128};
+    s.spread = {8, 8, 8};
+  }
+  surfaces.push_back(s);
+  return static_cast<int>(surfaces.size() - 1);
+}
+
+World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
+  options.validate();
+  shadow_everywhere = options.shadow_density >= 0.999;
+  lawn = surfaceIndex(map, map.findSurface("grass") ? "grass" : "");
+  if (!map.findSurface("grass")) surfaces[static_cast<std::size_t>(lawn)] = {Material::Grass, {70, 120, 50}, {14, 18, 12}};
+
+  double max_width = 0;
+  for (const Road& road : map.roads()) {
+    RoadInfo info;
+    info.width = road.width;
+    info.surface = surfaceIndex(map, road.surface);
+    info.left = road.left.empty() ? lawn : surfaceIndex(map, road.left);
+    info.right = road.right.empty() ? lawn : surfaceIndex(map, road.right);
+    const int r = static_cast<int>(roads.size());
+    roads.push_back(info);
+    max_width = std::max(max_width, road.width);
+    PavedPolygon poly;
+    poly.ring = map.roadPolygon(road);
+    poly.surface = info.surface;
+    poly.road = r;
+    polys.push_back(std::move(poly));
+    const Polyline2& line = road.centerline;
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+      Segment s;
+      s.a = line.points()[i];
+      const Vec2 d = line.points()[i + 1] - s.a;
+      s.len = d.norm();
+      if (s.len <= 0) continue;
+      s.dir = d / s.len;
+      s.s0 = line.arcLengthAt(i);
+      s.road = r;
+      segments.push_back(s);
+    }
+  }
+  for (const Intersection& in : map.intersections()) {
+    // Paved as the prediction expects it (the widest road meeting here decides the look).
+    const std::string surface = intersectionSurface(map, in);
+    const Polygon2& shape = map.intersectionShape(in);
+    if (shape.size() < 3) continue;
+    PavedPolygon poly;
+    poly.ring = shape;
+    poly.surface = surface.empty() ? lawn : surfaceIndex(map, surface);
+    polys.push_back(std::move(poly));
+  }
+  for (PavedPolygon& poly : polys) {
+    poly.box = Box2();
+    for (const Vec2& v : poly.ring) poly.box.extend(v);
+    poly.band_y0 = poly.box.min().y();
+    const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kBand)) + 1;
+    poly.bands.assign(nb, {});
+    const std::size_t n = poly.ring.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double y0 = std::min(poly.ring[i].y(), poly.ring[(i + 1) % n].y());
+      const double y1 = std::max(poly.ring[i].y(), poly.ring[(i + 1) % n].y());
+      const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
+      const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
+      for (std::size_t b = b0; b <= b1; ++b) poly.bands[b].push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+
+  Box2 box = map.bounds();
+  const double margin = 2 * max_width + options.shoulder_width_m + 12.0;
+  box.extend(box.min() - Vec2(margin, margin));
+  box.extend(box.max() + Vec2(margin, margin));
+  placeTrees(map);
+  buildGrid(box);
+}
+
+void World::Impl::placeTrees(const Map& map) {
+  if (options.shadow_density <= 0 || shadow_everywhere) return;
+  Stream rng(mix64(options.seed ^ 0x7EE5ULL));
+  constexpr double kClusterArea = 22.0;  // mean area of one canopy, m² (measured for the sizes below)
+  const double per_m2 = -std::log(1.0 - options.shadow_density) / kClusterArea;
+  for (const Road& road : map.roads()) {
+    const double half = road.width / 2 + 6.0;  // the band beside the road where trees stand
+    const double length = road.centerline.length();
+    const double expected = per_m2 * 2 * half * length;
+    auto count = static_cast<long>(expected);
+    if (rng.uniform(0, 1) < expected - static_cast<double>(count)) ++count;
+    count = std::min(count, 100000L);
+    for (long i = 0; i < count; ++i) {
+      const double s = rng.uniform(0, length);
+      const double lateral = rng.uniform(-half, half);
+      const Vec2 centre = road.centerline.pointAt(s) + leftNormal(road.centerline.tangentAt(s)) * lateral;
+      const int discs_in_cluster = 3 + static_cast<int>(rng.next() % 4);
+      for (int k = 0; k < discs_in_cluster; ++k) {
+        const double a = rng.uniform(0, 2 * kPi), d = rng.uniform(0, 1.8);
+        discs.push_back({centre + unitVector(a) * d, rng.uniform(1.0, 2.4)});
+      }
+    }
+  }
+}
+
+void World::Impl::buildGrid(const Box2& box) {
+  origin = box.min();
+  nx = std::max(1, static_cast<int>(std::ceil(box.sizes().x() / kCell)));
+  ny = std::max(1, static_cast<int>(std::ceil(box.sizes().y() / kCell)));
+  const std::size_t cells = static_cast<std::size_t>(nx) * ny;
+  auto cellRange = [&](const Box2& b, int& x0, int& y0, int& x1, int& y1) {
+    x0 = std::clamp(static_cast<int>(std::floor((b.min().x() - origin.x()) / kCell)), 0, nx - 1);
+    y0 = std::clamp(static_cast<int>(std::floor((b.min().y() - origin.y()) / kCell)), 0, ny - 1);
+    x1 = std::clamp(static_cast<int>(std::floor((b.max().x() - origin.x()) / kCell)), 0, nx - 1);
+    y1 = std::clamp(static_cast<int>(std::floor((b.max().y() - origin.y()) / kCell)), 0, ny - 1);
+  };
+  // Polygons: cells an edge's box touches are boundary cells; other cells inside are whole.
+  std::vector<std::vector<PolyRef>> pc(cells);
+  std::vector<int> mark(cells, -1);
+  for (std::size_t pi = 0; pi < polys.size(); ++pi) {
+    const PavedPolygon& poly = polys[pi];
+    const std::size_t n = poly.ring.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      Box2 eb;
+      eb.extend(poly.ring[i]);
+      eb.extend(poly.ring[(i + 1) % n]);
+      eb.extend(eb.min() - Vec2(1e-6, 1e-6));
+      eb.extend(eb.max() + Vec2(1e-6, 1e-6));
+      int x0, y0, x1, y1;
+      cellRange(eb, x0, y0, x1, y1);
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          const std::size_t c = static_cast<std::size_t>(y) * nx + x;
+          if (mark[c] == static_cast<int>(pi)) continue;
+          mark[c] = static_cast<int>(pi);
+          pc[c].push_back({static_cast<std::uint32_t>(pi), false});
+        }
+    }
+    int x0, y0, x1, y1;
+    cellRange(poly.box, x0, y0, x1, y1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const std::size_t c = static_cast<std::size_t>(y) * nx + x;
+        if (mark[c] == static_cast<int>(pi)) continue;
+        const Vec2 centre = origin + Vec2((x + 0.5) * kCell, (y + 0.5) * kCell);
+        if (crossingContains(poly, centre)) {
+          // A whole cell first, so a lookup stops at once.
+          pc[c].insert(pc[c].begin(), {static_cast<std::uint32_t>(pi), true});
+        }
+      }
+  }
+  // Segments within reach of a cell.
+  std::vector<std::vector<std::uint32_t>> sc(cells);
+  for (std::size_t si = 0; si < segments.size(); ++si) {
+    const Segment& s = segments[si];
+    const double reach = 2 * roads[static_cast<std::size_t>(s.road)].width + options.shoulder_width_m + 1.5;
+    Box2 b;
+    b.extend(s.a);
+    b.extend(s.a + s.dir * s.len);
+    b.extend(b.min() - Vec2(reach, reach));
+    b.extend(b.max() + Vec2(reach, reach));
+    int x0, y0, x1, y1;
+    cellRange(b, x0, y0, x1, y1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) sc[static_cast<std::size_t>(y) * nx + x].push_back(static_cast<std::uint32_t>(si));
+  }
+  // Discs.
+  std::vector<std::vector<std::uint32_t>> dc(cells);
+  for (std::size_t di = 0; di < discs.size(); ++di) {
+    Box2 b;
+    const double r = discs[di].r + 0.2;
+    b.extend(discs[di].c - Vec2(r, r));
+    b.extend(discs[di].c + Vec2(r, r));
+    if (!b.intersects(Box2(origin, origin + Vec2(nx * kCell, ny * kCell)))) continue;
+    int x0, y0, x1, y1;
+    cellRange(b, x0, y0, x1, y1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) dc[static_cast<std::size_t>(y) * nx + x].push_back(static_cast<std::uint32_t>(di));
+  }
+  poly_start.assign(cells + 1, 0);
+  seg_start.assign(cells + 1, 0);
+  disc_start.assign(cells + 1, 0);
+  for (std::size_t c = 0; c < cells; ++c) {
+    poly_start[c] = static_cast<std::uint32_t>(cell_polys.size());
+    cell_polys.insert(cell_polys.end(), pc[c].begin(), pc[c].end());
+    seg_start[c] = static_cast<std::uint32_t>(cell_segs.size());
+    cell_segs.insert(cell_segs.end(), sc[c].begin(), sc[c].end());
+    disc_start[c] = static_cast<std::uint32_t>(cell_discs.size());
+    cell_discs.insert(cell_discs.end(), dc[c].begin(), dc[c].end());
+  }
+  poly_start[cells] = static_cast<std::uint32_t>(cell_polys.size());
+  seg_start[cells] = static_cast<std::uint32_t>(cell_segs.size());
+  disc_start[cells] = static_cast<std::uint32_t>(cell_discs.size());
+}
+
+int World::Impl::pavedAt(const Vec2& p, int cell) const {
+  if (cell < 0) return -1;
+  int found = -1;
+  for (std::uint32_t i = poly_start[static_cast<std::size_t>(cell)]; i < poly_start[static_cast<std::size_t>(cell) + 1]; ++i) {
+    const PolyRef ref = cell_polys[i];
+    const PavedPolygon& poly = polys[ref.poly];
+    if (ref.whole || crossingContains(poly, p)) {
+      if (poly.road >= 0) return static_cast<int>(ref.poly);
+      if (found < 0) found = static_cast<int>(ref.poly);
+    }
+  }
+  return found;
+}
+
+double World::Impl::shadowAt(const Vec2& p, int cell, bool with_flecks, double footprint) const {
+  if (shadow_everywhere) return 1.0;
+  if (cell < 0) return 0.0;
+  float s = 0;
+  double wobble = std::numeric_limits<double>::quiet_NaN();
+  for (std::uint32_t i = disc_start[static_cast<std::size_t>(cell)]; i < disc_start[static_cast<std::size_t>(cell) + 1]; ++i) {
+    const Disc& d = discs[cell_discs[i]];
+    double dist = (p - d.c).norm();
+    if (dist > d.r + 0.45) continue;
+    if (std::isnan(wobble)) {  // ragged, leafy canopy outlines
+      wobble = 0.3 * valueNoise(options.seed ^ 0xC4A0ULL, p.x() * 1.3, p.y() * 1.3) +
+               0.15 * valueNoise(options.seed ^ 0xC4A1ULL, p.x() * 4.0, p.y() * 4.0);
+    }
+    dist += wobble;
+    s = std::max(s, smoothstep(0.0f, static_cast<float>(std::max(0.25, footprint)), static_cast<float>(d.r - dist)));
+    if (s >= 1) break;
+  }
+  if (s > 0 && with_flecks) {
+    // Sun flecks through gaps in the canopy.
+    const float n = valueNoise(options.seed ^ 0xF1ECULL, p.x() * 1.7, p.y() * 1.7) +
+                    0.5f * valueNoise(options.seed ^ 0xF1EDULL, p.x() * 4.1, p.y() * 4.1);
+    s *= 1.0f - 0.9f * smoothstep(0.55f, 0.75f, n) * filterWeight(2.0, footprint);
+  }
+  return s;
+}
+
+}  // namespace mapnav

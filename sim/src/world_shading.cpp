@@ -1,0 +1,238 @@
+// The synthetic world's shading: the colour of a ground point (its surface's procedural texture,
+// the shoulder beside a road, fallen leaves, tree shadow, haze) and of the sky. Texture is value
+// noise of the world point, its octaves faded out where they are finer than the pixel's footprint
+// on the ground (no aliasing far away).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "world_scene.h"
+
+namespace mapnav {
+
+using namespace world_detail;
+
+C3 World::Impl::sky(double elevation) const {
+  const C3 horizon{206, 216, 228}, zenith{92, 138, 204};
+  const float t = static_cast<float>(std::pow(std::clamp(std::sin(elevation), 0.0, 1.0), 0.55));
+  return lerp(horizon, zenith, t);
+}
+
+C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double along, double lateral, int road) const {
+  const Surface& sf = surfaces[static_cast<std::size_t>(surface_index)];
+  const std::uint64_t seed = options.seed;
+  const auto salt = [&](std::uint64_t k) { return mix64(seed * 0x100000001B3ULL + k); };
+  C3 c = sf.rgb;
+  switch (sf.material) {
+    case Material::Concrete: {
+      const auto pn = static_cast<float>(options.pavement_noise);
+      // Slabs: along the road (or a world grid in intersections and off-road concrete).
+      double slab_u = p.x(), slab_v = p.y();
+      bool along_road = road >= 0;
+      if (along_road) {
+        slab_u = along;
+        slab_v = lateral;
+      }
+      std::int64_t slab_i = 0, slab_j = 0;
+      float gap = 0;
+      if (options.slab_spacing_m > 0) {
+        const double sp = options.slab_spacing_m;
+        const double qu = slab_u / sp;
+        slab_i = static_cast<std::int64_t>(std::floor(qu));
+        const double du = std::abs(qu - std::round(qu)) * sp;
+        gap = lineCoverage(du, options.slab_gap_width_m, fp);
+        if (!along_road) {
+          const double qv = slab_v / sp;
+          slab_j = static_cast<std::int64_t>(std::floor(qv));
+          const double dv = std::abs(qv - std::round(qv)) * sp;
+          gap = std::max(gap, lineCoverage(dv, options.slab_gap_width_m, fp));
+        }
+      }
+      const std::uint64_t slab_hash = hash2(salt(1) + static_cast<std::uint64_t>(road + 1), slab_i, slab_j);
+      const float tone = 1.0f + 0.035f * unitSigned(slab_hash) * pn;  // each slab poured apart
+      c = c * tone;
+      const float mottle = fbm(salt(2), p, 0.7, 4, fp);
+      const float grain = fbm(salt(3), p, 30.0, 3, fp);
+      c = c + sf.spread * (pn * (1.3f * mottle + 1.4f * grain));
+      // Dust and stains, heavier toward the edges.
+      if (options.dust > 0) {
+        float edge = 0;
+        if (along_road) {
+          const double half = roads[static_cast<std::size_t>(road)].width / 2;
+          edge = smoothstep(0.35f, 0.0f, static_cast<float>(half - std::abs(lateral)));
+        }
+        const float stain = std::clamp(0.5f + 1.6f * fbm(salt(4), p, 0.35, 3, fp), 0.0f, 1.0f);
+        const float amount = static_cast<float>(options.dust) * std::clamp(0.35f * stain * stain + 0.5f * edge, 0.0f, 1.0f);
+        c = lerp(c, C3{138, 124, 100}, amount);
+      }
+      if (options.crack_density > 0 && unit01(mix64(slab_hash)) < options.crack_density) {
+        const float cr = crackCoverage(salt(5) + static_cast<std::uint64_t>(slab_i * 31 + slab_j), p, fp, 0.004);
+        c = c * (1.0f - 0.45f * cr);
+      }
+      c = c * (1.0f - static_cast<float>(options.slab_gap_darkness) * gap);
+      break;
+    }
+    case Material::Asphalt: {
+      const auto pn = static_cast<float>(options.pavement_noise);
+      // Blue-grey to black (the paper's park path): large patches of different wear.
+      const float wear = fbm(salt(10), p, 0.12, 3, fp);
+      c = c * (1.0f + 0.22f * wear * pn) + C3{-2, 0, 4} * (wear * pn);
+      const float mottle = fbm(salt(11), p, 1.5, 3, fp);
+      const float grain = fbm(salt(12), p, 40.0, 3, fp);
+      c = c + sf.spread * (pn * (0.9f * mottle + 2.2f * grain));
+      // Bright aggregate stones.
+      if (fp < 0.02) {
+        const std::uint64_t h = hash2(salt(13), static_cast<std::int64_t>(std::floor(p.x() * 60)),
+                                      static_cast<std::int64_t>(std::floor(p.y() * 60)));
+        if (unit01(h) < 0.04f) c = c + C3{16, 16, 15} * (pn * (1.0f - static_cast<float>(fp / 0.02)));
+      }
+      if (options.crack_density > 0) {
+        const float zone = fbm(salt(14), p, 0.08, 2, fp);
+        if (zone < static_cast<float>(options.crack_density) * 0.6f - 0.3f) {
+          c = c * (1.0f - 0.5f * crackCoverage(salt(15), p, fp, 0.007));
+        }
+      }
+      if (options.dust > 0) {
+        const float stain = std::clamp(fbm(salt(16), p, 0.25, 3, fp) * 2.0f, 0.0f, 1.0f);
+        c = lerp(c, C3{120, 112, 98}, 0.25f * static_cast<float>(options.dust) * stain);
+      }
+      break;
+    }
+    case Material::Grass: {
+      const auto gn = static_cast<float>(options.ground_noise);
+      const float patch = fbm(salt(20), p, 0.15, 3, fp);
+      const float dry = std::clamp(fbm(salt(21), p, 0.3, 3, fp) * 2.5f, 0.0f, 1.0f);
+      c = c * (1.0f + 0.3f * patch * gn);
+      c = lerp(c, C3{118, 122, 72}, std::min(1.0f, 0.3f + 0.5f * dry) * gn);  // not a golf course
+      const float clump = fbm(salt(22), p, 2.5, 3, fp);
+      const float tuft = fbm(salt(24), p, 9.0, 2, fp);
+      const float blade = fbm(salt(23), p, 40.0, 3, fp);
+      c = c * (1.0f + gn * (0.22f * clump + 0.35f * tuft + 0.6f * blade)) + sf.spread * (0.3f * gn * blade);
+      break;
+    }
+    case Material::Dirt: {
+      const auto gn = static_cast<float>(options.ground_noise);
+      const float m = fbm(salt(30), p, 0.8, 4, fp);
+      const float g = fbm(salt(31), p, 25.0, 3, fp);
+      c = c + sf.spread * (gn * (1.3f * m + 1.5f * g));
+      const float wet = std::clamp(fbm(salt(32), p, 0.2, 2, fp) * 2.0f, 0.0f, 1.0f);
+      c = c * (1.0f - 0.25f * wet * gn);
+      break;
+    }
+    case Material::Gravel: {
+      const auto gn = static_cast<float>(options.ground_noise);
+      const float m = fbm(salt(40), p, 0.5, 3, fp);
+      const float g = fbm(salt(41), p, 45.0, 2, fp);
+      c = c + sf.spread * (gn * (0.8f * m + 2.2f * g));
+      break;
+    }
+    case Material::Brick: {
+      const auto gn = static_cast<float>(options.ground_noise);
+      constexpr double kL = 0.2, kH = 0.1, kMortar = 0.012;
+      const double row = std::floor(p.y() / kH);
+      const double xs = p.x() / kL + 0.5 * std::fmod(std::abs(row), 2.0);
+      const double col = std::floor(xs);
+      const std::uint64_t h = hash2(salt(50), static_cast<std::int64_t>(col), static_cast<std::int64_t>(row));
+      c = c * (1.0f + 0.12f * unitSigned(h) * gn * filterWeight(1 / kL, fp));
+      const double dv = std::abs(p.y() / kH - std::round(p.y() / kH)) * kH;
+      const double du = std::abs(xs - std::round(xs)) * kL;
+      const float mortar = std::max(lineCoverage(dv, kMortar, fp), lineCoverage(du, kMortar, fp));
+      c = lerp(c, C3{150, 145, 135}, 0.7f * mortar);
+      c = c + sf.spread * (gn * 0.8f * fbm(salt(51), p, 20.0, 2, fp));
+      break;
+    }
+    case Material::Other: {
+      const float m = fbm(salt(60), p, 1.0, 5, fp);
+      c = c + sf.spread * (2.0f * m * static_cast<float>(options.ground_noise));
+      break;
+    }
+  }
+  return c;
+}
+
+C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved) const {
+  const int cell = cellIndex(p);
+  const int poly = pavedAt(p, cell);
+  paved = poly >= 0;
+  // Nearest centre-line segment within reach: the road a point belongs to, its side, arc length.
+  double best = std::numeric_limits<double>::infinity(), along = 0, lateral = 0;
+  int best_road = -1;
+  const int want_road = paved ? polys[static_cast<std::size_t>(poly)].road : -2;
+  if (cell >= 0 && !(paved && want_road < 0)) {
+    for (std::uint32_t i = seg_start[static_cast<std::size_t>(cell)]; i < seg_start[static_cast<std::size_t>(cell) + 1]; ++i) {
+      const Segment& s = segments[cell_segs[i]];
+      if (want_road >= 0 && s.road != want_road) continue;
+      const Vec2 d = p - s.a;
+      const double t = std::clamp(d.dot(s.dir), 0.0, s.len);
+      const double dist = (d - s.dir * t).norm();
+      if (dist < best) {
+        best = dist;
+        along = s.s0 + t;
+        lateral = cross2(s.dir, d);
+        best_road = s.road;
+      }
+    }
+  }
+  C3 c;
+  if (paved) {
+    const PavedPolygon& pp = polys[static_cast<std::size_t>(poly)];
+    c = texture(pp.surface, p, fp, along, lateral, pp.road >= 0 && best_road >= 0 ? pp.road : -1);
+  } else {
+    int surface = lawn;
+    if (best_road >= 0) {
+      const RoadInfo& r = roads[static_cast<std::size_t>(best_road)];
+      const double edge = best - r.width / 2;
+      const double wobble = 0.4 * valueNoise(options.seed ^ 0x5B0ULL, p.x() * 0.8, p.y() * 0.8);
+      if (edge < options.shoulder_width_m + wobble) surface = lateral > 0 ? r.left : r.right;
+    }
+    c = texture(surface, p, fp, along, lateral, -1);
+    if (best_road >= 0 && surfaces[static_cast<std::size_t>(surface)].material == Material::Grass) {
+      // Worn, dusty strip where the lawn meets the pavement.
+      const double edge = best - roads[static_cast<std::size_t>(best_road)].width / 2;
+      const float worn = smoothstep(0.25f, 0.0f, static_cast<float>(edge)) *
+                         (0.5f + 0.5f * valueNoise(options.seed ^ 0xED6EULL, p.x() * 3, p.y() * 3));
+      c = lerp(c, C3{112, 108, 78}, 0.5f * worn);
+    }
+  }
+  // Fallen leaves: jittered cells of 0.12 m, more of them under the trees.
+  const double tree = shadowAt(p, cell, false);
+  if (options.leaf_density > 0) {
+    constexpr double kLeafCell = 0.12;
+    const double density = std::min(1.0, options.leaf_density * (0.5 + 2.5 * (shadow_everywhere ? 0.2 : tree)));
+    static constexpr std::array<C3, 4> kLeaf{{{186, 104, 38}, {196, 156, 58}, {112, 68, 34}, {150, 58, 32}}};
+    constexpr double kRadius = 0.04;
+    if (fp > kRadius) {
+      const float cover = static_cast<float>(density * kPi * kRadius * kRadius * 1.6 / (kLeafCell * kLeafCell));
+      c = lerp(c, C3{150, 96, 42}, std::min(cover, 1.0f));
+    } else {
+      const auto ix = static_cast<std::int64_t>(std::floor(p.x() / kLeafCell));
+      const auto iy = static_cast<std::int64_t>(std::floor(p.y() / kLeafCell));
+      const std::uint64_t h = hash2(mix64(options.seed ^ 0x1EAFULL), ix, iy);
+      if (unit01(h) < density) {
+        const std::uint64_t h2 = mix64(h);
+        const Vec2 centre((ix + 0.3 + 0.4 * unit01(h2)) * kLeafCell, (iy + 0.3 + 0.4 * unit01(mix64(h2))) * kLeafCell);
+        const double ang = unit01(h2 >> 7) * kPi;
+        const Vec2 d = p - centre;
+        const double a = d.dot(unitVector(ang)), b = cross2(unitVector(ang), d);
+        const double e = std::sqrt(a * a / (kRadius * kRadius) + b * b / (0.45 * 0.45 * kRadius * kRadius));
+        const float inside = smoothstep(1.0f + static_cast<float>(fp / kRadius), 1.0f, static_cast<float>(e));
+        const C3 leaf = kLeaf[(h2 >> 20) % 4] * (0.8f + 0.3f * unit01(h2 >> 3));
+        c = lerp(c, leaf, inside);
+      }
+    }
+  }
+  // Tree shadow: k·C, tinted toward the skylight.
+  const double s = shadow_everywhere ? 1.0 : shadowAt(p, cell, true, fp);
+  if (s > 0) {
+    const auto k = static_cast<float>(options.shadow_k), b = static_cast<float>(options.shadow_blue_shift);
+    const C3 lit{1, 1, 1}, shadow{k * (1 - b), k, k * (1 + b)};
+    c = c * lerp(lit, shadow, static_cast<float>(s));
+  }
+  // Aerial perspective: far ground fades toward the haze of the horizon.
+  if (options.haze_distance_m <= 0) return c;
+  const float haze = static_cast<float>(1.0 - std::exp(-range / options.haze_distance_m));
+  return lerp(c, C3{196, 206, 218}, haze);
+}
+
+}  // namespace mapnav
