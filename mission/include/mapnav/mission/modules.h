@@ -20,8 +20,9 @@
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
+#include "mapnav/localization/localize.h"
+#include "mapnav/localization/pose_filter.h"
 #include "mapnav/map/map.h"
-#include "mapnav/map/matching.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/mission/blackboard.h"
 #include "mapnav/mission/mission_file.h"

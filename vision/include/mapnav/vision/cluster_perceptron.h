@@ -22,7 +22,7 @@
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/sim/image.h"
-#include "mapnav/vision_iface/predicted_object.h"
+#include "mapnav/tokens/predicted_object.h"
 
 namespace mapnav {
 

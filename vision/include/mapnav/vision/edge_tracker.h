@@ -32,9 +32,9 @@
 
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
-#include "mapnav/vision_iface/detected_object.h"
+#include "mapnav/tokens/detected_object.h"
+#include "mapnav/tokens/predicted_object.h"
 #include "mapnav/vision_iface/pipeline.h"
-#include "mapnav/vision_iface/predicted_object.h"
 
 namespace mapnav {
 
