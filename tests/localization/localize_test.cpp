@@ -97,7 +97,7 @@ TEST(MatchingLocalize, EdgesCorrectLateralAndHeadingAndTheCrossingCorrectsAlong)
   // are seen every frame (2 cm noise); the crossing at x = 19..21 once within 9 m of it.
   const Prediction prediction = scenePrediction();
   const Pose2 start(0, 0.3, 0);
-  PoseFilter filter(Pose2(0, 0.2, degToRad(1.0)), diagonalCovariance(0.1, 2.0));
+  PoseFilter filter(Pose2(0, 0.2, degToRad(1.0)), diagonalCovariance(0.1, 2.0), twoPercentOdometry());
   std::mt19937_64 rng(5);
   double worst_lateral = 0, along_before = 0, along_after = 0, sigma_along_before = 0, sigma_along_after = 0;
   for (int k = 1; k <= 24; ++k) {
@@ -238,7 +238,7 @@ TEST(MatchingOnCurve, PiecewiseEdgesFollowTheCurveWhereThePredictedChordsDoNot) 
   EXPECT_GT(e_chords.head<2>().norm() + std::abs(e_chords.z()), e_pieces.head<2>().norm() + std::abs(e_pieces.z()));
 
   LocalizeOptions options;
-  EXPECT_EQ(options.curve_piece_m, 0.0);  // opt-in: the chords unless asked
+  EXPECT_EQ(options.curve_piece_m, 1.0);  // the missions' default: pieces of at most 1 m
   options.curve_piece_m = -1;
   EXPECT_THROW(options.validate(), InvalidInput);
 }

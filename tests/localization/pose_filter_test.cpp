@@ -21,7 +21,7 @@ using namespace line_scene;
 // PoseFilter
 
 TEST(MatchingFilter, OdometryOnlyDriftGrowsTheCovariance) {
-  PoseFilter filter(Pose2(0, 0, 0), diagonalCovariance(0.01, 0.5));
+  PoseFilter filter(Pose2(0, 0, 0), diagonalCovariance(0.01, 0.5), twoPercentOdometry());
   const MotionNoiseOptions& m = filter.options().motion;
   double trace = filter.covariance().trace();
   for (int i = 0; i < 20; ++i) {
