@@ -9,7 +9,7 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/map/map.h"
 #include "mapnav/sim/world.h"
-#include "mapnav/vision_iface/predicted_object.h"
+#include "mapnav/tokens/predicted_object.h"
 
 namespace mapnav::cli {
 

@@ -198,11 +198,11 @@ std::string freshId(const std::string& prefix, std::size_t& counter, const std::
   return id;
 }
 
-}  // namespace
-
-std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues, const GeoJsonImportOptions& options) {
-  options.validate();
-  const std::size_t errors_before = countSeverity(issues, Severity::Error);
+// The FeatureCollection's features as read, and what its "mapnav" member says (the map's name and
+// surfaces into `map`, the local frame's origin into `file_origin`). Nothing when the document is
+// not a FeatureCollection with a "features" array; bad features are left out with their issues.
+std::optional<std::vector<RawFeature>> readFeatureCollection(std::string_view text, Issues& issues, MapData& map,
+                                                             std::optional<GeoOrigin>& file_origin) {
   const auto json = parseJson(text, issues);
   if (!json) return std::nullopt;
   if (!json->is_object()) {
@@ -214,11 +214,6 @@ std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues
     addIssue(issues, Severity::Error, "geojson.type", "/type", "expected \"type\": \"FeatureCollection\"");
     return std::nullopt;
   }
-  GeoJsonImport result;
-  MapData& map = result.map;
-  map.name = "imported from GeoJSON";
-  map.surfaces = standardSurfaces();
-  std::optional<GeoOrigin> file_origin;
   if (const auto it = doc.find("mapnav"); it != doc.end()) {
     JsonObject meta(*it, "/mapnav", issues);
     if (const auto format = meta.string("format", false); format && *format != kMapFormat) {
@@ -238,62 +233,117 @@ std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues
   for (std::size_t k = 0; k < features_it->size(); ++k) {
     if (auto raw = readFeature((*features_it)[k], pointerJoin("/features", k), issues)) raws.push_back(std::move(*raw));
   }
-  if (countSeverity(issues, Severity::Error) != errors_before) return std::nullopt;
+  return raws;
+}
 
-  // The local frame: as asked, as the file says, or about the data's centroid.
+// The local frame's origin: as asked, as the file says, or about the data's centroid.
+GeoOrigin chooseOrigin(const GeoJsonImportOptions& options, const std::optional<GeoOrigin>& file_origin,
+                       const std::vector<RawFeature>& raws) {
+  if (options.origin) return *options.origin;
+  if (file_origin) return *file_origin;
   GeoOrigin origin;
-  if (options.origin) {
-    origin = *options.origin;
-  } else if (file_origin) {
-    origin = *file_origin;
-  } else {
-    double lat = 0, lon = 0;
-    std::size_t n = 0;
-    for (const RawFeature& raw : raws) {
-      for (const LatLon& p : raw.coordinates) {
-        lat += p.lat;
-        lon += p.lon;
-        ++n;
-      }
+  double lat = 0, lon = 0;
+  std::size_t n = 0;
+  for (const RawFeature& raw : raws) {
+    for (const LatLon& p : raw.coordinates) {
+      lat += p.lat;
+      lon += p.lon;
+      ++n;
     }
-    if (n > 0) origin = GeoOrigin{lat / static_cast<double>(n), lon / static_cast<double>(n), 0.0};
   }
-  map.origin = origin;
-  const LocalFrame frame(origin);
-  auto project = [&](const std::vector<LatLon>& points) {
-    std::vector<Vec2> out;
-    for (const LatLon& p : points) out.push_back(frame.toLocal(p));
-    return out;
-  };
+  if (n > 0) origin = GeoOrigin{lat / static_cast<double>(n), lon / static_cast<double>(n), 0.0};
+  return origin;
+}
 
-  std::set<std::string> taken;
-  for (const RawFeature& raw : raws) {
-    if (raw.id) taken.insert(*raw.id);
-  }
-  std::size_t next_road = 0, next_node = 0;
-  std::vector<std::optional<std::string>> kind_names;  // as given, per intersection
-  for (const RawFeature& raw : raws) {
-    if (raw.kind == RawFeature::Kind::Road) continue;
-    Intersection x;
-    x.id = raw.id ? *raw.id : freshId("J", next_node, taken);
-    if (raw.kind == RawFeature::Kind::Point) {
-      x.position = frame.toLocal(raw.coordinates[0]);
-    } else {
-      x.shape = project(raw.coordinates);
-      x.position = raw.center ? frame.toLocal(*raw.center) : centroid(*x.shape);
+// Builds the map from the features, projected into the local frame: intersections first (so that
+// roads can attach to them), then roads, then the intersections' kinds. Ids not given are made
+// fresh ("J1", "R1", ...), never one a feature names.
+class MapBuilder {
+ public:
+  MapBuilder(const GeoJsonImportOptions& options, const GeoOrigin& origin, const std::vector<RawFeature>& raws,
+             GeoJsonImport& result)
+      : options_(options), frame_(origin), map_(result.map), result_(result) {
+    for (const RawFeature& raw : raws) {
+      if (raw.id) taken_.insert(*raw.id);
     }
-    map.intersections.push_back(std::move(x));
-    result.intersection_features.push_back(raw.pointer);
-    kind_names.push_back(raw.kind_name);
+  }
+
+  void addIntersections(const std::vector<RawFeature>& raws) {
+    for (const RawFeature& raw : raws) {
+      if (raw.kind == RawFeature::Kind::Road) continue;
+      Intersection x;
+      x.id = raw.id ? *raw.id : freshId("J", next_node_, taken_);
+      if (raw.kind == RawFeature::Kind::Point) {
+        x.position = frame_.toLocal(raw.coordinates[0]);
+      } else {
+        x.shape = project(raw.coordinates);
+        x.position = raw.center ? frame_.toLocal(*raw.center) : centroid(*x.shape);
+      }
+      map_.intersections.push_back(std::move(x));
+      result_.intersection_features.push_back(raw.pointer);
+      kind_names_.push_back(raw.kind_name);
+    }
   }
 
   // Roads, attaching each end to an intersection: as named, or the one at the end, or one made
   // where road ends meet.
-  auto nodeAt = [&](const Vec2& p) -> std::optional<std::size_t> {
+  void addRoads(const std::vector<RawFeature>& raws) {
+    for (const RawFeature& raw : raws) {
+      if (raw.kind != RawFeature::Kind::Road) continue;
+      Road road;
+      road.id = raw.id ? *raw.id : freshId("R", next_road_, taken_);
+      std::vector<Vec2> line = project(raw.coordinates);
+      attachEnd(line.front(), raw.from, road.from);
+      attachEnd(line.back(), raw.to, road.to);
+      road.centerline = Polyline2(std::move(line));
+      road.width = raw.width.value_or(options_.default_width_m);
+      road.surface = raw.surface.value_or(options_.default_surface);
+      road.left = raw.left.value_or(options_.default_shoulder);
+      road.right = raw.right.value_or(options_.default_shoulder);
+      road.oneway = raw.oneway.value_or(false);
+      road.cost_factor = raw.cost_factor.value_or(1.0);
+      map_.roads.push_back(std::move(road));
+      result_.road_features.push_back(raw.pointer);
+    }
+  }
+
+  // Kinds: as given, or inferred from the roads that meet. An unknown kind name is an error.
+  void assignKinds(Issues& issues) {
+    for (std::size_t i = 0; i < map_.intersections.size(); ++i) {
+      Intersection& x = map_.intersections[i];
+      if (kind_names_[i]) {
+        const auto kind = intersectionKindFromString(*kind_names_[i]);
+        if (!kind) {
+          addIssue(issues, Severity::Error, "schema.enum", result_.intersection_features[i] + "/properties/kind",
+                   "unknown intersection kind \"" + *kind_names_[i] + "\"");
+          continue;
+        }
+        x.kind = *kind;
+        continue;
+      }
+      std::vector<double> headings;
+      for (const Road& r : map_.roads) {
+        const double len = r.centerline.length();
+        if (r.from == x.id) headings.push_back(r.centerline.headingAt(0));
+        if (r.to == x.id) headings.push_back(normalizeAngle(r.centerline.headingAt(len) + kPi));
+      }
+      x.kind = inferKind(headings);
+    }
+  }
+
+ private:
+  std::vector<Vec2> project(const std::vector<LatLon>& points) const {
+    std::vector<Vec2> out;
+    for (const LatLon& p : points) out.push_back(frame_.toLocal(p));
+    return out;
+  }
+
+  // The intersection nearest to `p` within the snap tolerance (0 inside an intersection's shape).
+  std::optional<std::size_t> nodeAt(const Vec2& p) const {
     std::optional<std::size_t> best;
-    double best_d = options.snap_tolerance_m;
-    for (std::size_t i = 0; i < map.intersections.size(); ++i) {
-      const Intersection& x = map.intersections[i];
+    double best_d = options_.snap_tolerance_m;
+    for (std::size_t i = 0; i < map_.intersections.size(); ++i) {
+      const Intersection& x = map_.intersections[i];
       const double d = (x.shape && contains(*x.shape, p)) ? 0.0 : (x.position - p).norm();
       if (d <= best_d) {
         best_d = d;
@@ -301,66 +351,57 @@ std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues
       }
     }
     return best;
-  };
-  for (const RawFeature& raw : raws) {
-    if (raw.kind != RawFeature::Kind::Road) continue;
-    Road road;
-    road.id = raw.id ? *raw.id : freshId("R", next_road, taken);
-    std::vector<Vec2> line = project(raw.coordinates);
-    for (int end = 0; end < 2; ++end) {
-      Vec2& p = end == 0 ? line.front() : line.back();
-      const std::optional<std::string>& named = end == 0 ? raw.from : raw.to;
-      std::string& target = end == 0 ? road.from : road.to;
-      if (named) {
-        target = *named;
-        continue;
-      }
-      std::optional<std::size_t> node = nodeAt(p);
-      if (!node) {
-        Intersection x;
-        x.id = freshId("J", next_node, taken);
-        x.position = p;
-        map.intersections.push_back(std::move(x));
-        result.intersection_features.emplace_back();
-        kind_names.emplace_back();
-        node = map.intersections.size() - 1;
-      }
-      const Intersection& x = map.intersections[*node];
-      if (!x.shape || !contains(*x.shape, p)) p = x.position;  // snap the end onto the node
-      target = x.id;
-    }
-    road.centerline = Polyline2(std::move(line));
-    road.width = raw.width.value_or(options.default_width_m);
-    road.surface = raw.surface.value_or(options.default_surface);
-    road.left = raw.left.value_or(options.default_shoulder);
-    road.right = raw.right.value_or(options.default_shoulder);
-    road.oneway = raw.oneway.value_or(false);
-    road.cost_factor = raw.cost_factor.value_or(1.0);
-    map.roads.push_back(std::move(road));
-    result.road_features.push_back(raw.pointer);
   }
 
-  // Kinds: as given, or inferred from the roads that meet.
-  for (std::size_t i = 0; i < map.intersections.size(); ++i) {
-    Intersection& x = map.intersections[i];
-    if (kind_names[i]) {
-      const auto kind = intersectionKindFromString(*kind_names[i]);
-      if (!kind) {
-        addIssue(issues, Severity::Error, "schema.enum", result.intersection_features[i] + "/properties/kind",
-                 "unknown intersection kind \"" + *kind_names[i] + "\"");
-        continue;
-      }
-      x.kind = *kind;
-      continue;
+  // Sets `target` to the intersection road end `p` attaches to: `named`, or the node at `p` (made
+  // when there is none), onto whose position `p` is snapped unless it lies inside the node's shape.
+  void attachEnd(Vec2& p, const std::optional<std::string>& named, std::string& target) {
+    if (named) {
+      target = *named;
+      return;
     }
-    std::vector<double> headings;
-    for (const Road& r : map.roads) {
-      const double len = r.centerline.length();
-      if (r.from == x.id) headings.push_back(r.centerline.headingAt(0));
-      if (r.to == x.id) headings.push_back(normalizeAngle(r.centerline.headingAt(len) + kPi));
+    std::optional<std::size_t> node = nodeAt(p);
+    if (!node) {
+      Intersection x;
+      x.id = freshId("J", next_node_, taken_);
+      x.position = p;
+      map_.intersections.push_back(std::move(x));
+      result_.intersection_features.emplace_back();
+      kind_names_.emplace_back();
+      node = map_.intersections.size() - 1;
     }
-    x.kind = inferKind(headings);
+    const Intersection& x = map_.intersections[*node];
+    if (!x.shape || !contains(*x.shape, p)) p = x.position;  // snap the end onto the node
+    target = x.id;
   }
+
+  const GeoJsonImportOptions& options_;
+  const LocalFrame frame_;
+  MapData& map_;
+  GeoJsonImport& result_;
+  std::set<std::string> taken_;
+  std::size_t next_road_ = 0, next_node_ = 0;
+  std::vector<std::optional<std::string>> kind_names_;  // as given, per intersection
+};
+
+}  // namespace
+
+std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues, const GeoJsonImportOptions& options) {
+  options.validate();
+  const std::size_t errors_before = countSeverity(issues, Severity::Error);
+  GeoJsonImport result;
+  MapData& map = result.map;
+  map.name = "imported from GeoJSON";
+  map.surfaces = standardSurfaces();
+  std::optional<GeoOrigin> file_origin;
+  const std::optional<std::vector<RawFeature>> raws = readFeatureCollection(text, issues, map, file_origin);
+  if (!raws || countSeverity(issues, Severity::Error) != errors_before) return std::nullopt;
+
+  map.origin = chooseOrigin(options, file_origin, *raws);
+  MapBuilder builder(options, *map.origin, *raws, result);
+  builder.addIntersections(*raws);
+  builder.addRoads(*raws);
+  builder.assignKinds(issues);
   if (countSeverity(issues, Severity::Error) != errors_before) return std::nullopt;
   return result;
 }

@@ -12,8 +12,8 @@
 
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
+#include "mapnav/localization/localize.h"
 #include "mapnav/map/map.h"
-#include "mapnav/map/matching.h"
 #include "mapnav/mission/blackboard.h"
 #include "mapnav/mission/metrics.h"
 #include "mapnav/mission/mission_file.h"

@@ -55,6 +55,38 @@ struct Traversal {
 
 struct Found {};  // thrown by the A* visitor when the goal is taken off the queue
 
+// A query's start and goal: their roads (indices) and arc lengths from the roads' `from` ends.
+struct RouteEnds {
+  std::size_t sr = 0, gr = 0;
+  double s_start = 0, s_goal = 0;
+};
+
+// The roads and intersections (indices) a query may not use.
+struct Blocks {
+  std::vector<bool> road, node;
+};
+
+// The edges one query adds (S's, and those into G), removed when the query ends, whatever happens,
+// so that the next one starts from the graph as it was built.
+struct QueryEdges {
+  Graph& graph;
+  Vertex S, G;
+  std::vector<Vertex> into_goal;
+  QueryEdges(Graph& g, Vertex s, Vertex goal) : graph(g), S(s), G(goal) {}
+  QueryEdges(const QueryEdges&) = delete;
+  QueryEdges& operator=(const QueryEdges&) = delete;
+  ~QueryEdges() {
+    boost::clear_out_edges(S, graph);
+    for (Vertex v : into_goal) boost::remove_edge(v, G, graph);
+  }
+};
+
+// The search's result: per vertex its predecessor (itself when unreached) and its distance.
+struct SearchResult {
+  std::vector<Vertex> pred;
+  std::vector<double> dist;
+};
+
 }  // namespace
 
 struct RoadGraph::Impl {
@@ -120,6 +152,16 @@ struct RoadGraph::Impl {
   double turnCost(double angle, bool u_turn, const RouteOptions& o) const {
     return u_turn ? o.u_turn_penalty_m : std::abs(angle) / (kPi / 2) * o.turn_penalty_m_per_90deg;
   }
+
+  // One query's steps (RoadGraph::route).
+  Blocks blocks(const std::set<std::string>& blocked) const;
+  bool usable(const Traversal& t, const Blocks& b) const {
+    return !b.road[t.road] && (t.forward || !road(t.road).oneway);
+  }
+  void connect(const RouteEnds& e, const Blocks& b, QueryEdges& edges);
+  SearchResult search(const RouteEnds& e, const Blocks& b, const RouteOptions& options);
+  Route routeAlong(const SearchResult& found, const RouteEnds& e, const Blocks& b, const RoadPosition& from,
+                   const RoadPosition& to) const;
 };
 
 RoadGraph::RoadGraph(const Map& map) : impl_(std::make_unique<Impl>(map)) {}
@@ -145,31 +187,27 @@ double arcFromStart(const Road& road, const RoadPosition& p) {
   return p.node == road.from ? p.meters : len - p.meters;
 }
 
-}  // namespace
-
-RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, const RouteOptions& options) {
-  options.validate();
-  Impl& g = *impl_;
-  const Map& map = g.map;
-  const Road& start_road = map.road(from.road);
-  const Road& goal_road = map.road(to.road);
-  const std::size_t sr = g.road_index.at(start_road.id), gr = g.road_index.at(goal_road.id);
-  const double s_start = arcFromStart(start_road, from), s_goal = arcFromStart(goal_road, to);
+// The ids of `blocked`, each checked to name a road or an intersection (NotFound otherwise).
+std::set<std::string> blockedIds(const Map& map, const std::vector<std::string>& ids) {
   std::set<std::string> blocked;
-  for (const std::string& id : options.blocked) {
+  for (const std::string& id : ids) {
     if (map.findRoad(id) == nullptr && map.findIntersection(id) == nullptr) {
       throw NotFound("--block " + id + ": no road or intersection has this id");
     }
     blocked.insert(id);
   }
-  RouteResult result;
+  return blocked;
+}
+
+// Why there is no route, when that is known without a search: the start or goal road is blocked,
+// or the two are in different parts of the network.
+std::optional<std::string> noRouteWithoutSearch(const Map& map, const RoadPosition& from, const RoadPosition& to,
+                                                const std::set<std::string>& blocked) {
   for (const RoadPosition* p : {&from, &to}) {
     if (blocked.contains(p->road)) {
-      result.reason = std::string(p == &from ? "the start" : "the goal") + " road " + p->road + " is blocked";
-      return result;
+      return std::string(p == &from ? "the start" : "the goal") + " road " + p->road + " is blocked";
     }
   }
-  // Different pieces of the network: no search needed to know.
   const auto& components = map.components();
   auto componentOf = [&](const std::string& node) {
     const std::size_t index = static_cast<std::size_t>(map.findIntersection(node) - map.intersections().data());
@@ -178,78 +216,77 @@ RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, c
     }
     return components.size();
   };
-  if (componentOf(start_road.from) != componentOf(goal_road.from)) {
-    result.reason = "no road connects " + from.road + " to " + to.road + ": they are in different parts of the network";
-    return result;
+  if (componentOf(map.road(from.road).from) != componentOf(map.road(to.road).from)) {
+    return "no road connects " + from.road + " to " + to.road + ": they are in different parts of the network";
   }
+  return std::nullopt;
+}
 
-  // ---- the query: S and G split their roads; blocked parts cost "infinity" --------------------
-  Graph& graph = g.graph;
-  const Vertex S = g.start(), G = g.goal();
-  std::vector<bool> blocked_road(map.roads().size(), false), blocked_node(map.intersections().size(), false);
+}  // namespace
+
+Blocks RoadGraph::Impl::blocks(const std::set<std::string>& blocked) const {
+  Blocks b{std::vector<bool>(map.roads().size(), false), std::vector<bool>(map.intersections().size(), false)};
   for (const std::string& id : blocked) {
-    if (const Road* r = map.findRoad(id)) blocked_road[g.road_index.at(r->id)] = true;
-    if (map.findIntersection(id) != nullptr) blocked_node[g.node(id)] = true;
+    if (const Road* r = map.findRoad(id)) b.road[road_index.at(r->id)] = true;
+    if (map.findIntersection(id) != nullptr) b.node[node(id)] = true;
   }
-  auto usable = [&](const Traversal& t) { return !blocked_road[t.road] && (t.forward || !g.road(t.road).oneway); };
-  const double start_len = g.length(sr), goal_len = g.length(gr);
-  // Whatever happens, the next query starts from the graph as it was built: S's edges and the
-  // edges into G are this query's only.
-  std::vector<Vertex> into_goal;
-  struct Restore {
-    Graph& graph;
-    Vertex S, G;
-    const std::vector<Vertex>& into_goal;
-    ~Restore() {
-      boost::clear_out_edges(S, graph);
-      for (Vertex v : into_goal) boost::remove_edge(v, G, graph);
-    }
-  } restore{graph, S, G, into_goal};
+  return b;
+}
+
+// S and G split their roads: S's edges drive the rest of the start road, the edges into G turn onto
+// the goal road and drive to the goal.
+void RoadGraph::Impl::connect(const RouteEnds& e, const Blocks& b, QueryEdges& edges) {
+  const Vertex S = start(), G = goal();
+  const double start_len = length(e.sr), goal_len = length(e.gr);
   // S → traversals of the start road, driving the rest of it (either way: the vehicle may set off
   // in either direction).
   for (const bool forward : {true, false}) {
-    const Vertex v = 2 * sr + (forward ? 0 : 1);
-    if (!usable(g.traversals[v])) continue;
-    boost::add_edge(S, v, Step{forward ? start_len - s_start : s_start, 0.0, false, sr, SIZE_MAX}, graph);
+    const Vertex v = 2 * e.sr + (forward ? 0 : 1);
+    if (!usable(traversals[v], b)) continue;
+    boost::add_edge(S, v, Step{forward ? start_len - e.s_start : e.s_start, 0.0, false, e.sr, SIZE_MAX}, graph);
   }
   // Traversals arriving at an end of the goal road → G, turning onto it and driving to the goal.
   for (const bool forward : {true, false}) {
-    const Traversal onto{gr, forward};  // driving the goal road in this direction reaches G
-    if (!usable(onto)) continue;
-    const std::size_t node = g.node(g.startNode(onto));
-    for (Vertex v : g.arriving[node]) {
-      const Traversal& in = g.traversals[v];
+    const Traversal onto{e.gr, forward};  // driving the goal road in this direction reaches G
+    if (!usable(onto, b)) continue;
+    const std::size_t n = node(startNode(onto));
+    for (Vertex v : arriving[n]) {
+      const Traversal& in = traversals[v];
       boost::add_edge(v, G,
-                      Step{forward ? s_goal : goal_len - s_goal, normalizeAngle(g.headingOut(onto) - g.headingIn(in)),
-                           in.road == gr && in.forward != forward, gr, node},
+                      Step{forward ? e.s_goal : goal_len - e.s_goal, normalizeAngle(headingOut(onto) - headingIn(in)),
+                           in.road == e.gr && in.forward != forward, e.gr, n},
                       graph);
-      into_goal.push_back(v);
+      edges.into_goal.push_back(v);
     }
   }
   // Start and goal on the same road: straight there, if the road may be driven that way.
-  if (sr == gr && usable(Traversal{sr, s_goal >= s_start})) {
-    boost::add_edge(S, G, Step{std::abs(s_goal - s_start), 0.0, false, sr, SIZE_MAX}, graph);
+  if (e.sr == e.gr && usable(Traversal{e.sr, e.s_goal >= e.s_start}, b)) {
+    boost::add_edge(S, G, Step{std::abs(e.s_goal - e.s_start), 0.0, false, e.sr, SIZE_MAX}, graph);
   }
-  constexpr double kBlocked = std::numeric_limits<double>::max();  // Boost's "infinity"
-  auto weight = boost::make_function_property_map<Edge, double>([&](const Edge& e) {
-    const Step& step = graph[e];
-    if (blocked_road[step.road] || (step.node != SIZE_MAX && blocked_node[step.node])) return kBlocked;
-    const double turn = step.node == SIZE_MAX ? 0.0 : g.turnCost(step.angle, step.u_turn, options);
-    return step.meters * g.road(step.road).cost_factor + turn;
-  });
+}
 
-  // ---- search ------------------------------------------------------------------------------
+// A* (or Dijkstra) from S to G; blocked parts cost "infinity".
+SearchResult RoadGraph::Impl::search(const RouteEnds& e, const Blocks& b, const RouteOptions& options) {
+  const Vertex S = start(), G = goal();
+  constexpr double kBlocked = std::numeric_limits<double>::max();  // Boost's "infinity"
+  auto weight = boost::make_function_property_map<Edge, double>([&](const Edge& edge) {
+    const Step& step = graph[edge];
+    if (b.road[step.road] || (step.node != SIZE_MAX && b.node[step.node])) return kBlocked;
+    const double turn = step.node == SIZE_MAX ? 0.0 : turnCost(step.angle, step.u_turn, options);
+    return step.meters * road(step.road).cost_factor + turn;
+  });
   const std::size_t n = boost::num_vertices(graph);
-  std::vector<Vertex> pred(n);
-  std::vector<double> dist(n, std::numeric_limits<double>::infinity());
-  const Vec2 goal_point = goal_road.centerline.pointAt(s_goal);
+  SearchResult found{std::vector<Vertex>(n), std::vector<double>(n, std::numeric_limits<double>::infinity())};
+  std::vector<Vertex>& pred = found.pred;
+  std::vector<double>& dist = found.dist;
+  const Vec2 goal_point = road(e.gr).centerline.pointAt(e.s_goal);
   if (options.use_astar) {
     // Euclidean distance to the goal never exceeds the remaining cost when scaled by the
     // smallest cost factor, so A* stays exact.
     auto heuristic = [&](Vertex v) {
       if (v == G) return 0.0;
-      const Vec2 p = v == S ? start_road.centerline.pointAt(s_start) : g.end_position[v];
-      return (p - goal_point).norm() * g.min_cost_factor;
+      const Vec2 p = v == S ? road(e.sr).centerline.pointAt(e.s_start) : end_position[v];
+      return (p - goal_point).norm() * min_cost_factor;
     };
     struct Visitor : boost::default_astar_visitor {
       Vertex goal;
@@ -276,24 +313,22 @@ RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, c
                                    boost::weight_map(weight).predecessor_map(boost::make_iterator_property_map(pred.begin(), boost::get(boost::vertex_index, graph)))
                                        .distance_map(boost::make_iterator_property_map(dist.begin(), boost::get(boost::vertex_index, graph))));
   }
-  // Both searches start every predecessor at the vertex itself (and every distance at DBL_MAX,
-  // which is finite), so an unreached goal is one that is still its own predecessor.
-  if (pred[G] == G) {
-    result.reason = blocked.empty()
-                        ? "no route from " + toString(from) + " to " + toString(to) + " respects the one-way roads"
-                        : "every route from " + toString(from) + " to " + toString(to) +
-                              " passes a blocked road or intersection";
-    return result;
-  }
+  return found;
+}
 
-  // ---- the route: vertices S, traversals..., G, turned into legs -------------------------------
+// The route the search found: vertices S, traversals..., G, turned into legs and the centre line.
+Route RoadGraph::Impl::routeAlong(const SearchResult& found, const RouteEnds& e, const Blocks& b,
+                                  const RoadPosition& from, const RoadPosition& to) const {
+  const Vertex S = start(), G = goal();
+  const Road& start_road = road(e.sr);
+  const Road& goal_road = road(e.gr);
   std::vector<Vertex> chain;
-  for (Vertex v = G; v != S; v = pred[v]) chain.push_back(v);
+  for (Vertex v = G; v != S; v = found.pred[v]) chain.push_back(v);
   std::reverse(chain.begin(), chain.end());  // traversals..., G
   Route route;
   route.from = from;
   route.to = to;
-  route.cost = dist[G];
+  route.cost = found.dist[G];
   std::vector<Vec2> line;
   auto addPiece = [&](const Road& road, double s0, double s1) {  // drive along road from arc s0 to s1
     const Polyline2 piece = road.centerline.slice(std::min(s0, s1), std::max(s0, s1));
@@ -312,29 +347,59 @@ RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, c
     route.legs.push_back(Leg{LegAction::Turn, onto, 0.0, node, angle});
   };
   if (chain.size() == 1) {  // S → G on one road
-    addPiece(start_road, s_start, s_goal);
+    addPiece(start_road, e.s_start, e.s_goal);
   } else {
-    const Traversal first = g.traversals[chain.front()];
-    addPiece(start_road, s_start, first.forward ? start_len : 0.0);
+    const Traversal first = traversals[chain.front()];
+    addPiece(start_road, e.s_start, first.forward ? length(e.sr) : 0.0);
     for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
-      const Traversal in = g.traversals[chain[i]];
+      const Traversal in = traversals[chain[i]];
       if (chain[i + 1] == G) {
         // The goal road is entered at the end the last traversal arrives at: from its `from` end
         // it is driven forward (a loop road, from == to, is entered forward when it may be).
-        const bool forward = g.endNode(in) == goal_road.from && usable(Traversal{gr, true});
-        const Traversal onto{gr, forward};
-        addTurn(g.endNode(in), normalizeAngle(g.headingOut(onto) - g.headingIn(in)), goal_road.id);
-        addPiece(goal_road, forward ? 0.0 : goal_len, s_goal);
+        const bool forward = endNode(in) == goal_road.from && usable(Traversal{e.gr, true}, b);
+        const Traversal onto{e.gr, forward};
+        addTurn(endNode(in), normalizeAngle(headingOut(onto) - headingIn(in)), goal_road.id);
+        addPiece(goal_road, forward ? 0.0 : length(e.gr), e.s_goal);
       } else {
-        const Traversal out = g.traversals[chain[i + 1]];
-        addTurn(g.endNode(in), normalizeAngle(g.headingOut(out) - g.headingIn(in)), g.road(out.road).id);
-        const double len = g.length(out.road);
-        addPiece(g.road(out.road), out.forward ? 0.0 : len, out.forward ? len : 0.0);
+        const Traversal out = traversals[chain[i + 1]];
+        addTurn(endNode(in), normalizeAngle(headingOut(out) - headingIn(in)), road(out.road).id);
+        const double len = length(out.road);
+        addPiece(road(out.road), out.forward ? 0.0 : len, out.forward ? len : 0.0);
       }
     }
   }
   route.line = Polyline2(std::move(line));
-  result.route = std::move(route);
+  return route;
+}
+
+RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, const RouteOptions& options) {
+  options.validate();
+  Impl& g = *impl_;
+  const Map& map = g.map;
+  const Road& start_road = map.road(from.road);
+  const Road& goal_road = map.road(to.road);
+  const RouteEnds ends{g.road_index.at(start_road.id), g.road_index.at(goal_road.id), arcFromStart(start_road, from),
+                       arcFromStart(goal_road, to)};
+  const std::set<std::string> blocked = blockedIds(map, options.blocked);
+  RouteResult result;
+  if (auto why = noRouteWithoutSearch(map, from, to, blocked)) {
+    result.reason = std::move(*why);
+    return result;
+  }
+  const Blocks blocks = g.blocks(blocked);
+  QueryEdges edges(g.graph, g.start(), g.goal());
+  g.connect(ends, blocks, edges);
+  const SearchResult found = g.search(ends, blocks, options);
+  // Both searches start every predecessor at the vertex itself (and every distance at DBL_MAX,
+  // which is finite), so an unreached goal is one that is still its own predecessor.
+  if (found.pred[g.goal()] == g.goal()) {
+    result.reason = blocked.empty()
+                        ? "no route from " + toString(from) + " to " + toString(to) + " respects the one-way roads"
+                        : "every route from " + toString(from) + " to " + toString(to) +
+                              " passes a blocked road or intersection";
+    return result;
+  }
+  result.route = g.routeAlong(found, ends, blocks, from, to);
   return result;
 }
 

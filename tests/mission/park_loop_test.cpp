@@ -10,8 +10,8 @@
 #include <optional>
 #include <string>
 
+#include "mapnav/localization/pose_filter.h"
 #include "mapnav/map/map_io.h"
-#include "mapnav/map/matching.h"
 #include "mapnav/mission/modules.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/testing/support.h"

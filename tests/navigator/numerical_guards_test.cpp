@@ -8,14 +8,15 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/geometry/camera.h"
+#include "mapnav/localization/localize.h"
+#include "mapnav/localization/pose_filter.h"
 #include "mapnav/map/map_io.h"
-#include "mapnav/map/matching.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/map/validation.h"
 #include "mapnav/navigator/road_position.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/testing/support.h"
-#include "mapnav/vision_iface/detected_object.h"
+#include "mapnav/tokens/detected_object.h"
 
 namespace mapnav {
 namespace {

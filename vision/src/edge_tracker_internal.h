@@ -9,7 +9,7 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/vision/edge_tracker.h"
-#include "mapnav/vision_iface/predicted_object.h"
+#include "mapnav/tokens/predicted_object.h"
 
 namespace mapnav {
 

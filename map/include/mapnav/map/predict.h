@@ -15,7 +15,7 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/map/map.h"
-#include "mapnav/vision_iface/predicted_object.h"
+#include "mapnav/tokens/predicted_object.h"
 
 namespace mapnav {
 

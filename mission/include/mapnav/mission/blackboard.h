@@ -22,11 +22,12 @@
 #include <vector>
 
 #include "mapnav/geometry/pose2.h"
-#include "mapnav/map/matching.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/vehicle.h"
-#include "mapnav/vision_iface/detected_object.h"
-#include "mapnav/vision_iface/predicted_object.h"
+#include "mapnav/tokens/current_position.h"
+#include "mapnav/tokens/detected_object.h"
+#include "mapnav/tokens/predicted_object.h"
+#include "mapnav/tokens/vision_failure.h"
 
 namespace mapnav {
 
@@ -72,20 +73,6 @@ struct MotionCommand {
   double speed_mps = 0;           ///< cruise speed
   VehicleCommand setpoint;        ///< pure pursuit at the estimated pose it was planned from
   Vec2 lookahead_point = Vec2::Zero();  ///< that pursuit's goal point, world frame
-};
-
-/// Vision → all: the frame could not be used.
-struct VisionFailure {
-  double timestamp = 0;
-  std::string reason;  ///< the pipeline's ("frame too dark", "no road-coloured region", ...)
-};
-
-/// Vision → all: motion stops until another module or a person takes control.
-struct Halt {
-  double timestamp = 0;
-  std::string reason;
-  std::string control_to = "operator";   ///< who must take over
-  std::optional<std::size_t> resume_after_frames;  ///< the mission's policy (nothing: never)
 };
 
 /// User (the operator) → all: control handed back to the modules after a halt.

@@ -12,9 +12,9 @@
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/map/map.h"
-#include "mapnav/map/matching.h"
 #include "mapnav/mission/blackboard.h"
 #include "mapnav/navigator/route.h"
+#include "mapnav/tokens/current_position.h"
 
 namespace mapnav {
 

@@ -20,8 +20,9 @@
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
+#include "mapnav/localization/localize.h"
+#include "mapnav/localization/pose_filter.h"
 #include "mapnav/map/map.h"
-#include "mapnav/map/matching.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/mission/blackboard.h"
 #include "mapnav/mission/mission_file.h"
@@ -38,18 +39,11 @@ namespace mapnav {
 
 struct MapModuleOptions {
   PredictOptions predict;  ///< the predicted view (interest segments)
-  /// The pose filter: odometry noise, matching, gate. FilterOptions' defaults except the odometry's
-  /// distance noise, 5 % per metre driven instead of 2 %: the filter's random-walk model must cover
-  /// an encoder scale error of 1-1.5 % (systematic) over the 40-60 m between intersections, or the
-  /// crossing lines of the next intersection fail the Mahalanobis gate and the estimate is lost
-  /// (measured on campus_dialogue at I2: d^2 = 27-45 with 2 %). (min_information stays 1: at 100
-  /// the campus_tour closed loop got lost, lateral RMS 1.9 m, although its replay improved.)
-  FilterOptions filter = defaultFilter();
-  /// Edge and centre-line noise, shortest line used. LocalizeOptions' defaults except that road
-  /// edges are matched piecewise against the map's edge polylines (curve_piece_m = 1 m): on the
-  /// campus' curves (R5, R6: 35 m radius) the predicted chords bias the pose along the road and in
-  /// heading otherwise (0.8 m and 0.5 deg on campus_dialogue).
-  LocalizeOptions localize = defaultLocalize();
+  /// The pose filter: odometry noise, matching, gate (its defaults are the missions').
+  FilterOptions filter;
+  /// Edge and centre-line noise, shortest line used, road edges matched piecewise on curves, pixel
+  /// noise across lines (its defaults are the missions').
+  LocalizeOptions localize;
   /// 1-sigma of the start position in x and y, m (> 0): the user says where the robot is
   /// ("Robot is at road R1, 3 meters from I1") to about this.
   double initial_sigma_m = 0.10;
@@ -88,18 +82,6 @@ struct MapModuleOptions {
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
-
-  static FilterOptions defaultFilter() {
-    FilterOptions f;
-    f.motion.distance_sigma_per_m = 0.05;
-    return f;
-  }
-  static LocalizeOptions defaultLocalize() {
-    LocalizeOptions l;
-    l.curve_piece_m = 1.0;
-    l.edge_sigma_px = 2.0;
-    return l;
-  }
 };
 
 class MapModule {

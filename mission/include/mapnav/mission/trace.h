@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "mapnav/geometry/pose2.h"
-#include "mapnav/map/matching.h"
+#include "mapnav/localization/pose_filter.h"
 #include "mapnav/mission/blackboard.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/navigator/road_position.h"

@@ -23,7 +23,7 @@
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/image/image.h"
-#include "mapnav/vision_iface/predicted_object.h"
+#include "mapnav/tokens/predicted_object.h"
 
 namespace mapnav {
 

@@ -33,9 +33,9 @@
 #include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
-#include "mapnav/vision_iface/detected_object.h"
+#include "mapnav/tokens/detected_object.h"
+#include "mapnav/tokens/predicted_object.h"
 #include "mapnav/vision_iface/pipeline.h"
-#include "mapnav/vision_iface/predicted_object.h"
 
 namespace mapnav {
 

@@ -6,8 +6,8 @@
 
 #include "mapnav/geometry/camera.h"
 #include "mapnav/image/image.h"
-#include "mapnav/vision_iface/detected_object.h"
-#include "mapnav/vision_iface/predicted_object.h"
+#include "mapnav/tokens/detected_object.h"
+#include "mapnav/tokens/predicted_object.h"
 
 namespace mapnav {
 

@@ -9,8 +9,8 @@
 
 #include "mapnav/core/option_info.h"
 #include "mapnav/geometry/camera.h"
-#include "mapnav/vision_iface/detected_object.h"
-#include "mapnav/vision_iface/predicted_object.h"
+#include "mapnav/tokens/detected_object.h"
+#include "mapnav/tokens/predicted_object.h"
 
 namespace mapnav {
 

@@ -1,0 +1,60 @@
+#pragma once
+// Map matching, the Map module's step (Wallace 1985, 2.2.3): "the Map module selects crossing lines
+// in the detected objects and corresponding lines in the map data, and calculates coordinates
+// transformation which can match them." localize() predicts the pose filter with odometry, matches
+// the labelled lines of a DetectedObject to the Prediction (or, in park mode, the detected centre
+// line to the nearest road's) and updates, giving the CurrentPosition token.
+//
+// The layers it uses are usable on their own: correspondences.h (which lines), line_fit.h (the pose
+// they give), pose_filter.h (the filter), observability.h (what they constrain).
+#include <optional>
+
+#include "mapnav/geometry/segment2.h"
+#include "mapnav/localization/pose_filter.h"
+#include "mapnav/tokens/current_position.h"
+
+namespace mapnav {
+
+class Camera;
+class Map;
+struct Prediction;
+struct DetectedObject;
+
+struct LocalizeOptions {
+  double edge_sigma_m = 0.05;           ///< 1-sigma of a detected edge's end points across their line, m
+  double centerline_sigma_m = 0.10;     ///< the same for a detected centre line (park mode), m
+  double min_line_length_m = 0.3;       ///< shorter detected lines are ignored, m
+  double centerline_search_m = 3.0;     ///< park mode: roads at most this far from the centre line, m
+  /// > 0 (and a map given): labelled road edges are matched piecewise against the map's edge
+  /// polylines, pieces at most this long (edgeCorrespondences), m; 0: against the predicted chord.
+  /// 1 m: on the campus' curves (R5, R6: 35 m radius) the predicted chords bias the pose along the
+  /// road and in heading (0.8 m and 0.5 deg on campus_dialogue).
+  double curve_piece_m = 1.0;
+  /// > 0 (and a camera given): each edge correspondence's sigma also covers this many pixels of
+  /// detection error across the line in the image, turned into metres on the ground where the line
+  /// is seen: sigma = hypot(edge_sigma_m, edge_sigma_px * metres per pixel across it). A line
+  /// across the road 10 m ahead is seen at 7 cm per pixel (Terregator camera) against 1 cm for a
+  /// road edge beside it, so its along-road information is worth far less than edge_sigma_m says; 0:
+  /// edge_sigma_m alone. 2 px: with one 5 cm sigma for every line, one badly placed crossing line (a
+  /// tree shadow at campus_tour's I8) collapsed the along-road sigma from 0.28 to 0.035 m in a frame
+  /// and the gate then refused the good ones.
+  double edge_sigma_px = 2.0;
+
+  /// Throws InvalidInput naming the first bad field and its value.
+  void validate() const;
+};
+
+/// The Map module's step: predict `filter` with `motion`, match `detected`'s labelled lines to
+/// `prediction`'s interest segments and update. Park mode: when no labelled line is usable and
+/// `detected` has a centre line and `map` is given, that centre line against the nearest road's.
+/// A failed DetectedObject, or nothing to match, leaves the pose to odometry and says so. `camera`:
+/// the one the frame was taken with, for LocalizeOptions::edge_sigma_px.
+CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, const Prediction& prediction,
+                         const DetectedObject& detected, const LocalizeOptions& options = {},
+                         const Map* map = nullptr, const Camera* camera = nullptr);
+
+/// Metres on the ground across `line` (vehicle frame) per pixel across its image in `camera`, at
+/// the line's midpoint; nullopt when the camera does not see it.
+std::optional<double> groundMetresPerPixel(const Camera& camera, const Segment2& line);
+
+}  // namespace mapnav

@@ -1,0 +1,45 @@
+#pragma once
+// CurrentPosition: Map → Navigator (Wallace 1985, 2.2.3): the vehicle's estimated pose for one
+// frame, its covariance, which directions the frame's lines observed and what became of the
+// measurement. Made by localization's PoseFilter / localize(); read by the Navigator and Motion
+// Control through the blackboard.
+//
+// World frame: x, y in m, heading in rad wrapped into (-pi, pi]; the covariance over (x, y, heading).
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/geometry/types.h"
+
+namespace mapnav {
+
+/// What became of a measurement.
+enum class PositionStatus {
+  Corrected,     ///< lines were matched and fused
+  OdometryOnly,  ///< no usable lines: the pose comes from odometry alone
+  Rejected,      ///< the lines disagreed with the prior beyond the gate: odometry alone
+};
+std::string_view toString(PositionStatus status);
+std::optional<PositionStatus> positionStatusFromString(std::string_view text);
+
+/// The CurrentPosition token (Map → Navigator).
+struct CurrentPosition {
+  double timestamp = 0;                 ///< seconds, of the frame
+  Pose2 pose;                           ///< world frame
+  Mat3 covariance = Mat3::Zero();       ///< of (x, y, heading): m^2, m rad, rad^2
+  /// Which directions this frame's lines observed (see localization's Observability: the vehicle's
+  /// axes). All false when the estimate comes from odometry alone.
+  bool observed_lateral = false;
+  bool observed_along = false;
+  bool observed_heading = false;
+  Mat3 information = Mat3::Zero();      ///< this frame's measurement information (zero: none)
+  PositionStatus status = PositionStatus::OdometryOnly;
+  std::string reason;                   ///< what was used, or why nothing was ("no labelled lines")
+  int lines_used = 0;                   ///< correspondences fused
+  std::vector<std::string> outliers;    ///< correspondences the robust fit rejected
+  double mahalanobis_d2 = 0;            ///< the gate's statistic (0 when there was no measurement)
+};
+
+}  // namespace mapnav

@@ -1,0 +1,22 @@
+// PositionStatus's names, as the trace and the mission reports write them.
+#include "mapnav/tokens/current_position.h"
+
+namespace mapnav {
+
+std::string_view toString(PositionStatus status) {
+  switch (status) {
+    case PositionStatus::Corrected: return "corrected";
+    case PositionStatus::OdometryOnly: return "odometry-only";
+    case PositionStatus::Rejected: return "rejected";
+  }
+  return "odometry-only";
+}
+
+std::optional<PositionStatus> positionStatusFromString(std::string_view text) {
+  for (PositionStatus s : {PositionStatus::Corrected, PositionStatus::OdometryOnly, PositionStatus::Rejected}) {
+    if (toString(s) == text) return s;
+  }
+  return std::nullopt;
+}
+
+}  // namespace mapnav
