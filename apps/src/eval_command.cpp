@@ -11,11 +11,11 @@
 
 #include "cli.h"
 #include "command_support.h"
-#include "detect_command.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/interrupt.h"
 #include "mapnav/core/json.h"
 #include "mapnav/map/camera_io.h"
+#include "mapnav/mission/image_region.h"
 #include "mapnav/sim/image.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision_iface/pipeline.h"
