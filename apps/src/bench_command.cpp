@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <ostream>
 #include <string>
 #include <thread>
@@ -16,10 +17,10 @@
 #include "mapnav/core/json.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
+#include "mapnav/scenes/park_scene.h"
+#include "mapnav/scenes/sidewalk_scene.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
-#include "park_scene.h"
-#include "sidewalk_scene.h"
 
 namespace mapnav::cli {
 
@@ -142,7 +143,7 @@ struct SidewalkTimes {
 };
 
 SidewalkTimes timeSidewalk(double min_time_s) {
-  const SidewalkScene scene = makeSidewalkScene();
+  const SidewalkScene scene = makeSidewalkScene(std::filesystem::path(defaultParkMapPath()).parent_path());
   registerBuiltinPipelines();
   SidewalkTimes t;
   t.width = scene.camera->width();
@@ -180,6 +181,8 @@ SidewalkTimes timeSidewalk(double min_time_s) {
 }
 
 }  // namespace
+
+std::string defaultParkMapPath() { return dataPath("maps/park_path.json"); }
 
 std::vector<int> parseBenchSizes(const std::string& text) {
   const std::string expected = "sizes in pixels a side, whole numbers in [16, 4096], e.g. 64,128,256,512,1024";
