@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
@@ -412,6 +413,51 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     }
     return static_cast<int>(kOk);
   });
+}
+
+// ---- the command line: `mapnav bench` -----------------------------------------------------------
+
+void registerBenchCommand(CLI::App& app, Commands& commands) {
+  auto* bench = commands.hold<BenchConfig>();
+  struct Texts {
+    std::string sizes = "64,128,256,512,1024", min_time = "0.2", road_model = "line";
+  };
+  auto* text = commands.hold<Texts>();
+  CLI::App* bn = app.add_subcommand("bench", "Time the park road finder's runtime per frame on this machine (Jochem & Baluja 1993, section 6) and the sidewalk pipeline at 512x480");
+  bn->add_flag("--json", bench->json, "Print one JSON object instead of the table");
+  bn->add_option("--sizes", text->sizes, "Square frame sizes, pixels a side, comma-separated, each in [16, 4096]")
+      ->default_str("64,128,256,512,1024");
+  bn->add_option("--min-time", text->min_time, "Seconds to spend on each measurement at least (> 0, at most 60)")
+      ->default_str("0.2");
+  bn->add_option("--threads", bench->threads, "Threads of the multi-threaded rows; 0 = every core")
+      ->default_val(0)
+      ->check(CLI::Range(0, 256));
+  bn->add_option("--map", bench->map, "The park map the frames are rendered from (default: maps/park_path.json)")
+      ->check(CLI::ExistingFile);
+  bn->add_option("--road-model", text->road_model, "The road finder's model: line (the paper) or arc (section 9, bends)")
+      ->default_str("line")
+      ->check(CLI::IsMember({"line", "arc"}));
+  bn->footer(
+      "What is measured, per size: the park scene (maps/park_path.json, a SIZE x SIZE pin-hole scaled from the\n"
+      "Terregator camera, synthetic frames with tree shadows) is rendered, the road finder is trained on the\n"
+      "first frame, then find() without the mask (lookup-table classification, block certainty, Hough) is\n"
+      "timed per colour frame with one thread and with every core (or --threads), reported as ms/frame,\n"
+      "frames/s and pixels/s. Each measurement runs in batches for at least --min-time seconds and takes the\n"
+      "median batch (steady_clock). Two ratios are measured in the same run:\n"
+      "  memcpy_ratio    = runtime time / time of a plain memcpy of the same frame (1 = the memory floor)\n"
+      "  reference_ratio = time of the per-pixel reference path (float distance to every cluster, std::tanh)\n"
+      "                    with the same threads / runtime time (> 1 = the runtime is that much faster)\n"
+      "Cost per pixel growth = (time at the largest size / time at the smallest) / pixel ratio: 1 = linear.\n"
+      "Training (clustering + perceptron on the first frame, one thread) is reported at 512, or at the largest\n"
+      "size when 512 is not measured; train_ms in the JSON, with every size's under \"training\".\n"
+      "--json prints {\"runtime\":[{\"size\",\"threads\",\"fps\",\"ms\",\"px_per_s\",\"memcpy_ratio\",\n"
+      "\"reference_ratio\",...},...],\"train_ms\",...}. Exit codes: 0 measured, 1 an invalid --map, 2 usage or I/O error.");
+  bn->callback(commands.choose([bench, text](std::ostream& out, std::ostream& err) {
+    bench->sizes = parseBenchSizes(text->sizes);
+    bench->min_time_s = parseBenchMinTime(text->min_time);
+    bench->road_model = roadModelFromString(text->road_model);
+    return runBench(*bench, out, err);
+  }));
 }
 
 }  // namespace mapnav::cli

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
@@ -134,6 +135,31 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
     }
     return static_cast<int>(kOk);
   });
+}
+
+void registerTrackCommand(CLI::App& log, Commands& commands) {
+  auto* track = commands.hold<LogTrackConfig>();
+  auto* trapezoid = commands.hold<std::string>();
+  CLI::App* lt = log.add_subcommand("track", "Run a vision pipeline over a log without a map, tracking the road's edges and centre line frame to frame (docs/kitti.md)");
+  lt->add_option("dir", track->dir, "Log folder")->required()->check(CLI::ExistingDirectory);
+  addPipelineOptions(lt, track->pipeline, track->options_json, track->plugins, "edge-tracker");
+  lt->add_option("--camera", track->camera, "Camera file instead of the log's own")->check(CLI::ExistingFile);
+  lt->add_option("--trapezoid", *trapezoid,
+                 "The first frame's road outline as BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions of the image's width "
+                 "and height; default 0.5,0.2,0.7,0.98)");
+  lt->add_option("--row", track->row, "Image row where the edges and the centre line are measured (default: 85 % of the height)");
+  lt->add_option("--max-frames", track->max_frames, "Stop after this many frames (0: all)")->default_val(0);
+  lt->add_option("--overlays", track->overlays, "Folder to write one overlay per frame to");
+  lt->add_option("--contact-sheet", track->contact_sheet, "PNG of 8 overlays spread over the run, half size, two a row");
+  lt->add_flag("--json", track->json, "Print the per-frame measurements as JSON");
+  lt->footer("Exit codes: 0 ran (the frames where the pipeline failed are listed), 1 invalid input, 2 usage or I/O error.");
+  lt->callback(commands.choose([track, trapezoid](std::ostream& out, std::ostream& err) {
+    if (!trapezoid->empty()) {
+      const auto v = parseNumbers("--trapezoid", *trapezoid, 4, 4, "BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions)");
+      track->trapezoid = TrapezoidOptions{v[0], v[1], v[2], v[3]};
+    }
+    return runLogTrack(*track, out, err);
+  }));
 }
 
 }  // namespace mapnav::cli
