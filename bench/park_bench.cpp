@@ -1,7 +1,7 @@
 // Google Benchmark: the park-mode road finder (Jochem & Baluja 1993, §6 runtime) per colour frame,
 // single-threaded, at several sizes: the fast path (colour lookup table, block Hough), the per-pixel
 // reference path, and a plain memcpy of the same frame for scale. The scene (camera, frames, training)
-// is the one `mapnav bench` uses: apps/src/park_scene.h.
+// is the one `mapnav bench` uses: mapnav/scenes/park_scene.h.
 #include <benchmark/benchmark.h>
 
 #include <cstring>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "mapnav/map/map_io.h"
-#include "park_scene.h"  // the scene `mapnav bench` times too (apps/src)
+#include "mapnav/scenes/park_scene.h"  // the scene `mapnav bench` times too
 
 namespace {
 
@@ -19,14 +19,14 @@ const mapnav::Map& parkMap() {
 }
 
 struct Setup {
-  mapnav::cli::ParkScene scene;  // a few consecutive frames along R1
+  mapnav::ParkScene scene;  // a few consecutive frames along R1
   mapnav::ClusterPerceptron finder;
 };
 
 /// `mapnav bench`'s finder options at size × size; `normalised`: in normalised colour with 8 clusters
 /// (ClusterPerceptronOptions::normalized_color, as its tests use it).
 mapnav::ClusterPerceptronOptions finderOptions(int size, bool normalised) {
-  mapnav::ClusterPerceptronOptions o = mapnav::cli::parkFinderOptions(size);
+  mapnav::ClusterPerceptronOptions o = mapnav::parkFinderOptions(size);
   if (normalised) {
     o.normalized_color = true;
     o.clusters = 8;
@@ -40,8 +40,8 @@ const Setup& setup(int size, bool normalised = false) {
   static std::map<std::pair<int, bool>, Setup> cache;
   auto it = cache.find({size, normalised});
   if (it != cache.end()) return it->second;
-  mapnav::cli::ParkScene scene = mapnav::cli::makeParkScene(parkMap(), size);
-  mapnav::ClusterPerceptron finder = mapnav::cli::trainParkFinder(scene, finderOptions(size, normalised)).finder;
+  mapnav::ParkScene scene = mapnav::makeParkScene(parkMap(), size);
+  mapnav::ClusterPerceptron finder = mapnav::trainParkFinder(scene, finderOptions(size, normalised)).finder;
   Setup s{std::move(scene), std::move(finder)};
   return cache.emplace(std::make_pair(size, normalised), std::move(s)).first->second;
 }
@@ -80,7 +80,7 @@ void BM_ParkTraining(benchmark::State& state) {
   const bool normalised = state.range(1) != 0;
   const Setup& s = setup(size);
   for (auto _ : state) {
-    mapnav::cli::TrainedParkFinder t = mapnav::cli::trainParkFinder(s.scene, finderOptions(size, normalised));
+    mapnav::TrainedParkFinder t = mapnav::trainParkFinder(s.scene, finderOptions(size, normalised));
     benchmark::DoNotOptimize(t.finder.weights().data());
   }
 }

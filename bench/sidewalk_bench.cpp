@@ -1,22 +1,23 @@
 // Google Benchmark: the default Vision pipeline ("sidewalk": colour classification, region
 // reproduction, polygon fitting, line labelling) per frame at 512 x 480 on the campus scene of
-// apps/src/sidewalk_scene.h — the default (grid_px 2: 2 x 2-pixel cells, fast paths), every pixel (grid_px 1, fast
+// mapnav/scenes/sidewalk_scene.h — the default (grid_px 2: 2 x 2-pixel cells, fast paths), every pixel (grid_px 1, fast
 // paths), the reference (option "reference": every pixel, reference implementations), a plain memcpy of the frame for scale, and the Map's prediction plus Vision, the two
 // costly steps of the mission loop (issue 9's latency).
 #include <benchmark/benchmark.h>
 
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "mapnav/map/predict.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
-#include "sidewalk_scene.h"  // the scene `mapnav bench` times too (apps/src)
+#include "mapnav/scenes/sidewalk_scene.h"  // the scene `mapnav bench` times too
 
 namespace {
 
-const mapnav::cli::SidewalkScene& scene() {
-  static const mapnav::cli::SidewalkScene s = mapnav::cli::makeSidewalkScene();
+const mapnav::SidewalkScene& scene() {
+  static const mapnav::SidewalkScene s = mapnav::makeSidewalkScene(std::string(MAPNAV_SOURCE_DIR) + "/maps");
   return s;
 }
 

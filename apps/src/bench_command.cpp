@@ -5,21 +5,23 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <ostream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
+#include "mapnav/scenes/park_scene.h"
+#include "mapnav/scenes/sidewalk_scene.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
-#include "park_scene.h"
-#include "sidewalk_scene.h"
 
 namespace mapnav::cli {
 
@@ -129,6 +131,19 @@ std::string pad(const std::string& text, std::size_t width) {
 
 Json number(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
 
+// One plain memcpy per call, cycling through the frames.
+Measured timeMemcpy(const std::vector<Frame>& frames, double min_time_s) {
+  std::vector<std::uint8_t> dst(frames.front().rgb.data.size());
+  std::size_t k = 0;
+  return measure(
+      [&] {
+        const Image& f = frames[k++ % frames.size()].rgb;
+        std::memcpy(dst.data(), f.data.data(), f.data.size());
+        keep(dst.front());
+      },
+      min_time_s);
+}
+
 // The default Vision pipeline ("sidewalk") per frame at 512 x 480 on the campus scene, one thread: its
 // default (grid_px 2: classification on 2 x 2-pixel cells, fast paths), the same after the Map's
 // prediction for the frame's pose (the mission loop's two costly steps: issue 9's latency less the
@@ -142,7 +157,7 @@ struct SidewalkTimes {
 };
 
 SidewalkTimes timeSidewalk(double min_time_s) {
-  const SidewalkScene scene = makeSidewalkScene();
+  const SidewalkScene scene = makeSidewalkScene(std::filesystem::path(defaultParkMapPath()).parent_path());
   registerBuiltinPipelines();
   SidewalkTimes t;
   t.width = scene.camera->width();
@@ -167,19 +182,185 @@ SidewalkTimes timeSidewalk(double min_time_s) {
   t.fast = timeDetect("{}", false);
   t.predicted = timeDetect("{}", true);
   t.reference = timeDetect(R"({"reference": true})", false);
-  std::vector<std::uint8_t> dst(scene.frames.front().rgb.data.size());
-  std::size_t k = 0;
-  t.copy = measure(
-      [&] {
-        const Image& f = scene.frames[k++ % scene.frames.size()].rgb;
-        std::memcpy(dst.data(), f.data.data(), f.data.size());
-        keep(dst.front());
-      },
-      min_time_s);
+  t.copy = timeMemcpy(scene.frames, min_time_s);
   return t;
 }
 
+
+// What one `mapnav bench` run measured.
+struct Growth {
+  std::string what;  // "runtime" or "memcpy"
+  int threads;
+  double ratio;      // costPerPixelGrowth from the smallest size to the largest
+};
+
+struct BenchResults {
+  int cores = 1;
+  std::vector<Row> rows;
+  std::vector<Training> trainings;  // one per size
+  Training train;                   // the one reported: at 512, else at the largest size
+  int small = 0, large = 0;         // the smallest and the largest size
+  std::vector<Growth> growth;       // empty with one size
+  SidewalkTimes sidewalk;
+};
+
+void printHeader(const BenchConfig& config, int cores, std::ostream& out) {
+  out << "mapnav bench: park road finder runtime (Jochem & Baluja 1993, section 6) on this machine, " << cores
+      << (cores == 1 ? " core" : " cores") << "\n"
+      << "time per colour frame: find() without the mask on the park scene, " << toString(config.road_model)
+      << " road model, median batch, >= "
+      << format("%g", config.min_time_s) << " s per cell\n"
+      << "memcpy_ratio    = runtime time / time of a plain memcpy of the same frame (memory floor; lower is "
+         "better)\n"
+      << "reference_ratio = per-pixel reference path's time / runtime time, same threads (> 1 = faster than "
+         "the reference)\n\n";
+  out << pad("size", 6) << pad("threads", 9) << pad("ms/frame", 12) << pad("frames/s", 12) << pad("Mpx/s", 10)
+      << pad("memcpy_ratio", 14) << pad("reference_ratio", 17) << "\n";
+  out.flush();
+}
+
+void printRow(const Row& row, std::ostream& out) {
+  out << pad(std::to_string(row.size), 6) << pad(std::to_string(row.threads), 9) << pad(sig(row.ms()), 12)
+      << pad(format("%.0f", row.fps()), 12) << pad(format("%.1f", row.pxPerS() / 1e6), 10)
+      << pad(format("%.2f", row.memcpyRatio()), 14) << pad(format("%.2f", row.referenceRatio()), 17) << "\n";
+  out.flush();
+}
+
+// The park scene at every size: the training, then per thread count the runtime and the reference
+// path (rows printed as they are measured unless --json).
+void timePark(const Map& park, const BenchConfig& config, const std::vector<int>& thread_counts, BenchResults& r,
+              std::ostream& out) {
+  for (const int size : config.sizes) {
+    const ParkScene scene = makeParkScene(park, size);
+    const TrainedParkFinder trained = trainParkFinder(scene, parkFinderOptions(size, 1, config.road_model));
+    r.trainings.push_back({size, trained.cluster_ms, trained.perceptron_ms});
+    const std::vector<Frame>& frames = scene.frames;
+    const Measured copy = timeMemcpy(frames, config.min_time_s);
+    const auto timeFind = [&](const ClusterPerceptron& finder) {
+      std::size_t j = 0;
+      return measure(
+          [&] {
+            const Image& f = frames[j++ % frames.size()].rgb;
+            const RoadFinding found = finder.find(f.data.data(), size, size, false);
+            keep(found.centerline_image);
+          },
+          config.min_time_s);
+    };
+    for (const int threads : thread_counts) {
+      ClusterPerceptron fast = trained.finder;
+      fast.setThreads(threads);
+      ClusterPerceptron reference = fast;
+      reference.setFast(false);
+      Row row;
+      row.size = size;
+      row.threads = threads;
+      row.memcpy = copy;
+      row.reference = timeFind(reference);
+      row.runtime = timeFind(fast);
+      r.rows.push_back(row);
+      if (!config.json) printRow(row, out);
+    }
+  }
+}
+
+// Cost per pixel growth from the smallest to the largest size, per thread count and for memcpy.
+std::vector<Growth> costGrowth(const std::vector<Row>& rows, int small, int large, const std::vector<int>& thread_counts) {
+  std::vector<Growth> growth;
+  if (small == large) return growth;
+  for (const int threads : thread_counts) {
+    const auto at = [&](int size) {
+      return *std::find_if(rows.begin(), rows.end(), [&](const Row& r) { return r.size == size && r.threads == threads; });
+    };
+    growth.push_back({"runtime", threads,
+                      costPerPixelGrowth(at(small).runtime.s_per_frame, small, at(large).runtime.s_per_frame, large)});
+    if (threads == 1) {
+      growth.push_back(
+          {"memcpy", 1, costPerPixelGrowth(at(small).memcpy.s_per_frame, small, at(large).memcpy.s_per_frame, large)});
+    }
+  }
+  return growth;
+}
+
+Json benchJson(const BenchConfig& config, const BenchResults& r) {
+  Json doc = Json::object();
+  const SidewalkTimes& sidewalk = r.sidewalk;
+  doc["sidewalk"] = {{"width", sidewalk.width},
+                     {"height", sidewalk.height},
+                     {"ms", number(sidewalk.ms())},
+                     {"fps", number(1e3 / sidewalk.ms())},
+                     {"memcpy_ratio", number(sidewalk.memcpyRatio())},
+                     {"reference_ratio", number(sidewalk.referenceRatio())},
+                     {"reference_ms", number(1e3 * sidewalk.reference.s_per_frame)},
+                     {"with_prediction_ms", number(1e3 * sidewalk.predicted.s_per_frame)},
+                     {"memcpy_ms", number(1e3 * sidewalk.copy.s_per_frame)}};
+  Json runtime = Json::array();
+  for (const Row& row : r.rows) {
+    runtime.push_back({{"size", row.size},
+                       {"threads", row.threads},
+                       {"fps", number(row.fps())},
+                       {"ms", number(row.ms())},
+                       {"px_per_s", number(row.pxPerS())},
+                       {"memcpy_ratio", number(row.memcpyRatio())},
+                       {"reference_ratio", number(row.referenceRatio())},
+                       {"memcpy_ms", number(1e3 * row.memcpy.s_per_frame)},
+                       {"reference_ms", number(1e3 * row.reference.s_per_frame)},
+                       {"batches", row.runtime.batches}});
+  }
+  doc["runtime"] = runtime;
+  doc["road_model"] = toString(config.road_model);
+  doc["train_ms"] = number(r.train.ms());
+  doc["train_size"] = r.train.size;
+  Json training = Json::array();
+  for (const Training& t : r.trainings) {
+    training.push_back({{"size", t.size},
+                        {"train_ms", number(t.ms())},
+                        {"cluster_ms", number(t.cluster_ms)},
+                        {"perceptron_ms", number(t.perceptron_ms)}});
+  }
+  doc["training"] = training;
+  Json g = Json::array();
+  for (const Growth& x : r.growth) {
+    g.push_back({{"what", x.what}, {"threads", x.threads}, {"from", r.small}, {"to", r.large},
+                 {"cost_per_pixel_ratio", number(x.ratio)}});
+  }
+  doc["cost_per_pixel_growth"] = g;
+  doc["cores"] = r.cores;
+  doc["min_time_s"] = config.min_time_s;
+  return doc;
+}
+
+// The lines after the table: cost per pixel growth, training, the sidewalk pipeline.
+void printSummary(const BenchResults& r, std::ostream& out) {
+  if (!r.growth.empty()) {
+    out << "\ncost per pixel growth, time(" << r.large << ") / time(" << r.small << ") / pixel ratio "
+        << format("%.0f", (static_cast<double>(r.large) * r.large) / (static_cast<double>(r.small) * r.small))
+        << " (1 = linear):";
+    const char* sep = " ";
+    for (const Growth& x : r.growth) {
+      out << sep
+          << (x.what == "memcpy" ? std::string("memcpy")
+                                 : "runtime " + std::to_string(x.threads) + (x.threads == 1 ? " thread" : " threads"))
+          << " " << format("%.2f", x.ratio);
+      sep = ", ";
+    }
+    out << "\n";
+  }
+  const Training& train = r.train;
+  out << "training at " << train.size << "x" << train.size
+      << " (clustering + perceptron on the first frame, one thread): " << sig(train.ms()) << " ms (clustering "
+      << sig(train.cluster_ms) << ", perceptron " << sig(train.perceptron_ms) << ")\n";
+  const SidewalkTimes& sidewalk = r.sidewalk;
+  out << "sidewalk pipeline (the default Vision, issue 9's loop) at " << sidewalk.width << "x" << sidewalk.height
+      << " on the campus scene, one thread (the default, grid_px 2: 2 x 2-pixel cells): " << sig(sidewalk.ms())
+      << " ms/frame (" << sig(1e3 * sidewalk.predicted.s_per_frame)
+      << " with the Map's prediction first, the loop's two costly steps), memcpy_ratio "
+      << sig(sidewalk.memcpyRatio()) << ", reference_ratio " << sig(sidewalk.referenceRatio()) << " (reference, every pixel: "
+      << sig(1e3 * sidewalk.reference.s_per_frame) << " ms)\n";
+}
+
 }  // namespace
+
+std::string defaultParkMapPath() { return dataPath("maps/park_path.json"); }
 
 std::vector<int> parseBenchSizes(const std::string& text) {
   const std::string expected = "sizes in pixels a side, whole numbers in [16, 4096], e.g. 64,128,256,512,1024";
@@ -210,177 +391,73 @@ int resolveThreads(int threads) {
 int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
     if (config.sizes.empty()) throw InvalidInput("--sizes: at least one size");
-    const int cores = resolveThreads(0);
-    const int many = resolveThreads(config.threads);
+    BenchResults r;
+    r.cores = resolveThreads(0);
     const Map park = loadMap(config.map.empty() ? defaultParkMapPath() : config.map);
+    // Two rows per size: one thread, and every core (or --threads); on a one-core machine both are 1.
+    const std::vector<int> thread_counts{1, resolveThreads(config.threads)};
+    if (!config.json) printHeader(config, r.cores, out);
+    timePark(park, config, thread_counts, r, out);
     // Training is reported at 512 when measured, else at the largest size.
     const int train_size =
         std::find(config.sizes.begin(), config.sizes.end(), 512) != config.sizes.end() ? 512 : config.sizes.back();
-
-    // Two rows per size: one thread, and every core (or --threads); on a one-core machine both are 1.
-    const std::vector<int> thread_counts{1, many};
-    if (!config.json) {
-      out << "mapnav bench: park road finder runtime (Jochem & Baluja 1993, section 6) on this machine, " << cores
-          << (cores == 1 ? " core" : " cores") << "\n"
-          << "time per colour frame: find() without the mask on the park scene, " << toString(config.road_model)
-          << " road model, median batch, >= "
-          << format("%g", config.min_time_s) << " s per cell\n"
-          << "memcpy_ratio    = runtime time / time of a plain memcpy of the same frame (memory floor; lower is "
-             "better)\n"
-          << "reference_ratio = per-pixel reference path's time / runtime time, same threads (> 1 = faster than "
-             "the reference)\n\n";
-      out << pad("size", 6) << pad("threads", 9) << pad("ms/frame", 12) << pad("frames/s", 12) << pad("Mpx/s", 10)
-          << pad("memcpy_ratio", 14) << pad("reference_ratio", 17) << "\n";
-      out.flush();
-    }
-
-    std::vector<Row> rows;
-    std::vector<Training> trainings;
-    for (const int size : config.sizes) {
-      const ParkScene scene = makeParkScene(park, size);
-      const TrainedParkFinder trained = trainParkFinder(scene, parkFinderOptions(size, 1, config.road_model));
-      trainings.push_back({size, trained.cluster_ms, trained.perceptron_ms});
-
-      const std::vector<Frame>& frames = scene.frames;
-      std::vector<std::uint8_t> dst(frames.front().rgb.data.size());
-      std::size_t k = 0;
-      const Measured copy = measure(
-          [&] {
-            const Image& f = frames[k++ % frames.size()].rgb;
-            std::memcpy(dst.data(), f.data.data(), f.data.size());
-            keep(dst.front());
-          },
-          config.min_time_s);
-      const auto timeFind = [&](const ClusterPerceptron& finder) {
-        std::size_t j = 0;
-        return measure(
-            [&] {
-              const Image& f = frames[j++ % frames.size()].rgb;
-              const RoadFinding r = finder.find(f.data.data(), size, size, false);
-              keep(r.centerline_image);
-            },
-            config.min_time_s);
-      };
-      for (const int threads : thread_counts) {
-        ClusterPerceptron fast = trained.finder;
-        fast.setThreads(threads);
-        ClusterPerceptron reference = fast;
-        reference.setFast(false);
-        Row row;
-        row.size = size;
-        row.threads = threads;
-        row.memcpy = copy;
-        row.reference = timeFind(reference);
-        row.runtime = timeFind(fast);
-        rows.push_back(row);
-        if (!config.json) {
-          out << pad(std::to_string(size), 6) << pad(std::to_string(threads), 9) << pad(sig(row.ms()), 12)
-              << pad(format("%.0f", row.fps()), 12) << pad(format("%.1f", row.pxPerS() / 1e6), 10)
-              << pad(format("%.2f", row.memcpyRatio()), 14) << pad(format("%.2f", row.referenceRatio()), 17) << "\n";
-          out.flush();
-        }
-      }
-    }
-    const Training& train = *std::find_if(trainings.begin(), trainings.end(),
-                                          [&](const Training& t) { return t.size == train_size; });
-
-    // Cost per pixel growth from the smallest to the largest size, per thread count and for memcpy.
-    struct Growth {
-      std::string what;
-      int threads;
-      double ratio;
-    };
-    std::vector<Growth> growth;
-    const int small = config.sizes.front(), large = config.sizes.back();
-    if (small != large) {
-      for (const int threads : thread_counts) {
-        const auto at = [&](int size) {
-          return *std::find_if(rows.begin(), rows.end(),
-                               [&](const Row& r) { return r.size == size && r.threads == threads; });
-        };
-        growth.push_back({"runtime", threads,
-                          costPerPixelGrowth(at(small).runtime.s_per_frame, small, at(large).runtime.s_per_frame, large)});
-        if (threads == 1) {
-          growth.push_back({"memcpy", 1, costPerPixelGrowth(at(small).memcpy.s_per_frame, small,
-                                                            at(large).memcpy.s_per_frame, large)});
-        }
-      }
-    }
-
-    const SidewalkTimes sidewalk = timeSidewalk(config.min_time_s);
+    r.train = *std::find_if(r.trainings.begin(), r.trainings.end(), [&](const Training& t) { return t.size == train_size; });
+    r.small = config.sizes.front();
+    r.large = config.sizes.back();
+    r.growth = costGrowth(r.rows, r.small, r.large, thread_counts);
+    r.sidewalk = timeSidewalk(config.min_time_s);
     if (config.json) {
-      Json doc = Json::object();
-      doc["sidewalk"] = {{"width", sidewalk.width},
-                         {"height", sidewalk.height},
-                         {"ms", number(sidewalk.ms())},
-                         {"fps", number(1e3 / sidewalk.ms())},
-                         {"memcpy_ratio", number(sidewalk.memcpyRatio())},
-                         {"reference_ratio", number(sidewalk.referenceRatio())},
-                         {"reference_ms", number(1e3 * sidewalk.reference.s_per_frame)},
-                         {"with_prediction_ms", number(1e3 * sidewalk.predicted.s_per_frame)},
-                         {"memcpy_ms", number(1e3 * sidewalk.copy.s_per_frame)}};
-      Json runtime = Json::array();
-      for (const Row& r : rows) {
-        runtime.push_back({{"size", r.size},
-                           {"threads", r.threads},
-                           {"fps", number(r.fps())},
-                           {"ms", number(r.ms())},
-                           {"px_per_s", number(r.pxPerS())},
-                           {"memcpy_ratio", number(r.memcpyRatio())},
-                           {"reference_ratio", number(r.referenceRatio())},
-                           {"memcpy_ms", number(1e3 * r.memcpy.s_per_frame)},
-                           {"reference_ms", number(1e3 * r.reference.s_per_frame)},
-                           {"batches", r.runtime.batches}});
-      }
-      doc["runtime"] = runtime;
-      doc["road_model"] = toString(config.road_model);
-      doc["train_ms"] = number(train.ms());
-      doc["train_size"] = train.size;
-      Json training = Json::array();
-      for (const Training& t : trainings) {
-        training.push_back({{"size", t.size},
-                            {"train_ms", number(t.ms())},
-                            {"cluster_ms", number(t.cluster_ms)},
-                            {"perceptron_ms", number(t.perceptron_ms)}});
-      }
-      doc["training"] = training;
-      Json g = Json::array();
-      for (const Growth& x : growth) {
-        g.push_back({{"what", x.what}, {"threads", x.threads}, {"from", small}, {"to", large},
-                     {"cost_per_pixel_ratio", number(x.ratio)}});
-      }
-      doc["cost_per_pixel_growth"] = g;
-      doc["cores"] = cores;
-      doc["min_time_s"] = config.min_time_s;
-      out << doc.dump() << "\n";
-      return static_cast<int>(kOk);
+      out << benchJson(config, r).dump() << "\n";
+    } else {
+      printSummary(r, out);
     }
-
-    if (!growth.empty()) {
-      out << "\ncost per pixel growth, time(" << large << ") / time(" << small << ") / pixel ratio "
-          << format("%.0f", (static_cast<double>(large) * large) / (static_cast<double>(small) * small))
-          << " (1 = linear):";
-      const char* sep = " ";
-      for (const Growth& x : growth) {
-        out << sep
-            << (x.what == "memcpy" ? std::string("memcpy")
-                                   : "runtime " + std::to_string(x.threads) + (x.threads == 1 ? " thread" : " threads"))
-            << " " << format("%.2f", x.ratio);
-        sep = ", ";
-      }
-      out << "\n";
-    }
-    out << "training at " << train.size << "x" << train.size
-        << " (clustering + perceptron on the first frame, one thread): " << sig(train.ms()) << " ms (clustering "
-        << sig(train.cluster_ms) << ", perceptron " << sig(train.perceptron_ms) << ")\n";
-    out << "sidewalk pipeline (the default Vision, issue 9's loop) at " << sidewalk.width << "x" << sidewalk.height
-        << " on the campus scene, one thread (the default, grid_px 2: 2 x 2-pixel cells): " << sig(sidewalk.ms())
-        << " ms/frame (" << sig(1e3 * sidewalk.predicted.s_per_frame)
-        << " with the Map's prediction first, the loop's two costly steps), memcpy_ratio "
-        << sig(sidewalk.memcpyRatio()) << ", reference_ratio " << sig(sidewalk.referenceRatio()) << " (reference, every pixel: "
-        << sig(1e3 * sidewalk.reference.s_per_frame) << " ms)\n";
     return static_cast<int>(kOk);
   });
+}
+
+// ---- the command line: `mapnav bench` -----------------------------------------------------------
+
+void registerBenchCommand(CLI::App& app, Commands& commands) {
+  auto* bench = commands.hold<BenchConfig>();
+  struct Texts {
+    std::string sizes = "64,128,256,512,1024", min_time = "0.2", road_model = "line";
+  };
+  auto* text = commands.hold<Texts>();
+  CLI::App* bn = app.add_subcommand("bench", "Time the park road finder's runtime per frame on this machine (Jochem & Baluja 1993, section 6) and the sidewalk pipeline at 512x480");
+  bn->add_flag("--json", bench->json, "Print one JSON object instead of the table");
+  bn->add_option("--sizes", text->sizes, "Square frame sizes, pixels a side, comma-separated, each in [16, 4096]")
+      ->default_str("64,128,256,512,1024");
+  bn->add_option("--min-time", text->min_time, "Seconds to spend on each measurement at least (> 0, at most 60)")
+      ->default_str("0.2");
+  bn->add_option("--threads", bench->threads, "Threads of the multi-threaded rows; 0 = every core")
+      ->default_val(0)
+      ->check(CLI::Range(0, 256));
+  bn->add_option("--map", bench->map, "The park map the frames are rendered from (default: maps/park_path.json)")
+      ->check(CLI::ExistingFile);
+  bn->add_option("--road-model", text->road_model, "The road finder's model: line (the paper) or arc (section 9, bends)")
+      ->default_str("line")
+      ->check(CLI::IsMember({"line", "arc"}));
+  bn->footer(
+      "What is measured, per size: the park scene (maps/park_path.json, a SIZE x SIZE pin-hole scaled from the\n"
+      "Terregator camera, synthetic frames with tree shadows) is rendered, the road finder is trained on the\n"
+      "first frame, then find() without the mask (lookup-table classification, block certainty, Hough) is\n"
+      "timed per colour frame with one thread and with every core (or --threads), reported as ms/frame,\n"
+      "frames/s and pixels/s. Each measurement runs in batches for at least --min-time seconds and takes the\n"
+      "median batch (steady_clock). Two ratios are measured in the same run:\n"
+      "  memcpy_ratio    = runtime time / time of a plain memcpy of the same frame (1 = the memory floor)\n"
+      "  reference_ratio = time of the per-pixel reference path (float distance to every cluster, std::tanh)\n"
+      "                    with the same threads / runtime time (> 1 = the runtime is that much faster)\n"
+      "Cost per pixel growth = (time at the largest size / time at the smallest) / pixel ratio: 1 = linear.\n"
+      "Training (clustering + perceptron on the first frame, one thread) is reported at 512, or at the largest\n"
+      "size when 512 is not measured; train_ms in the JSON, with every size's under \"training\".\n"
+      "--json prints {\"runtime\":[{\"size\",\"threads\",\"fps\",\"ms\",\"px_per_s\",\"memcpy_ratio\",\n"
+      "\"reference_ratio\",...},...],\"train_ms\",...}. Exit codes: 0 measured, 1 an invalid --map, 2 usage or I/O error.");
+  bn->callback(commands.choose([bench, text](std::ostream& out, std::ostream& err) {
+    bench->sizes = parseBenchSizes(text->sizes);
+    bench->min_time_s = parseBenchMinTime(text->min_time);
+    bench->road_model = roadModelFromString(text->road_model);
+    return runBench(*bench, out, err);
+  }));
 }
 
 }  // namespace mapnav::cli

@@ -1,6 +1,6 @@
 #pragma once
 // `mapnav bench`: the speed of the park-mode road finder's runtime (Jochem & Baluja 1993, §6) on the
-// scene of apps/src/park_scene.h, per colour frame, single-threaded and on every core, with its
+// scene of mapnav/scenes/park_scene.h, per colour frame, single-threaded and on every core, with its
 // ratios to a memcpy of the same frame and to the per-pixel reference path; and the training time;
 // then the default Vision pipeline ("sidewalk") per frame at 512 x 480 with the same two ratios.
 #include <iosfwd>
@@ -21,6 +21,10 @@ struct BenchConfig {
   /// ground refinement is timed too.
   RoadModel road_model = RoadModel::Line;
 };
+
+/// maps/park_path.json: the installed copy next to the program (../share/mapnav/maps) when there is
+/// one, else the source tree's. The sidewalk scene's map and camera come from the same folder.
+std::string defaultParkMapPath();
 
 /// "64,128,256": the sizes, each a whole number in [16, 4096], sorted, without repeats. Throws
 /// InvalidInput naming --sizes.

@@ -5,15 +5,18 @@
 #include <ostream>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/predict.h"
+#include "mapnav/mission/image_region.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision_iface/pipeline.h"
 #include "pipelines_command.h"
+#include "predict_command.h"
 
 namespace mapnav::cli {
 
@@ -69,25 +72,6 @@ std::string toJson(const DetectedObject& d) {
 
 }  // namespace
 
-Prediction predictionFromImageRegion(const std::vector<Vec2>& polygon, const Camera& camera) {
-  Prediction p;
-  PredictedRegion region;
-  region.id = "train-region";
-  region.kind = "given region";
-  Polygon2 ground;
-  for (const Vec2& pixel : polygon) {
-    if (const auto g = camera.backproject(pixel)) ground.push_back(*g);
-  }
-  if (ground.size() < 3) {
-    throw InvalidInput("the training region: fewer than 3 of its points see the ground (they are above the horizon)");
-  }
-  region.vehicle = {ground};
-  p.view.regions = {region};
-  const PredictOptions defaults;
-  p.view.footprint = viewFootprint(camera, defaults.near_m, defaults.far_m);
-  return p;
-}
-
 int runDetect(const DetectConfig& config, std::ostream& out, std::ostream& err) {
   return withMap(config.map, err, [&](const Map& map) {
     const Detection d = run(&map, config);
@@ -132,6 +116,67 @@ int runSegment(const DetectConfig& config, std::ostream& out, std::ostream& err)
   };
   if (!config.train_region.empty()) return guarded(err, [&] { return body(nullptr); });
   return withMap(config.map, err, [&](const Map& map) { return body(&map); });
+}
+
+// ---- the command line: `mapnav detect` and `mapnav segment` -------------------------------------
+
+namespace {
+
+/// What the command line gives before it is parsed into the config: the pose as text.
+struct DetectLine {
+  DetectConfig config;
+  std::string pose, at, train_region;
+};
+
+/// The options detect and segment share.
+void addVisionOptions(CLI::App* c, DetectLine& line) {
+  addPipelineOptions(c, line.config.pipeline, line.config.options_json, line.config.plugins, "sidewalk");
+  c->add_option("image", line.config.image, "Camera frame (RGB PNG)")->required()->check(CLI::ExistingFile);
+  c->add_option("--map", line.config.map, "Map file, for the prediction")->check(CLI::ExistingFile);
+  c->add_option("--camera", line.config.camera, "Camera file")->required()->check(CLI::ExistingFile);
+  auto* pose = c->add_option("--pose", line.pose, "Vehicle pose X,Y,HEADING_DEG, for the prediction");
+  auto* at = c->add_option("--at", line.at, "Vehicle on a road: ROAD@NODE+METERS");
+  pose->excludes(at);
+  at->excludes(pose);
+}
+
+using VisionRun = int (*)(const DetectConfig&, std::ostream&, std::ostream&);
+
+/// The body of detect or segment: the prediction from --map and the pose, or segment's training region.
+Commands::Body visionCommand(DetectLine* line, VisionRun run) {
+  return [line, run](std::ostream& out, std::ostream& err) {
+    DetectConfig& detect = line->config;
+    if (!line->train_region.empty()) {
+      detect.train_region = parsePixelPolygon(line->train_region);
+      return run(detect, out, err);
+    }
+    if (detect.map.empty() || (line->pose.empty() && line->at.empty())) {
+      throw InvalidInput("the prediction needs --map and --pose (or --at); segment also takes --train-region instead");
+    }
+    if (!line->pose.empty()) detect.pose = parsePose(line->pose);
+    if (!line->at.empty()) detect.at = parseRoadPosition(line->at);
+    return run(detect, out, err);
+  };
+}
+
+}  // namespace
+
+void registerDetectCommands(CLI::App& app, Commands& commands) {
+  // detect and segment share their options: one holds them whichever is given.
+  auto* line = commands.hold<DetectLine>();
+  CLI::App* dt = app.add_subcommand("detect", "Run a vision pipeline on a frame against the prediction: the Detected Object");
+  addVisionOptions(dt, *line);
+  dt->add_flag("--json", line->config.json, "Print the DetectedObject as JSON");
+  dt->add_option("-o,--output", line->config.output, "Overlay picture (PNG): predicted segments thin, detected lines bold")
+      ->check(outputFile(false));
+  dt->footer("Exit codes: 0 detected, 1 the pipeline failed on the frame (the reason is printed) or bad input, 2 usage/I-O.");
+  dt->callback(commands.choose(visionCommand(line, runDetect)));
+  CLI::App* sg = app.add_subcommand("segment", "Run a vision pipeline on a frame and write the road mask it finds");
+  addVisionOptions(sg, *line);
+  sg->add_option("-o,--output", line->config.output, "Road mask to write (PNG, 255 = road)")->required();
+  sg->add_option("--overlay", line->config.overlay, "Also the overlay picture (PNG)");
+  sg->add_option("--train-region", line->train_region, "Train on this image polygon U,V;U,V;U,V (pixels) instead of a map prediction");
+  sg->callback(commands.choose(visionCommand(line, runSegment)));
 }
 
 }  // namespace mapnav::cli

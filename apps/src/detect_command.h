@@ -4,9 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
-#include "mapnav/map/predict.h"
 #include "mapnav/navigator/road_position.h"
 
 namespace mapnav::cli {
@@ -27,10 +25,6 @@ struct DetectConfig {
 
 /// `mapnav detect`: the DetectedObject for one image and the prediction at a pose.
 int runDetect(const DetectConfig& config, std::ostream& out, std::ostream& err);
-/// A prediction made of one region given in image pixels (training without a map): one predicted
-/// road, the polygon back-projected to the ground (points above the horizon dropped). Throws
-/// InvalidInput when fewer than 3 of its points see the ground.
-Prediction predictionFromImageRegion(const std::vector<Vec2>& polygon, const Camera& camera);
 /// "U,V;U,V;U,V" (pixels) → a polygon. Throws InvalidInput.
 std::vector<Vec2> parsePixelPolygon(const std::string& text);
 

@@ -10,13 +10,14 @@
 #include <sstream>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
-#include "detect_command.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/interrupt.h"
 #include "mapnav/core/json.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
+#include "mapnav/mission/image_region.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision_iface/pipeline.h"
 #include "pipelines_command.h"
@@ -168,6 +169,57 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
     }
     return static_cast<int>(kOk);
   });
+}
+
+// ---- the command line: `mapnav eval segmentation` -----------------------------------------------
+
+namespace {
+
+/// "3,4": label values, whole numbers in [0, 255]. Throws InvalidInput naming the option.
+std::vector<int> parseLabelValues(const std::string& option, const std::string& text) {
+  std::vector<int> out;
+  if (text.empty()) return out;
+  for (double v : parseNumbers(option, text, 1, 256, "label values V[,V...] (0-255)")) {
+    if (v != std::floor(v)) throw InvalidInput(option + " \"" + text + "\": label values are whole numbers");
+    out.push_back(static_cast<int>(v));
+  }
+  return out;
+}
+
+}  // namespace
+
+void registerEvalCommands(CLI::App& app, Commands& commands) {
+  auto* eval = commands.hold<EvalSegmentationConfig>();
+  struct Texts {
+    std::string road = "3", ignore;
+  };
+  auto* text = commands.hold<Texts>();
+  CLI::App* ev = app.add_subcommand("eval", "Score vision pipelines on labelled real photos (docs/eval.md)");
+  ev->require_subcommand(1);
+  CLI::App* es = ev->add_subcommand(
+      "segmentation", "Run a pipeline over labelled photos: road IoU (set, per-image median and worst), precision, recall");
+  addPipelineOptions(es, eval->pipeline, eval->options_json, eval->plugins, "sidewalk");
+  es->add_option("--images", eval->images, "Folder of RGB photos (PNG)")->required();
+  es->add_option("--labels", eval->labels, "Folder of 1-channel class-index PNGs, one per photo, same file stem")->required();
+  es->add_option("--road-values", text->road, "Label values that are road, comma-separated (CamVid: 3 road, 4 pavement)")
+      ->default_val("3");
+  es->add_option("--ignore-values", text->ignore, "Label values left out of the scores (CamVid: 11 unlabelled)");
+  es->add_option("--bootstrap", eval->bootstrap,
+                 "The road region the pipeline trains on: trapezoid (bottom centre, docs/eval.md) or labels-first-frame "
+                 "(the first photo's largest labelled road region)")
+      ->default_val("trapezoid");
+  es->add_option("--camera", eval->camera, "Camera file (default: an assumed level pin-hole of the photos' size, docs/eval.md)")
+      ->check(CLI::ExistingFile);
+  es->add_option("--overlays", eval->overlays, "Folder to write overlays to: true positives green, false positives red, "
+                                               "false negatives blue, ignored pixels dark");
+  es->add_flag("--json", eval->json, "Print the scores as JSON");
+  es->footer("Exit codes: 0 scored, 1 invalid input (an image without its label, a label of another size, a corrupt PNG), "
+             "2 usage or I/O error (a missing folder).");
+  es->callback(commands.choose([eval, text](std::ostream& out, std::ostream& err) {
+    eval->classes.road = parseLabelValues("--road-values", text->road);
+    eval->classes.ignore = parseLabelValues("--ignore-values", text->ignore);
+    return runEvalSegmentation(*eval, out, err);
+  }));
 }
 
 }  // namespace mapnav::cli

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
@@ -163,6 +164,53 @@ int runLogImportKitti(const LogImportKittiConfig& config, std::ostream& out, std
     out << text.str();
     return static_cast<int>(kOk);
   });
+}
+
+// ---- the command line: `mapnav log ...` -------------------------------------------------------
+
+namespace {
+
+void addLogInfo(CLI::App& log, Commands& commands) {
+  auto* info = commands.hold<LogInfoConfig>();
+  CLI::App* li = log.add_subcommand("info", "Summarise a log: frames, duration, distance, camera, ground truth");
+  li->add_option("dir", info->dir, "Log folder")->required()->check(CLI::ExistingDirectory);
+  li->add_flag("--json", info->json, "Print one JSON object");
+  li->callback(commands.choose([info](std::ostream& out, std::ostream& err) { return runLogInfo(*info, out, err); }));
+}
+
+void addLogFrame(CLI::App& log, Commands& commands) {
+  auto* frame = commands.hold<LogFrameConfig>();
+  CLI::App* lf = log.add_subcommand("frame", "Write frame N with its ground-truth road mask overlaid");
+  lf->add_option("dir", frame->dir, "Log folder")->required()->check(CLI::ExistingDirectory);
+  lf->add_option("index", frame->index, "Frame number, from 0")->required();
+  lf->add_option("-o,--output", frame->output, "PNG to write")->required();
+  lf->callback(commands.choose([frame](std::ostream& out, std::ostream& err) { return runLogFrame(*frame, out, err); }));
+}
+
+void addLogImportKitti(CLI::App& log, Commands& commands) {
+  auto* kitti = commands.hold<LogImportKittiConfig>();
+  CLI::App* lk = log.add_subcommand("import-kitti", "Turn a KITTI odometry sequence (images, poses.txt, calib.txt) into a log with truth (docs/kitti.md)");
+  lk->add_option("dir", kitti->dir, "KITTI sequence folder")->required()->check(CLI::ExistingDirectory);
+  lk->add_option("-o,--output", kitti->output, "Log folder to write (must not exist, or be empty)")->required();
+  lk->add_option("--camera-height", kitti->options.camera_height_m, "Camera height above the road, m")->default_val(1.65);
+  lk->add_option("--camera-tilt", kitti->options.camera_tilt_deg, "Camera pitch below the horizon, degrees")->default_val(0.0);
+  lk->add_option("--frame-rate", kitti->options.frame_rate_hz, "Frame rate when there is no times.txt, Hz")->default_val(10.0);
+  lk->add_option("--images", kitti->options.images, "Image folder inside the sequence (default: the first image_* folder)");
+  lk->add_option("--name", kitti->options.name, "The log's name (default: KITTI and the folder's name)");
+  lk->footer("Exit codes: 0 written, 1 invalid input (a malformed poses.txt line, fewer poses than images; the file and "
+             "line are named and nothing is written), 2 usage or I/O error (a missing poses.txt or calib.txt).");
+  lk->callback(commands.choose([kitti](std::ostream& out, std::ostream& err) { return runLogImportKitti(*kitti, out, err); }));
+}
+
+}  // namespace
+
+void registerLogCommands(CLI::App& app, Commands& commands) {
+  CLI::App* log = app.add_subcommand("log", "Inspect replay logs (docs/replay-log-format.md)");
+  log->require_subcommand(1);
+  addLogInfo(*log, commands);
+  addLogFrame(*log, commands);
+  addLogImportKitti(*log, commands);
+  registerTrackCommand(*log, commands);
 }
 
 }  // namespace mapnav::cli

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
@@ -147,6 +148,130 @@ int runExportGeoJson(const ExportGeoJsonConfig& config, std::ostream& out, std::
     out << "wrote " << config.output << " (" << map.intersections().size() + map.roads().size() << " features)\n";
     return static_cast<int>(kOk);
   });
+}
+
+// ---- the command line: `mapnav map ...` -------------------------------------------------------
+
+namespace {
+
+constexpr const char* kMapFooter = R"(Map files are mapnav-map/1 JSON (docs/map-format.md) or, where a command says so,
+GeoJSON from QGIS or geojson.io. Exit codes: 0 success, 1 the input is wrong (an invalid map),
+2 usage or I/O error.)";
+
+void addOrigin(CLI::App* command, std::string& text) {
+  command->add_option("--origin", text,
+                      "Geodetic origin of the local frame as LAT,LON or LAT,LON,ALT (degrees, metres)");
+}
+
+void addValidate(CLI::App& map, Commands& commands) {
+  auto* validate = commands.hold<ValidateConfig>();
+  CLI::App* v = map.add_subcommand("validate", "Check map files and report every problem as FILE:/pointer: severity: check: message");
+  v->add_option("files", validate->files, "Map files (.json, or .geojson)")->required()->check(CLI::ExistingFile);
+  v->add_flag("-q,--quiet", validate->quiet, "Print only the problems, not a summary line per file");
+  v->footer("Exit code 0 when every file is valid (warnings allowed), 1 when any has an error, 2 when a file cannot be read.");
+  v->callback(commands.choose([validate](std::ostream& out, std::ostream& err) { return runValidate(*validate, out, err); }));
+}
+
+void addInfo(CLI::App& map, Commands& commands) {
+  auto* info = commands.hold<InfoConfig>();
+  CLI::App* i = map.add_subcommand("info", "Summarise a map: counts by kind, total length, bounds, components");
+  i->add_option("file", info->file, "Map file")->required()->check(CLI::ExistingFile);
+  i->add_flag("--json", info->json, "Print one JSON object instead of text");
+  i->callback(commands.choose([info](std::ostream& out, std::ostream& err) { return runInfo(*info, out, err); }));
+}
+
+void addRender(CLI::App& map, Commands& commands) {
+  auto* render = commands.hold<RenderConfig>();
+  auto* no_labels = commands.hold<bool>();
+  CLI::App* r = map.add_subcommand("render", "Draw a map as PNG or SVG: roads in their surface colours, ids, scale bar, north arrow");
+  r->add_option("file", render->file, "Map file")->required()->check(CLI::ExistingFile);
+  r->add_option("-o,--output", render->output, "Picture to write: OUT.png or OUT.svg")
+      ->required()
+      ->check(outputFile(false));
+  r->add_option("--width", render->width_px, "Picture width in pixels; the height follows the map")
+      ->default_val(1600)
+      ->check(CLI::Range(64, 20000));
+  r->add_flag("--no-labels", *no_labels, "Leave out road and intersection ids");
+  r->callback(commands.choose([render, no_labels](std::ostream& out, std::ostream& err) {
+    render->labels = !*no_labels;
+    return runRender(*render, out, err);
+  }));
+}
+
+void addImportGeoJson(CLI::App& map, Commands& commands) {
+  auto* import = commands.hold<ImportGeoJsonConfig>();
+  auto* origin = commands.hold<std::string>();
+  CLI::App* im = map.add_subcommand("import-geojson", "Convert GeoJSON (LineString roads, Point/Polygon intersections) to a mapnav map");
+  im->add_option("input", import->input, "GeoJSON FeatureCollection in lon/lat")->required()->check(CLI::ExistingFile);
+  im->add_option("-o,--output", import->output, "mapnav-map/1 JSON to write (only when the import is valid)")->required();
+  addOrigin(im, *origin);
+  im->add_option("--snap", import->snap_tolerance_m, "Road ends this close (m) to an intersection or to each other share it")
+      ->default_val(1.0)
+      ->check(CLI::Range(0.0, 100.0));
+  im->add_option("--name", import->name, "The map's name (default: the file's, or \"imported from GeoJSON\")");
+  im->footer("Without --origin, the origin is the file's mapnav.origin, else the centroid of its coordinates.");
+  im->callback(commands.choose([import, origin](std::ostream& out, std::ostream& err) {
+    if (!origin->empty()) import->origin = parseOrigin(*origin);
+    return runImportGeoJson(*import, out, err);
+  }));
+}
+
+void addImportOsm(CLI::App& map, Commands& commands) {
+  auto* osm = commands.hold<ImportOsmConfig>();
+  struct Texts {
+    std::string origin, bbox;
+  };
+  auto* text = commands.hold<Texts>();
+  CLI::App* io = map.add_subcommand("import-osm", "Convert OpenStreetMap data (walkable ways) to a mapnav map");
+  io->add_option("input", osm->input, "OpenStreetMap file: .osm (XML), .osm.pbf, .osm.bz2")->required()->check(CLI::ExistingFile);
+  io->add_option("-o,--output", osm->output, "mapnav-map/1 JSON to write (only when the imported map is valid)")->required();
+  io->add_option("--bbox", text->bbox, "Keep only W,S,E,N (degrees); ways leaving it are cut at its border");
+  io->add_option("--highways", osm->highways, "highway values kept, comma-separated (default footway,path,pedestrian,steps,cycleway)");
+  addOrigin(io, text->origin);
+  io->add_flag("--repair", osm->repair,
+               "Merge nodes closer than 0.5 m, add an intersection where kept ways cross without a shared node, "
+               "drop stubs and loops shorter than 1 m; every repair is listed");
+  io->add_option("--name", osm->name, "The map's name (default: \"imported from FILE\")");
+  io->footer(
+      "Ways are split at every node two kept ways share; those nodes and way ends become intersections (id n<node>, "
+      "x<k> for one --repair added), roads are w<way> or w<way>-<k>, with the OSM ids in their properties. Widths "
+      "from `width` or per highway (footway 2 m, path 1.5, pedestrian 4, steps 2, cycleway 2), surfaces from "
+      "`surface`, grass shoulders, steps with route cost factor 20. Without --origin the origin is the centre of the "
+      "kept data. Data problems are reported as warnings (where = way/ID or node/ID); nothing is written when the "
+      "map is invalid.");
+  io->callback(commands.choose([osm, text](std::ostream& out, std::ostream& err) {
+    if (!text->origin.empty()) osm->origin = parseOrigin(text->origin);
+    if (!text->bbox.empty()) osm->bbox = parseBbox(text->bbox);
+    return runImportOsm(*osm, out, err);
+  }));
+}
+
+void addExportGeoJson(CLI::App& map, Commands& commands) {
+  auto* exp = commands.hold<ExportGeoJsonConfig>();
+  auto* origin = commands.hold<std::string>();
+  CLI::App* ex = map.add_subcommand("export-geojson", "Write a map as GeoJSON in lon/lat, for QGIS");
+  ex->add_option("input", exp->input, "Map file")->required()->check(CLI::ExistingFile);
+  ex->add_option("-o,--output", exp->output, "GeoJSON file to write")->required();
+  addOrigin(ex, *origin);
+  ex->footer("The map's own origin is used unless --origin is given; a map without one needs --origin.");
+  ex->callback(commands.choose([exp, origin](std::ostream& out, std::ostream& err) {
+    if (!origin->empty()) exp->origin = parseOrigin(*origin);
+    return runExportGeoJson(*exp, out, err);
+  }));
+}
+
+}  // namespace
+
+void registerMapCommands(CLI::App& app, Commands& commands) {
+  CLI::App* map = app.add_subcommand("map", "Validate, inspect, draw and convert sidewalk maps");
+  map->require_subcommand(1);
+  map->footer(kMapFooter);
+  addValidate(*map, commands);
+  addInfo(*map, commands);
+  addRender(*map, commands);
+  addImportGeoJson(*map, commands);
+  addImportOsm(*map, commands);
+  addExportGeoJson(*map, commands);
 }
 
 }  // namespace mapnav::cli

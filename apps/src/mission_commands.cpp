@@ -1,13 +1,16 @@
 #include "mission_commands.h"
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <ostream>
 #include <system_error>
+#include <unistd.h>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
@@ -209,6 +212,104 @@ int runTraceShow(const TraceShowConfig& config, std::ostream& out, std::ostream&
     out << traceDialogue(readFile(config.file), config.file);
     return static_cast<int>(kOk);
   });
+}
+
+// ---- the command line: `mapnav replay`, `run`, `demo` and `trace show` --------------------------
+
+namespace {
+
+constexpr const char* kMissionFooter =
+    "Prints a summary (or --json: {\"frames\",\"reached_goal\",\"lateral_rms_m\",\"along_rms_m\",\"heading_rms_deg\",\n"
+    "\"max_error_m\",\"odometry_only_max_error_m\",\"vision_failures\",\"replans\",\"latency_ms_median\",\n"
+    "\"latency_ms_p99\",\"along_after_intersection_max_m\",...}); a progress bar on a terminal. Exit codes: 0 the goal\n"
+    "was reached (or --max-frames stopped it first), 1 the mission failed (halted, goal not reached) or the input\n"
+    "is invalid, 2 usage or I/O error.";
+
+/// What replay and run share; a progress bar when stderr is a terminal.
+void addMissionOptions(CLI::App* c, MissionRunConfig& config, bool stderr_is_tty) {
+  c->add_option("--mission", config.mission, "Mission file (mapnav-mission/1, docs/mission-format.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  c->add_option("--pipeline", config.pipeline, "Vision pipeline (default: the mission's vision.pipeline, else sidewalk)");
+  c->add_option("--plugin", config.plugins, "Load a vision plug-in first");
+  c->add_option("--trace", config.trace, "Write the JSONL trace of every token (docs/trace-format.md)");
+  c->add_option("--max-frames", config.max_frames, "Stop after this many frames (default: to the end)");
+  c->add_flag("--json", config.json, "Print the metrics as one JSON object instead of the summary");
+  c->add_option("--report", config.report_dir,
+                "Write the HTML report (report.html), trajectories.geojson and, without --trace, trace.jsonl "
+                "to this folder (docs/report.md)");
+  config.progress = stderr_is_tty;
+}
+
+void addReplay(CLI::App& app, Commands& commands, bool stderr_is_tty) {
+  auto* replay = commands.hold<ReplayConfig>();
+  CLI::App* rp = app.add_subcommand("replay", "Run a mission open loop over a recorded log: localisation and commands per frame, against the truth");
+  addMissionOptions(rp, *replay, stderr_is_tty);
+  rp->add_option("--log", replay->log, "Replay log folder (mapnav simulate, docs/replay-log-format.md)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  rp->add_flag("--strict", replay->strict,
+               "Stop at the first fault of the log (missing or corrupt frame, time order, odometry spike, cut line) "
+               "with an error naming frames.jsonl and the line; by default faults are skipped, counted and traced");
+  rp->footer(kMissionFooter);
+  rp->callback(commands.choose([replay](std::ostream& out, std::ostream& err) { return runReplayCommand(*replay, out, err); }));
+}
+
+void addRun(CLI::App& app, Commands& commands, bool stderr_is_tty) {
+  auto* run = commands.hold<RunConfig>();
+  auto* seed = commands.hold<std::int64_t>();
+  *seed = -1;
+  CLI::App* rn = app.add_subcommand("run", "Run a mission closed loop in the simulator: each frame rendered from where the commands drove");
+  addMissionOptions(rn, *run, stderr_is_tty);
+  rn->add_option("--seed", *seed, "Seed for the world and the odometry noise (default: the mission's)")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{9007199254740991}));
+  rn->footer(kMissionFooter);
+  rn->callback(commands.choose([run, seed](std::ostream& out, std::ostream& err) {
+    if (*seed >= 0) run->seed = static_cast<std::uint64_t>(*seed);
+    return runRunCommand(*run, out, err);
+  }));
+}
+
+void addDemo(CLI::App& app, Commands& commands, bool stderr_is_tty) {
+  auto* demo = commands.hold<DemoConfig>();
+  CLI::App* dm = app.add_subcommand("demo", "Simulate the paper's dialogue mission on the campus map, replay it and write the HTML report");
+  dm->add_option("-o,--output", demo->output, "Folder to write (default: out/demo)");
+  dm->add_option("--mission", demo->mission, "Another mission (default: maps/missions/campus_dialogue.json)")
+      ->check(CLI::ExistingFile);
+  dm->add_option("--max-frames", demo->max_frames, "Stop after this many frames (default: the whole mission)");
+  dm->footer(
+      "The whole system of Wallace et al. 1985 on one mission: \"the robot is at road R1, 3 m from I1; navigate to\n"
+      "R3, 2 m from I3\". The same as\n"
+      "  mapnav simulate --mission maps/missions/campus_dialogue.json -o DIR/log\n"
+      "  mapnav replay --mission maps/missions/campus_dialogue.json --log DIR/log --report DIR\n"
+      "Writes DIR/log/ (the replay log: frames, odometry, truth; an earlier demo's log there is replaced),\n"
+      "DIR/trace.jsonl (every blackboard token; `mapnav trace show` prints the dialogue), DIR/report.html (one\n"
+      "self-contained page: map, route and trajectories, errors over time, frames with predicted and detected\n"
+      "lines, the dialogue; open it in any browser) and DIR/trajectories.geojson (for QGIS). Prints the summary\n"
+      "and the report's path. Exit codes: 0 the goal was reached (or --max-frames stopped it first), 1 the\n"
+      "mission failed or the input is invalid, 2 usage or I/O error.");
+  demo->progress = stderr_is_tty;
+  dm->callback(commands.choose([demo](std::ostream& out, std::ostream& err) { return runDemo(*demo, out, err); }));
+}
+
+void addTraceShow(CLI::App& app, Commands& commands) {
+  CLI::App* trace = app.add_subcommand("trace", "Read mission traces (docs/trace-format.md)");
+  trace->require_subcommand(1);
+  auto* show = commands.hold<TraceShowConfig>();
+  CLI::App* ts = trace->add_subcommand("show", "Print a trace as the paper's dialogue (Map, Vision, Navigator, Motion Control)");
+  ts->add_option("file", show->file, "Trace (JSONL) written by replay or run --trace")->required();
+  ts->footer("Exit codes: 0 printed, 1 a bad line (FILE:LINE:1: error: check: message), 2 the file cannot be read.");
+  ts->callback(commands.choose([show](std::ostream& out, std::ostream& err) { return runTraceShow(*show, out, err); }));
+}
+
+}  // namespace
+
+void registerMissionCommands(CLI::App& app, Commands& commands) {
+  const bool stderr_is_tty = ::isatty(STDERR_FILENO) == 1;
+  addReplay(app, commands, stderr_is_tty);
+  addRun(app, commands, stderr_is_tty);
+  addDemo(app, commands, stderr_is_tty);
+  addTraceShow(app, commands);
 }
 
 }  // namespace mapnav::cli

@@ -3,6 +3,7 @@
 #include <ostream>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
@@ -32,6 +33,14 @@ int runPipelines(const PipelinesConfig& config, std::ostream& out, std::ostream&
     }
     return static_cast<int>(kOk);
   });
+}
+
+void registerPipelinesCommand(CLI::App& app, Commands& commands) {
+  auto* pipelines = commands.hold<PipelinesConfig>();
+  CLI::App* pl = app.add_subcommand("pipelines", "List the vision pipelines available, with their options and defaults");
+  pl->add_flag("--names", pipelines->names_only, "One name a line");
+  pl->add_option("--plugin", pipelines->plugins, "Load a vision plug-in (a shared library; see examples/vision_plugin)");
+  pl->callback(commands.choose([pipelines](std::ostream& out, std::ostream& err) { return runPipelines(*pipelines, out, err); }));
 }
 
 }  // namespace mapnav::cli

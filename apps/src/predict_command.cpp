@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/map/camera_io.h"
@@ -74,6 +75,38 @@ int runPredict(const PredictConfig& config, std::ostream& out, std::ostream& err
     }
     return static_cast<int>(kOk);
   });
+}
+
+void registerPredictCommand(CLI::App& app, Commands& commands) {
+  auto* predict = commands.hold<PredictConfig>();
+  struct Texts {
+    std::string pose, at;
+  };
+  auto* text = commands.hold<Texts>();
+  CLI::App* p = app.add_subcommand("predict", "What the camera should see from a pose: objects, interest segments, relations");
+  p->add_option("--map", predict->map, "Map file")->required()->check(CLI::ExistingFile);
+  p->add_option("--camera", predict->camera, "Camera file (mapnav-camera/1, docs/camera-format.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  auto* pose = p->add_option("--pose", text->pose, "Vehicle pose X,Y,HEADING_DEG in the map's frame (metres, degrees CCW from east)");
+  auto* at = p->add_option("--at", text->at, "Vehicle on a road: ROAD@NODE+METERS[/LATERAL], e.g. R1@I1+3 (facing away from NODE)");
+  pose->excludes(at);
+  at->excludes(pose);
+  p->add_flag("--json", predict->json, "Print the prediction as JSON instead of sentences");
+  p->add_option("-o,--output", predict->output, "Also draw the map with the footprint beside the predicted image: OUT.png or OUT.svg")
+      ->check(outputFile(false));
+  p->add_option("--near", predict->near_m, "Nearest ground distance ahead of the camera to predict, m")->default_val(1.0)->check(CLI::Range(0.0, 1000.0));
+  p->add_option("--far", predict->far_m, "Farthest ground distance ahead of the camera to predict, m")->default_val(15.0)->check(CLI::Range(0.0, 1000.0));
+  p->footer("Exactly one of --pose and --at. Exit codes: 0 success (an empty view too), 1 invalid map, camera or\n"
+            "position, 2 usage or I/O error.");
+  p->callback(commands.choose([predict, text](std::ostream& out, std::ostream& err) {
+    if (text->pose.empty() && text->at.empty()) {
+      throw InvalidInput("predict needs the vehicle's pose: --pose X,Y,HEADING_DEG or --at ROAD@NODE+METERS");
+    }
+    if (!text->pose.empty()) predict->pose = parsePose(text->pose);
+    if (!text->at.empty()) predict->at = parseRoadPosition(text->at);
+    return runPredict(*predict, out, err);
+  }));
 }
 
 }  // namespace mapnav::cli

@@ -1,20 +1,23 @@
+// `mapnav log track`: the options, the call to the tracking loop (mapnav/mission/track.h), the
+// overlays and contact sheet, and the per-frame table or JSON.
 #include "track_command.h"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
-#include <map>
+#include <memory>
 #include <ostream>
 #include <sstream>
 
 #include "cli.h"
+#include "command_line.h"
 #include "command_support.h"
-#include "detect_command.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
+#include "mapnav/mission/track.h"
 #include "mapnav/sim/replay_log.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision_iface/pipeline.h"
@@ -26,85 +29,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kLeft = "track.left";
-constexpr const char* kRight = "track.right";
-/// Carried edges keep their near part: beyond this distance a trace near the horizon wanders.
-constexpr double kCarryFarM = 25.0;
-
-InterestSegment edgeSegment(const std::string& id, const Segment2& ground, const Camera& camera) {
-  InterestSegment s;
-  s.id = id;
-  s.owner = "track";
-  s.side = id == kLeft ? "left" : "right";
-  s.vehicle = ground;
-  const auto a = camera.projectGround(ground.a), b = camera.projectGround(ground.b);
-  if (a && b) s.image = {*a, *b};
-  return s;
-}
-
-/// The first frame's prediction: the trapezoid as the road region, its sides as the road's edges.
-PredictedObject bootstrapPrediction(const Polygon2& trapezoid, const Camera& camera) {
-  PredictedObject p = predictionFromImageRegion(trapezoid, camera).view;
-  // bottomTrapezoid's corners: bottom left, bottom right, top right, top left.
-  const auto bl = camera.backproject(trapezoid[0]), br = camera.backproject(trapezoid[1]);
-  const auto tr = camera.backproject(trapezoid[2]), tl = camera.backproject(trapezoid[3]);
-  if (bl && tl) p.segments.push_back(edgeSegment(kLeft, {*bl, *tl}, camera));
-  if (br && tr) p.segments.push_back(edgeSegment(kRight, {*br, *tr}, camera));
-  return p;
-}
-
-/// The edges a detection found, on the ground, by the label the tracker gave them: from the nearest
-/// point to the farthest within kCarryFarM.
-std::map<std::string, Segment2> detectedEdges(const DetectedObject& d) {
-  std::map<std::string, std::vector<Vec2>> points;
-  for (const DetectedLine& l : d.lines) {
-    if (!l.label || (*l.label != kLeft && *l.label != kRight)) continue;
-    for (const Vec2& p : {l.vehicle.a, l.vehicle.b})
-      if (p.allFinite() && p.x() > 0 && p.norm() <= kCarryFarM) points[*l.label].push_back(p);
-  }
-  std::map<std::string, Segment2> edges;
-  for (auto& [label, pts] : points) {
-    std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x(); });
-    if (pts.size() >= 2 && (pts.back() - pts.front()).norm() > 0.5) edges[label] = {pts.front(), pts.back()};
-  }
-  return edges;
-}
-
-/// Where the polygon's sides cross image row v: the leftmost and the rightmost crossing.
-std::optional<std::pair<double, double>> rowExtent(const Polygon2& polygon, double v) {
-  std::optional<std::pair<double, double>> extent;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Vec2& a = polygon[i];
-    const Vec2& b = polygon[(i + 1) % polygon.size()];
-    if ((a.y() - v) * (b.y() - v) > 0 || a.y() == b.y()) continue;
-    const double u = a.x() + (b.x() - a.x()) * (v - a.y()) / (b.y() - a.y());
-    if (!extent) extent = std::pair{u, u};
-    extent->first = std::min(extent->first, u);
-    extent->second = std::max(extent->second, u);
-  }
-  return extent;
-}
-
-/// Where the lines labelled `label` cross image row v (the first that does); nothing when none does.
-std::optional<double> edgeColumn(const DetectedObject& d, const std::string& label, double v) {
-  for (const DetectedLine& l : d.lines) {
-    if (!l.label || *l.label != label) continue;
-    const Vec2 &a = l.image.a, &b = l.image.b;
-    if ((a.y() - v) * (b.y() - v) > 0 || a.y() == b.y()) continue;
-    return a.x() + (b.x() - a.x()) * (v - a.y()) / (b.y() - a.y());
-  }
-  return std::nullopt;
-}
-
-/// The centre line's column on row v: its ground ends projected (a pin-hole images a ground line
-/// as a straight line), the image line through them.
-std::optional<double> centreColumn(const DetectedObject& d, const Camera& camera, double v) {
-  if (!d.centerline_vehicle) return std::nullopt;
-  const auto a = camera.projectGround(d.centerline_vehicle->a), b = camera.projectGround(d.centerline_vehicle->b);
-  if (!a || !b || std::abs(b->y() - a->y()) < 1e-6) return std::nullopt;
-  return a->x() + (b->x() - a->x()) * (v - a->y()) / (b->y() - a->y());
-}
-
 Json optionalNumber(const std::optional<double>& v) { return v ? Json(std::round(*v * 10) / 10) : Json(nullptr); }
 
 std::string text(const std::optional<double>& v) {
@@ -114,15 +38,71 @@ std::string text(const std::optional<double>& v) {
   return s.str();
 }
 
-/// The largest change between consecutive frames where both have a value.
-std::optional<double> maxJump(const std::vector<TrackedFrame>& frames, std::optional<double> TrackedFrame::*member) {
-  std::optional<double> worst;
-  for (std::size_t i = 1; i < frames.size(); ++i) {
-    const auto& a = frames[i - 1].*member;
-    const auto& b = frames[i].*member;
-    if (a && b) worst = std::max(worst.value_or(0.0), std::abs(*b - *a));
+/// One overlay per frame, 000000.png, 000001.png, ... in config.overlays.
+void writeOverlays(const LogTrackConfig& config, const std::vector<Image>& overlays) {
+  if (config.overlays.empty()) return;
+  fs::create_directories(config.overlays);
+  for (std::size_t i = 0; i < overlays.size(); ++i) {
+    std::ostringstream name;
+    name << std::setw(6) << std::setfill('0') << i << ".png";
+    writePng(overlays[i], fs::path(config.overlays) / name.str());
   }
-  return worst;
+}
+
+/// Eight frames evenly spread from the first to the last, at half size, two a row.
+void writeContactSheet(const LogTrackConfig& config, const std::vector<Image>& overlays) {
+  if (config.contact_sheet.empty() || overlays.empty()) return;
+  constexpr std::size_t kTiles = 8;
+  std::vector<Image> tiles;
+  std::vector<std::string> captions;
+  const std::size_t n = std::min(kTiles, overlays.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = n == 1 ? 0 : (k * (overlays.size() - 1) + (n - 1) / 2) / (n - 1);
+    tiles.push_back(overlays[i]);
+    captions.push_back(config.pipeline + ", frame " + std::to_string(i));
+  }
+  writePng(contactSheet(tiles, captions, 2, 0.5), config.contact_sheet);
+}
+
+void printJson(const LogTrackConfig& config, const TrackRun& run, std::ostream& out) {
+  Json per_frame = Json::array();
+  for (std::size_t i = 0; i < run.frames.size(); ++i) {
+    const TrackedFrame& f = run.frames[i];
+    per_frame.push_back({{"frame", i},
+                         {"ok", f.ok},
+                         {"reason", f.ok ? Json(nullptr) : Json(f.reason)},
+                         {"left_u", optionalNumber(f.left_u)},
+                         {"right_u", optionalNumber(f.right_u)},
+                         {"centre_u", optionalNumber(f.centre_u)}});
+  }
+  const Json j = {{"log", config.dir},
+                  {"pipeline", config.pipeline},
+                  {"frames", run.frames.size()},
+                  {"tracked", run.tracked()},
+                  {"row", run.row},
+                  {"max_jump_px",
+                   {{"left", optionalNumber(run.maxJump(&TrackedFrame::left_u))},
+                    {"right", optionalNumber(run.maxJump(&TrackedFrame::right_u))},
+                    {"centre", optionalNumber(run.maxJump(&TrackedFrame::centre_u))}}},
+                  {"per_frame", per_frame}};
+  out << dumpJson(j);
+}
+
+void printTable(const LogTrackConfig& config, const TrackRun& run, std::ostream& out) {
+  out << "frame  left_u  right_u  centre_u   (row " << run.row << ")\n";
+  for (std::size_t i = 0; i < run.frames.size(); ++i) {
+    const TrackedFrame& f = run.frames[i];
+    out << std::setw(5) << i << "  " << std::setw(6) << text(f.left_u) << "  " << std::setw(7) << text(f.right_u) << "  "
+        << std::setw(8) << text(f.centre_u);
+    if (!f.ok) out << "  failed: " << f.reason;
+    out << "\n";
+  }
+  out << config.pipeline << ": " << run.tracked() << " of " << run.frames.size()
+      << " frames tracked; largest frame-to-frame jump on row " << run.row << ": left "
+      << text(run.maxJump(&TrackedFrame::left_u)) << " px, right " << text(run.maxJump(&TrackedFrame::right_u))
+      << " px, centre " << text(run.maxJump(&TrackedFrame::centre_u)) << " px\n";
+  if (!config.overlays.empty()) out << "overlays in " << config.overlays << "\n";
+  if (!config.contact_sheet.empty()) out << "contact sheet " << config.contact_sheet << "\n";
 }
 
 }  // namespace
@@ -136,119 +116,50 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
     const std::shared_ptr<const Camera> camera =
         config.camera.empty() ? log.header().camera : std::shared_ptr<const Camera>(loadCamera(config.camera));
     const int w = camera->width(), h = camera->height();
-    const double row = config.row >= 0 ? config.row : std::round(0.85 * (h - 1));
-    if (row > h - 1) throw InvalidInput("--row " + std::to_string(config.row) + ": beyond the image's " + std::to_string(h) + " rows");
-    const Polygon2 trapezoid = bottomTrapezoid(w, h, config.trapezoid);
-    const PredictedObject bootstrap = bootstrapPrediction(trapezoid, *camera);
+    if (config.row > h - 1) throw InvalidInput("--row " + std::to_string(config.row) + ": beyond the image's " + std::to_string(h) + " rows");
 
-    const std::size_t total =
-        config.max_frames > 0 ? std::min(config.max_frames, log.frames().size()) : log.frames().size();
-    std::vector<TrackedFrame> frames;
     std::vector<Image> overlays;
-    // The edges and the road region the last frame found, moved into the current vehicle frame.
-    std::map<std::string, Segment2> carried;
-    Polygon2 carried_region;
-    for (std::size_t i = 0; i < total; ++i) {
-      const LogFrame& f = log.frames()[i];
-      const Image rgb = toRgb(log.image(i));
-      if (rgb.width != w || rgb.height != h)
-        throw InvalidInput(f.image + ": the image is " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) +
-                           " but the camera's is " + std::to_string(w) + "x" + std::to_string(h));
-      // The odometry since the last frame as the new vehicle pose in the old vehicle frame (the
-      // mid-step heading model of PoseFilter::predict).
-      const double d = f.odometry.distance_m, dh = f.odometry.dheading_rad;
-      const Pose2 motion(d * std::cos(0.5 * dh), d * std::sin(0.5 * dh), dh);
-      for (auto& entry : carried) entry.second = Segment2{motion.inverseTransform(entry.second.a), motion.inverseTransform(entry.second.b)};
-      for (Vec2& p : carried_region) p = motion.inverseTransform(p);
-      // Each edge and the road region: where the last frame found it, else the bootstrap's.
-      PredictedObject prediction = bootstrap;
-      for (InterestSegment& s : prediction.segments)
-        if (const auto it = carried.find(s.id); it != carried.end()) s = edgeSegment(s.id, it->second, *camera);
-      if (carried_region.size() >= 3) prediction.regions.front().vehicle = {carried_region};
-      prediction.timestamp = f.t;
-      const DetectedObject det = pipeline->detect(VisionFrame{w, h, rgb.data.data(), camera.get(), f.t}, prediction);
-
-      TrackedFrame r;
-      r.ok = det.status == DetectedObject::Status::Ok;
-      r.reason = det.reason;
-      if (r.ok) {
-        if (const auto e = rowExtent(det.region_image, row)) {
-          r.left_u = e->first;
-          r.right_u = e->second;
-        }
-        // The edge lines, where the pipeline reports them (the edge tracker), are the sides.
-        if (const auto u = edgeColumn(det, kLeft, row)) r.left_u = u;
-        if (const auto u = edgeColumn(det, kRight, row)) r.right_u = u;
-        r.centre_u = centreColumn(det, *camera, row);
-      }
-      // An edge or a region not found in this frame is not carried on: a lost edge's last place drifts.
-      carried = detectedEdges(det);
-      carried_region = r.ok ? det.region_vehicle : Polygon2{};
-      frames.push_back(r);
-      if (!config.overlays.empty() || !config.contact_sheet.empty())
-        overlays.push_back(drawDetection(rgb, prediction, det, *camera));
-    }
-    if (!config.overlays.empty()) {
-      fs::create_directories(config.overlays);
-      for (std::size_t i = 0; i < overlays.size(); ++i) {
-        std::ostringstream name;
-        name << std::setw(6) << std::setfill('0') << i << ".png";
-        writePng(overlays[i], fs::path(config.overlays) / name.str());
-      }
-    }
-
-    if (!config.contact_sheet.empty() && !overlays.empty()) {
-      // Eight frames evenly spread from the first to the last, at half size, two a row.
-      constexpr std::size_t kTiles = 8;
-      std::vector<Image> tiles;
-      std::vector<std::string> captions;
-      const std::size_t n = std::min(kTiles, overlays.size());
-      for (std::size_t k = 0; k < n; ++k) {
-        const std::size_t i = n == 1 ? 0 : (k * (overlays.size() - 1) + (n - 1) / 2) / (n - 1);
-        tiles.push_back(overlays[i]);
-        captions.push_back(config.pipeline + ", frame " + std::to_string(i));
-      }
-      writePng(contactSheet(tiles, captions, 2, 0.5), config.contact_sheet);
-    }
-
-    const auto tracked = std::count_if(frames.begin(), frames.end(), [](const TrackedFrame& t) { return t.ok; });
-    const auto jump_left = maxJump(frames, &TrackedFrame::left_u), jump_right = maxJump(frames, &TrackedFrame::right_u),
-               jump_centre = maxJump(frames, &TrackedFrame::centre_u);
+    TrackObserver draw;
+    if (!config.overlays.empty() || !config.contact_sheet.empty())
+      draw = [&](const Image& rgb, const PredictedObject& prediction, const DetectedObject& detection) {
+        overlays.push_back(drawDetection(rgb, prediction, detection, *camera));
+      };
+    const TrackRun run = trackLog(log, *pipeline, *camera, bottomTrapezoid(w, h, config.trapezoid),
+                                  TrackOptions{config.row, config.max_frames}, draw);
+    writeOverlays(config, overlays);
+    writeContactSheet(config, overlays);
     if (config.json) {
-      Json per_frame = Json::array();
-      for (std::size_t i = 0; i < frames.size(); ++i)
-        per_frame.push_back({{"frame", i},
-                             {"ok", frames[i].ok},
-                             {"reason", frames[i].ok ? Json(nullptr) : Json(frames[i].reason)},
-                             {"left_u", optionalNumber(frames[i].left_u)},
-                             {"right_u", optionalNumber(frames[i].right_u)},
-                             {"centre_u", optionalNumber(frames[i].centre_u)}});
-      const Json j = {{"log", config.dir},
-                      {"pipeline", config.pipeline},
-                      {"frames", frames.size()},
-                      {"tracked", tracked},
-                      {"row", row},
-                      {"max_jump_px",
-                       {{"left", optionalNumber(jump_left)}, {"right", optionalNumber(jump_right)},
-                        {"centre", optionalNumber(jump_centre)}}},
-                      {"per_frame", per_frame}};
-      out << dumpJson(j);
+      printJson(config, run, out);
     } else {
-      out << "frame  left_u  right_u  centre_u   (row " << row << ")\n";
-      for (std::size_t i = 0; i < frames.size(); ++i) {
-        out << std::setw(5) << i << "  " << std::setw(6) << text(frames[i].left_u) << "  " << std::setw(7)
-            << text(frames[i].right_u) << "  " << std::setw(8) << text(frames[i].centre_u);
-        if (!frames[i].ok) out << "  failed: " << frames[i].reason;
-        out << "\n";
-      }
-      out << config.pipeline << ": " << tracked << " of " << frames.size() << " frames tracked; largest frame-to-frame jump on row "
-          << row << ": left " << text(jump_left) << " px, right " << text(jump_right) << " px, centre "
-          << text(jump_centre) << " px\n";
-      if (!config.overlays.empty()) out << "overlays in " << config.overlays << "\n";
-      if (!config.contact_sheet.empty()) out << "contact sheet " << config.contact_sheet << "\n";
+      printTable(config, run, out);
     }
     return static_cast<int>(kOk);
   });
+}
+
+void registerTrackCommand(CLI::App& log, Commands& commands) {
+  auto* track = commands.hold<LogTrackConfig>();
+  auto* trapezoid = commands.hold<std::string>();
+  CLI::App* lt = log.add_subcommand("track", "Run a vision pipeline over a log without a map, tracking the road's edges and centre line frame to frame (docs/kitti.md)");
+  lt->add_option("dir", track->dir, "Log folder")->required()->check(CLI::ExistingDirectory);
+  addPipelineOptions(lt, track->pipeline, track->options_json, track->plugins, "edge-tracker");
+  lt->add_option("--camera", track->camera, "Camera file instead of the log's own")->check(CLI::ExistingFile);
+  lt->add_option("--trapezoid", *trapezoid,
+                 "The first frame's road outline as BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions of the image's width "
+                 "and height; default 0.5,0.2,0.7,0.98)");
+  lt->add_option("--row", track->row, "Image row where the edges and the centre line are measured (default: 85 % of the height)");
+  lt->add_option("--max-frames", track->max_frames, "Stop after this many frames (0: all)")->default_val(0);
+  lt->add_option("--overlays", track->overlays, "Folder to write one overlay per frame to");
+  lt->add_option("--contact-sheet", track->contact_sheet, "PNG of 8 overlays spread over the run, half size, two a row");
+  lt->add_flag("--json", track->json, "Print the per-frame measurements as JSON");
+  lt->footer("Exit codes: 0 ran (the frames where the pipeline failed are listed), 1 invalid input, 2 usage or I/O error.");
+  lt->callback(commands.choose([track, trapezoid](std::ostream& out, std::ostream& err) {
+    if (!trapezoid->empty()) {
+      const auto v = parseNumbers("--trapezoid", *trapezoid, 4, 4, "BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions)");
+      track->trapezoid = TrapezoidOptions{v[0], v[1], v[2], v[3]};
+    }
+    return runLogTrack(*track, out, err);
+  }));
 }
 
 }  // namespace mapnav::cli

@@ -1,12 +1,8 @@
 #pragma once
-// `mapnav log track` (docs/kitti.md): a vision pipeline over a replay log without a map. The first
-// frame's prediction is a bootstrap trapezoid in the image (its sides the road's edges, its inside
-// the road); every later frame's is the last frame's detection carried forward by the odometry, so
-// that the edges and the centre line are tracked frame to frame as the Map's predictions would
-// track them.
+// `mapnav log track` (docs/kitti.md): the mapless tracking loop of mapnav/mission/track.h over a
+// replay log, its overlays and contact sheet written, its per-frame measurements printed.
 #include <cstddef>
 #include <iosfwd>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,14 +24,6 @@ struct LogTrackConfig {
   double row = -1;
   std::size_t max_frames = 0;            ///< 0 = every frame
   bool json = false;
-};
-
-/// One frame's result, measured on the config's row.
-struct TrackedFrame {
-  bool ok = false;
-  std::string reason;                    ///< why the pipeline failed
-  std::optional<double> left_u, right_u; ///< the road region's sides on the row, pixels
-  std::optional<double> centre_u;        ///< the centre line on the row, pixels
 };
 
 /// Runs the pipeline over the log; exit 0 when it ran (whatever it found), 1 for invalid input, 2

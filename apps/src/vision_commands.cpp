@@ -9,7 +9,11 @@
 #include <iomanip>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
+#include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
@@ -124,6 +128,80 @@ int runCalibrateTilt(const std::string& camera_file, const Segment2& a, const Se
     }
     return static_cast<int>(kOk);
   });
+}
+
+// ---- the command line: `mapnav rectify` and `mapnav calibrate ...` -------------------------------
+
+namespace {
+
+void addRectify(CLI::App& app, Commands& commands) {
+  auto* rectify = commands.hold<RectifyConfig>();
+  CLI::App* rc = app.add_subcommand("rectify", "Warp a camera frame to a top view of the ground (Wallace 1985, 3.5.1)");
+  rc->add_option("image", rectify->image, "Camera frame (PNG or JPEG)")->required()->check(CLI::ExistingFile);
+  rc->add_option("--camera", rectify->camera, "Camera file")->required()->check(CLI::ExistingFile);
+  rc->add_option("--x-min", rectify->options.x_min_m, "Nearest ground ahead, m")->default_val(1.0);
+  rc->add_option("--x-max", rectify->options.x_max_m, "Farthest ground ahead, m")->default_val(15.0);
+  rc->add_option("--y-min", rectify->options.y_min_m, "Rightmost ground, m (right negative)")->default_val(-6.0);
+  rc->add_option("--y-max", rectify->options.y_max_m, "Leftmost ground, m")->default_val(6.0);
+  rc->add_option("--resolution", rectify->options.metres_per_pixel, "Metres per output pixel")->default_val(0.02);
+  rc->add_option("-o,--output", rectify->output, "Top view to write (PNG): far at the top, left on the left")->required();
+  rc->add_flag("--undistort", rectify->undistort,
+               "Write the frame undistorted instead (same size, as the camera's ideal pin-hole would see it: "
+               "straight lines straight); the ground options are then unused");
+  rc->callback(commands.choose([rectify](std::ostream& out, std::ostream& err) { return runRectify(*rectify, out, err); }));
+}
+
+void addChessboard(CLI::App& calibrate, Commands& commands) {
+  auto* chessboard = commands.hold<CalibrateChessboardConfig>();
+  auto* board = commands.hold<std::string>();
+  *board = "9x6";
+  CLI::App* cb = calibrate.add_subcommand("chessboard", "Intrinsics from chessboard photos; reports the reprojection error");
+  cb->add_option("images", chessboard->images, "Photos of the board (PNG or JPEG)")->required()->check(CLI::ExistingFile);
+  cb->add_option("--board", *board, "Inner corners COLSxROWS")->default_val("9x6");
+  cb->add_option("--square", chessboard->square_m, "Square size, m")->default_val(0.025)->check(CLI::PositiveNumber);
+  cb->add_option("-o,--output", chessboard->output, "Camera file to write (mapnav-camera/1; fill in the mount)")->required();
+  cb->add_option("--corners", chessboard->corners_dir, "Folder to draw the detected corners into");
+  cb->callback(commands.choose([chessboard, board](std::ostream& out, std::ostream& err) {
+    const auto x = board->find('x');
+    try {
+      if (x == std::string::npos) throw std::invalid_argument(*board);
+      chessboard->cols = std::stoi(board->substr(0, x));
+      chessboard->rows = std::stoi(board->substr(x + 1));
+    } catch (const std::exception&) {
+      throw InvalidInput("--board \"" + *board + "\": expected COLSxROWS, e.g. 9x6");
+    }
+    return runCalibrateChessboard(*chessboard, out, err);
+  }));
+}
+
+void addTilt(CLI::App& calibrate, Commands& commands) {
+  struct Tilt {
+    std::string camera, output;
+    std::vector<std::string> lines;
+  };
+  auto* tilt = commands.hold<Tilt>();
+  CLI::App* tl = calibrate.add_subcommand("tilt", "Camera tilt from the vanishing point of two ground-parallel lines (the paper's poles)");
+  tl->add_option("--camera", tilt->camera, "Camera file (its intrinsics are used)")->required()->check(CLI::ExistingFile);
+  tl->add_option("--line", tilt->lines, "A ground-parallel line's image end points U1,V1,U2,V2 (give two)")->required()->expected(2);
+  tl->add_option("-o,--output", tilt->output, "Write the camera with this tilt");
+  tl->callback(commands.choose([tilt](std::ostream& out, std::ostream& err) {
+    std::vector<Segment2> lines;
+    for (const std::string& text : tilt->lines) {
+      const auto v = parseNumbers("--line", text, 4, 4, "U1,V1,U2,V2 (pixels)");
+      lines.push_back(Segment2{Vec2(v[0], v[1]), Vec2(v[2], v[3])});
+    }
+    return runCalibrateTilt(tilt->camera, lines.at(0), lines.at(1), tilt->output, out, err);
+  }));
+}
+
+}  // namespace
+
+void registerVisionCommands(CLI::App& app, Commands& commands) {
+  addRectify(app, commands);
+  CLI::App* calibrate = app.add_subcommand("calibrate", "Camera calibration (Wallace 1985, 3.5.2; OpenCV chessboards)");
+  calibrate->require_subcommand(1);
+  addChessboard(*calibrate, commands);
+  addTilt(*calibrate, commands);
 }
 
 }  // namespace mapnav::cli

@@ -1,14 +1,14 @@
-#include "park_scene.h"
+// The park-mode speed scene (mapnav/scenes/park_scene.h): rendering and the timed training.
+#include "mapnav/scenes/park_scene.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "mapnav/geometry/types.h"
-#include "command_support.h"
 #include "mapnav/map/predict.h"
 
-namespace mapnav::cli {
+namespace mapnav {
 
 namespace {
 double msSince(std::chrono::steady_clock::time_point start) {
@@ -22,8 +22,6 @@ Pose2 alongR1(double d) {
 }
 
 }  // namespace
-
-std::string defaultParkMapPath() { return dataPath("maps/park_path.json"); }
 
 ParkScene makeParkScene(const Map& park, int size, int frames) {
   ParkScene s;
@@ -67,4 +65,4 @@ TrainedParkFinder trainParkFinder(const ParkScene& scene, const ClusterPerceptro
   return t;
 }
 
-}  // namespace mapnav::cli
+}  // namespace mapnav

@@ -3,9 +3,7 @@
 // a size × size pin-hole scaled from the Terregator camera (f = 904 px at 512, tilted 22° down) on
 // maps/park_path.json, a few consecutive synthetic frames along R1 (shadow_density 0.4), and the
 // Jochem & Baluja road finder trained on the first frame from the predicted road outline.
-// Lives in apps/ because it needs the map (prediction) and the vision module together.
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
@@ -14,11 +12,7 @@
 #include "mapnav/sim/world.h"
 #include "mapnav/vision/cluster_perceptron.h"
 
-namespace mapnav::cli {
-
-/// maps/park_path.json: the installed copy next to the program (../share/mapnav/maps) when there is
-/// one, else the source tree's.
-std::string defaultParkMapPath();
+namespace mapnav {
 
 /// What is rendered once per size.
 struct ParkScene {
@@ -28,7 +22,8 @@ struct ParkScene {
   Image outline;              ///< the predicted road outline of the first frame (1 channel)
 };
 
-/// Renders the scene at `size` × `size` pixels (size ≥ 16) with `frames` frames.
+/// Renders the scene of `park` (maps/park_path.json) at `size` × `size` pixels (size ≥ 16) with
+/// `frames` frames.
 ParkScene makeParkScene(const Map& park, int size, int frames = 4);
 
 /// The road finder's options for the scene: blocks of 8 px at 512, scaled with the size.
@@ -46,4 +41,4 @@ struct TrainedParkFinder {
 /// scene's camera given to the finder (the arc model's row geometry).
 TrainedParkFinder trainParkFinder(const ParkScene& scene, const ClusterPerceptronOptions& options);
 
-}  // namespace mapnav::cli
+}  // namespace mapnav

@@ -1,17 +1,16 @@
-#include "sidewalk_scene.h"
+// The sidewalk speed scene (mapnav/scenes/sidewalk_scene.h).
+#include "mapnav/scenes/sidewalk_scene.h"
 
+#include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
-#include "park_scene.h"
 
-namespace mapnav::cli {
+namespace mapnav {
 
-SidewalkScene makeSidewalkScene(int frames) {
-  const std::filesystem::path maps = std::filesystem::path(defaultParkMapPath()).parent_path();
+SidewalkScene makeSidewalkScene(const std::filesystem::path& maps, int frames) {
   SidewalkScene s{loadMap(maps / "cmu_campus.json"), loadCamera(maps / "cameras" / "terregator_pinhole.json"), {}, {}, {}};
   WorldOptions wo;  // campus_dialogue's world block
   wo.seed = 1985;
@@ -32,4 +31,4 @@ SidewalkScene makeSidewalkScene(int frames) {
   return s;
 }
 
-}  // namespace mapnav::cli
+}  // namespace mapnav

@@ -1,0 +1,62 @@
+#pragma once
+// The command line's side of the commands (internal to apps/; the one header that includes CLI11):
+// each command group's file has a registrar that adds its subcommands with their options, --help
+// texts and a callback choosing what runs once the whole line is parsed; cli.cpp calls the
+// registrars in the order `mapnav --help` lists the commands.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mapnav::cli {
+
+/// The command the line chose, and the values the options are parsed into.
+class Commands {
+ public:
+  /// What runs once the line is parsed, with the CLI's streams; returns the exit code.
+  using Body = std::function<int(std::ostream& out, std::ostream& err)>;
+
+  /// A new T that lives as long as this: what a registrar binds its options to and its body reads.
+  template <class T>
+  T* hold() {
+    auto value = std::make_shared<T>();
+    held_.push_back(value);
+    return value.get();
+  }
+  /// A subcommand's callback: when CLI11 calls it (the subcommand was given), `body` is what runs.
+  std::function<void()> choose(Body body);
+  /// Runs the chosen body; 2 (usage) when none was chosen. Exceptions pass through.
+  int run(std::ostream& out, std::ostream& err) const;
+
+ private:
+  std::vector<std::shared_ptr<void>> held_;
+  Body chosen_;
+};
+
+/// Outputs whose format is chosen by the extension: pictures (.png, .svg), and where a command
+/// can write GeoJSON, .geojson too.
+CLI::Validator outputFile(bool geojson);
+
+/// --pipeline (default `default_pipeline`), --options (a JSON object, default "{}") and --plugin, as
+/// every command that runs a vision pipeline on frames has them.
+void addPipelineOptions(CLI::App* command, std::string& pipeline, std::string& options_json,
+                        std::vector<std::string>& plugins, const std::string& default_pipeline);
+
+// The registrars, in the order of `mapnav --help`; each is defined in its command group's file.
+void registerMapCommands(CLI::App& app, Commands& commands);      // map validate|info|render|import-*|export-*
+void registerPredictCommand(CLI::App& app, Commands& commands);   // predict
+void registerRouteCommand(CLI::App& app, Commands& commands);     // route
+void registerSimulateCommand(CLI::App& app, Commands& commands);  // simulate
+void registerLogCommands(CLI::App& app, Commands& commands);      // log info|frame|import-kitti|track
+void registerTrackCommand(CLI::App& log, Commands& commands);     // log track (under `log`)
+void registerMissionCommands(CLI::App& app, Commands& commands);  // replay, run, demo, trace show
+void registerPipelinesCommand(CLI::App& app, Commands& commands); // pipelines
+void registerDetectCommands(CLI::App& app, Commands& commands);   // detect, segment
+void registerVisionCommands(CLI::App& app, Commands& commands);   // rectify, calibrate chessboard|tilt
+void registerEvalCommands(CLI::App& app, Commands& commands);     // eval segmentation
+void registerBenchCommand(CLI::App& app, Commands& commands);     // bench
+
+}  // namespace mapnav::cli
