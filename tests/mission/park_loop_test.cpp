@@ -204,8 +204,8 @@ void expectStretchStaysOnThePath(const std::string& pipeline, std::size_t frames
 }
 
 // 440 m: R1's straight start, its 60 m and 35 m curves, I2, R2's 50 m curve and its 15 m hairpin,
-// out of which the estimate used to run off the path (before the chord matching and the covariance
-// reset in park mode).
+// out of which the estimate must not run off the path (park mode's chord matching and covariance
+// reset; docs/measurements.md, park loop).
 TEST(ParkLoopStretch, ClusterPerceptronStaysOnThePathSteeringOnTheEstimate) {
   expectStretchStaysOnThePath("cluster-perceptron");
 }
@@ -219,12 +219,10 @@ TEST(ParkLoopStretch, ClusterPerceptronInNormalisedColourStaysOnThePath) {
 
 // In normalised green (no tree-shadow steps), one edge reported alone when the other is out of the
 // pin-hole's view (single_edge), and the dirt edge of R2's 15 m hairpin traced in normalised red
-// (band_from_prediction: dirt has the asphalt's normalised green, and the closed loop stalled
-// there at frame 182). Through the hairpin on its inner edge alone the estimate comes out 5 deg off
-// in heading (its 1.4 m along-road error over the 13.5 m radius); the Map rejects the straight
-// edges after it from frame 204 and widens its covariance at frame 206 (park mode's reset), before
-// the tracker loses its start points (it did at frame 207 without the reset, and the halted
-// vehicle stood still).
+// (band_from_prediction: dirt has the asphalt's normalised green). Through the hairpin on its inner
+// edge alone the estimate comes out 5 deg off in heading (its 1.4 m along-road error over the 13.5 m
+// radius); the Map rejects the straight edges after it from frame 204 and widens its covariance at
+// frame 206 (park mode's reset), before the tracker loses its start points (docs/measurements.md).
 TEST(ParkLoopStretch, EdgeTrackerStaysOnThePathSteeringOnTheEstimate) {
   expectStretchStaysOnThePath("edge-tracker");
 }

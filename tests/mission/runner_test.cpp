@@ -343,9 +343,8 @@ TEST(RunnerBrickTee, TheBrickBranchFixesTheAlongRoadErrorOnTheConcreteRoad) {
 }
 
 // campus_tour's first 100 m: straight through the Ts I8 and I9, whose branches leave to the left
-// and are seen only 9-12 m ahead at the top of the frame (7 cm a pixel along the road). The road /
-// grass boundary used to come out 2 px inside the road there (the log-odds' box filter), the
-// estimate 0.16 m (I8) and 0.18 m (I9) ahead after those intersections in the tour's replay.
+// and are seen only 9-12 m ahead at the top of the frame (7 cm a pixel along the road), where 2 px
+// of the road / grass boundary are 0.14 m along the road (docs/measurements.md).
 TEST(RunnerTourTees, TheBranchesFixTheAlongRoadErrorAtBothTees) {
   expectTheIntersectionsFixTheAlongRoadError("missions/tour_tees.json", 2, 1.0);
 }

@@ -93,39 +93,14 @@ std::vector<RoadPose> circlePoses(double step) {
 // worst column error over the curve's rows where the true centre is in the image; the top-row offset
 // is one of them, counted where the true centre is in the image on that row: on 15 m bends it leaves
 // the image's side above) and its image angle at the bottom row within 1 degree. The finder is
-// bootstrapped on each road's straight lead-in (§4: a trapezoid outline). Bootstrapped on the circle
-// itself, the outline touches the image's sides in every row, its per-row widths are the clipped
-// extents (1.4-2.8 m of the 3 m road), and the centre lines are put decimetres off the road's edge's
-// (median worst column error 137-209 px per radius, measured before the change to 1000 draws).
-// Measured: within 2 px and 1 deg on 81 of 88 frames, within 4 px and 1.1 deg on 87; per radius (arc
-// | straight model, worst column error median / max): 15 m 0.40 / 3.51 px | 95 / 732 px, 20 m 0.35 /
-// 1.23 | 104 / 989, 30 m 0.34 / 136 | 88 / 605, 50 m 0.28 / 2.16 | 61 / 207; bottom angle max 1.02,
-// 0.52, 20.3, 0.33 deg; top-row offset max 0.21 px (20 m), 2.65 (30 m), 0.28 (50 m). NOT every frame:
-// six miss by 2.1-3.5 px, each seeing the road's edges only from 5-8 m ahead (the 3 m road fills the
-// image below), so that the circle is extrapolated to the bottom row 2 m ahead, where 1 cm is 3.7 px;
-// one (30 m, right) misses by 136 px: shadowed grass classed as road hides all but the top 51 rows
-// of the outer edge, and a circle through the shadows' outline gathers more edges.
-// The six are the edges' information, not the fit's: their edges lie on the true edge with the pixel
-// quantisation's spread alone (measured against the projected true edges: mean 0.00-0.06 px, RMS
-// 0.27-0.30 px on frames 1, 5, 19, 63 (its 51 rows); 0.4-1.3 px on 62, 64, 69), and least squares on
-// them leaves the bottom row's column a standard error (RoadFinding::bottom_column_sd) of 0.84-6.0
-// px; each miss is within three of its standard errors, which the test asserts. But the edges seen
-// were few and far because shaded grass classed as road hid the nearer ones: the masks show 9 949 of
-// the 13 527 true edge rows in view; in normalised colour 13 491, and all six pass (the next test).
-// Tried and not kept (measured on this test): minimising Σ|r|⁴ over the edges within 1 px of the
-// fit (for uniform quantisation noise it converges faster than least squares): 56 of 88 (the mask's
-// edges are not independent uniform errors, and the largest residuals are its ragged runs);
-// penalising a circle for each row where its edge falls in the image but the mask holds road on
-// both sides of it: 75 of 88 and one failed frame (shadowed grass classed as road beyond the true
-// edge contradicts the true circle on most 15-20 m frames), frame 63 136 -> 59 px; MSAC in the
-// ground consensus (per row side Σ(2² − r²)⁺): 81 of 88 unchanged, frame 63's shadow circle still
-// scores higher than the true one (ArcModelOnStraightStretches' worst 166 -> 5.8 px, but
-// ArcModelFollowsCurves <= 2/3/5/10 px each one frame fewer). Frame 63 wants a mask that tells the
-// shadowed grass from the road, not another fit (normalised colour is one:
-// ArcModelInNormalisedColour... below meets 88 of 88): by edge count and by residual the shadows'
-// outline is the better circle, and the mask's own classes (road beyond the true edge) move the fit
-// only to 59 px. The road filling the image below the nearest edge bounds the centre only to ±0.8 m
-// at the bottom row (the 3 m road against the image's 1.4 m): no help at 1 cm.
+// bootstrapped on each road's straight lead-in (§4: a trapezoid outline); bootstrapped on the circle
+// itself, the outline touches the image's sides in every row and its per-row widths are the clipped
+// extents, not the road's. NOT every frame: where the 3 m road fills the image below, the road's edges
+// are seen only from 5-8 m ahead and the circle is extrapolated to the bottom row 2 m ahead, where 1 cm
+// is 3.7 px; such a miss is the edges' information, not the fit's, and is asserted within three of its
+// standard errors (RoadFinding::bottom_column_sd). Where shadowed grass classed as road hides the outer
+// edge, a circle through the shadows' outline can gather more edges than the road's (normalised colour,
+// the next test, tells them apart). The counts asserted and the fits tried: docs/measurements.md.
 // Under AddressSanitizer rendering is about ten times slower: the carried-edges drive (450 frames
 // rendered) took over the stage's 900 s. There it covers the 15 m left circle alone, the area-sampled
 // circles test the 15 m circles, and only their per-frame and edge assertions are checked.
@@ -225,16 +200,9 @@ TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
 // and the perceptron on (R, G, B) / (R + G + B). A tree shadow scales a colour (C1 = k·C2, here tinted
 // 12 % toward blue); normalised, the shaded grass keeps the grass's chromaticity instead of joining
 // the dark asphalt's cluster, so the mask shows the road's true edges on every frame and the circle
-// is fitted to more of them. Measured: within 2 px and 1 deg on 88 of 88 frames (81 in RGB above);
-// per radius worst column error median / max 15 m 0.36 / 0.61 px, 20 m 0.18 / 0.77, 30 m 0.33 / 0.75,
-// 50 m 0.13 / 0.40; bottom angle max 0.51, 0.50, 0.36, 0.22 deg; the masks show 13 491 of the 13 527
-// true edge rows in view (RGB above: 9 949). With the paper's 5 clusters the same 88 here (13 497
-// rows), but 5 are too few for two dimensions of colour elsewhere: on the area-sampled frames of the
-// next test, with subpixel_edges, 87 of 88 (frame 56, 30 m right: a cluster between the grass's and
-// the asphalt's chromaticity classes the far sunlit grass as road in speckles, and the circle bends
-// to them: 59.8 px; 88 with 8 or 12 clusters), and the closed loop on park_loop leaves the path at a
-// dirt shoulder (ParkLoopStretch.ClusterPerceptronInNormalisedColourStaysOnThePath). Under
-// AddressSanitizer, the 15 m circles alone.
+// is fitted to more of them: every frame within 2 px and 1 deg. 8 clusters, not the paper's 5: 5 are
+// too few for two dimensions of colour on other frames (docs/measurements.md). Under AddressSanitizer,
+// the 15 m circles alone.
 TEST(ClusterPerceptron, ArcModelInNormalisedColourWithinTwoPixelsAndOneDegreeOnEveryCircleFrame) {
   auto poses = circlePoses(2.0);
   ASSERT_EQ(poses.size(), 8u * 11u);
@@ -259,14 +227,9 @@ double medianAbs(std::vector<double> v) {
 
 // A camera integrates light over the pixel: with frames rendered so (WorldOptions::paved_edge_samples
 // 4) the pixel pair at each class change holds the road's edge by area, and subpixel_edges places
-// each edge within the pair by its colours. The same circles and poses as above. Measured: the fits'
-// edges off the true edges by a median 0.263 px at the pixel boundaries, 0.064 px placed by colour;
-// within 2 px and 1 deg on 74 of 88 frames at the boundaries (a mixed pixel's class follows the
-// clusters, not its area), 84 placed by colour (within 4 px and 1.1 deg on 85; per radius median
-// 0.35, 0.27, 0.24, 0.20 px). The four misses: frame 1 (15 m left, 7.8 px: the mask shows 57 of the
-// 128 true edge rows, the nearest 7.8 m ahead, a standard error of 6.0 px), 62 and 63 (30 m right,
-// 155 and 137 px: shadowed grass classed as road), 64 (2.8 px, standard error 2.3 px). Point-sampled
-// frames with subpixel_edges (not asserted): 82 of 88.
+// each edge within the pair by its colours. The same circles and poses as above. Placed by colour the
+// fits' edges are nearer the true edges, and more frames meet the item, than at the pixel boundaries
+// (a mixed pixel's class follows the clusters, not its area). The figures: docs/measurements.md.
 TEST(ClusterPerceptron, ArcModelWithSubpixelEdgesOnAreaSampledCircularCurves) {
   auto poses = circlePoses(2.0);
   if (kSanitized) std::erase_if(poses, [](const RoadPose& p) { return circleRadiusOf(p) != 15.0; });
@@ -374,19 +337,12 @@ std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders,
 // vehicle's motion) over the same 15-50 m circles as ArcModelWithinTwoPixelsAndOneDegreeOnCircular-
 // Curves, a frame every 0.5 m. One frame's mask edges are whole pixels, and where the 3 m road fills
 // the image below 5-8 m the circle is extrapolated to the bottom row (2 m ahead, 1 cm = 3.7 px); the
-// frames before saw that stretch far ahead, at other sub-pixel phases. Measured (within 2 px and 1 deg
-// | within 4 px and 1.1 deg | worst column error):
-//   each frame alone                          84 | 85 | 191 px (30 m right: shadowed grass as road)
-//   carried, the true motion                  88 | 88 | 0.49 px (the shadow frame's true circle
-//                                                              gathers the carried edges)
-//   carried, odometry calibrated to 0.3 % scale, 0.01 deg/s gyro bias, 2 mm and 0.01 deg of noise per
-//   frame, noise seeds 9-13                   88, 80, 87, 80, 76 | 88, 87, 88, 86, 85 | 1.8-35 px
-//   carried, park_loop's odometry (2 %, 0.1 deg/s, 5 mm, 0.075 deg per frame)   26 | 51 | 202 px
-// So carrying meets the item when the motion is known to about a millimetre over the 4 m carried (a
-// carried edge 4 m ahead moves 7 mm, 2.6 px at the bottom row, per 0.1 deg of heading error; 0.3 %
-// of 4 m along a 15 m bend moves it 2.4 mm); with calibrated odometry it trades a few frames of 2-5
-// px for a worst case of 1.8-35 px instead of 191; with uncalibrated odometry it does harm. Off by
-// default.
+// frames before saw that stretch far ahead, at other sub-pixel phases. Carrying meets the item when
+// the motion is known to about a millimetre over the 4 m carried (a carried edge 4 m ahead moves 7 mm,
+// 2.6 px at the bottom row, per 0.1 deg of heading error; 0.3 % of 4 m along a 15 m bend moves it
+// 2.4 mm): with the true motion every frame; with calibrated odometry a few frames of 2-5 px but no
+// frame far off; with uncalibrated odometry (park_loop's) it does harm. Off by default. The figures
+// per finder: docs/measurements.md.
 TEST(ClusterPerceptron, ArcModelWithCarriedEdgesOnCircularCurves) {
   OdometryNoiseOptions calibrated;
   calibrated.seed = 9;

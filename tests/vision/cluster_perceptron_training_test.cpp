@@ -151,8 +151,8 @@ TEST(ClusterPerceptron, RawRgbPerceptronLearnsTheRoadAndItsTableIsExact) {
 // Wallace et al. 1985 §3.4.3: a shadow scales a colour by k (C1 = k·C2), which the normalised colour
 // does not see. Finders trained on a sunlit frame (no tree shadows) classify the same view in full
 // shadow (WorldOptions::shadow_density 1: k = 0.45 everywhere), untinted and with the default
-// skylight tint (12 % toward blue). Measured (IoU of the road mask against the truth): RGB sunlit
-// 0.9991, shaded 0.9141, tinted 0.9141; normalised sunlit 0.9999, shaded 0.9985, tinted 0.9987.
+// skylight tint (12 % toward blue): normalised, the road mask's IoU against the truth stays at the
+// issue's 0.95 in the shade, where RGB's falls below it (the figures: docs/measurements.md).
 TEST(ClusterPerceptron, NormalisedColourClassifiesAShadedViewAsTheSunlitOne) {
   WorldOptions sunlit = parkWorld();
   sunlit.shadow_density = 0;

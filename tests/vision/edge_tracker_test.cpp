@@ -239,7 +239,7 @@ TEST(GreyBand, NormalizedRedSeparatesDirtFromAsphaltWhereTheGreenCannot) {
               24.329, 1e-3);
 }
 
-// R2's 15 m hairpin (the pose of park_loop's frame 182, where the closed loop used to stall): the
+// R2's 15 m hairpin (the pose of park_loop's frame 182, docs/measurements.md): the
 // pin-hole sees only the inner edge, asphalt against dirt. In normalised green there is no step at
 // its start; with the band from the prediction it is traced in normalised red along the true edge.
 TEST(EdgeTracker, TracesADirtEdgeInTheBandItsPredictedColoursSeparate) {
@@ -320,9 +320,8 @@ TEST(EdgeTracker, TracesAGravelEdgeFromTheImageBorderInLuminance) {
 // Farther along R4's curve, park_loop's frame 429 (its world, the Map's estimate 1.6 m ahead and
 // 3.2 deg off): the gravel edge, traced in luminance, has shaded gravel beside it and sunlit gravel
 // beyond, a larger step (59 to 134 levels) than asphalt against gravel in the same shade (33 to 59).
-// Searching the whole window, the second point took the shadow's edge and the trace turned too
-// sharply (the vehicle halted for 8 frames; now the next predicted segment's start finds only the
-// edge's far part); gated, it follows the true edge from the image's side to the top.
+// Searching the whole window, the second point takes the shadow's edge and the trace turns too
+// sharply (docs/measurements.md); gated, it follows the true edge from the image's side to the top.
 TEST(EdgeTracker, GatesALuminanceEdgeAgainstTheShadowOnItsBrightShoulder) {
   const Pose2 truth(Vec2(340.0927, 297.272), 78.643 * kDeg), estimate(Vec2(340.3659, 298.851), 81.8239 * kDeg);
   const auto trueRight = projectedEdge(park().rightEdge(park().road("R4")), truth);

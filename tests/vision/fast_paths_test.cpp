@@ -317,12 +317,11 @@ TEST(SidewalkFastPaths, TheReducedGridPlacesTheRoadEdgeWhereEveryPixelDoes) {
   // through boundary cells' centres sits (cell - 1) / 2 pixels further inside the road than one traced
   // through boundary pixels' centres (times max(|n.x|, |n.y|) for an edge of normal n); the outline is
   // moved out by that. Without the pixel-level morphology (which acts differently on 2-pixel cells)
-  // the edges then nearly agree: measured -0.64 px without the correction, -0.25 px with it (with the
-  // log-odds clamped at the threshold +-8; at +-20 it was -0.54 and -0.14); bound 0.35 px (the cells'
-  // noise averages out over ~100 line ends, an offset does not).
+  // the edges then nearly agree (docs/measurements.md); bound 0.35 px (the cells' noise averages out
+  // over ~100 line ends, an offset does not).
   EXPECT_LE(std::abs(gridEdgeBias(R"(, "pixel_morph_px": 0)")), 0.35);
   // With the defaults the closing and opening on 1-cell discs (a 3 x 3 cross) leave the region
-  // narrower than on 2-pixel discs: -1.13 px without the correction, -0.73 px with it; bound 0.9 px.
+  // narrower than on 2-pixel discs; bound 0.9 px.
   EXPECT_LE(std::abs(gridEdgeBias("")), 0.9);
 }
 
