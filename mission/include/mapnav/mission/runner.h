@@ -6,12 +6,14 @@
 // signals the blackboard so that another module (or person) [can] take control. [...] The steering
 // plan is received by the low-level motion control module [...]".
 //
-// Two runners over the same module loop:
-//   runReplay     — open loop over a recorded log (`mapnav simulate`, docs/replay-log-format.md):
-//                   localisation and commands computed frame by frame from the log's images and
-//                   odometry, compared with the log's truth when it has it; Motion Control records.
-//   runClosedLoop — the simulator renders each frame from the true pose that Motion Control's
-//                   execution of the commands produces; odometry from the simulated sensors.
+// One loop over a frame source (mission/src/frame_source.h), two entry points:
+//   runReplay     — open loop over a recorded log (`mapnav simulate`, docs/replay-log-format.md): the
+//                   replay source reads the log and repairs or skips its faults; localisation and
+//                   commands computed frame by frame from the log's images and odometry, compared
+//                   with the log's truth when it has it; Motion Control records.
+//   runClosedLoop — the closed-loop source drives the simulated plant (sim/plant.h) with Motion
+//                   Control's commands and renders each frame from the true pose; odometry from the
+//                   plant's sensor.
 // Both return the metrics and a record per frame, and can write the JSONL trace (docs/trace-format.md).
 #include <cstddef>
 #include <cstdint>
