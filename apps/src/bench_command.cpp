@@ -16,6 +16,7 @@
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/scenes/park_scene.h"
@@ -106,23 +107,17 @@ double costPerPixelGrowth(double t_small, int small, double t_large, int large) 
   return (t_large / t_small) / px;
 }
 
-std::string format(const char* fmt, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, value);
-  return buf;
-}
-
 // Four significant digits, without an exponent for the values a frame time takes.
 std::string sig(double value) {
   if (!std::isfinite(value)) return "-";
   const double a = std::fabs(value);
-  if (a >= 1000) return format("%.0f", value);
-  if (a >= 100) return format("%.1f", value);
-  if (a >= 10) return format("%.2f", value);
-  if (a >= 1) return format("%.3f", value);
-  if (a >= 0.1) return format("%.4f", value);
-  if (a >= 0.01) return format("%.5f", value);
-  return format("%.6f", value);
+  if (a >= 1000) return strprintf("%.0f", value);
+  if (a >= 100) return strprintf("%.1f", value);
+  if (a >= 10) return strprintf("%.2f", value);
+  if (a >= 1) return strprintf("%.3f", value);
+  if (a >= 0.1) return strprintf("%.4f", value);
+  if (a >= 0.01) return strprintf("%.5f", value);
+  return strprintf("%.6f", value);
 }
 
 std::string pad(const std::string& text, std::size_t width) {
@@ -209,7 +204,7 @@ void printHeader(const BenchConfig& config, int cores, std::ostream& out) {
       << (cores == 1 ? " core" : " cores") << "\n"
       << "time per colour frame: find() without the mask on the park scene, " << toString(config.road_model)
       << " road model, median batch, >= "
-      << format("%g", config.min_time_s) << " s per cell\n"
+      << strprintf("%g", config.min_time_s) << " s per cell\n"
       << "memcpy_ratio    = runtime time / time of a plain memcpy of the same frame (memory floor; lower is "
          "better)\n"
       << "reference_ratio = per-pixel reference path's time / runtime time, same threads (> 1 = faster than "
@@ -221,8 +216,8 @@ void printHeader(const BenchConfig& config, int cores, std::ostream& out) {
 
 void printRow(const Row& row, std::ostream& out) {
   out << pad(std::to_string(row.size), 6) << pad(std::to_string(row.threads), 9) << pad(sig(row.ms()), 12)
-      << pad(format("%.0f", row.fps()), 12) << pad(format("%.1f", row.pxPerS() / 1e6), 10)
-      << pad(format("%.2f", row.memcpyRatio()), 14) << pad(format("%.2f", row.referenceRatio()), 17) << "\n";
+      << pad(strprintf("%.0f", row.fps()), 12) << pad(strprintf("%.1f", row.pxPerS() / 1e6), 10)
+      << pad(strprintf("%.2f", row.memcpyRatio()), 14) << pad(strprintf("%.2f", row.referenceRatio()), 17) << "\n";
   out.flush();
 }
 
@@ -333,14 +328,14 @@ Json benchJson(const BenchConfig& config, const BenchResults& r) {
 void printSummary(const BenchResults& r, std::ostream& out) {
   if (!r.growth.empty()) {
     out << "\ncost per pixel growth, time(" << r.large << ") / time(" << r.small << ") / pixel ratio "
-        << format("%.0f", (static_cast<double>(r.large) * r.large) / (static_cast<double>(r.small) * r.small))
+        << strprintf("%.0f", (static_cast<double>(r.large) * r.large) / (static_cast<double>(r.small) * r.small))
         << " (1 = linear):";
     const char* sep = " ";
     for (const Growth& x : r.growth) {
       out << sep
           << (x.what == "memcpy" ? std::string("memcpy")
                                  : "runtime " + std::to_string(x.threads) + (x.threads == 1 ? " thread" : " threads"))
-          << " " << format("%.2f", x.ratio);
+          << " " << strprintf("%.2f", x.ratio);
       sep = ", ";
     }
     out << "\n";
@@ -368,7 +363,7 @@ std::vector<int> parseBenchSizes(const std::string& text) {
   std::vector<int> sizes;
   for (double v : values) {
     if (v != std::floor(v) || v < 16 || v > 4096) {
-      throw InvalidInput("--sizes \"" + text + "\": " + format("%g", v) + " is not a whole number in [16, 4096]");
+      throw InvalidInput("--sizes \"" + text + "\": " + strprintf("%g", v) + " is not a whole number in [16, 4096]");
     }
     sizes.push_back(static_cast<int>(v));
   }

@@ -75,7 +75,7 @@ Json number(const std::optional<double>& v) {
   return v ? Json(std::round(*v * 10000) / 10000) : Json(nullptr);
 }
 
-std::string text(const std::optional<double>& v) {
+std::string scoreOrNull(const std::optional<double>& v) {
   if (!v) return "null";
   std::ostringstream s;
   s << std::fixed << std::setprecision(4) << *v;
@@ -155,15 +155,15 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
       out << dumpJson(j);
     } else {
       for (std::size_t i = 0; i < set.size(); ++i) {
-        out << "  " << set[i].image_file.filename().string() << "  IoU " << text(counts[i].iou());
+        out << "  " << set[i].image_file.filename().string() << "  IoU " << scoreOrNull(counts[i].iou());
         if (!failures[i].empty()) out << "  (pipeline failed: " << failures[i] << "; scored as no road)";
         out << "\n";
       }
       out << config.pipeline << " (bootstrap " << config.bootstrap << "): " << scores.images << " images, " << failed
           << " failed\n"
-          << "  IoU " << text(scores.iou) << " (per image: median " << text(scores.iou_median) << ", worst "
-          << text(scores.iou_worst) << ")\n"
-          << "  precision " << text(scores.precision) << ", recall " << text(scores.recall) << "\n"
+          << "  IoU " << scoreOrNull(scores.iou) << " (per image: median " << scoreOrNull(scores.iou_median) << ", worst "
+          << scoreOrNull(scores.iou_worst) << ")\n"
+          << "  precision " << scoreOrNull(scores.precision) << ", recall " << scoreOrNull(scores.recall) << "\n"
           << "  MaxF null, AP null: the pipeline gives no per-pixel confidence\n";
       if (!config.overlays.empty()) out << "overlays in " << config.overlays << " (green TP, red FP, blue FN)\n";
     }

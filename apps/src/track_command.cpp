@@ -31,7 +31,7 @@ namespace {
 
 Json optionalNumber(const std::optional<double>& v) { return v ? Json(std::round(*v * 10) / 10) : Json(nullptr); }
 
-std::string text(const std::optional<double>& v) {
+std::string pixelsOrDash(const std::optional<double>& v) {
   if (!v) return "-";
   std::ostringstream s;
   s << std::fixed << std::setprecision(1) << *v;
@@ -92,15 +92,15 @@ void printTable(const LogTrackConfig& config, const TrackRun& run, std::ostream&
   out << "frame  left_u  right_u  centre_u   (row " << run.row << ")\n";
   for (std::size_t i = 0; i < run.frames.size(); ++i) {
     const TrackedFrame& f = run.frames[i];
-    out << std::setw(5) << i << "  " << std::setw(6) << text(f.left_u) << "  " << std::setw(7) << text(f.right_u) << "  "
-        << std::setw(8) << text(f.centre_u);
+    out << std::setw(5) << i << "  " << std::setw(6) << pixelsOrDash(f.left_u) << "  " << std::setw(7) << pixelsOrDash(f.right_u) << "  "
+        << std::setw(8) << pixelsOrDash(f.centre_u);
     if (!f.ok) out << "  failed: " << f.reason;
     out << "\n";
   }
   out << config.pipeline << ": " << run.tracked() << " of " << run.frames.size()
       << " frames tracked; largest frame-to-frame jump on row " << run.row << ": left "
-      << text(run.maxJump(&TrackedFrame::left_u)) << " px, right " << text(run.maxJump(&TrackedFrame::right_u))
-      << " px, centre " << text(run.maxJump(&TrackedFrame::centre_u)) << " px\n";
+      << pixelsOrDash(run.maxJump(&TrackedFrame::left_u)) << " px, right " << pixelsOrDash(run.maxJump(&TrackedFrame::right_u))
+      << " px, centre " << pixelsOrDash(run.maxJump(&TrackedFrame::centre_u)) << " px\n";
   if (!config.overlays.empty()) out << "overlays in " << config.overlays << "\n";
   if (!config.contact_sheet.empty()) out << "contact sheet " << config.contact_sheet << "\n";
 }

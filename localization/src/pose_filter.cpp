@@ -13,6 +13,7 @@
 #include "line_problem.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
 
 namespace mapnav {
 
@@ -85,12 +86,6 @@ std::string joined(const std::vector<std::string>& ids) {
   return out;
 }
 
-std::string format(const char* pattern, double a, double b, int c) {
-  char text[160];
-  std::snprintf(text, sizeof text, pattern, a, b, c);
-  return text;
-}
-
 }  // namespace
 
 CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines, double timestamp) {
@@ -125,7 +120,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
   if (!(d2 <= limit)) {
     CurrentPosition out = current(
         timestamp,
-        format("rejected: the lines disagree with the prior (Mahalanobis d^2 = %.1f > %.1f, %d dof); odometry only",
+        strprintf("rejected: the lines disagree with the prior (Mahalanobis d^2 = %.1f > %.1f, %d dof); odometry only",
                d2, limit, dof));
     out.status = PositionStatus::Rejected;
     out.mahalanobis_d2 = d2;

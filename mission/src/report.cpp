@@ -10,6 +10,7 @@
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/geodesy.h"
 #include "mapnav/map/map_render.h"
@@ -126,12 +127,6 @@ std::string hex(const Rgb& c) {
 }
 
 std::string escape(const std::string& text) { return render::escapeXml(text); }
-
-std::string format(const char* fmt, double value) {
-  char s[64];
-  std::snprintf(s, sizeof s, fmt, value);
-  return s;
-}
 
 std::string base64(const std::string& bytes) {
   static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -274,7 +269,7 @@ std::string mapFigure(const MissionRun& run, const Map& map, const ReportOptions
 
 std::string swatch(const Rgb& color, double width, bool dashed, const std::string& text, const std::string& cls) {
   return "<span class=\"key " + cls + "\"><svg width=\"34\" height=\"10\"><line x1=\"2\" y1=\"5\" x2=\"32\" y2=\"5\" stroke=\"" +
-         hex(color) + "\" stroke-width=\"" + format("%.1f", width) + "\"" +
+         hex(color) + "\" stroke-width=\"" + strprintf("%.1f", width) + "\"" +
          (dashed ? " stroke-dasharray=\"6 4\"" : "") + "/></svg>" + escape(text) + "</span>";
 }
 
@@ -329,13 +324,13 @@ std::string plot(const MissionRun& run, const std::string& id, const std::string
   tick.anchor = render::Anchor::End;
   for (double v = lo; v <= hi + step_y / 2; v += step_y) {
     canvas.polyline({px(t0, v), px(t1, v)}, grid);
-    canvas.text(px(t0, v) + Vec2(-6, 4), format(step_y < 0.01 ? "%.3f" : step_y < 0.1 ? "%.2f" : "%.1f", v), tick);
+    canvas.text(px(t0, v) + Vec2(-6, 4), strprintf(step_y < 0.01 ? "%.3f" : step_y < 0.1 ? "%.2f" : "%.1f", v), tick);
   }
   const double step_t = render::niceScaleLength((t1 - t0) / 8.0);
   tick.anchor = render::Anchor::Middle;
   for (double t = std::ceil(t0 / step_t) * step_t; t <= t1 + 1e-9; t += step_t) {
     canvas.polyline({px(t, lo), px(t, hi)}, grid);
-    canvas.text(px(t, lo) + Vec2(0, 14), format("%g", t), tick);
+    canvas.text(px(t, lo) + Vec2(0, 14), strprintf("%g", t), tick);
   }
   render::Style zero;
   zero.stroke = Rgb{120, 120, 120};
@@ -436,7 +431,7 @@ std::string thumbnailFigure(const ReportThumbnail& t, int width_px) {
                   9.0 * scale);
     out += text + escape(l.label) + "</text>";
   }
-  out += "</svg><figcaption>frame " + std::to_string(t.index) + ", t " + format("%.1f", t.t) + " s";
+  out += "</svg><figcaption>frame " + std::to_string(t.index) + ", t " + strprintf("%.1f", t.t) + " s";
   if (t.vision_ok) {
     out += ": " + std::to_string(t.predicted.size()) + " predicted, " + std::to_string(matched) + " of " +
            std::to_string(t.detected.size()) + " lines matched";
@@ -458,7 +453,7 @@ std::string metricsTable(const MissionRun& run) {
   out += "<tr><th></th><th>estimate</th><th>odometry only</th></tr>\n";
   if (m.has_truth) {
     auto rmsMax = [&](double rms, double max, const char* unit) {
-      return format("%.3f", rms) + " " + unit + " (max " + format("%.3f", max) + ")";
+      return strprintf("%.3f", rms) + " " + unit + " (max " + strprintf("%.3f", max) + ")";
     };
     row("lateral RMS", rmsMax(m.estimate.lateral_rms_m, m.estimate.lateral_max_m, "m"),
         rmsMax(m.odometry_only.lateral_rms_m, m.odometry_only.lateral_max_m, "m"));
@@ -466,15 +461,15 @@ std::string metricsTable(const MissionRun& run) {
         rmsMax(m.odometry_only.along_rms_m, m.odometry_only.along_max_m, "m"));
     row("heading RMS", rmsMax(m.estimate.heading_rms_deg, m.estimate.heading_max_deg, "deg"),
         rmsMax(m.odometry_only.heading_rms_deg, m.odometry_only.heading_max_deg, "deg"));
-    row("max position error", format("%.3f m", m.estimate.max_error_m), format("%.3f m", m.odometry_only.max_error_m));
-    row("along error 2 m past intersections", format("max %.3f m", m.along_after_intersection_max_m) + " (" +
+    row("max position error", strprintf("%.3f m", m.estimate.max_error_m), strprintf("%.3f m", m.odometry_only.max_error_m));
+    row("along error 2 m past intersections", strprintf("max %.3f m", m.along_after_intersection_max_m) + " (" +
                                                   std::to_string(m.intersections_checked) + " checked)");
   } else {
     row("errors", "no ground truth", "no ground truth");
   }
-  row("reached goal", m.reached_goal ? "yes" : "no", format("%.2f m from it at the end", m.goal_distance_m));
-  row("frames", std::to_string(m.frames), format("%.1f s", run.duration_s) + ", " + format("%.1f m driven", run.distance_m));
-  row("route", format("%.1f m", run.route.length_m),
+  row("reached goal", m.reached_goal ? "yes" : "no", strprintf("%.2f m from it at the end", m.goal_distance_m));
+  row("frames", std::to_string(m.frames), strprintf("%.1f s", run.duration_s) + ", " + strprintf("%.1f m driven", run.distance_m));
+  row("route", strprintf("%.1f m", run.route.length_m),
       std::to_string(run.route.intersections.size()) + " intersections");
   row("vision failures", std::to_string(m.vision_failures), std::to_string(m.halts) + " halts");
   row("replans", std::to_string(m.replans));
@@ -483,9 +478,9 @@ std::string metricsTable(const MissionRun& run) {
         m.log_faults.total() == 0 ? std::string("none") : escape(logFaultsText(m.log_faults)) + ", skipped or repaired");
   }
   row("loop latency (" + std::to_string(run.image_width) + "x" + std::to_string(run.image_height) + ")",
-      format("median %.2f ms", m.latency_ms_median) + format(", p99 %.2f ms", m.latency_ms_p99),
-      format("Vision alone: median %.2f ms", m.vision_ms_median));
-  row("odometry scale", format("%.4f", run.odometry_scale));
+      strprintf("median %.2f ms", m.latency_ms_median) + strprintf(", p99 %.2f ms", m.latency_ms_p99),
+      strprintf("Vision alone: median %.2f ms", m.vision_ms_median));
+  row("odometry scale", strprintf("%.4f", run.odometry_scale));
   out += "</table>\n";
   return out;
 }
@@ -496,7 +491,7 @@ std::string logFaultList(const MissionRun& run) {
   std::string out = "<ul id=\"log-fault-list\">\n";
   for (const LogFault& f : run.faults) {
     out += "<li class=\"" + toString(f.kind) + "\">frames.jsonl line " + std::to_string(f.line) +
-           (f.t ? " (t " + format("%.3f", *f.t) + " s)" : std::string()) + ": <b>" + toString(f.kind) + "</b> &mdash; " +
+           (f.t ? " (t " + strprintf("%.3f", *f.t) + " s)" : std::string()) + ": <b>" + toString(f.kind) + "</b> &mdash; " +
            escape(f.message) + "; " + escape(f.action) + "</li>\n";
   }
   return out + "</ul>\n";
@@ -512,8 +507,8 @@ std::string failureList(const MissionRun& run) {
     for (const FailureRun& f : runs) {
       const FrameRecord &a = run.frames[f.first], &b = run.frames[f.last];
       out += "<li>frame" + std::string(f.first == f.last ? " " : "s ") + std::to_string(a.index) +
-             (f.first == f.last ? "" : "&ndash;" + std::to_string(b.index)) + " (t " + format("%.1f", a.t) +
-             (f.first == f.last ? "" : "&ndash;" + format("%.1f", b.t)) + " s): " + escape(f.reason) + "</li>\n";
+             (f.first == f.last ? "" : "&ndash;" + std::to_string(b.index)) + " (t " + strprintf("%.1f", a.t) +
+             (f.first == f.last ? "" : "&ndash;" + strprintf("%.1f", b.t)) + " s): " + escape(f.reason) + "</li>\n";
     }
     out += "</ul>\n";
   }

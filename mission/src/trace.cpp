@@ -9,6 +9,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
+#include "mapnav/core/strprintf.h"
 
 namespace mapnav {
 
@@ -334,16 +335,10 @@ class Fields {
   std::string pointer_;
 };
 
-std::string format(const char* f, double a) {
-  char text[64];
-  std::snprintf(text, sizeof text, f, a);
-  return text;
-}
-
 std::string sayPosition(const std::string& text) {
   try {
     const RoadPosition p = parseRoadPosition(text);
-    return "road " + p.road + ", " + format("%g", p.meters) + " meters from " + p.node;
+    return "road " + p.road + ", " + strprintf("%g", p.meters) + " meters from " + p.node;
   } catch (const InvalidInput&) {
     return text;
   }
@@ -352,7 +347,7 @@ std::string sayPosition(const std::string& text) {
 std::string sayTurn(const Fields& turn) {
   const std::string direction = turn.str("direction");
   if (direction == "straight") return "go straight through " + turn.str("at");
-  return "turn to " + direction + " " + format("%.0f", std::abs(turn.num("degrees"))) + " degrees";
+  return "turn to " + direction + " " + strprintf("%.0f", std::abs(turn.num("degrees"))) + " degrees";
 }
 
 std::string joinList(const std::vector<std::string>& items) {
@@ -411,14 +406,14 @@ std::string say(const std::string& module, const std::string& type, const Fields
       if (c == '\n') c = ' ';
     }
     while (!dialogue.empty() && dialogue.back() == ' ') dialogue.pop_back();
-    return "Navigator: Route " + p.str("why") + ", " + format("%.1f", p.num("length_m")) + " m: " + dialogue;
+    return "Navigator: Route " + p.str("why") + ", " + strprintf("%.1f", p.num("length_m")) + " m: " + dialogue;
   }
   if (type == "LogFault") {
-    return "Sensors: frames.jsonl line " + format("%.0f", p.num("line")) + ": " + p.str("kind") + " (" +
+    return "Sensors: frames.jsonl line " + strprintf("%.0f", p.num("line")) + ": " + p.str("kind") + " (" +
            p.str("message") + "); " + p.str("action") + ".";
   }
   if (type == "Frame") {
-    return "[frame " + (frame ? std::to_string(*frame) : std::string("?")) + ", " + format("%.1f", t) + " s]";
+    return "[frame " + (frame ? std::to_string(*frame) : std::string("?")) + ", " + strprintf("%.1f", t) + " s]";
   }
   if (type == "PredictedObject") {
     const Json& regions = p.arr("regions");
@@ -466,9 +461,9 @@ std::string say(const std::string& module, const std::string& type, const Fields
   if (type == "CurrentPosition") {
     const Fields pose = p.obj("pose");
     const Fields sigma = p.obj("sigma");
-    std::string text = "Map: You are at (" + format("%.2f", pose.num("x")) + ", " + format("%.2f", pose.num("y")) +
-                       ") heading " + format("%.1f", pose.num("heading_deg")) + " degrees, ±" +
-                       format("%.3f", sigma.num("lateral_m")) + " m across, ±" + format("%.3f", sigma.num("along_m")) +
+    std::string text = "Map: You are at (" + strprintf("%.2f", pose.num("x")) + ", " + strprintf("%.2f", pose.num("y")) +
+                       ") heading " + strprintf("%.1f", pose.num("heading_deg")) + " degrees, ±" +
+                       strprintf("%.3f", sigma.num("lateral_m")) + " m across, ±" + strprintf("%.3f", sigma.num("along_m")) +
                        " m along";
     const std::string status = p.str("status");
     if (status == "corrected") {
@@ -489,39 +484,39 @@ std::string say(const std::string& module, const std::string& type, const Fields
     const std::string on = p.boolean("same_road") ? "it" : p.str("road");
     std::string then = "stop at the goal";
     if (p.has("next_turn")) then = sayTurn(p.obj("next_turn"));
-    return "Navigator: Drive on " + on + " " + format("%.1f", p.num("drive_m")) + " meters and " + then + ".";
+    return "Navigator: Drive on " + on + " " + strprintf("%.1f", p.num("drive_m")) + " meters and " + then + ".";
   }
   if (type == "VisionFailure") return "";  // the failed DetectedObject says it
   if (type == "Halt") {
     const std::string when = p.has("resume_after_frames")
                                  ? "until the " + p.str("control_to") + " hands control back (after " +
-                                       format("%.0f", p.num("resume_after_frames")) + " frames)"
+                                       strprintf("%.0f", p.num("resume_after_frames")) + " frames)"
                                  : "and the mission ends";
     return "Vision: I halt (" + p.str("reason") + "). Control passes to the " + p.str("control_to") + "; motion stops " +
            when + ".";
   }
   if (type == "Resume") {
-    return "User: I hand control back (after " + format("%.0f", p.num("frames_halted")) + " frames halted).";
+    return "User: I hand control back (after " + strprintf("%.0f", p.num("frames_halted")) + " frames halted).";
   }
   if (type == "Executing") {
     if (!p.boolean("executes")) return "Motion Control: Ok. (replay: recorded, not driven)";
     return p.str("kind") == "drive" ? "Motion Control: Ok. I drive." : "Motion Control: Ok. I stop.";
   }
   if (type == "Dropped") {
-    return "Blackboard: dropped the " + p.str("token") + " of " + format("%.2f", p.num("token_time")) + " s (" +
+    return "Blackboard: dropped the " + p.str("token") + " of " + strprintf("%.2f", p.num("token_time")) + " s (" +
            p.str("why") + ").";
   }
   if (type == "Summary") {
-    std::string text = "Mission: " + p.str("outcome") + ". " + format("%.0f", p.num("frames")) + " frames";
+    std::string text = "Mission: " + p.str("outcome") + ". " + strprintf("%.0f", p.num("frames")) + " frames";
     if (p.has("estimate")) {
       const Fields e = p.obj("estimate");
-      text += "; lateral RMS " + format("%.3f", e.num("lateral_rms_m")) + " m, heading RMS " +
-              format("%.2f", e.num("heading_rms_deg")) + " degrees";
+      text += "; lateral RMS " + strprintf("%.3f", e.num("lateral_rms_m")) + " m, heading RMS " +
+              strprintf("%.2f", e.num("heading_rms_deg")) + " degrees";
     }
-    text += "; " + format("%.0f", p.num("vision_failures")) + " vision failures, " + format("%.0f", p.num("replans")) +
+    text += "; " + strprintf("%.0f", p.num("vision_failures")) + " vision failures, " + strprintf("%.0f", p.num("replans")) +
             " replans";
     if (p.has("log_faults") && p.num("log_faults") > 0) {
-      text += "; " + format("%.0f", p.num("log_faults")) + " faults of the log skipped or repaired";
+      text += "; " + strprintf("%.0f", p.num("log_faults")) + " faults of the log skipped or repaired";
     }
     text += ".";
     return text;

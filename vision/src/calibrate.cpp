@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cv_view.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 
@@ -37,10 +38,7 @@ std::vector<Vec2> undistortPixels(const CameraIntrinsics& in, const std::vector<
   return out;
 }
 
-cv::Mat wrap(const Image& image) {
-  const int type = image.channels == 1 ? CV_8UC1 : image.channels == 3 ? CV_8UC3 : CV_8UC4;
-  return cv::Mat(image.height, image.width, type, const_cast<std::uint8_t*>(image.data.data()));
-}
+using cvview::view;
 
 cv::Mat toGrey(const Image& image) {
   if (image.empty() || image.width <= 0 || image.height <= 0 ||
@@ -50,9 +48,9 @@ cv::Mat toGrey(const Image& image) {
   }
   cv::Mat grey;
   if (image.channels == 1) {
-    grey = wrap(image).clone();
+    grey = view(image).clone();
   } else {
-    cv::cvtColor(wrap(image), grey, cv::COLOR_RGB2GRAY);
+    cv::cvtColor(view(image), grey, cv::COLOR_RGB2GRAY);
   }
   return grey;
 }
@@ -156,9 +154,9 @@ Image drawChessboardCorners(const Image& image, int cols, int rows, const std::v
   (void)grey;
   cv::Mat rgb;
   if (image.channels == 1) {
-    cv::cvtColor(wrap(image), rgb, cv::COLOR_GRAY2RGB);
+    cv::cvtColor(view(image), rgb, cv::COLOR_GRAY2RGB);
   } else {
-    rgb = wrap(image).clone();
+    rgb = view(image).clone();
   }
   std::vector<cv::Point2f> pts;
   for (const Vec2& p : corners) pts.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));

@@ -2,6 +2,7 @@
 #include "mapnav/vision/pipelines.h"
 
 #include "binary_morph.h"
+#include "cv_view.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,8 +27,7 @@ namespace {
 
 // --- Frame geometry ---------------------------------------------------------------------------------
 
-cv::Mat wrap(Image& im) { return cv::Mat(im.height, im.width, CV_8UC1, im.data.data()); }
-cv::Mat wrap(const Image& im) { return cv::Mat(im.height, im.width, CV_8UC1, const_cast<std::uint8_t*>(im.data.data())); }
+using cvview::view;
 
 /// A length in pixels on a grid of `scale`-pixel cells (at least `least`).
 int onGrid(double px, int scale, int least = 0) { return std::max(least, static_cast<int>(std::lround(px / scale))); }
@@ -96,7 +96,7 @@ std::vector<cv::Point> projectRing(const Polygon2& ring, const Camera& camera, i
 /// The rings filled on the grid of `scale`-pixel cells, w × h cells.
 Image fillRings(const std::vector<Polygon2>& rings, const Camera& camera, int scale, int w, int h) {
   Image out(w, h, 1);
-  cv::Mat m = wrap(out);
+  cv::Mat m = view(out);
   for (const Polygon2& r : rings) {
     const auto pts = projectRing(r, camera, scale);
     if (pts.size() >= 3) cv::fillPoly(m, std::vector<std::vector<cv::Point>>{pts}, cv::Scalar(255));
@@ -183,8 +183,8 @@ class BasePipeline : public VisionPipeline {
     for (const PredictedRegion& r : prediction.regions)
       for (const Polygon2& p : r.vehicle) road_rings.push_back(p);
     Image predicted = fillRings(road_rings, cam, scale, w, h);
-    cv::bitwise_and(wrap(predicted), wrap(valid), wrap(predicted));
-    const int predicted_px = cv::countNonZero(wrap(predicted)) * scale * scale;
+    cv::bitwise_and(view(predicted), view(valid), view(predicted));
+    const int predicted_px = cv::countNonZero(view(predicted)) * scale * scale;
     if (predicted_px < common().min_predicted_px) return fail(frame, "nothing predicted in view");
 
     // Per-cell road decision.
@@ -233,7 +233,7 @@ class BasePipeline : public VisionPipeline {
     labelLines(d.lines, prediction, lo);
 
     cv::Mat inter;
-    cv::bitwise_and(wrap(region.mask), wrap(predicted), inter);
+    cv::bitwise_and(view(region.mask), view(predicted), inter);
     const double i = cv::countNonZero(inter) * scale * scale;
     d.confidence = std::clamp(i / (area_px + predicted_px - i), 0.0, 1.0);
     return d;
@@ -300,10 +300,10 @@ class BasePipeline : public VisionPipeline {
         cache_.grid_valid = cache_.valid;
       } else {
         cv::Mat mean;
-        cv::resize(wrap(cache_.valid)(cv::Rect(0, 0, cam.width() / scale * scale, cam.height() / scale * scale)), mean,
+        cv::resize(view(cache_.valid)(cv::Rect(0, 0, cam.width() / scale * scale, cam.height() / scale * scale)), mean,
                    cv::Size(cam.width() / scale, cam.height() / scale), 0, 0, cv::INTER_AREA);
         cache_.grid_valid = Image(mean.cols, mean.rows, 1);
-        cv::Mat all = wrap(cache_.grid_valid);
+        cv::Mat all = view(cache_.grid_valid);
         cv::threshold(mean, all, 254, 255, cv::THRESH_BINARY);  // every pixel of the cell sees the ground
       }
     }
@@ -363,8 +363,8 @@ class ClassifierPipeline : public BasePipeline {
     // Conservative labels: the predicted road eroded, and the rest of the predicted view eroded.
     Image view_mask =
         prediction.footprint.size() >= 3 ? fillRings({prediction.footprint}, cam, frame.scale, w, h) : valid;
-    cv::Mat vm = wrap(view_mask);
-    cv::bitwise_and(vm, wrap(valid), vm);
+    cv::Mat vm = view(view_mask);
+    cv::bitwise_and(vm, view(valid), vm);
     Image non_lab(w, h, 1);
     const int e = onGrid(options_.label_erosion_px, frame.scale);
     const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * e + 1, 2 * e + 1));
@@ -378,7 +378,7 @@ class ClassifierPipeline : public BasePipeline {
     if (reference) cv::dilate(pm, grown, k);
     else detail::dilateBinary(pm, grown, k);
     erode(vm, vm_eroded);
-    cv::bitwise_and(vm_eroded, ~grown, wrap(non_lab));
+    cv::bitwise_and(vm_eroded, ~grown, view(non_lab));
 
     std::map<std::string, std::vector<Polygon2>> by_surface;
     for (const PredictedRegion& r : prediction.regions) {
@@ -392,16 +392,16 @@ class ClassifierPipeline : public BasePipeline {
       Image own = predicted;
       if (by_surface.size() > 1) {
         own = fillRings(rings, cam, frame.scale, w, h);
-        cv::bitwise_and(wrap(own), pm, wrap(own));
+        cv::bitwise_and(view(own), pm, view(own));
         for (const auto& [other, other_rings] : by_surface) {
           if (other == surface) continue;
           Image theirs = fillRings(other_rings, cam, frame.scale, w, h);
-          cv::bitwise_and(wrap(own), ~wrap(theirs), wrap(own));
+          cv::bitwise_and(view(own), ~view(theirs), view(own));
         }
       }
       Image road_lab(w, h, 1);
-      cv::Mat road_view = wrap(road_lab);
-      erode(wrap(own), road_view);
+      cv::Mat road_view = view(road_lab);
+      erode(view(own), road_view);
       ColorClassifier& classifier = classifiers_.try_emplace(surface, classifierOptions()).first->second;
       train(classifier, frame, road_lab, non_lab);
       if (!classifier.trained() || classifier.separation() < options_.min_separation) continue;

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "binary_morph.h"
+#include "cv_view.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
 
@@ -15,9 +16,7 @@ namespace mapnav {
 
 namespace {
 
-cv::Mat view(const Image& im) {
-  return cv::Mat(im.height, im.width, CV_8UC1, const_cast<std::uint8_t*>(im.data.data()));
-}
+using cvview::view;
 
 Image toImage(const cv::Mat& m) {
   Image out(m.cols, m.rows, 1);
