@@ -316,7 +316,8 @@ void expectSamePrediction(const Prediction& a, const Prediction& b, const std::s
 TEST(ViewPredictor, KeepsWhatThePoseDoesNotChangeAndGivesPredictViewsAnswers) {
   // Along every road of the campus (curves, plazas, T and Y intersections), both ways, twice: the
   // second pass takes each road's and intersection's segments from the store. Two predictors with
-  // different options must each give what predictView gives with theirs.
+  // different options must each give what predictView gives with theirs. A pose every 7 m (every
+  // 21 m under the sanitizers, where predicting runs 5-10 times slower).
   const Map map = loadMap(testing::mapPath("cmu_campus.json"));
   PredictOptions coarse;
   coarse.simplify_tolerance_m = 0.5;
@@ -325,7 +326,7 @@ TEST(ViewPredictor, KeepsWhatThePoseDoesNotChangeAndGivesPredictViewsAnswers) {
   int frames = 0, segments = 0, curves = 0, differ = 0;
   for (int pass = 0; pass < 2; ++pass) {
     for (const Road& road : map.roads()) {
-      for (double s = 1.0; s < road.centerline.length(); s += 7.0) {
+      for (double s = 1.0; s < road.centerline.length(); s += testing::kUnderSanitizers ? 21.0 : 7.0) {
         for (const double turn : {0.0, kPi}) {
           const Pose2 pose(road.centerline.pointAt(s), road.centerline.headingAt(s) + turn);
           const std::string what = road.id + " at " + std::to_string(s) + (turn == 0 ? " forward" : " back");
@@ -342,7 +343,7 @@ TEST(ViewPredictor, KeepsWhatThePoseDoesNotChangeAndGivesPredictViewsAnswers) {
       }
     }
   }
-  EXPECT_GT(frames, 100);
+  EXPECT_GT(frames, testing::kUnderSanitizers ? 40 : 100);
   EXPECT_GT(segments, 2 * frames);  // the views have something in them
   EXPECT_GT(curves, 0);
   EXPECT_GT(differ, 0);  // the options matter, so a store shared between them would show

@@ -73,8 +73,9 @@ TEST(ClusterPerceptron, ArcModelPremiseRowsSeeOneDistanceAndMapOffsetsAffinely) 
 // from the edges (seen only beyond ~4.5 m: the 3 m road fills the image, 1.4 m wide at the bottom) to
 // the bottom rows, where 1 cm is 3.7 px.
 TEST(ClusterPerceptron, ArcModelFollowsCurves) {
-  const auto poses = curvePoses(3.0);
-  ASSERT_GE(poses.size(), 100u);
+  // Under the sanitizers a pose every 12 m, not 3, and the per-frame assertions alone.
+  const auto poses = curvePoses(testing::kUnderSanitizers ? 12.0 : 3.0);
+  ASSERT_GE(poses.size(), testing::kUnderSanitizers ? 25u : 100u);
   const ArcVsLine e = arcVsLine(poses);
   const std::size_t n = e.arc.size();
   int better = 0;
@@ -117,6 +118,7 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
   EXPECT_LE(e.failed.size(), 2u);
   for (const std::string& reason : e.failed_reason)  // only where no fit keeps the vehicle on its road
     EXPECT_NE(reason.find("within half the road's width of the vehicle"), std::string::npos) << reason;
+  if (testing::kUnderSanitizers) return;
   EXPECT_GE(circle_reaches, static_cast<int>(0.6 * static_cast<double>(n)));
   EXPECT_GE(met_where_reachable, static_cast<int>(0.4 * static_cast<double>(circle_reaches)));
   EXPECT_GE(angle_within(1.0), static_cast<std::ptrdiff_t>(0.35 * static_cast<double>(n)));

@@ -101,17 +101,18 @@ std::vector<RoadPose> circlePoses(double step) {
 // standard errors (RoadFinding::bottom_column_sd). Where shadowed grass classed as road hides the outer
 // edge, a circle through the shadows' outline can gather more edges than the road's (normalised colour,
 // the next test, tells them apart). The counts asserted and the fits tried: docs/measurements.md.
-// Under AddressSanitizer rendering is about ten times slower: the carried-edges drive (450 frames
-// rendered) took over the stage's 900 s. There it covers the 15 m left circle alone, the area-sampled
-// circles test the 15 m circles, and only their per-frame and edge assertions are checked.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
+// Under the sanitizers (testing::kUnderSanitizers) rendering and finding run 5-10 times slower: the
+// circle tests there drive the 15 m left circle alone (sanitizedCircle()) and check only their
+// per-frame and edge assertions; the release stage checks the counts on every circle.
+constexpr bool kSanitized = testing::kUnderSanitizers;
 
 double circleRadiusOf(const RoadPose& p) {
   return kCircleRadii[static_cast<std::size_t>(p.road - circles().roads().data()) / 2];
+}
+
+/// Under the sanitizers, the poses on the first road of circles() (the 15 m left circle) alone.
+void sanitizedCircle(std::vector<RoadPose>& poses) {
+  if (kSanitized) std::erase_if(poses, [](const RoadPose& p) { return p.road != &circles().roads().front(); });
 }
 
 /// An arcVsLine() on circlePoses(), scored: per radius the worst column errors of both models, every
@@ -175,11 +176,13 @@ CircleScore scoreCircles(const std::vector<RoadPose>& poses, const ArcVsLine& e,
 }
 
 TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
-  const auto poses = circlePoses(2.0);
+  auto poses = circlePoses(2.0);
   ASSERT_EQ(poses.size(), 8u * 11u);
+  sanitizedCircle(poses);
   const ArcVsLine e = arcVsLine(poses, circles(), 0.5);
   const CircleScore c = scoreCircles(poses, e);
   EXPECT_TRUE(e.failed.empty());
+  if (kSanitized) return;
   EXPECT_GE(c.met, 81);
   EXPECT_GE(c.within4, 87);
   EXPECT_GE(c.top_met, 87);
@@ -201,12 +204,12 @@ TEST(ClusterPerceptron, ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves) {
 // 12 % toward blue); normalised, the shaded grass keeps the grass's chromaticity instead of joining
 // the dark asphalt's cluster, so the mask shows the road's true edges on every frame and the circle
 // is fitted to more of them: every frame within 2 px and 1 deg. 8 clusters, not the paper's 5: 5 are
-// too few for two dimensions of colour on other frames (docs/measurements.md). Under AddressSanitizer,
-// the 15 m circles alone.
+// too few for two dimensions of colour on other frames (docs/measurements.md). Under the sanitizers,
+// the 15 m left circle alone.
 TEST(ClusterPerceptron, ArcModelInNormalisedColourWithinTwoPixelsAndOneDegreeOnEveryCircleFrame) {
   auto poses = circlePoses(2.0);
   ASSERT_EQ(poses.size(), 8u * 11u);
-  if (kSanitized) std::erase_if(poses, [](const RoadPose& p) { return circleRadiusOf(p) != 15.0; });
+  sanitizedCircle(poses);
   ClusterPerceptronOptions o;
   o.normalized_color = true;
   o.clusters = 8;
@@ -232,7 +235,7 @@ double medianAbs(std::vector<double> v) {
 // (a mixed pixel's class follows the clusters, not its area). The figures: docs/measurements.md.
 TEST(ClusterPerceptron, ArcModelWithSubpixelEdgesOnAreaSampledCircularCurves) {
   auto poses = circlePoses(2.0);
-  if (kSanitized) std::erase_if(poses, [](const RoadPose& p) { return circleRadiusOf(p) != 15.0; });
+  sanitizedCircle(poses);
   WorldOptions wo = parkWorld();
   wo.paved_edge_samples = 4;
   const ArcVsLine boundary = arcVsLine(poses, circles(), 0.5, wo);
@@ -298,7 +301,8 @@ std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders,
     };
     std::optional<Pose2> last;
     std::vector<RoadFinding> found(finders.size());
-    const double s0 = kCircleLeadIn - 2.0, s_end = line.length() - 17.0;
+    // Under the sanitizers the drive ends at the circle's fourth evaluated pose.
+    const double s0 = kCircleLeadIn - 2.0, s_end = kSanitized ? kCircleLeadIn + 8.0 : line.length() - 17.0;
     for (int j = 0; s0 + j * ds <= s_end + 1e-9; ++j) {
       const double s = s0 + j * ds;
       const Vec2 d = weave(s + 0.01) - weave(s - 0.01);
@@ -357,15 +361,16 @@ TEST(ClusterPerceptron, ArcModelWithCarriedEdgesOnCircularCurves) {
   park_loop.heading_sigma_deg = 0.075;
   // Finders: each frame alone; carried with the true motion; with calibrated odometry of five noise
   // seeds; with park_loop's odometry.
-  std::vector<DriveFinder> finders(8);
+  // Under the sanitizers the first two alone, whose per-frame assertions are checked there.
+  std::vector<DriveFinder> finders(kSanitized ? 2 : 8);
   for (std::size_t k = 1; k < finders.size(); ++k) finders[k].carry_frames = 8;
-  for (std::size_t k = 2; k < 7; ++k) {
+  for (std::size_t k = 2; k < 7 && k < finders.size(); ++k) {
     finders[k].odometry = calibrated;
     finders[k].odometry->seed = 7 + k;
   }
-  finders[7].odometry = park_loop;
+  if (!kSanitized) finders[7].odometry = park_loop;
   const auto poses = carriedDrive(0.5, finders, kSanitized ? 1 : circles().roads().size());
-  ASSERT_EQ(poses.size(), kSanitized ? 11u : 88u);
+  ASSERT_EQ(poses.size(), kSanitized ? 4u : 88u);
   for (std::size_t k = 0; k < finders.size(); ++k) {
     const DriveFinder& d = finders[k];
     const std::string name = k == 0 ? "each frame alone" : k == 1 ? "carried, true motion" : k == 7 ? "carried, park_loop's odometry"
