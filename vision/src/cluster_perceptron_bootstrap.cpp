@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cv_view.h"
 #include "mapnav/vision/cluster_perceptron.h"
 
 namespace mapnav {
@@ -27,7 +28,7 @@ Polygon2 roadBand(const std::vector<Vec2>& centre, const std::vector<double>& ro
 
 Image fillPolygonMask(const std::vector<Polygon2>& polygons, int width, int height) {
   Image out(width, height, 1);
-  cv::Mat m(height, width, CV_8UC1, out.data.data());
+  cv::Mat m = cvview::view(out);
   for (const Polygon2& poly : polygons) {
     std::vector<cv::Point> pts;
     for (const Vec2& p : poly)

@@ -1,8 +1,6 @@
 #pragma once
 // OpenCV headers over mapnav Images (internal to vision/): no copy, so a view lives no longer than
 // its image's pixels and sees every change to them.
-#include <cstdint>
-
 #include <opencv2/core.hpp>
 
 #include "mapnav/image/image.h"

@@ -2,6 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "cv_view.h"
 #include "mapnav/core/error.h"
 
 #include <algorithm>
@@ -80,7 +81,7 @@ Image drawDetection(const Image& frame, const PredictedObject& prediction, const
   const auto a = camera.projectGround(detection.centerline_vehicle->a);
   const auto b = camera.projectGround(detection.centerline_vehicle->b);
   if (!a || !b) return out;
-  cv::Mat rgb(out.height, out.width, CV_8UC3, out.data.data());
+  cv::Mat rgb = cvview::view(out);
   cv::line(rgb, fixed(*a), fixed(*b), cv::Scalar(255, 0, 255), 3, cv::LINE_AA, 4);
   return out;
 }

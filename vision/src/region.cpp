@@ -20,7 +20,7 @@ using cvview::view;
 
 Image toImage(const cv::Mat& m) {
   Image out(m.cols, m.rows, 1);
-  cv::Mat dst(m.rows, m.cols, CV_8UC1, out.data.data());
+  cv::Mat dst = view(out);
   m.copyTo(dst);
   return out;
 }
