@@ -4,7 +4,6 @@
 
 #include <cstdio>
 
-#include <cctype>
 #include <filesystem>
 #include <iomanip>
 #include <ostream>
@@ -18,20 +17,13 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/image/png.h"
+#include "mapnav/image/read_image.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/vision/calibrate.h"
 
 namespace mapnav::cli {
 
 namespace {
-
-// PNGs through the project's reader; anything else (JPEG, ...) through OpenCV's.
-Image readAnyImage(const std::string& file) {
-  const std::filesystem::path path(file);
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".png" ? readPng(path) : readImageFile(path);
-}
 
 void requireOutput(const std::string& output, const char* option) {
   if (output.empty()) throw InvalidInput(std::string("missing ") + option + ": where to write the result");
@@ -44,7 +36,7 @@ int runRectify(const RectifyConfig& config, std::ostream& out, std::ostream& err
     requireOutput(config.output, "--output");
     config.options.validate();
     const std::unique_ptr<Camera> camera = loadCamera(config.camera);
-    const Image frame = readAnyImage(config.image);
+    const Image frame = readImage(config.image);
     if (frame.width != camera->width() || frame.height != camera->height()) {
       throw InvalidInput(config.image + ": the image is " + std::to_string(frame.width) + "x" +
                          std::to_string(frame.height) + ", the camera (" + config.camera + ") expects " +
@@ -74,7 +66,7 @@ int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream
     if (config.images.empty()) throw InvalidInput("no images given");
     std::vector<Image> images;
     images.reserve(config.images.size());
-    for (const std::string& file : config.images) images.push_back(readAnyImage(file));
+    for (const std::string& file : config.images) images.push_back(readImage(file));
     const ChessboardResult result =
         calibrateChessboard(images, config.cols, config.rows, config.square_m, config.images);
 

@@ -82,11 +82,12 @@ OptionValue memberValue(const OptionFieldSpec& field, const nlohmann::json& valu
 /// The members of `object` (but "preset") as (field index, value), appended to `out`.
 void readMembers(const std::vector<OptionFieldSpec>& fields, const nlohmann::json& object, std::string_view who,
                  std::vector<std::pair<std::size_t, OptionValue>>& out) {
-  for (const auto& [key, value] : object.items()) {
+  for (const auto& member : object.items()) {
+    const std::string& key = member.key();  // not a structured binding: clang 14 (scripts/fuzz) cannot capture one
     if (key == "preset") continue;
     const auto it = std::find_if(fields.begin(), fields.end(), [&](const OptionFieldSpec& f) { return f.name == key; });
     if (it == fields.end()) throw InvalidInput(std::string(who) + ": unknown option \"" + key + "\"");
-    out.emplace_back(static_cast<std::size_t>(it - fields.begin()), memberValue(*it, value, who));
+    out.emplace_back(static_cast<std::size_t>(it - fields.begin()), memberValue(*it, member.value(), who));
   }
 }
 

@@ -1,10 +1,12 @@
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
+#include <cmath>
+#include <span>
 
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
+#include "mapnav/image/png.h"
 #include "mapnav/map/info.h"
 #include "mapnav/map/map_render.h"
 
@@ -35,15 +37,14 @@ TEST(RenderMap, RoadsArePaintedInTheirSurfaceColourOnTheShoulderGround) {
   const MapPicture picture = renderMap(map, options);
   EXPECT_EQ(picture.canvas.width(), 800);
   const std::string png = picture.canvas.toPng();
-  const cv::Mat image = cv::imdecode(cv::Mat(1, static_cast<int>(png.size()), CV_8U, const_cast<char*>(png.data())),
-                                     cv::IMREAD_COLOR);
-  ASSERT_FALSE(image.empty());
-  EXPECT_EQ(image.cols, 800);
-  EXPECT_EQ(image.rows, picture.canvas.height());
+  const Image image = decodePng(std::span(reinterpret_cast<const std::uint8_t*>(png.data()), png.size()), "map");
+  ASSERT_EQ(image.channels, 3);
+  EXPECT_EQ(image.width, 800);
+  EXPECT_EQ(image.height, picture.canvas.height());
   auto rgbAt = [&](const Vec2& world) {
     const Vec2 px = picture.view.toPixel(world);
-    const cv::Vec3b bgr = image.at<cv::Vec3b>(static_cast<int>(std::lround(px.y())), static_cast<int>(std::lround(px.x())));
-    return Vec3(bgr[2], bgr[1], bgr[0]);
+    const std::uint8_t* rgb = image.pixel(static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y())));
+    return Vec3(rgb[0], rgb[1], rgb[2]);
   };
   // On R1, 0.6 m left of the dashed centre line: concrete (178, 176, 168).
   EXPECT_LT((rgbAt(Vec2(15, 0.6)) - Vec3(178, 176, 168)).cwiseAbs().maxCoeff(), 4.0);

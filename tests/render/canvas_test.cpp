@@ -9,11 +9,10 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/image/png.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav::render {
@@ -35,17 +34,14 @@ std::vector<Vec2> square(double u0, double v0, double u1, double v1) {
   return {{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}};
 }
 
-cv::Mat decode(const std::string& png) {
-  const std::vector<uchar> buf(png.begin(), png.end());
-  cv::Mat img = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
-  EXPECT_FALSE(img.empty()) << "PNG did not decode";
-  return img;
+Image decode(const std::string& png) {
+  return decodePng(std::span(reinterpret_cast<const std::uint8_t*>(png.data()), png.size()), "canvas");
 }
 
-/// The pixel at column u, row v as RGB (OpenCV stores BGR).
-Rgb at(const cv::Mat& img, int u, int v) {
-  const cv::Vec3b p = img.at<cv::Vec3b>(v, u);
-  return {p[2], p[1], p[0]};
+/// The pixel at column u, row v as RGB.
+Rgb at(const Image& img, int u, int v) {
+  const std::uint8_t* p = img.pixel(u, v);
+  return {p[0], p[1], p[2]};
 }
 
 ::testing::AssertionResult rgbNear(const Rgb& actual, const Rgb& expected, int tolerance) {
@@ -169,10 +165,10 @@ TEST(Canvas, RecordsCommands) {
 TEST(Png, FilledSquareIsRedInsideAndBackgroundOutside) {
   Canvas canvas(40, 30, kWhite);
   canvas.polygon(square(10, 10, 20, 20), fillOnly(kRed));
-  const cv::Mat img = decode(canvas.toPng());
-  ASSERT_EQ(img.cols, 40);
-  ASSERT_EQ(img.rows, 30);
-  ASSERT_EQ(img.type(), CV_8UC3);  // 8-bit RGB, no alpha
+  const Image img = decode(canvas.toPng());
+  ASSERT_EQ(img.width, 40);
+  ASSERT_EQ(img.height, 30);
+  ASSERT_EQ(img.channels, 3);  // 8-bit RGB, no alpha
   // Inside, including the first and last pixel rows/columns of the square (pixel i covers [i, i+1)).
   for (int v = 10; v < 20; ++v) {
     for (int u = 10; u < 20; ++u) EXPECT_RGB(img, u, v, kRed, 0);
@@ -197,7 +193,7 @@ TEST(Png, OpacityBlendsWithWhatIsUnder) {
   Canvas canvas(40, 30, kWhite);
   canvas.polygon(square(0, 0, 20, 30), fillOnly(kBlue));  // left half blue
   canvas.polygon(square(5, 5, 35, 25), fillOnly(kRed, 0.5));
-  const cv::Mat img = decode(canvas.toPng());
+  const Image img = decode(canvas.toPng());
   // 0.5 red over white: (255, 127.5, 127.5); over blue: (127.5, 0, 127.5).
   EXPECT_RGB(img, 28, 15, (Rgb{255, 128, 128}), 2);
   EXPECT_RGB(img, 10, 15, (Rgb{128, 0, 128}), 2);
@@ -213,7 +209,7 @@ TEST(Png, StrokesSolidAndDashedLines) {
   Canvas canvas(60, 30, kWhite);
   canvas.polyline({{5, 10.5}, {55, 10.5}}, strokeOnly(kBlack, 3));
   canvas.polyline({{5, 20.5}, {55, 20.5}}, strokeOnly(kBlack, 1, true));
-  const cv::Mat img = decode(canvas.toPng());
+  const Image img = decode(canvas.toPng());
   int solid_dark = 0, dashed_dark = 0, dashed_light = 0;
   for (int u = 8; u < 52; ++u) {
     if (at(img, u, 10).r < 60) ++solid_dark;
@@ -234,7 +230,7 @@ TEST(Png, DrawsCirclesAndPolygonOutlines) {
   // Centres on .5: 1 px lines then fall on whole pixels (pixel i covers [i, i+1)).
   canvas.circle({20.5, 20.5}, 8, Style{Rgb{0, 200, 0}, kBlack, 1, 1.0, false});
   canvas.polygon(square(2.5, 2.5, 37.5, 37.5), strokeOnly(kBlue, 1));
-  const cv::Mat img = decode(canvas.toPng());
+  const Image img = decode(canvas.toPng());
   EXPECT_RGB(img, 20, 20, (Rgb{0, 200, 0}), 0);
   EXPECT_RGB(img, 20, 20 + 8, kBlack, 90);  // the outline at the radius
   EXPECT_RGB(img, 6, 6, kWhite, 0);         // between circle and frame
@@ -243,10 +239,10 @@ TEST(Png, DrawsCirclesAndPolygonOutlines) {
 }
 
 /// Columns of dark pixels in rows v0..v1.
-std::pair<int, int> inkColumns(const cv::Mat& img, int v0, int v1) {
-  int lo = img.cols, hi = -1;
+std::pair<int, int> inkColumns(const Image& img, int v0, int v1) {
+  int lo = img.width, hi = -1;
   for (int v = v0; v <= v1; ++v) {
-    for (int u = 0; u < img.cols; ++u) {
+    for (int u = 0; u < img.width; ++u) {
       if (at(img, u, v).r < 128) lo = std::min(lo, u), hi = std::max(hi, u);
     }
   }
@@ -260,7 +256,7 @@ TEST(Png, TextIsAnchoredAndAboutSizePxTall) {
     style.anchor = anchor;
     Canvas canvas(200, 60, kWhite);
     canvas.text({100, 40}, "HHHH", style);
-    const cv::Mat img = decode(canvas.toPng());
+    const Image img = decode(canvas.toPng());
     const auto [lo, hi] = inkColumns(img, 0, 59);
     ASSERT_LT(lo, hi) << "no text drawn";
     if (anchor == Anchor::Start) {
@@ -294,10 +290,10 @@ TEST(Png, HaloOutlinesTheText) {
   style.halo = kBlack;
   Canvas haloed(120, 40, kWhite);
   haloed.text({60, 30}, "MAP", style);
-  auto dark = [](const cv::Mat& img) {
+  auto dark = [](const Image& img) {
     int n = 0;
-    for (int v = 0; v < img.rows; ++v) {
-      for (int u = 0; u < img.cols; ++u) n += at(img, u, v).r < 100;
+    for (int v = 0; v < img.height; ++v) {
+      for (int u = 0; u < img.width; ++u) n += at(img, u, v).r < 100;
     }
     return n;
   };
@@ -326,7 +322,7 @@ TEST(Png, SkipsNonFiniteAndClipsFarCoordinates) {
   canvas.polygon(square(30, 1, 35, 6), Style{kBlack, kBlack, kNaN, kNaN, true});
   std::string png;
   ASSERT_NO_THROW(png = canvas.toPng());
-  const cv::Mat img = decode(png);
+  const Image img = decode(png);
   EXPECT_RGB(img, 2, 28, kBlue, 0);
   EXPECT_RGB(img, 38, 15, kBlue, 0);
   EXPECT_RGB(img, 15, 15, kRed, 0);
@@ -342,7 +338,7 @@ TEST(Png, SkipsNonFiniteAndClipsFarCoordinates) {
 TEST(Png, NonAsciiTextDoesNotCrash) {
   Canvas canvas(100, 30, kWhite);
   canvas.text({50, 20}, "Stra\xc3\x9f" "e \xe2\x86\x92 \xff\xfe bad", TextStyle{});
-  const cv::Mat img = decode(canvas.toPng());
+  const Image img = decode(canvas.toPng());
   EXPECT_GT(inkColumns(img, 0, 29).second, 0);
   const std::string svg = canvas.toSvg();
   EXPECT_TRUE(contains(svg, "Stra\xc3\x9f" "e \xe2\x86\x92 \xef\xbf\xbd\xef\xbf\xbd bad"));  // invalid bytes → U+FFFD
@@ -527,7 +523,7 @@ TEST(ScaleBar, DrawsBarBottomLeftAndNorthArrowTopRight) {
   EXPECT_GT(north->position.x(), 350);  // right
   EXPECT_LT(north->position.y(), 60);   // top
 
-  const cv::Mat img = decode(canvas.toPng());
+  const Image img = decode(canvas.toPng());
   // The bar: 50 m = 100 px from u = 12.5, frame on rows 281 and 287; black half then white half.
   EXPECT_RGB(img, 30, 285, kBlack, 0);
   EXPECT_RGB(img, 90, 285, kWhite, 0);

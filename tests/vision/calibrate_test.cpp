@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mapnav/core/error.h"
+#include "mapnav/image/read_image.h"
 #include "mapnav/vision/rectify.h"
 
 #include <Eigen/Eigenvalues>
@@ -257,7 +258,7 @@ TEST(Chessboard, RealPhotosCalibrateWithSubPixelError) {
   std::vector<Image> images;
   std::vector<std::string> used_names;
   for (const std::string& n : names) {
-    Image img = readImageFile(n);
+    Image img = readImage(n);
     if (img.width != 1280 || img.height != 720) continue;  // two photos are 1281 × 721
     images.push_back(std::move(img));
     used_names.push_back(n);

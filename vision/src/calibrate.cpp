@@ -6,12 +6,10 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cv_view.h"
 #include "mapnav/core/error.h"
-#include "mapnav/core/io.h"
 
 namespace mapnav {
 
@@ -226,21 +224,6 @@ ChessboardResult calibrateChessboard(const std::vector<Image>& images, int cols,
   in.cy = k.at<double>(1, 2);
   in.distortion.assign(dist.begin<double>(), dist.begin<double>() + 5);
   return result;
-}
-
-Image readImageFile(const std::filesystem::path& path) {
-  const std::string bytes = readFile(path);  // IoError naming the file
-  const cv::Mat buffer(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data()));
-  cv::Mat bgr = cv::imdecode(buffer, cv::IMREAD_COLOR);
-  if (bgr.empty()) throw InvalidInput(path.string() + ": not a decodable image");
-  cv::Mat rgb;
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  Image out(rgb.cols, rgb.rows, 3);
-  for (int r = 0; r < rgb.rows; ++r) {
-    std::copy(rgb.ptr<std::uint8_t>(r), rgb.ptr<std::uint8_t>(r) + static_cast<std::size_t>(rgb.cols) * 3,
-              out.pixel(0, r));
-  }
-  return out;
 }
 
 }  // namespace mapnav

@@ -7,6 +7,9 @@
 
 namespace mapnav {
 
+/// The largest image the decoders (decodePng, decodeJpeg) accept, in pixels (2^26: 8192 x 8192).
+inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{1} << 26;
+
 struct Image {
   int width = 0;
   int height = 0;

@@ -1,5 +1,5 @@
 #pragma once
-// mapnav's one PNG codec (OpenCV's, kept inside image/src): camera frames, masks and logs, and the
+// mapnav's one PNG codec (libpng, kept inside image/src): camera frames, masks and logs, and the
 // pictures render::Canvas draws.
 #include <cstdint>
 #include <filesystem>
@@ -11,18 +11,16 @@
 
 namespace mapnav {
 
-/// The largest image decodePng accepts, in pixels (2^26: 8192 x 8192).
-inline constexpr std::uint64_t kMaxPngPixels = std::uint64_t{1} << 26;
-
 /// How encodePng compresses. Each setting gives the same bytes every time for the same image.
 enum class PngCompression {
-  Fast,      ///< zlib level 1, run-length strategy (OpenCV's default): frames and masks, written often
-  Balanced,  ///< zlib level 3, default strategy: render::Canvas's pictures, smaller
+  Fast,      ///< Sub filter, zlib level 1, run-length strategy: frames and masks, written often
+  Balanced,  ///< every filter, zlib level 3, default strategy: render::Canvas's pictures, smaller
 };
 
-/// Decodes PNG bytes (8-bit grey or RGB; RGBA loses its alpha). Throws InvalidInput starting with
-/// `source` (the file name, for messages) when they are not a decodable PNG, or when its header
-/// claims more than kMaxPngPixels pixels (refused before any decoding).
+/// Decodes PNG bytes into 8-bit grey or RGB: fewer bits are expanded, a palette becomes RGB, alpha
+/// is dropped (grey with alpha becomes RGB), no gamma is applied. Throws InvalidInput starting with
+/// `source` (the file name, for messages) when they are not a decodable PNG, are 16-bit, or when
+/// the header claims more than kMaxImagePixels pixels (refused before any decoding).
 Image decodePng(std::span<const std::uint8_t> bytes, std::string_view source);
 /// decodePng on a file. Throws IoError when the file cannot be read, InvalidInput naming the file
 /// when it is not a decodable PNG.

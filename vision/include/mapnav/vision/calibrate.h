@@ -9,7 +9,6 @@
 //  * Scale factors: metre sticks laid on the ground, measured in a rectified image.
 //  * Focal length, principal point and lens distortion: the modern method, a chessboard seen at
 //    several poses (Zhang's method, cv::calibrateCamera).
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -87,9 +86,5 @@ Image drawChessboardCorners(const Image& image, int cols, int rows, const std::v
 /// "image i"). Throws InvalidInput for bad arguments or when fewer than 3 images can be used.
 ChessboardResult calibrateChessboard(const std::vector<Image>& images, int cols, int rows, double square_m,
                                      const std::vector<std::string>& names = {});
-
-/// An image file of any format OpenCV decodes (PNG, JPEG, ...), as 3-channel RGB. Throws IoError
-/// when the file cannot be read, InvalidInput when it is not a decodable image.
-Image readImageFile(const std::filesystem::path& path);
 
 }  // namespace mapnav
