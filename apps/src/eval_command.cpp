@@ -82,6 +82,30 @@ std::string scoreOrNull(const std::optional<double>& v) {
   return s.str();
 }
 
+// The two trivial answers the pipeline must beat, scored like it over the same photos.
+struct Baselines {
+  SegmentationScores horizon;    ///< every pixel below the horizon is road
+  SegmentationScores bootstrap;  ///< the bootstrap region alone is road
+};
+
+Baselines scoreBaselines(const std::vector<Sample>& set, const Camera& camera, const Polygon2& bootstrap,
+                         const LabelClasses& classes) {
+  const Image horizon = belowHorizonMask(camera);
+  const Image region = regionMask(bootstrap, camera.width(), camera.height());
+  std::vector<PixelCounts> horizon_counts, region_counts;
+  for (const Sample& s : set) {
+    horizon_counts.push_back(countPixels(horizon, s.label, classes));
+    region_counts.push_back(countPixels(region, s.label, classes));
+  }
+  return {summarize(horizon_counts), summarize(region_counts)};
+}
+
+// The pipeline's IoU less the better baseline's; nothing when either is undefined.
+std::optional<double> marginOver(const std::optional<double>& iou, const Baselines& baselines) {
+  if (!iou || !baselines.horizon.iou || !baselines.bootstrap.iou) return std::nullopt;
+  return *iou - std::max(*baselines.horizon.iou, *baselines.bootstrap.iou);
+}
+
 }  // namespace
 
 std::unique_ptr<Camera> assumedPhotoCamera(int width, int height) {
@@ -134,6 +158,8 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
     // No pipeline exposes a per-pixel confidence through DetectedObject (only the region and one
     // number per frame), so MaxF and AP stay null rather than being made up from the binary mask.
     const SegmentationScores scores = summarize(counts);
+    const Baselines baselines = scoreBaselines(set, *camera, bootstrap, config.classes);
+    const std::optional<double> margin = marginOver(scores.iou, baselines);
     if (!config.overlays.empty()) {
       fs::create_directories(config.overlays);
       for (std::size_t i = 0; i < set.size(); ++i)
@@ -151,7 +177,10 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
                       {"iou", number(scores.iou)},   {"iou_median", number(scores.iou_median)},
                       {"iou_worst", number(scores.iou_worst)}, {"precision", number(scores.precision)},
                       {"recall", number(scores.recall)},       {"maxf", number(scores.maxf)},
-                      {"ap", number(scores.ap)},               {"per_image", per_image}};
+                      {"ap", number(scores.ap)},
+                      {"baseline_horizon_iou", number(baselines.horizon.iou)},
+                      {"baseline_bootstrap_iou", number(baselines.bootstrap.iou)},
+                      {"margin", number(margin)},              {"per_image", per_image}};
       out << dumpJson(j);
     } else {
       for (std::size_t i = 0; i < set.size(); ++i) {
@@ -164,7 +193,10 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
           << "  IoU " << scoreOrNull(scores.iou) << " (per image: median " << scoreOrNull(scores.iou_median) << ", worst "
           << scoreOrNull(scores.iou_worst) << ")\n"
           << "  precision " << scoreOrNull(scores.precision) << ", recall " << scoreOrNull(scores.recall) << "\n"
-          << "  MaxF null, AP null: the pipeline gives no per-pixel confidence\n";
+          << "  MaxF null, AP null: the pipeline gives no per-pixel confidence\n"
+          << "  baselines scored the same way: everything below the horizon IoU " << scoreOrNull(baselines.horizon.iou)
+          << ", the bootstrap region alone IoU " << scoreOrNull(baselines.bootstrap.iou) << "\n"
+          << "  margin over the better baseline " << (margin && *margin >= 0 ? "+" : "") << scoreOrNull(margin) << "\n";
       if (!config.overlays.empty()) out << "overlays in " << config.overlays << " (green TP, red FP, blue FN)\n";
     }
     return static_cast<int>(kOk);
@@ -197,7 +229,9 @@ void registerEvalCommands(CLI::App& app, Commands& commands) {
   CLI::App* ev = app.add_subcommand("eval", "Score vision pipelines on labelled real photos (docs/eval.md)");
   ev->require_subcommand(1);
   CLI::App* es = ev->add_subcommand(
-      "segmentation", "Run a pipeline over labelled photos: road IoU (set, per-image median and worst), precision, recall");
+      "segmentation", "Run a pipeline over labelled photos: road IoU (set, per-image median and worst), precision, "
+                      "recall, beside two baselines scored the same way (everything below the horizon is road; the "
+                      "bootstrap region alone) and the margin over the better one");
   addPipelineOptions(es, eval->pipeline, eval->options_json, eval->plugins, "sidewalk");
   es->add_option("--images", eval->images, "Folder of RGB photos (PNG)")->required();
   es->add_option("--labels", eval->labels, "Folder of 1-channel class-index PNGs, one per photo, same file stem")->required();

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 
 #include <nlohmann/json.hpp>
 
@@ -77,6 +79,54 @@ TEST(EvalCli, ScoresThreeCamVidPhotosWithOverlays) {
   EXPECT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find("sidewalk (bootstrap labels-first-frame): 3 images"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("MaxF null, AP null: the pipeline gives no per-pixel confidence"), std::string::npos);
+}
+
+// Pixel counts for an IoU.
+struct Counts {
+  std::uint64_t tp = 0, fp = 0, fn = 0;
+  void add(bool road, bool predicted) {
+    tp += road && predicted;
+    fp += !road && predicted;
+    fn += road && !predicted;
+  }
+  double iou() const { return static_cast<double>(tp) / static_cast<double>(tp + fp + fn); }
+};
+
+// The baselines counted here pixel by pixel, independently of the eval: the assumed camera is level
+// with cy = 179.5, so "below the horizon" is rows 180-359. The default trapezoid spans rows
+// 252-352.8, its half width growing linearly from 48 px at the top to 120 px at the bottom about
+// u = 240; the eval rasterises it with 1/16-pixel vertices, so its IoU lies between those of the
+// trapezoid shrunk and grown by a pixel.
+TEST(EvalCli, BaselinesAndTheMarginAreScoredLikeThePipeline) {
+  ASSERT_TRUE(testing::realDataPresent("camvid"));
+  const fs::path dir = threeImages();
+  Counts horizon, inner, outer;
+  for (const std::string& s : kStems) {
+    const Image label = readPng(dir / "labels" / (s + ".png"));
+    for (int v = 0; v < label.height; ++v) {
+      for (int u = 0; u < label.width; ++u) {
+        const int value = label.pixel(u, v)[0];
+        if (value == 11) continue;
+        const bool road = value == 3 || value == 4;
+        const double half = 48.0 + (120.0 - 48.0) * (v - 252.0) / (352.8 - 252.0);
+        horizon.add(road, v >= 180);
+        inner.add(road, v >= 253 && v <= 351.8 && std::abs(u - 240.0) <= half - 1.0);
+        outer.add(road, v >= 251 && v <= 353.8 && std::abs(u - 240.0) <= half + 1.0);
+      }
+    }
+  }
+  const std::string options = R"({"adaptive":false,"min_separation":0,"llr_threshold":-10})";
+  const auto r = runCli(evalArgs(dir, {"--json", "--options", options}));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["baseline_horizon_iou"].get<double>(), horizon.iou(), 1e-4);
+  const double bootstrap = j["baseline_bootstrap_iou"].get<double>();
+  EXPECT_GE(bootstrap, std::min(inner.iou(), outer.iou()) - 1e-4);
+  EXPECT_LE(bootstrap, std::max(inner.iou(), outer.iou()) + 1e-4);
+  EXPECT_NEAR(j["margin"].get<double>(), j["iou"].get<double>() - std::max(horizon.iou(), bootstrap), 2e-4);
+  const auto text = runCli(evalArgs(dir, {"--options", options}));
+  EXPECT_NE(text.out.find("everything below the horizon IoU "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("margin over the better baseline "), std::string::npos) << text.out;
 }
 
 TEST(EvalCli, BadInputNamesTheFileAndWritesNothing) {

@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 
 #include "mapnav/core/error.h"
+#include "mapnav/testing/support.h"
 #include "mapnav/vision/region.h"
 #include "mapnav/vision/segmentation_eval.h"
 
@@ -133,6 +136,21 @@ TEST(SegmentationEval, LargestRegionOutline) {
   }
   EXPECT_EQ(rasterizePolygon(outline, 8, 5), square);
   EXPECT_TRUE(largestRegionOutline(Image(4, 4, 1)).empty());
+}
+
+
+// The horizon of a camera tilted down by t is the row cy - fy tan t; the rows below it are ground.
+TEST(SegmentationEval, BelowHorizonMaskIsTheRowsBelowTheHorizon) {
+  for (const double tilt_deg : {0.0, 5.0, -2.0}) {
+    const Image mask = belowHorizonMask(*testing::terregatorPinhole(tilt_deg));  // 512 x 480, fy 904, cy 239.5
+    ASSERT_EQ(mask.width, 512);
+    ASSERT_EQ(mask.height, 480);
+    const double horizon = 239.5 - 904.0 * std::tan(tilt_deg * std::numbers::pi / 180.0);  // 239.5, 160.4, 271.1
+    for (int v = 0; v < 480; ++v) {
+      const std::uint8_t expected = v > horizon ? 255 : 0;
+      for (int u = 0; u < 512; ++u) ASSERT_EQ(mask.pixel(u, v)[0], expected) << "tilt " << tilt_deg << " row " << v;
+    }
+  }
 }
 
 }  // namespace

@@ -28,8 +28,12 @@ std::vector<cv::Point> ring(const Polygon2& polygon) {
 }  // namespace
 
 Image regionMask(const DetectedObject& detection, int width, int height) {
+  return regionMask(detection.region_image, width, height);
+}
+
+Image regionMask(const Polygon2& region_image, int width, int height) {
   cv::Mat mask(height, width, CV_8UC1, cv::Scalar(0));
-  const std::vector<cv::Point> points = ring(detection.region_image);
+  const std::vector<cv::Point> points = ring(region_image);
   if (points.size() >= 3) {
     const cv::Point* pts = points.data();
     const int n = static_cast<int>(points.size());

@@ -24,7 +24,10 @@ Image drawDetection(const Image& frame, const PredictedObject& prediction, const
 Image contactSheet(const std::vector<Image>& tiles, const std::vector<std::string>& captions, int columns,
                    double scale);
 
-/// The road region as a 1-channel mask (255 inside), the size of `like`.
+/// The road region as a 1-channel mask (255 inside) of width x height pixels.
 Image regionMask(const DetectedObject& detection, int width, int height);
+/// A polygon in pixels (u right, v down) as a 1-channel mask (255 inside), rasterised as
+/// regionMask rasterises a detection's region_image (1/16-pixel vertices, pixel centres inside).
+Image regionMask(const Polygon2& region_image, int width, int height);
 
 }  // namespace mapnav
