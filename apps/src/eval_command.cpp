@@ -90,7 +90,7 @@ struct Baselines {
 
 Baselines scoreBaselines(const std::vector<Sample>& set, const Camera& camera, const Polygon2& bootstrap,
                          const LabelClasses& classes) {
-  const Image horizon = belowHorizonMask(camera);
+  const Image horizon = groundMask(camera);
   const Image region = regionMask(bootstrap, camera.width(), camera.height());
   std::vector<PixelCounts> horizon_counts, region_counts;
   for (const Sample& s : set) {

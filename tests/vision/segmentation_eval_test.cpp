@@ -8,6 +8,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/region.h"
+#include "mapnav/vision/overlay.h"
 #include "mapnav/vision/segmentation_eval.h"
 
 namespace mapnav {
@@ -140,9 +141,9 @@ TEST(SegmentationEval, LargestRegionOutline) {
 
 
 // The horizon of a camera tilted down by t is the row cy - fy tan t; the rows below it are ground.
-TEST(SegmentationEval, BelowHorizonMaskIsTheRowsBelowTheHorizon) {
+TEST(SegmentationEval, GroundMaskIsTheRowsBelowTheHorizon) {
   for (const double tilt_deg : {0.0, 5.0, -2.0}) {
-    const Image mask = belowHorizonMask(*testing::terregatorPinhole(tilt_deg));  // 512 x 480, fy 904, cy 239.5
+    const Image mask = groundMask(*testing::terregatorPinhole(tilt_deg));  // 512 x 480, fy 904, cy 239.5
     ASSERT_EQ(mask.width, 512);
     ASSERT_EQ(mask.height, 480);
     const double horizon = 239.5 - 904.0 * std::tan(tilt_deg * std::numbers::pi / 180.0);  // 239.5, 160.4, 271.1

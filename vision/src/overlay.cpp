@@ -44,6 +44,14 @@ Image regionMask(const Polygon2& region_image, int width, int height) {
   return out;
 }
 
+Image groundMask(const Camera& camera) {
+  Image out(camera.width(), camera.height(), 1);
+  for (int v = 0; v < out.height; ++v)
+    for (int u = 0; u < out.width; ++u)
+      if (camera.backproject(Vec2(u, v))) out.pixel(u, v)[0] = 255;
+  return out;
+}
+
 Image drawDetection(const Image& frame, const PredictedObject& prediction, const DetectedObject& detection) {
   cv::Mat rgb(frame.height, frame.width, CV_8UC3);
   if (frame.channels == 3) {

@@ -18,6 +18,7 @@
 #include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/edge_tracker.h"  // edge-tracker
 #include "mapnav/vision/line_labelling.h"
+#include "mapnav/vision/overlay.h"
 #include "mapnav/vision/region.h"
 #include "mapnav/vision_iface/pipeline.h"
 
@@ -288,10 +289,7 @@ class BasePipeline : public VisionPipeline {
       cache_.camera = &cam;
       cache_.intrinsics = cam.intrinsics();
       cache_.mount = cam.mount();
-      cache_.valid = Image(cam.width(), cam.height(), 1);
-      for (int v = 0; v < cam.height(); ++v)
-        for (int u = 0; u < cam.width(); ++u)
-          if (cam.backproject(Vec2(u, v))) cache_.valid.pixel(u, v)[0] = 255;
+      cache_.valid = groundMask(cam);
       cache_.scale = 0;
     }
     if (cache_.scale != scale) {

@@ -222,12 +222,4 @@ Image roadMask(const Image& label, const LabelClasses& classes) {
   return out;
 }
 
-Image belowHorizonMask(const Camera& camera) {
-  Image out(camera.width(), camera.height(), 1);
-  for (int v = 0; v < out.height; ++v)
-    for (int u = 0; u < out.width; ++u)
-      if (camera.backproject(Vec2(u, v))) out.pixel(u, v)[0] = 255;
-  return out;
-}
-
 }  // namespace mapnav

@@ -29,5 +29,10 @@ Image regionMask(const DetectedObject& detection, int width, int height);
 /// A polygon in pixels (u right, v down) as a 1-channel mask (255 inside), rasterised as
 /// regionMask rasterises a detection's region_image (1/16-pixel vertices, pixel centres inside).
 Image regionMask(const Polygon2& region_image, int width, int height);
+/// Where the camera sees the ground: 1 channel, the camera's image size, 255 at each pixel whose
+/// centre's ray meets the ground (Camera::backproject), else 0; for a level camera, the rows below
+/// the principal point. What the region pipelines classify, and `mapnav eval`'s baseline
+/// "everything below the horizon is road".
+Image groundMask(const Camera& camera);
 
 }  // namespace mapnav

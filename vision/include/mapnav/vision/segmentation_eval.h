@@ -7,7 +7,6 @@
 #include <optional>
 #include <vector>
 
-#include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/image/image.h"
 
@@ -98,9 +97,5 @@ Polygon2 largestRegionOutline(const Image& mask);
 /// 1 channel, 255 where the label's value is road, else 0.
 Image roadMask(const Image& label, const LabelClasses& classes);
 
-/// The trivial baseline "everything below the horizon is road": 1 channel, the camera's image size,
-/// 255 at each pixel whose centre's ray meets the ground (Camera::backproject), else 0. For a level
-/// camera, the rows below the principal point.
-Image belowHorizonMask(const Camera& camera);
 
 }  // namespace mapnav
