@@ -145,19 +145,24 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
     std::vector<PixelCounts> counts;
     std::vector<std::string> failures;  // per image, empty when the pipeline found a region
     std::vector<Image> overlays;
+    // MaxF and AP from the pipelines' per-pixel confidence; a failed frame's is 0 everywhere. A
+    // pipeline that gives none leaves them null rather than made up from the binary region.
+    ScoreHistogram histogram;
+    bool confidence_given = false;
     for (const Sample& s : set) {
       throwIfInterrupted();  // Ctrl-C: stop before the overlays are written
-      const DetectedObject d =
-          pipeline->detect(VisionFrame{w, h, s.image.data.data(), camera.get(), 0.0}, prediction.view);
+      VisionFrame frame{w, h, s.image.data.data(), camera.get(), 0.0};
+      frame.want_confidence = true;
+      const DetectedObject d = pipeline->detect(frame, prediction.view);
       const bool ok = d.status == DetectedObject::Status::Ok;
       const Image mask = ok ? regionMask(d, w, h) : Image(w, h, 1);
       counts.push_back(countPixels(mask, s.label, config.classes));
       failures.push_back(ok ? "" : d.reason);
+      confidence_given = confidence_given || !d.road_confidence.empty();
+      histogram.add(d.road_confidence.empty() ? Image(w, h, 1) : d.road_confidence, s.label, config.classes);
       if (!config.overlays.empty()) overlays.push_back(drawSegmentationOverlay(s.image, mask, s.label, config.classes));
     }
-    // No pipeline exposes a per-pixel confidence through DetectedObject (only the region and one
-    // number per frame), so MaxF and AP stay null rather than being made up from the binary mask.
-    const SegmentationScores scores = summarize(counts);
+    const SegmentationScores scores = summarize(counts, confidence_given ? &histogram : nullptr);
     const Baselines baselines = scoreBaselines(set, *camera, bootstrap, config.classes);
     const std::optional<double> margin = marginOver(scores.iou, baselines);
     if (!config.overlays.empty()) {
@@ -193,7 +198,9 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
           << "  IoU " << scoreOrNull(scores.iou) << " (per image: median " << scoreOrNull(scores.iou_median) << ", worst "
           << scoreOrNull(scores.iou_worst) << ")\n"
           << "  precision " << scoreOrNull(scores.precision) << ", recall " << scoreOrNull(scores.recall) << "\n"
-          << "  MaxF null, AP null: the pipeline gives no per-pixel confidence\n"
+          << (confidence_given ? "  MaxF " + scoreOrNull(scores.maxf) + ", AP " + scoreOrNull(scores.ap) +
+                                     " (from the per-pixel road confidence)\n"
+                               : std::string("  MaxF null, AP null: no photo gave a per-pixel road confidence\n"))
           << "  baselines scored the same way: everything below the horizon IoU " << scoreOrNull(baselines.horizon.iou)
           << ", the bootstrap region alone IoU " << scoreOrNull(baselines.bootstrap.iou) << "\n"
           << "  margin over the better baseline " << (margin && *margin >= 0 ? "+" : "") << scoreOrNull(margin) << "\n";

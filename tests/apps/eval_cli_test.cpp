@@ -49,8 +49,13 @@ TEST(EvalCli, ScoresThreeCamVidPhotosWithOverlays) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["images"], 3);
   EXPECT_EQ(j["pipeline"], "sidewalk");
-  EXPECT_TRUE(j["maxf"].is_null());  // no pipeline gives a per-pixel confidence
-  EXPECT_TRUE(j["ap"].is_null());
+  // From sidewalk's per-pixel confidence. MaxF is at least the F1 of the confidence thresholded at
+  // 129, which is near the region's: above IoU's 2 IoU / (1 + IoU) less a little.
+  const double iou = j["iou"].get<double>();
+  EXPECT_GT(j["maxf"].get<double>(), 2 * iou / (1 + iou) - 0.02) << r.out;
+  EXPECT_LE(j["maxf"].get<double>(), 1.0);
+  EXPECT_GT(j["ap"].get<double>(), 0.5) << r.out;
+  EXPECT_LE(j["ap"].get<double>(), 1.0);
   // The summary agrees with the per-image figures it prints.
   std::vector<double> ious;
   for (const auto& p : j["per_image"]) ious.push_back(p["iou"].get<double>());
@@ -78,7 +83,15 @@ TEST(EvalCli, ScoresThreeCamVidPhotosWithOverlays) {
   const auto text = runCli(evalArgs(dir, {"--bootstrap", "labels-first-frame"}));
   EXPECT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find("sidewalk (bootstrap labels-first-frame): 3 images"), std::string::npos) << text.out;
-  EXPECT_NE(text.out.find("MaxF null, AP null: the pipeline gives no per-pixel confidence"), std::string::npos);
+  // Every photo fails at the defaults with this bootstrap, so none gives a confidence.
+  EXPECT_NE(text.out.find("3 images, 3 failed\n"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("MaxF null, AP null: no photo gave a per-pixel road confidence"), std::string::npos);
+  // cluster-perceptron gives no confidence: null, said so.
+  const auto none = runCli({"eval", "segmentation", "--pipeline", "cluster-perceptron", "--images", (dir / "images").string(),
+                            "--labels", (dir / "labels").string(), "--json"});
+  ASSERT_EQ(none.exit_code, 0) << none.err;
+  EXPECT_TRUE(nlohmann::json::parse(none.out)["maxf"].is_null()) << none.out;
+  EXPECT_TRUE(nlohmann::json::parse(none.out)["ap"].is_null());
 }
 
 // Pixel counts for an IoU.

@@ -9,7 +9,9 @@
 #include "mapnav/core/error.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/sim/world.h"
+#include "mapnav/vision/overlay.h"
 #include "mapnav/vision/pipelines.h"
+#include "mapnav/vision/segmentation_eval.h"
 #include "mapnav/vision_iface/pipeline.h"
 
 namespace mapnav {
@@ -77,6 +79,45 @@ TEST(Pipeline, AllThreeFindTheRoadOnASunnyFrame) {
       labelled += l.label.has_value();
     }
     EXPECT_GE(labelled, 2) << name;  // both edges of R1
+  }
+}
+
+// The per-pixel confidence: only when the frame wants it; the frame's size; 0 where the camera sees
+// no ground; and on a sunny frame it separates the true road (the renderer's mask) from the rest
+// almost perfectly, while thresholding it at 129 agrees with the region on nearly every pixel.
+TEST(Pipeline, RegionPipelinesGiveAPerPixelConfidenceWhenAsked) {
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  const Frame frame = World(campus(), wo).render(pinhole(), kOnRoad, 0.0);
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  const Image ground = groundMask(pinhole());
+  registerBuiltinPipelines();
+  for (const std::string name : {"sidewalk", "color-rgb", "blue-band"}) {
+    auto p = createPipeline(name);
+    VisionFrame f{frame.rgb.width, frame.rgb.height, frame.rgb.data.data(), &pinhole(), 0.0};
+    EXPECT_TRUE(p->detect(f, pred.view).road_confidence.empty()) << name;
+    f.want_confidence = true;
+    const DetectedObject d = p->detect(f, pred.view);
+    ASSERT_EQ(d.status, DetectedObject::Status::Ok) << name << ": " << d.reason;
+    const Image& c = d.road_confidence;
+    ASSERT_EQ(c.width, frame.rgb.width) << name;
+    ASSERT_EQ(c.height, frame.rgb.height) << name;
+    ASSERT_EQ(c.channels, 1) << name;
+    const Image region = regionMask(d, c.width, c.height);
+    std::size_t agree = 0, ground_px = 0;
+    for (std::size_t i = 0; i < c.data.size(); ++i) {
+      if (ground.data[i] == 0) {
+        ASSERT_EQ(c.data[i], 0) << name << " pixel " << i;
+        continue;
+      }
+      ++ground_px;
+      agree += (c.data[i] >= 129) == (region.data[i] != 0);
+    }
+    EXPECT_GT(static_cast<double>(agree) / static_cast<double>(ground_px), 0.97) << name;
+    ScoreHistogram scores;
+    scores.add(c, frame.mask, LabelClasses{{255}, {}});
+    EXPECT_GT(*scores.maxF(), 0.95) << name;
+    EXPECT_GT(*scores.averagePrecision(), 0.9) << name;
   }
 }
 

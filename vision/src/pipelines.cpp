@@ -190,6 +190,8 @@ class BasePipeline : public VisionPipeline {
 
     // Per-cell road decision.
     std::string why;
+    want_confidence_ = frame.want_confidence;
+    cell_confidence_ = Image();
     std::optional<Image> road = classify(grid, prediction, valid, predicted, why);
     if (!road) return fail(frame, why);
 
@@ -237,6 +239,7 @@ class BasePipeline : public VisionPipeline {
     cv::bitwise_and(view(region.mask), view(predicted), inter);
     const double i = cv::countNonZero(inter) * scale * scale;
     d.confidence = std::clamp(i / (area_px + predicted_px - i), 0.0, 1.0);
+    if (!cell_confidence_.empty()) d.road_confidence = pixelConfidence(cell_confidence_, full_valid, scale);
     return d;
   }
 
@@ -250,7 +253,9 @@ class BasePipeline : public VisionPipeline {
   int gridScale() const { return common().reference ? 1 : common().grid_px; }
 
   /// Smooths a per-cell score (box filter of radius smooth_px) and thresholds it inside `valid`.
-  Image threshold(std::vector<float>& score, int w, int h, const Image& valid, double t, int scale) const {
+  /// `reach`: how far from `t` the score means "surely" one way or the other, for the confidence
+  /// (kept when the frame wants it).
+  Image threshold(std::vector<float>& score, int w, int h, const Image& valid, double t, double reach, int scale) {
     cv::Mat s(h, w, CV_32FC1, score.data());
     const int r = onGrid(common().smooth_px, scale);
     if (r > 0 && common().reference) {
@@ -264,6 +269,7 @@ class BasePipeline : public VisionPipeline {
     const float* __restrict v = score.data();
     std::uint8_t* __restrict o = out.data.data();
     for (std::size_t i = 0; i < out.data.size(); ++i) o[i] = (in[i] != 0) & (v[i] > t) ? 255 : 0;
+    if (want_confidence_) cell_confidence_ = cellConfidence(score, valid, t, reach);
     return out;
   }
 
@@ -277,6 +283,35 @@ class BasePipeline : public VisionPipeline {
   std::string name_;
 
  private:
+  /// The smoothed score as 8-bit confidence per cell: t ± reach onto 0..255, above t at 129 or more
+  /// (so thresholding at 129 gives back the per-cell decision), 0 where the cell sees no ground.
+  static Image cellConfidence(const std::vector<float>& score, const Image& valid, double t, double reach) {
+    Image out(valid.width, valid.height, 1);
+    for (std::size_t i = 0; i < out.data.size(); ++i) {
+      if (valid.data[i] == 0) continue;
+      const double x = std::clamp((score[i] - t) / reach, -1.0, 1.0);
+      out.data[i] = static_cast<std::uint8_t>(score[i] > t ? 129 + std::lround(126 * x) : std::lround(128 + 128 * x));
+    }
+    return out;
+  }
+
+  /// The cells' confidence at full resolution: each pixel its cell's (the right and bottom pixels
+  /// that fill no cell, the nearest cell's), 0 where the pixel sees no ground.
+  static Image pixelConfidence(const Image& cells, const Image& full_valid, int scale) {
+    Image out(full_valid.width, full_valid.height, 1);
+    for (int v = 0; v < out.height; ++v) {
+      const int cv_row = std::min(v / scale, cells.height - 1);
+      for (int u = 0; u < out.width; ++u) {
+        if (full_valid.pixel(u, v)[0] == 0) continue;
+        out.pixel(u, v)[0] = cells.pixel(std::min(u / scale, cells.width - 1), cv_row)[0];
+      }
+    }
+    return out;
+  }
+
+  bool want_confidence_ = false;
+  Image cell_confidence_;  ///< threshold()'s, when want_confidence_
+
   DetectedObject fail(const VisionFrame& frame, const std::string& why) {
     DetectedObject d = DetectedObject::failed(why);
     d.timestamp = frame.timestamp;
@@ -422,7 +457,7 @@ class ClassifierPipeline : public BasePipeline {
     const double t = options_.llr_threshold;
     const auto lo = static_cast<float>(t - kLogOddsReach), hi = static_cast<float>(t + kLogOddsReach);
     for (float& v : best) v = std::clamp(v, lo, hi);
-    return threshold(best, w, h, valid, t, frame.scale);
+    return threshold(best, w, h, valid, t, kLogOddsReach, frame.scale);
   }
 
  private:
@@ -509,7 +544,7 @@ class BlueBandPipeline : public BasePipeline {
     }
     std::vector<float> score(n);
     for (std::size_t i = 0; i < n; ++i) score[i] = frame.rgb[3 * i + 2];
-    return threshold(score, w, h, valid, t - 0.5, frame.scale);
+    return threshold(score, w, h, valid, t - 0.5, 128.0, frame.scale);  // blue levels
   }
 
  private:
