@@ -128,13 +128,11 @@ bool tracked(const TrackedEdge& e, int min_points) {
 void addLines(DetectedObject& d, const TrackedEdge& e, const Camera& cam) {
   const std::vector<Vec2> poly = e.image.size() > 2 ? simplifyPolyline(e.image, 1.5) : e.image;
   for (std::size_t i = 0; i + 1 < poly.size(); ++i) {
-    DetectedLine l;
-    l.label = e.label;
-    l.score = e.label ? e.eval.score : 0;
-    l.image = {poly[i], poly[i + 1]};
     const auto ga = cam.backproject(poly[i]), gb = cam.backproject(poly[i + 1]);
-    if (ga && gb) l.vehicle = {*ga, *gb};
-    d.lines.push_back(l);
+    d.lines.push_back(DetectedLine{.label = e.label,
+                                   .score = e.label ? e.eval.score : 0,
+                                   .image = {poly[i], poly[i + 1]},
+                                   .vehicle = ga && gb ? Segment2{*ga, *gb} : Segment2{}});
   }
 }
 
