@@ -17,7 +17,7 @@ namespace {
 
 /// A number as people write it: the shortest of 6 significant digits ("1e-06", "0.15", "1e+09")
 /// when that reads back exactly, else 17.
-std::string numberText(double value) {
+std::string readableNumber(double value) {
   std::ostringstream s;
   s << value;
   if (std::strtod(s.str().c_str(), nullptr) == value) return s.str();
@@ -73,7 +73,7 @@ OptionValue memberValue(const OptionFieldSpec& field, const nlohmann::json& valu
   if (field.kind == OptionKind::Integer) {
     if (v != std::floor(v)) throw bad("an integer");
     if (v < field.integer_min || v > field.integer_max)
-      throw bad("an integer in [" + numberText(field.integer_min) + ", " + numberText(field.integer_max) + "]");
+      throw bad("an integer in [" + readableNumber(field.integer_min) + ", " + readableNumber(field.integer_max) + "]");
   }
   if (field.rule.odd && !isOdd(v)) throw bad("odd");
   return v;
@@ -102,10 +102,10 @@ bool OptionRule::allows(double value) const {
 std::string OptionRule::rangeText(bool finite) const {
   const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
   if (has_min && has_max)
-    return std::string("in ") + (min_open ? "(" : "[") + numberText(min) + ", " + numberText(max) + (max_open ? ")" : "]");
+    return std::string("in ") + (min_open ? "(" : "[") + readableNumber(min) + ", " + readableNumber(max) + (max_open ? ")" : "]");
   const std::string prefix = finite ? "finite and " : "";
-  if (has_min) return prefix + (min_open ? "> " : ">= ") + numberText(min);
-  if (has_max) return prefix + (max_open ? "< " : "<= ") + numberText(max);
+  if (has_min) return prefix + (min_open ? "> " : ">= ") + readableNumber(min);
+  if (has_max) return prefix + (max_open ? "< " : "<= ") + readableNumber(max);
   return "finite";
 }
 
@@ -158,7 +158,7 @@ std::string optionValueJson(const OptionFieldSpec& field, const OptionValue& val
       break;
   }
   const double v = std::get<double>(value);
-  return std::isfinite(v) ? numberText(v) : "null";
+  return std::isfinite(v) ? readableNumber(v) : "null";
 }
 
 std::string optionObjectJson(const std::vector<OptionFieldSpec>& fields, const std::vector<OptionValue>& values) {

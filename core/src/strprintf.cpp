@@ -1,5 +1,7 @@
 #include "mapnav/core/strprintf.h"
 
+#include <array>
+#include <charconv>
 #include <cstdarg>
 #include <cstdio>
 
@@ -15,6 +17,12 @@ std::string strprintf(const char* pattern, ...) {
   if (n > 0) std::vsnprintf(out.data(), out.size() + 1, pattern, again);
   va_end(again);
   return out;
+}
+
+std::string numberText(double value) {
+  std::array<char, 64> buffer{};
+  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  return std::string(buffer.data(), result.ptr);
 }
 
 }  // namespace mapnav

@@ -10,7 +10,7 @@
 
 #include "camera_lenses.h"
 #include "mapnav/core/error.h"
-#include "number_text.h"
+#include "mapnav/core/strprintf.h"
 
 namespace mapnav {
 
@@ -62,7 +62,6 @@ Mat3 mountRotation(const CameraMount& mount) {
 
 // ---- validation ------------------------------------------------------------------------------------
 
-using detail::numberText;
 
 [[noreturn]] void reject(std::string_view field, const std::string& value, std::string_view rule) {
   throw InvalidInput(std::string(field) + " = " + value + ": " + std::string(rule));

@@ -11,15 +11,14 @@
 #include <vector>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/polygon.h"
-#include "number_text.h"
 
 namespace mapnav {
 
 namespace {
 
-using detail::numberText;
 
 constexpr int kSamplesPerSide = 32;
 constexpr double kMergeTolerance = 1e-3;          // m: vertices this close to their neighbours' line go

@@ -1,7 +1,7 @@
 #include "mapnav/geometry/pose2.h"
 
-#include <array>
-#include <charconv>
+#include "mapnav/core/strprintf.h"
+
 #include <cmath>
 #include <limits>
 
@@ -39,10 +39,7 @@ void vCoefficients(double theta, double& sinByTheta, double& oneMinusCosByTheta)
 double degreesFor(double radians) {
   if (radians == 0.0 || !std::isfinite(radians)) return radians;  // keeps 0 (and -0) as it is
   const double nearest = radToDeg(radians);
-  auto length = [](double value) {  // characters of the shortest round-trip text
-    std::array<char, 64> buffer{};
-    return static_cast<std::size_t>(std::to_chars(buffer.data(), buffer.data() + buffer.size(), value).ptr - buffer.data());
-  };
+  auto length = [](double value) { return numberText(value).size(); };  // of the shortest round-trip text
   double best = nearest;
   std::size_t best_length = std::numeric_limits<std::size_t>::max();
   double candidate = nearest;

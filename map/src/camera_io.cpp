@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -12,18 +11,13 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
+#include "mapnav/core/strprintf.h"
 
 namespace mapnav {
 
 namespace {
 
 constexpr double kMaxImageSide = 1e6;  // pixels
-
-std::string numberText(double value) {
-  std::array<char, 64> buffer{};
-  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  return std::string(buffer.data(), result.ptr);
-}
 
 /// An integer in [min, max] (as JSON Schema, 512.0 is an integer): `schema.type` for anything else,
 /// `schema.range` outside.

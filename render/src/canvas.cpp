@@ -3,16 +3,15 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <system_error>
 #include <utility>
 
 #include "detail.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/core/strprintf.h"
 
 namespace mapnav::render {
 
@@ -133,13 +132,6 @@ double niceValue(double mantissa, int k) {
   return k >= 0 ? mantissa * p : mantissa / p;
 }
 
-std::string shortestNumber(double x) {
-  std::array<char, 64> buf{};
-  const auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), x);
-  if (ec != std::errc()) return "?";
-  return std::string(buf.data(), end);
-}
-
 }  // namespace
 
 double niceScaleLength(double metres) {
@@ -165,8 +157,8 @@ double niceScaleLength(double metres) {
 }
 
 std::string scaleLengthLabel(double metres) {
-  if (metres >= 1000.0) return shortestNumber(metres / 1000.0) + " km";
-  return shortestNumber(metres) + " m";
+  if (metres >= 1000.0) return numberText(metres / 1000.0) + " km";
+  return numberText(metres) + " m";
 }
 
 void drawScaleBarAndNorthArrow(Canvas& canvas, const View& view, double target_px, const std::optional<Box2>& panel) {

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -15,6 +14,7 @@
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
 
@@ -26,12 +26,6 @@ namespace {
 
 constexpr std::string_view kLogFile = "log.json";
 constexpr std::string_view kFramesFile = "frames.jsonl";
-
-std::string numberText(double value) {
-  std::array<char, 64> buffer{};
-  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  return std::string(buffer.data(), result.ptr);
-}
 
 
 /// A relative path that stays inside the log folder: not empty, not absolute, no "..", no NUL or

@@ -1,5 +1,6 @@
 #pragma once
-// printf's formatting into a std::string, for the numbers of reports, traces and tables.
+// Numbers into text: printf's formatting into a std::string, for reports, traces and tables; and the
+// shortest text of a double, for error messages that quote a value exactly.
 #include <string>
 
 namespace mapnav {
@@ -7,5 +8,9 @@ namespace mapnav {
 /// What std::printf(pattern, args...) would print: strprintf("%.2f m", 1.234) is "1.23 m". Any
 /// length; the compiler checks the arguments against a literal pattern (-Wformat).
 [[gnu::format(printf, 1, 2)]] std::string strprintf(const char* pattern, ...);
+
+/// The shortest text that reads back as the same double (std::to_chars): 0.1 is "0.1", 1e300 is
+/// "1e+300", NaN "nan".
+std::string numberText(double value);
 
 }  // namespace mapnav
