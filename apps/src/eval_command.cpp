@@ -149,6 +149,7 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
     // pipeline that gives none leaves them null rather than made up from the binary region.
     ScoreHistogram histogram;
     bool confidence_given = false;
+    const Image no_confidence(w, h, 1);
     for (const Sample& s : set) {
       throwIfInterrupted();  // Ctrl-C: stop before the overlays are written
       VisionFrame frame{w, h, s.image.data.data(), camera.get(), 0.0};
@@ -159,7 +160,7 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
       counts.push_back(countPixels(mask, s.label, config.classes));
       failures.push_back(ok ? "" : d.reason);
       confidence_given = confidence_given || !d.road_confidence.empty();
-      histogram.add(d.road_confidence.empty() ? Image(w, h, 1) : d.road_confidence, s.label, config.classes);
+      histogram.add(d.road_confidence.empty() ? no_confidence : d.road_confidence, s.label, config.classes);
       if (!config.overlays.empty()) overlays.push_back(drawSegmentationOverlay(s.image, mask, s.label, config.classes));
     }
     const SegmentationScores scores = summarize(counts, confidence_given ? &histogram : nullptr);

@@ -32,15 +32,14 @@ Image regionMask(const DetectedObject& detection, int width, int height) {
 }
 
 Image regionMask(const Polygon2& region_image, int width, int height) {
-  cv::Mat mask(height, width, CV_8UC1, cv::Scalar(0));
+  Image out(width, height, 1);
   const std::vector<cv::Point> points = ring(region_image);
   if (points.size() >= 3) {
     const cv::Point* pts = points.data();
     const int n = static_cast<int>(points.size());
+    cv::Mat mask = cvview::view(out);
     cv::fillPoly(mask, &pts, &n, 1, cv::Scalar(255), cv::LINE_8, 4);
   }
-  Image out(width, height, 1);
-  std::memcpy(out.data.data(), mask.data, out.data.size());
   return out;
 }
 

@@ -300,10 +300,10 @@ class BasePipeline : public VisionPipeline {
   static Image pixelConfidence(const Image& cells, const Image& full_valid, int scale) {
     Image out(full_valid.width, full_valid.height, 1);
     for (int v = 0; v < out.height; ++v) {
-      const int cv_row = std::min(v / scale, cells.height - 1);
+      const int row = std::min(v / scale, cells.height - 1);
       for (int u = 0; u < out.width; ++u) {
         if (full_valid.pixel(u, v)[0] == 0) continue;
-        out.pixel(u, v)[0] = cells.pixel(std::min(u / scale, cells.width - 1), cv_row)[0];
+        out.pixel(u, v)[0] = cells.pixel(std::min(u / scale, cells.width - 1), row)[0];
       }
     }
     return out;
