@@ -97,5 +97,4 @@ Polygon2 largestRegionOutline(const Image& mask);
 /// 1 channel, 255 where the label's value is road, else 0.
 Image roadMask(const Image& label, const LabelClasses& classes);
 
-
 }  // namespace mapnav
