@@ -153,7 +153,7 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
     for (const Sample& s : set) {
       throwIfInterrupted();  // Ctrl-C: stop before the overlays are written
       VisionFrame frame{w, h, s.image.data.data(), camera.get(), 0.0};
-      frame.want_confidence = true;
+      frame.want_masks = true;
       const DetectedObject d = pipeline->detect(frame, prediction.view);
       const bool ok = d.status == DetectedObject::Status::Ok;
       const Image mask = ok ? regionMask(d, w, h) : Image(w, h, 1);

@@ -106,6 +106,70 @@ TEST(ColorClassifier, DriftGuardRefusesAJumpAndTooFewPixels) {
   EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.space = ColorSpace::RGB, .blend = 0}), InvalidInput);
 }
 
+// The non-road gate: a real road's surroundings are mostly more road. Road labels on the left
+// grey half; non-road labels on the right half, where a band of columns 32-47 is the same grey and
+// columns 48-63 grass. Without the gate the non-road mean is the mixture's (half grey, half grass);
+// with it, only the grass trains non-road, so its mean is the grass colour (70, 120, 50) in rg:
+// r = 71 / 243, g = 121 / 243 (the feature adds 1 per channel), to the noise (sigma 5 per channel).
+TEST(ColorClassifier, NonRoadGateTrainsNonRoadOnlyOnWhatIsNotRoadColoured) {
+  const int w = 64, h = 64;
+  auto rgb = twoTone(w, h, false);
+  const std::vector<std::uint8_t> grey_half = twoTone(w, h, false, 5);
+  for (int v = 0; v < h; ++v)  // columns 32-47: grey too (copied from another image's grey half)
+    for (int u = 32; u < 48; ++u)
+      for (int k = 0; k < 3; ++k) rgb[(v * w + u) * 3 + k] = grey_half[(v * w + u - 32) * 3 + k];
+  std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) (u < 32 ? road : non)[v * w + u] = 1;
+  ColorClassifierOptions o;
+  o.min_pixels = 50;
+  o.stride = 1;
+  ColorClassifier plain(o);
+  plain.update(rgb.data(), w, h, road.data(), non.data());
+  o.nonroad_gate_sigma = 8;
+  ColorClassifier gated(o);
+  const auto r = gated.update(rgb.data(), w, h, road.data(), non.data());
+  ASSERT_TRUE(r.road_accepted && r.nonroad_accepted) << r.note;
+  const double grass_r = 71.0 / 243, grass_g = 121.0 / 243, grey_r = 179.0 / 525;
+  EXPECT_NEAR(gated.nonroad().mean[0], grass_r, 0.003);
+  EXPECT_NEAR(gated.nonroad().mean[1], grass_g, 0.003);
+  EXPECT_EQ(gated.nonroad().count, 16.0 * h);  // the grass columns only
+  EXPECT_NEAR(plain.nonroad().mean[0], 0.5 * (grass_r + grey_r), 0.003);
+  // The grey band is road to the gated classifier.
+  const auto llr = gated.logOdds(rgb.data(), w, h);
+  int grey_band_road = 0;
+  for (int v = 0; v < h; ++v)
+    for (int u = 32; u < 48; ++u) grey_band_road += llr[v * w + u] > 0;
+  EXPECT_EQ(grey_band_road, 16 * h);
+  EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.nonroad_gate_sigma = -1}), InvalidInput);
+}
+
+// Nothing confidently off the road: every non-road label is road-coloured. With the gate, non-road
+// is then flat (every colour about equally likely): the grey is road, a colour far from it is not.
+TEST(ColorClassifier, NonRoadIsFlatUntilAFrameShowsSomethingOffTheRoad) {
+  const int w = 64, h = 64;
+  const auto rgb = twoTone(w, h, false);
+  std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w / 2; ++u) (v < h / 2 ? road : non)[v * w + u] = 1;  // both on the grey half
+  ColorClassifierOptions o{.min_pixels = 50, .stride = 1, .nonroad_gate_sigma = 8};
+  ColorClassifier c(o);
+  const auto r = c.update(rgb.data(), w, h, road.data(), non.data());
+  ASSERT_TRUE(c.trained()) << r.note;
+  EXPECT_NE(r.note.find("non-road: flat"), std::string::npos) << r.note;
+  EXPECT_EQ(c.nonroad().count, 0.0);
+  const auto llr = c.logOdds(rgb.data(), w, h);
+  int grey_road = 0, grass_road = 0;
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) (u < w / 2 ? grey_road : grass_road) += llr[v * w + u] > 0;
+  EXPECT_EQ(grey_road, w / 2 * h);
+  EXPECT_EQ(grass_road, 0);
+  // Without the gate the same labels give two classes of one colour (they do not separate).
+  ColorClassifier plain(ColorClassifierOptions{.min_pixels = 50, .stride = 1});
+  plain.update(rgb.data(), w, h, road.data(), non.data());
+  EXPECT_LT(plain.separation(), 0.05);
+}
+
 TEST(Region, BlockReductionKeepsTheRoadAndDropsSpeckle) {
   const int w = 128, h = 96;
   Image road(w, h, 1), valid(w, h, 1), pred(w, h, 1);
@@ -132,5 +196,34 @@ TEST(Region, BlockReductionKeepsTheRoadAndDropsSpeckle) {
   EXPECT_GE(r.contour.size(), 4u);
 }
 
+// Holes: a 100 x 80 road with a 4 x 4 hole (a leaf: 16 px, 0.2 % of the area) and a 20 x 20 hole
+// (a car: 400 px, 5 %). The default (2 %) fills the leaf and keeps the car out; 0 fills neither,
+// 1 both.
+TEST(Region, FillsSmallHolesAndLeavesLargeOnes) {
+  const int w = 128, h = 96;
+  Image road(w, h, 1), valid(w, h, 1), pred(w, h, 1);
+  std::fill(valid.data.begin(), valid.data.end(), 255);
+  for (int v = 8; v < 88; ++v)
+    for (int u = 14; u < 114; ++u) road.pixel(u, v)[0] = pred.pixel(u, v)[0] = 255;
+  for (int v = 20; v < 24; ++v)
+    for (int u = 30; u < 34; ++u) road.pixel(u, v)[0] = 0;
+  for (int v = 40; v < 60; ++v)
+    for (int u = 60; u < 80; ++u) road.pixel(u, v)[0] = 0;
+  RegionOptions o;
+  o.pixel_morph_px = 0;  // closing would fill the leaf by itself
+  const double outline = 100.0 * 80;
+  for (const auto& [fraction, area] : {std::pair{0.02, outline - 400}, std::pair{0.0, outline - 416}, std::pair{1.0, outline}}) {
+    o.max_hole_fraction = fraction;
+    const RegionResult r = reproduceRegion(road, valid, pred, o);
+    ASSERT_TRUE(r.found);
+    EXPECT_EQ(r.area_px, area) << fraction;
+    EXPECT_EQ(r.mask.pixel(31, 21)[0], fraction > 0 ? 255 : 0) << fraction;
+    EXPECT_EQ(r.mask.pixel(70, 50)[0], fraction == 1.0 ? 255 : 0) << fraction;
+  }
+  o.max_hole_fraction = 1.5;
+  EXPECT_THROW(o.validate(), InvalidInput);
+}
+
 }  // namespace
 }  // namespace mapnav
+

@@ -45,6 +45,16 @@ struct Accum {
   }
 };
 
+/// A Gaussian so broad that it is nearly flat over the feature space: rg in [0, 1]², RGB in 0..255.
+GaussianClass flatClass(ColorSpace space) {
+  GaussianClass g;
+  const bool rg = space == ColorSpace::NormalizedRG;
+  g.mean = rg ? Vec3(1.0 / 3, 1.0 / 3, 0) : Vec3::Constant(127.5);
+  g.cov = (rg ? Vec3(1, 1, 1) : Vec3(Vec3::Constant(256.0 * 256.0))).asDiagonal();
+  g.valid = true;
+  return g;
+}
+
 Mat3 inverseOf(const Mat3& m) { return m.inverse(); }
 
 double mahalanobis2(const GaussianClass& g, const Vec3& x) {
@@ -115,6 +125,7 @@ void ColorClassifierOptions::validate() const {
                 "> 0");
   requireOption(min_pixels >= 1, "ColorClassifierOptions", "min_pixels", min_pixels, ">= 1");
   requireOption(stride >= 1, "ColorClassifierOptions", "stride", stride, ">= 1");
+  requireOption(nonroad_gate_sigma >= 0, "ColorClassifierOptions", "nonroad_gate_sigma", nonroad_gate_sigma, ">= 0");
 }
 
 int featureDims(ColorSpace space) { return space == ColorSpace::NormalizedRG ? 2 : 3; }
@@ -135,15 +146,25 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
                                                       const std::uint8_t* road, const std::uint8_t* nonroad) {
   Accum ar, an;
   const int s = options_.stride;
-  for (int v = 0; v < height; v += s) {
-    for (int u = 0; u < width; u += s) {
-      const std::size_t i = static_cast<std::size_t>(v) * width + u;
-      if (road[i] == 0 && nonroad[i] == 0) continue;
-      const Vec3 x = feature(options_.space, rgb + 3 * i);
-      if (road[i] != 0) ar.add(x);
-      else an.add(x);
-    }
-  }
+  const auto each = [&](auto&& f) {
+    for (int v = 0; v < height; v += s)
+      for (int u = 0; u < width; u += s) f(static_cast<std::size_t>(v) * width + u);
+  };
+  each([&](std::size_t i) {
+    if (road[i] != 0) ar.add(feature(options_.space, rgb + 3 * i));
+  });
+  // Non-road: the labelled pixels, or with a gate only those far in colour from the road (this
+  // frame's estimate when it is usable, else the model).
+  const GaussianClass gate_road = ar.n >= options_.min_pixels ? ar.estimate(options_.space) : road_;
+  const bool gated = options_.nonroad_gate_sigma > 0 && gate_road.valid;
+  const Mat3 gate_inv = gated ? Mat3(gate_road.cov.inverse()) : Mat3::Identity();
+  const double gate2 = options_.nonroad_gate_sigma * options_.nonroad_gate_sigma;
+  each([&](std::size_t i) {
+    if (road[i] != 0 || nonroad[i] == 0) return;
+    const Vec3 x = feature(options_.space, rgb + 3 * i);
+    const Vec3 d = x - gate_road.mean;
+    if (!gated || d.dot(gate_inv * d) > gate2) an.add(x);
+  });
   UpdateResult result;
   const auto take = [&](GaussianClass& model, const Accum& acc, const char* what) {
     if (acc.n < options_.min_pixels) {
@@ -167,6 +188,14 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
   };
   result.road_accepted = take(road_, ar, "road");
   result.nonroad_accepted = take(nonroad_, an, "non-road");
+  if (!nonroad_.valid && gated && an.n < options_.min_pixels) {
+    // Too few pixels are confidently not road-coloured: the view is nearly all road. Until a frame
+    // shows non-road, it is a flat density over the colour space (every colour about equally likely):
+    // road is then what the road class explains better than chance.
+    nonroad_ = flatClass(options_.space);
+    result.nonroad_accepted = true;
+    result.note += std::string(result.note.empty() ? "" : "; ") + "non-road: flat (every colour)";
+  }
   if (result.road_accepted && result.nonroad_accepted) {
     const double p = ar.n / (ar.n + an.n);
     const double a = (road_.count == ar.n && nonroad_.count == an.n) ? options_.blend : 1.0;

@@ -28,6 +28,8 @@ std::vector<cv::Point> ring(const Polygon2& polygon) {
 }  // namespace
 
 Image regionMask(const DetectedObject& detection, int width, int height) {
+  const Image& m = detection.road_mask;
+  if (!m.empty() && m.width == width && m.height == height && m.channels == 1) return m;
   return regionMask(detection.region_image, width, height);
 }
 

@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/vision/cluster_perceptron.h"  // cluster-perceptron
 #include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/edge_tracker.h"  // edge-tracker
@@ -190,7 +191,7 @@ class BasePipeline : public VisionPipeline {
 
     // Per-cell road decision.
     std::string why;
-    want_confidence_ = frame.want_confidence;
+    want_masks_ = frame.want_masks;
     cell_confidence_ = Image();
     std::optional<Image> road = classify(grid, prediction, valid, predicted, why);
     if (!road) return fail(frame, why);
@@ -201,12 +202,14 @@ class BasePipeline : public VisionPipeline {
     ro.morph_iterations = common().morph_iterations;
     ro.refine_margin_blocks = common().refine_margin_blocks;
     ro.pixel_morph_px = onGrid(common().pixel_morph_px, scale);
-    ro.fill_holes = common().fill_holes;
+    ro.max_hole_fraction = common().max_hole_fraction;
     ro.reference = common().reference;
     RegionResult region = reproduceRegion(*road, valid, predicted, ro);
     const double area_px = region.area_px * scale * scale;
     if (!region.found || area_px < common().min_region_fraction * predicted_px)
-      return fail(frame, "no road-coloured region");
+      return fail(frame, strprintf("no road-coloured region (the region is %.0f %% of the predicted road's area, "
+                                   "under min_region_fraction %g)",
+                                   100 * area_px / predicted_px, common().min_region_fraction));
 
     // The boundary is simplified on the grid (the tolerances divided by the cell side: the same
     // fit), its vertices mapped to pixels.
@@ -239,7 +242,8 @@ class BasePipeline : public VisionPipeline {
     cv::bitwise_and(view(region.mask), view(predicted), inter);
     const double i = cv::countNonZero(inter) * scale * scale;
     d.confidence = std::clamp(i / (area_px + predicted_px - i), 0.0, 1.0);
-    if (!cell_confidence_.empty()) d.road_confidence = pixelConfidence(cell_confidence_, full_valid, scale);
+    if (frame.want_masks) d.road_mask = cellsToPixels(region.mask, full_valid, scale);
+    if (!cell_confidence_.empty()) d.road_confidence = cellsToPixels(cell_confidence_, full_valid, scale);
     return d;
   }
 
@@ -269,7 +273,7 @@ class BasePipeline : public VisionPipeline {
     const float* __restrict v = score.data();
     std::uint8_t* __restrict o = out.data.data();
     for (std::size_t i = 0; i < out.data.size(); ++i) o[i] = (in[i] != 0) & (v[i] > t) ? 255 : 0;
-    if (want_confidence_) cell_confidence_ = cellConfidence(score, valid, t, reach);
+    if (want_masks_) cell_confidence_ = cellConfidence(score, valid, t, reach);
     return out;
   }
 
@@ -295,9 +299,9 @@ class BasePipeline : public VisionPipeline {
     return out;
   }
 
-  /// The cells' confidence at full resolution: each pixel its cell's (the right and bottom pixels
-  /// that fill no cell, the nearest cell's), 0 where the pixel sees no ground.
-  static Image pixelConfidence(const Image& cells, const Image& full_valid, int scale) {
+  /// Per-cell values at full resolution: each pixel its cell's (the right and bottom pixels that fill
+  /// no cell, the nearest cell's), 0 where the pixel sees no ground.
+  static Image cellsToPixels(const Image& cells, const Image& full_valid, int scale) {
     Image out(full_valid.width, full_valid.height, 1);
     for (int v = 0; v < out.height; ++v) {
       const int row = std::min(v / scale, cells.height - 1);
@@ -309,8 +313,8 @@ class BasePipeline : public VisionPipeline {
     return out;
   }
 
-  bool want_confidence_ = false;
-  Image cell_confidence_;  ///< threshold()'s, when want_confidence_
+  bool want_masks_ = false;
+  Image cell_confidence_;  ///< threshold()'s, when want_masks_
 
   DetectedObject fail(const VisionFrame& frame, const std::string& why) {
     DetectedObject d = DetectedObject::failed(why);
@@ -420,6 +424,7 @@ class ClassifierPipeline : public BasePipeline {
     }
     if (!options_.adaptive) reset();
     std::vector<float> best;
+    std::string unusable;  // why the last surface's classifier was not used
     for (const auto& [surface, rings] : by_surface) {
       // The surface's training pixels: its own predicted area, less where another surface's overlaps it.
       Image own = predicted;
@@ -436,15 +441,23 @@ class ClassifierPipeline : public BasePipeline {
       cv::Mat road_view = view(road_lab);
       erode(view(own), road_view);
       ColorClassifier& classifier = classifiers_.try_emplace(surface, classifierOptions()).first->second;
-      train(classifier, frame, road_lab, non_lab);
-      if (!classifier.trained() || classifier.separation() < options_.min_separation) continue;
+      const std::string note = train(classifier, frame, road_lab, non_lab);
+      if (!classifier.trained()) {
+        unusable = "no colour model: " + note;
+        continue;
+      }
+      if (classifier.separation() < options_.min_separation) {
+        unusable = strprintf("road and non-road colours do not separate: Bhattacharyya distance %.2f < min_separation %g",
+                             classifier.separation(), options_.min_separation);
+        continue;
+      }
       std::vector<float> llr = reference ? classifier.logOddsReference(frame.rgb, w, h, valid.data.data())
                                          : classifier.logOdds(frame.rgb, w, h, valid.data.data());
       if (best.empty()) best = std::move(llr);
       else for (std::size_t i = 0; i < best.size(); ++i) best[i] = std::max(best[i], llr[i]);
     }
     if (best.empty()) {
-      why = "no road-coloured region";
+      why = "no road-coloured region (" + unusable + ")";
       return std::nullopt;
     }
     // A bound symmetric about the threshold, near enough that both classes reach it: the box filter
@@ -467,6 +480,7 @@ class ClassifierPipeline : public BasePipeline {
     co.blend = options_.blend;
     co.max_mean_shift_sigma = options_.max_mean_shift_sigma;
     co.min_pixels = options_.min_training_pixels;
+    co.nonroad_gate_sigma = options_.nonroad_gate_sigma;
     co.stride = 1;  // train() gathers the training cells
     return co;
   }
@@ -474,7 +488,8 @@ class ClassifierPipeline : public BasePipeline {
   // Updates one surface's classifier from its labels, read at every kTrainingStride-th cell of every
   // kTrainingStride-th row (gathered first, so that the outlier test and the update touch only those);
   // adaptive: keeping only the labelled cells the current model does not strongly contradict.
-  void train(ColorClassifier& classifier, const GridFrame& frame, const Image& road_lab, const Image& non_lab) {
+  // Returns the update's note (why an estimate was refused).
+  std::string train(ColorClassifier& classifier, const GridFrame& frame, const Image& road_lab, const Image& non_lab) {
     const int w = frame.width, h = frame.height, s = kTrainingStride;
     const int sw = (w + s - 1) / s, sh = (h + s - 1) / s;
     const std::size_t m = static_cast<std::size_t>(sw) * sh;
@@ -507,7 +522,7 @@ class ClassifierPipeline : public BasePipeline {
         if (sample_non_[i] != 0 && l > out) sample_non_[i] = 0;
       }
     }
-    classifier.update(sample_rgb_.data(), sw, sh, sample_road_.data(), sample_non_.data());
+    return classifier.update(sample_rgb_.data(), sw, sh, sample_road_.data(), sample_non_.data()).note;
   }
 
   /// Training reads one cell in four (about one pixel in 16 at grid_px 2; the reference, one in four).

@@ -34,6 +34,8 @@ void RegionOptions::validate() const {
   requireOption(morph_iterations >= 0, "RegionOptions", "morph_iterations", morph_iterations, ">= 0");
   requireOption(refine_margin_blocks >= 0, "RegionOptions", "refine_margin_blocks", refine_margin_blocks, ">= 0");
   requireOption(pixel_morph_px >= 0, "RegionOptions", "pixel_morph_px", pixel_morph_px, ">= 0");
+  requireOption(max_hole_fraction >= 0 && max_hole_fraction <= 1, "RegionOptions", "max_hole_fraction",
+                max_hole_fraction, "in [0, 1]");
 }
 
 Image rasterizePolygon(const Polygon2& ring, int width, int height) {
@@ -155,12 +157,18 @@ RegionResult reproduceRegion(const Image& road_pixels, const Image& valid, const
     }
   }
   cv::Mat out = cv::Mat::zeros(h, w, CV_8UC1);
-  if (options.fill_holes) {
-    cv::drawContours(out, contours, static_cast<int>(pick), cv::Scalar(255), cv::FILLED);
-  } else {
-    cv::Mat one = cv::Mat::zeros(h, w, CV_8UC1);
-    cv::drawContours(one, contours, static_cast<int>(pick), cv::Scalar(255), cv::FILLED);
-    cv::bitwise_and(one, px, out);
+  cv::drawContours(out, contours, static_cast<int>(pick), cv::Scalar(255), cv::FILLED);
+  if (options.max_hole_fraction < 1) {  // the holes larger than the fraction of the outline's area stay
+    cv::Mat holes, hole_labels, stats, centroids;
+    cv::bitwise_and(out, ~px, holes);
+    const int n = cv::connectedComponentsWithStats(holes, hole_labels, stats, centroids, 4, CV_32S);
+    const double largest = options.max_hole_fraction * cv::countNonZero(out);
+    for (int v = 0; n > 1 && v < h; ++v) {
+      const int* lab = hole_labels.ptr<int>(v);
+      std::uint8_t* o = out.ptr<std::uint8_t>(v);
+      for (int u = 0; u < w; ++u)
+        if (lab[u] > 0 && stats.at<int>(lab[u], cv::CC_STAT_AREA) > largest) o[u] = 0;
+    }
   }
   result.mask = toImage(out);
   result.area_px = cv::countNonZero(out);

@@ -27,7 +27,9 @@ const OptionTable<RegionPipelineOptions>& regionPipelineOptionTable() {
           .field("refine_margin_blocks", &O::refine_margin_blocks, inRange(0, 10),
                  "pixel region may reach this many blocks beyond the block region")
           .field("pixel_morph_px", &O::pixel_morph_px, inRange(0, 50), "pixel-level closing then opening radius")
-          .field("fill_holes", &O::fill_holes, "fill holes in the region (leaves, cracks, slab gaps)")
+          .field("max_hole_fraction", &O::max_hole_fraction, inRange(0, 1),
+                 "fill the region's holes up to this fraction of its area (leaves, cracks, slab gaps); larger "
+                 "holes (a car on the road) stay out of the region; 0 = fill none, 1 = fill every hole")
           .field("region_tolerance_px", &O::region_tolerance_px, inRange(1e-6, 100),
                  "polygon tolerance of region_image, pixels")
           .field("simplify_tolerance_px", &O::simplify_tolerance_px, inRange(1e-6, 100),
@@ -70,6 +72,10 @@ const OptionTable<ColorPipelineOptions>& colorPipelineOptionTable() {
                  "every 2nd row)")
           .field("label_erosion_px", &O::label_erosion_px, inRange(0, 200),
                  "training labels: the predicted road eroded by this, non-road = the rest of the view eroded by this")
+          .field("nonroad_gate_sigma", &O::nonroad_gate_sigma, inRange(0, 1e6),
+                 "non-road trains only on the cells outside the predicted road whose colour is more than this many "
+                 "sigma (Mahalanobis) from the frame's road colour: on real roads the rest of the view is mostly road; "
+                 "0 = every cell outside")
           .field("outlier_llr", &O::outlier_llr, inRange(0, 1e6),
                  "adaptive: drop training pixels whose label the current model contradicts by more than this log-odds")
           .field("llr_threshold", &O::llr_threshold, inRange(-1e6, 1e6), "road where the smoothed log-odds exceed this")

@@ -30,7 +30,11 @@ struct DetectedObject {
   Polygon2 region_vehicle;           ///< the same on the ground, vehicle frame (empty where above the horizon)
   std::vector<DetectedLine> lines;
   std::optional<Segment2> centerline_vehicle;  ///< when the pipeline finds one
-  /// Per-pixel road confidence, when the frame wants it (VisionFrame::want_confidence) and the
+  /// The road region found, per pixel and holes and all (a car on the road is not road), when the
+  /// frame wants it (VisionFrame::want_masks) and the pipeline gives one; else empty: region_image
+  /// is its outline. 1 channel, the frame's size, 255 inside. For scoring, not for the mission loop.
+  Image road_mask;
+  /// Per-pixel road confidence, when the frame wants it (VisionFrame::want_masks) and the
   /// pipeline gives one; else empty. 1 channel, the frame's size: 0 (surely not road) .. 255
   /// (surely road), ≥ 129 where the pipeline's own per-pixel decision is road, 0 where the camera
   /// does not see the ground. For scoring (MaxF, AP), not for the mission loop.

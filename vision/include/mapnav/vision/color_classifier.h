@@ -34,6 +34,12 @@ struct ColorClassifierOptions {
   int min_pixels = 400;
   /// Use every n-th pixel of each n-th row for training (speed). ≥ 1.
   int stride = 2;
+  /// Leave out of the non-road estimate the pixels labelled non-road whose colour lies within this
+  /// many sigma (Mahalanobis) of the road: the frame's road estimate, or the road model when the
+  /// frame's is refused. On real roads "everything outside the predicted road" is mostly road; only
+  /// what is confidently not road-coloured may train the non-road class. 0 = every labelled pixel.
+  /// ≥ 0.
+  double nonroad_gate_sigma = 0;
 
   void validate() const;
 };

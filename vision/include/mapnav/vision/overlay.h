@@ -24,10 +24,11 @@ Image drawDetection(const Image& frame, const PredictedObject& prediction, const
 Image contactSheet(const std::vector<Image>& tiles, const std::vector<std::string>& captions, int columns,
                    double scale);
 
-/// The road region as a 1-channel mask (255 inside) of width x height pixels.
+/// The road region as a 1-channel mask (255 inside) of width x height pixels: the detection's
+/// road_mask when it has one of that size (holes and all), else its region_image filled.
 Image regionMask(const DetectedObject& detection, int width, int height);
-/// A polygon in pixels (u right, v down) as a 1-channel mask (255 inside), rasterised as
-/// regionMask rasterises a detection's region_image (1/16-pixel vertices, pixel centres inside).
+/// A polygon in pixels (u right, v down) as a 1-channel mask (255 inside), rasterised with
+/// 1/16-pixel vertices, pixel centres inside.
 Image regionMask(const Polygon2& region_image, int width, int height);
 /// Where the camera sees the ground: 1 channel, the camera's image size, 255 at each pixel whose
 /// centre's ray meets the ground (Camera::backproject), else 0; for a level camera, the rows below

@@ -33,7 +33,7 @@ struct RegionPipelineOptions {
   int morph_iterations = 1;           ///< block-level 3 x 3 closings, then openings
   int refine_margin_blocks = 1;       ///< the pixel region reaches at most this many blocks beyond the blocks'
   int pixel_morph_px = 2;             ///< pixel-level closing, then opening radius
-  bool fill_holes = true;             ///< fill the region's holes (leaves, cracks, slab gaps)
+  double max_hole_fraction = 0.02;    ///< fill the region's holes up to this fraction of its area
   double region_tolerance_px = 0.75;  ///< polygon tolerance of the region outline (region_image)
   double simplify_tolerance_px = 3.0; ///< polygon fit tolerance for the lines
   double min_line_length_px = 12;     ///< shorter polygon edges are dropped
@@ -61,6 +61,7 @@ struct ColorPipelineOptions : RegionPipelineOptions {
   double max_mean_shift_sigma = 4;    ///< drift guard: refuse an estimate whose mean moved more sigma
   int min_training_pixels = 400;      ///< refuse an estimate from fewer labelled training cells
   int label_erosion_px = 6;           ///< training labels: the predicted road and the rest eroded by this
+  double nonroad_gate_sigma = 8;      ///< non-road trains only on cells this many sigma from the road colour
   double outlier_llr = 6;             ///< adaptive: drop training pixels the model contradicts by more log-odds
   double llr_threshold = 0;           ///< road where the smoothed log-odds exceed this
   double min_separation = 0.5;        ///< Bhattacharyya distance of the classes below which: "no road-coloured region"

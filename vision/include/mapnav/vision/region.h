@@ -4,7 +4,7 @@
 // connected region that is the road (the component overlapping the prediction most, else the one
 // touching the bottom of the image most), then its boundary. The block region decides *which* pixels
 // form the road; the reproduced region is the pixel classification inside it (within a margin of a
-// block), closed, opened and with its holes filled, so that its boundary keeps pixel accuracy.
+// block), closed, opened and with its small holes filled, so that its boundary keeps pixel accuracy.
 #include <vector>
 
 #include "mapnav/geometry/types.h"
@@ -18,7 +18,9 @@ struct RegionOptions {
   int morph_iterations = 1;      ///< block-level closings, then openings (3 × 3). ≥ 0
   int refine_margin_blocks = 1;  ///< the pixel region may reach this many blocks beyond the block region. ≥ 0
   int pixel_morph_px = 2;        ///< pixel-level closing then opening radius, pixels. ≥ 0
-  bool fill_holes = true;        ///< fill holes inside the region (leaves, cracks, slab gaps)
+  /// Fill the region's holes up to this fraction of its area (leaves, cracks, slab gaps); larger
+  /// holes (a car on the road) stay holes. 0 = fill none, 1 = fill every hole. In [0, 1]
+  double max_hole_fraction = 0.02;
   bool reference = false;        ///< OpenCV's morphology instead of the fast binary one (same answer)
 
   void validate() const;
@@ -26,7 +28,7 @@ struct RegionOptions {
 
 struct RegionResult {
   bool found = false;
-  Image mask;                 ///< 1 channel, 255 inside the reproduced region
+  Image mask;                 ///< 1 channel, 255 inside the reproduced region (its large holes left out)
   std::vector<Vec2> contour;  ///< its outer boundary (pixel centres), closed ring without repeat
   double area_px = 0;
 };

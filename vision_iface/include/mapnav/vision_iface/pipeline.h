@@ -23,9 +23,9 @@ struct VisionFrame {
   /// The caller reads the detection's road region (region_image, region_vehicle); when false a
   /// pipeline may leave them empty and save the work (the mission loop when it writes no trace).
   bool want_region = true;
-  /// The caller reads the detection's per-pixel road_confidence (`mapnav eval`); a pipeline that
-  /// can give one then does.
-  bool want_confidence = false;
+  /// The caller reads the detection's per-pixel road_mask and road_confidence (`mapnav eval`, `mapnav
+  /// log track`); a pipeline that can give them then does.
+  bool want_masks = false;
 };
 
 class VisionPipeline {
