@@ -7,7 +7,9 @@
 #include <memory>
 
 #include "mapnav/core/error.h"
+#include "mapnav/vision_iface/pipeline.h"
 #include "mapnav/mission/path_agreement.h"
+#include "mapnav/mission/track.h"
 #include "mapnav/sim/replay_log.h"
 #include "mapnav/testing/support.h"
 
@@ -260,6 +262,62 @@ TEST(PathAgreementOptions, DefaultsAreValidAndABadFieldIsNamed) {
   o = {};
   o.direction_far_m = 20;  // beyond far_m
   EXPECT_THROW(o.validate(), InvalidInput);
+}
+
+/// A pipeline that finds the same ground rectangle in every frame.
+class FixedRoad : public VisionPipeline {
+ public:
+  std::string name() const override { return "fixed-road"; }
+  void configure(const std::string&) override {}
+  DetectedObject detect(const VisionFrame& frame, const PredictedObject&) override {
+    DetectedObject d = groundRectangle(1, 8.6, -1, 1);
+    d.timestamp = frame.timestamp;
+    return d;
+  }
+  void reset() override {}
+};
+
+TEST(TrackLogPath, EachFrameIsHeldAgainstTheLogsTruthAhead) {
+  // 20 frames 1 m apart straight ahead, blank images: frame i's path reaches 19 − i m.
+  const std::filesystem::path dir = testing::freshTempDir() / "log";
+  std::shared_ptr<const Camera> camera = levelCamera(100);
+  {
+    ReplayLogWriter writer(dir, LogHeader{"straight", camera, "", 10.0});
+    for (int i = 0; i < 20; ++i) {
+      LogFrame f;
+      f.t = 0.1 * i;
+      f.odometry.distance_m = i == 0 ? 0.0 : 1.0;
+      f.truth = Pose2(i, 0, 0);
+      writer.add(f, Image(640, 480, 1));
+    }
+    writer.finish();
+  }
+  const ReplayLog log = ReplayLog::open(dir);
+  FixedRoad pipeline;
+  const Polygon2 bootstrap = {{100, 470}, {540, 470}, {400, 300}, {240, 300}};
+  std::vector<std::size_t> drawn;  // the path samples the observer got, per frame
+  const TrackObserver observe = [&](const Image&, const PredictedObject&, const DetectedObject&, const TrackedFrame& t) {
+    drawn.push_back(t.path.path.size());
+  };
+  // Six frames run, but the path of frame 5 still reaches 14 m into the frames not run.
+  const TrackRun six = trackLog(log, pipeline, *camera, bootstrap, TrackOptions{-1, 6, {}}, observe);
+  ASSERT_EQ(six.frames.size(), 6u);
+  EXPECT_EQ(drawn, (std::vector<std::size_t>{53, 53, 53, 53, 53, 49}));
+  EXPECT_DOUBLE_EQ(*six.frames[0].path.inside_fraction, 27.0 / 53.0);  // 2 .. 8.5 m of 2 .. 15 m
+  EXPECT_DOUBLE_EQ(*six.frames[5].path.inside_fraction, 27.0 / 49.0);  // of 2 .. 14 m
+
+  // The whole log: frames 13 to 19 have less than 7 m ahead.
+  const TrackRun all = trackLog(log, pipeline, *camera, bootstrap);
+  const PathAgreementSummary s = all.pathAgreement();
+  EXPECT_EQ(s.frames, 20u);
+  EXPECT_EQ(s.measured, 13u);
+  EXPECT_EQ(s.path_too_short, 7u);
+  EXPECT_EQ(all.frames[13].path.status, PathStatus::TooShort);
+  // Only frames 11 and 12, whose paths end within the road found (at 8 and 7 m), hold 95 % of it.
+  EXPECT_EQ(s.inside_goal_frames, 2u);
+  EXPECT_DOUBLE_EQ(*all.frames[10].path.inside_fraction, 27.0 / 29.0);
+  EXPECT_EQ(s.centre_line_frames, 0u);
+  EXPECT_FALSE(s.angle_goal_fraction);
 }
 
 }  // namespace
