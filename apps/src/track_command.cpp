@@ -29,13 +29,75 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Json optionalNumber(const std::optional<double>& v) { return v ? Json(std::round(*v * 10) / 10) : Json(nullptr); }
+/// `v` rounded to `digits` decimals, or null.
+Json roundedOrNull(const std::optional<double>& v, int digits) {
+  if (!v) return nullptr;
+  const double scale = std::pow(10.0, digits);
+  return std::round(*v * scale) / scale;
+}
 
-std::string pixelsOrDash(const std::optional<double>& v) {
+/// `v` with `digits` decimals, or "-".
+std::string fixedOrDash(const std::optional<double>& v, int digits) {
   if (!v) return "-";
   std::ostringstream s;
-  s << std::fixed << std::setprecision(1) << *v;
+  s << std::fixed << std::setprecision(digits) << *v;
   return s.str();
+}
+
+/// "K of N (K/N)" for a goal met in K of N.
+std::string goalCount(std::size_t part, std::size_t whole, const std::optional<double>& fraction) {
+  return std::to_string(part) + " of " + std::to_string(whole) + " (" + fixedOrDash(fraction, 3) + ")";
+}
+
+Json pathSummaryJson(const TrackRun& run) {
+  const PathAgreementSummary s = run.pathAgreement();
+  const PathAgreementOptions& o = run.path_options;
+  return {{"path_m", {o.near_m, o.far_m}},
+          {"goals", {{"inside", o.inside_goal}, {"angle_deg", o.angle_goal_deg}, {"offset_jump_m", o.offset_jump_goal_m}}},
+          {"frames", s.frames},
+          {"measured", s.measured},
+          {"unmeasured",
+           {{"no_truth", s.no_truth}, {"path_too_short", s.path_too_short}, {"path_out_of_view", s.out_of_view}}},
+          {"no_road_found", s.no_region},
+          {"median_inside", roundedOrNull(s.median_inside, 3)},
+          {"inside_goal_frames", s.inside_goal_frames},
+          {"inside_goal_fraction", roundedOrNull(s.inside_goal_fraction, 3)},
+          {"centre_line_frames", s.centre_line_frames},
+          {"angle_frames", s.angle_frames},
+          {"angle_missing", s.angle_missing},
+          {"median_angle_deg", roundedOrNull(s.median_angle_deg, 2)},
+          {"angle_goal_frames", s.angle_goal_frames},
+          {"angle_goal_fraction", roundedOrNull(s.angle_goal_fraction, 3)},
+          {"offset_pairs", s.offset_pairs},
+          {"offset_missing", s.offset_missing},
+          {"median_offset_jump_m", roundedOrNull(s.median_offset_jump_m, 3)},
+          {"offset_goal_pairs", s.offset_goal_pairs},
+          {"offset_goal_fraction", roundedOrNull(s.offset_goal_fraction, 3)}};
+}
+
+/// The headline: the path agreement's three figures and what was left out.
+void printPathSummary(const TrackRun& run, std::ostream& out) {
+  const PathAgreementSummary s = run.pathAgreement();
+  const PathAgreementOptions& o = run.path_options;
+  out << "path agreement (the true future path " << o.near_m << "-" << o.far_m << " m ahead, from the log's truth):\n";
+  out << "  road found holds >= " << 100 * o.inside_goal << " % of the path in "
+      << goalCount(s.inside_goal_frames, s.measured, s.inside_goal_fraction) << " measured frames; median "
+      << fixedOrDash(s.median_inside, 3) << "\n";
+  if (s.centre_line_frames == 0) {
+    out << "  no centre line found: no angle or offset\n";
+  } else {
+    out << "  centre line within " << o.angle_goal_deg << " deg of the path in "
+        << goalCount(s.angle_goal_frames, s.angle_frames, s.angle_goal_fraction) << " frames; median "
+        << fixedOrDash(s.median_angle_deg, 2) << " deg (" << s.angle_missing
+        << " without a centre line count as not within)\n";
+    out << "  offset to the path changes by <= " << o.offset_jump_goal_m << " m in "
+        << goalCount(s.offset_goal_pairs, s.offset_pairs, s.offset_goal_fraction) << " consecutive pairs; median "
+        << fixedOrDash(s.median_offset_jump_m, 3) << " m (" << s.offset_missing
+        << " pairs without both offsets count as not within)\n";
+  }
+  out << "  not measured: " << s.frames - s.measured << " of " << s.frames << " frames (no truth " << s.no_truth
+      << ", path too short " << s.path_too_short << ", path out of view " << s.out_of_view << "); " << s.no_region
+      << " measured frames with no road found count as 0 inside\n";
 }
 
 /// One overlay per frame, 000000.png, 000001.png, ... in config.overlays.
@@ -71,9 +133,13 @@ void printJson(const LogTrackConfig& config, const TrackRun& run, std::ostream& 
     per_frame.push_back({{"frame", i},
                          {"ok", f.ok},
                          {"reason", f.ok ? Json(nullptr) : Json(f.reason)},
-                         {"left_u", optionalNumber(f.left_u)},
-                         {"right_u", optionalNumber(f.right_u)},
-                         {"centre_u", optionalNumber(f.centre_u)}});
+                         {"left_u", roundedOrNull(f.left_u, 1)},
+                         {"right_u", roundedOrNull(f.right_u, 1)},
+                         {"centre_u", roundedOrNull(f.centre_u, 1)},
+                         {"path_status", std::string(toString(f.path.status))},
+                         {"path_inside", roundedOrNull(f.path.inside_fraction, 3)},
+                         {"path_angle_deg", roundedOrNull(f.path.angle_deg, 2)},
+                         {"path_offset_m", roundedOrNull(f.path.offset_m, 3)}});
   }
   const Json j = {{"log", config.dir},
                   {"pipeline", config.pipeline},
@@ -81,26 +147,31 @@ void printJson(const LogTrackConfig& config, const TrackRun& run, std::ostream& 
                   {"tracked", run.tracked()},
                   {"row", run.row},
                   {"max_jump_px",
-                   {{"left", optionalNumber(run.maxJump(&TrackedFrame::left_u))},
-                    {"right", optionalNumber(run.maxJump(&TrackedFrame::right_u))},
-                    {"centre", optionalNumber(run.maxJump(&TrackedFrame::centre_u))}}},
+                   {{"left", roundedOrNull(run.maxJump(&TrackedFrame::left_u), 1)},
+                    {"right", roundedOrNull(run.maxJump(&TrackedFrame::right_u), 1)},
+                    {"centre", roundedOrNull(run.maxJump(&TrackedFrame::centre_u), 1)}}},
+                  {"path_agreement", pathSummaryJson(run)},
                   {"per_frame", per_frame}};
   out << dumpJson(j);
 }
 
 void printTable(const LogTrackConfig& config, const TrackRun& run, std::ostream& out) {
-  out << "frame  left_u  right_u  centre_u   (row " << run.row << ")\n";
+  out << "frame  left_u  right_u  centre_u  inside  angle_deg  offset_m   (row " << run.row << "; path agreement)\n";
   for (std::size_t i = 0; i < run.frames.size(); ++i) {
     const TrackedFrame& f = run.frames[i];
-    out << std::setw(5) << i << "  " << std::setw(6) << pixelsOrDash(f.left_u) << "  " << std::setw(7) << pixelsOrDash(f.right_u) << "  "
-        << std::setw(8) << pixelsOrDash(f.centre_u);
+    out << std::setw(5) << i << "  " << std::setw(6) << fixedOrDash(f.left_u, 1) << "  " << std::setw(7)
+        << fixedOrDash(f.right_u, 1) << "  " << std::setw(8) << fixedOrDash(f.centre_u, 1) << "  " << std::setw(6)
+        << fixedOrDash(f.path.inside_fraction, 3) << "  " << std::setw(9) << fixedOrDash(f.path.angle_deg, 2) << "  "
+        << std::setw(8) << fixedOrDash(f.path.offset_m, 3);
+    if (f.path.status != PathStatus::Measured) out << "  " << toString(f.path.status);
     if (!f.ok) out << "  failed: " << f.reason;
     out << "\n";
   }
+  printPathSummary(run, out);
   out << config.pipeline << ": " << run.tracked() << " of " << run.frames.size()
       << " frames tracked; largest frame-to-frame jump on row " << run.row << ": left "
-      << pixelsOrDash(run.maxJump(&TrackedFrame::left_u)) << " px, right " << pixelsOrDash(run.maxJump(&TrackedFrame::right_u))
-      << " px, centre " << pixelsOrDash(run.maxJump(&TrackedFrame::centre_u)) << " px\n";
+      << fixedOrDash(run.maxJump(&TrackedFrame::left_u), 1) << " px, right "
+      << fixedOrDash(run.maxJump(&TrackedFrame::right_u), 1) << " px, centre " << fixedOrDash(run.maxJump(&TrackedFrame::centre_u), 1) << " px\n";
   if (!config.overlays.empty()) out << "overlays in " << config.overlays << "\n";
   if (!config.contact_sheet.empty()) out << "contact sheet " << config.contact_sheet << "\n";
 }
@@ -121,11 +192,13 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
     std::vector<Image> overlays;
     TrackObserver draw;
     if (!config.overlays.empty() || !config.contact_sheet.empty())
-      draw = [&](const Image& rgb, const PredictedObject& prediction, const DetectedObject& detection) {
+      draw = [&](const Image& rgb, const PredictedObject& prediction, const DetectedObject& detection,
+                 const TrackedFrame& measured) {
         overlays.push_back(drawDetection(rgb, prediction, detection, *camera));
+        drawGroundPath(overlays.back(), measured.path.path, *camera);
       };
     const TrackRun run = trackLog(log, *pipeline, *camera, bottomTrapezoid(w, h, config.trapezoid),
-                                  TrackOptions{config.row, config.max_frames}, draw);
+                                  TrackOptions{config.row, config.max_frames, {}}, draw);
     writeOverlays(config, overlays);
     writeContactSheet(config, overlays);
     if (config.json) {
@@ -140,7 +213,9 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
 void registerTrackCommand(CLI::App& log, Commands& commands) {
   auto* track = commands.hold<LogTrackConfig>();
   auto* trapezoid = commands.hold<std::string>();
-  CLI::App* lt = log.add_subcommand("track", "Run a vision pipeline over a log without a map, tracking the road's edges and centre line frame to frame (docs/kitti.md)");
+  CLI::App* lt = log.add_subcommand("track",
+                                    "Run a vision pipeline over a log without a map, tracking the road's edges and centre "
+                                    "line frame to frame, and measure its agreement with the true future path (docs/kitti.md)");
   lt->add_option("dir", track->dir, "Log folder")->required()->check(CLI::ExistingDirectory);
   addPipelineOptions(lt, track->pipeline, track->options_json, track->plugins, "edge-tracker");
   lt->add_option("--camera", track->camera, "Camera file instead of the log's own")->check(CLI::ExistingFile);

@@ -143,6 +143,13 @@ std::size_t TrackRun::tracked() const {
   return static_cast<std::size_t>(std::count_if(frames.begin(), frames.end(), [](const TrackedFrame& t) { return t.ok; }));
 }
 
+PathAgreementSummary TrackRun::pathAgreement() const {
+  std::vector<PathAgreement> path;
+  path.reserve(frames.size());
+  for (const TrackedFrame& f : frames) path.push_back(f.path);
+  return summarizePathAgreement(path, path_options);
+}
+
 std::optional<double> TrackRun::maxJump(std::optional<double> TrackedFrame::*member) const {
   std::optional<double> worst;
   for (std::size_t i = 1; i < frames.size(); ++i) {
@@ -159,6 +166,8 @@ TrackRun trackLog(const ReplayLog& log, VisionPipeline& pipeline, const Camera& 
   TrackRun run;
   run.row = options.row >= 0 ? options.row : std::round(0.85 * (h - 1));
   requireOption(run.row <= h - 1, "TrackOptions", "row", run.row, "at most the image's last row");
+  options.path.validate();
+  run.path_options = options.path;
   const PredictedObject first = bootstrapPrediction(bootstrap, camera);
   const std::size_t total =
       options.max_frames > 0 ? std::min(options.max_frames, log.frames().size()) : log.frames().size();
@@ -173,10 +182,11 @@ TrackRun trackLog(const ReplayLog& log, VisionPipeline& pipeline, const Camera& 
     const PredictedObject prediction = carried.prediction(first, camera, f.t);
     const DetectedObject det = pipeline.detect(VisionFrame{w, h, rgb.data.data(), &camera, f.t}, prediction);
     run.frames.push_back(measure(det, camera, run.row));
+    run.frames.back().path = pathAgreement(log.frames(), i, det, camera, options.path);
     // An edge or a region not found in this frame is not carried on: a lost edge's last place drifts.
     carried.edges = detectedEdges(det);
     carried.region = run.frames.back().ok ? det.region_vehicle : Polygon2{};
-    if (observer) observer(rgb, prediction, det);
+    if (observer) observer(rgb, prediction, det, run.frames.back());
   }
   return run;
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 namespace mapnav {
 
@@ -97,6 +98,20 @@ Image drawDetection(const Image& frame, const PredictedObject& prediction, const
   cv::Mat rgb = cvview::view(out);
   cv::line(rgb, fixed(*a), fixed(*b), cv::Scalar(255, 0, 255), 3, cv::LINE_AA, 4);
   return out;
+}
+
+void drawGroundPath(Image& overlay, const std::vector<Vec2>& path_vehicle, const Camera& camera) {
+  if (overlay.channels != 3) throw InvalidInput("drawGroundPath: the overlay must be RGB");
+  const cv::Scalar cyan(0, 255, 255);
+  cv::Mat rgb = cvview::view(overlay);
+  std::optional<Vec2> last;
+  for (const Vec2& g : path_vehicle) {
+    auto px = camera.projectGround(g);
+    if (px && !(std::abs(px->x()) < 1e5 && std::abs(px->y()) < 1e5)) px.reset();  // as ring(): fixed() stays in int
+    if (px && last) cv::line(rgb, fixed(*last), fixed(*px), cyan, 2, cv::LINE_AA, 4);
+    if (px && camera.inImage(*px)) cv::circle(rgb, fixed(*px), 2 * 16, cyan, cv::FILLED, cv::LINE_AA, 4);
+    last = px;
+  }
 }
 
 Image contactSheet(const std::vector<Image>& tiles, const std::vector<std::string>& captions, int columns,

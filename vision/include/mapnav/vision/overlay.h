@@ -17,6 +17,13 @@ Image drawDetection(const Image& frame, const PredictedObject& prediction, const
 Image drawDetection(const Image& frame, const PredictedObject& prediction, const DetectedObject& detection,
                     const Camera& camera);
 
+/// Draws a path on the ground (vehicle frame, metres: x forward, y left) onto `overlay` (RGB, the
+/// camera's image) as a polyline through its points' projections, cyan (0, 255, 255), 2 px, with a
+/// dot at each point in the image: `mapnav log track`'s true future path. Points the camera cannot
+/// image (behind it) are left out; lines leaving the image are clipped. Throws InvalidInput unless
+/// `overlay` is 3-channel.
+void drawGroundPath(Image& overlay, const std::vector<Vec2>& path_vehicle, const Camera& camera);
+
 /// One picture of several (a run's overlays for a report): each tile scaled by `scale` (> 0), its
 /// caption written at its bottom left, laid out left to right in rows of `columns`, 4 px apart on black.
 /// Tiles may differ in size (each cell is the largest tile's); grey tiles become RGB. Throws

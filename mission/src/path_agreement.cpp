@@ -1,0 +1,225 @@
+// Path agreement (mapnav/mission/path_agreement.h): the vehicle's future path from the log's truth,
+// sampled by arc length, against the road region and the centre line a pipeline found.
+#include "mapnav/mission/path_agreement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "mapnav/core/options.h"
+#include "mapnav/geometry/polygon.h"
+#include "mapnav/geometry/polyline2.h"
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/mission/metrics.h"
+
+namespace mapnav {
+
+namespace {
+
+/// Arc lengths within this of a bound count as on it (the samples are near + k · step).
+constexpr double kArcSlack = 1e-9;
+
+/// The arc length of sample k.
+double sampleArc(const PathAgreementOptions& o, std::size_t k) { return o.near_m + static_cast<double>(k) * o.step_m; }
+
+/// The least-squares line through the samples between direction_near_m and direction_far_m: its unit
+/// direction, pointing from the nearer samples to the farther; nothing when the path stops short.
+std::optional<Vec2> pathDirection(const std::vector<Vec2>& path, const PathAgreementOptions& o) {
+  if (path.empty() || sampleArc(o, path.size() - 1) < o.direction_far_m - kArcSlack) return std::nullopt;
+  std::vector<Vec2> pts;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const double s = sampleArc(o, k);
+    if (s >= o.direction_near_m - kArcSlack && s <= o.direction_far_m + kArcSlack) pts.push_back(path[k]);
+  }
+  if (pts.size() < 2) return std::nullopt;
+  Vec2 mean = Vec2::Zero();
+  for (const Vec2& p : pts) mean += p;
+  mean /= static_cast<double>(pts.size());
+  Mat2 cov = Mat2::Zero();
+  for (const Vec2& p : pts) cov += (p - mean) * (p - mean).transpose();
+  // The principal axis of a symmetric 2 x 2 matrix: the angle that diagonalises it.
+  const double angle = 0.5 * std::atan2(2 * cov(0, 1), cov(0, 0) - cov(1, 1));
+  Vec2 dir = unitVector(angle);
+  if (dir.dot(pts.back() - pts.front()) < 0) dir = -dir;
+  return dir;
+}
+
+/// Where the polyline first reaches x = `x`: its y there; nothing when it does not.
+std::optional<double> yAtX(const std::vector<Vec2>& path, double x) {
+  for (std::size_t k = 0; k + 1 < path.size(); ++k) {
+    const Vec2 &a = path[k], &b = path[k + 1];
+    if ((a.x() - x) * (b.x() - x) > 0) continue;
+    if (a.x() == b.x()) return a.y();
+    return a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
+  }
+  if (path.size() == 1 && path.front().x() == x) return path.front().y();
+  return std::nullopt;
+}
+
+/// The road found, as pathAgreement's comment defines it: true when the sample (ground point `g`,
+/// pixel `px`) lies in it.
+bool insideRoadFound(const DetectedObject& d, const Vec2& g, const Vec2& px) {
+  if (d.region_image.size() >= 3) return contains(d.region_image, px);
+  return contains(d.region_vehicle, g);
+}
+
+}  // namespace
+
+void PathAgreementOptions::validate() const {
+  constexpr const char* kOwner = "PathAgreementOptions";
+  requireOption(std::isfinite(near_m) && near_m >= 0, kOwner, "near_m", near_m, ">= 0");
+  requireOption(std::isfinite(far_m) && far_m > near_m, kOwner, "far_m", far_m, "> near_m");
+  requireOption(std::isfinite(step_m) && step_m > 0, kOwner, "step_m", step_m, "> 0");
+  requireOption(std::isfinite(min_reach_m) && min_reach_m >= near_m && min_reach_m <= far_m, kOwner, "min_reach_m",
+                min_reach_m, "in [near_m, far_m]");
+  requireOption(std::isfinite(direction_near_m) && direction_near_m >= near_m, kOwner, "direction_near_m",
+                direction_near_m, ">= near_m");
+  requireOption(std::isfinite(direction_far_m) && direction_far_m > direction_near_m && direction_far_m <= far_m, kOwner,
+                "direction_far_m", direction_far_m, "in (direction_near_m, far_m]");
+  requireOption(std::isfinite(offset_ahead_m) && offset_ahead_m > 0, kOwner, "offset_ahead_m", offset_ahead_m, "> 0");
+  requireOption(inside_goal >= 0 && inside_goal <= 1, kOwner, "inside_goal", inside_goal, "in [0, 1]");
+  requireOption(angle_goal_deg >= 0 && angle_goal_deg <= 90, kOwner, "angle_goal_deg", angle_goal_deg, "in [0, 90]");
+  requireOption(std::isfinite(offset_jump_goal_m) && offset_jump_goal_m >= 0, kOwner, "offset_jump_goal_m",
+                offset_jump_goal_m, ">= 0");
+}
+
+std::string_view toString(PathStatus status) {
+  switch (status) {
+    case PathStatus::Measured: return "measured";
+    case PathStatus::NoTruth: return "no truth";
+    case PathStatus::TooShort: return "path too short";
+    case PathStatus::OutOfView: return "path out of view";
+  }
+  return "unknown";
+}
+
+std::vector<Vec2> futurePath(const std::vector<LogFrame>& frames, std::size_t i, const PathAgreementOptions& o) {
+  if (i >= frames.size() || !frames[i].truth) return {};
+  const Pose2& here = *frames[i].truth;
+  std::vector<Vec2> points{Vec2::Zero()};
+  for (std::size_t j = i + 1; j < frames.size() && frames[j].truth; ++j)
+    points.push_back(here.inverseTransform(frames[j].truth->translation()));
+  const Polyline2 line(std::move(points));
+  const double reach = line.length();
+  if (reach < o.min_reach_m - kArcSlack) return {};
+  const double end = std::min(o.far_m, reach);
+  const auto n = static_cast<std::size_t>(std::floor((end - o.near_m) / o.step_m + kArcSlack)) + 1;
+  std::vector<Vec2> path;
+  path.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) path.push_back(line.pointAt(sampleArc(o, k)));
+  return path;
+}
+
+PathAgreement pathAgreement(std::vector<Vec2> path, const DetectedObject& detection, const Camera& camera,
+                            const PathAgreementOptions& o) {
+  PathAgreement r;
+  r.path = std::move(path);
+  if (r.path.empty()) {
+    r.status = PathStatus::TooShort;
+    return r;
+  }
+  const bool ok = detection.status == DetectedObject::Status::Ok;
+  r.road_found = ok && (detection.region_image.size() >= 3 || detection.region_vehicle.size() >= 3);
+  r.centre_line = ok && detection.centerline_vehicle.has_value();
+  for (const Vec2& g : r.path) {
+    const auto px = camera.projectGround(g);
+    if (!px || !camera.inImage(*px)) {
+      ++r.out_of_view;
+      continue;
+    }
+    r.path_image.push_back(*px);
+    if (r.road_found && insideRoadFound(detection, g, *px)) ++r.inside;
+  }
+  if (r.path_image.empty()) {
+    r.status = PathStatus::OutOfView;
+  } else {
+    r.inside_fraction = static_cast<double>(r.inside) / static_cast<double>(r.path_image.size());
+  }
+  r.path_direction = pathDirection(r.path, o);
+  r.path_y_ahead = yAtX(r.path, o.offset_ahead_m);
+  if (!r.centre_line) return r;
+  const Segment2& c = *detection.centerline_vehicle;
+  const Vec2 along = c.b - c.a;
+  if (r.path_direction && along.norm() > 0)
+    r.angle_deg = radToDeg(std::acos(std::clamp(std::abs(along.normalized().dot(*r.path_direction)), 0.0, 1.0)));
+  if (r.path_y_ahead && std::abs(along.x()) > 1e-9) {
+    const double centre_y = c.a.y() + along.y() * (o.offset_ahead_m - c.a.x()) / along.x();
+    r.offset_m = *r.path_y_ahead - centre_y;
+  }
+  return r;
+}
+
+PathAgreement pathAgreement(const std::vector<LogFrame>& frames, std::size_t i, const DetectedObject& detection,
+                            const Camera& camera, const PathAgreementOptions& options) {
+  PathAgreement r = pathAgreement(futurePath(frames, i, options), detection, camera, options);
+  if (i < frames.size() && !frames[i].truth) r.status = PathStatus::NoTruth;
+  return r;
+}
+
+std::optional<double> offsetJump(const std::vector<PathAgreement>& frames, std::size_t i) {
+  if (i == 0 || i >= frames.size() || !frames[i - 1].offset_m || !frames[i].offset_m) return std::nullopt;
+  return std::abs(*frames[i].offset_m - *frames[i - 1].offset_m);
+}
+
+namespace {
+
+std::optional<double> fractionOf(std::size_t part, std::size_t whole) {
+  if (whole == 0) return std::nullopt;
+  return static_cast<double>(part) / static_cast<double>(whole);
+}
+
+std::optional<double> medianOf(const std::vector<double>& values) {
+  if (values.empty()) return std::nullopt;
+  return percentile(values, 50);
+}
+
+}  // namespace
+
+PathAgreementSummary summarizePathAgreement(const std::vector<PathAgreement>& frames, const PathAgreementOptions& o) {
+  PathAgreementSummary s;
+  s.frames = frames.size();
+  std::vector<double> insides, angles, jumps;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const PathAgreement& f = frames[i];
+    s.centre_line_frames += f.centre_line;
+    switch (f.status) {
+      case PathStatus::NoTruth: ++s.no_truth; continue;
+      case PathStatus::TooShort: ++s.path_too_short; continue;
+      case PathStatus::OutOfView: ++s.out_of_view; continue;
+      case PathStatus::Measured: break;
+    }
+    ++s.measured;
+    s.no_region += !f.road_found;
+    insides.push_back(f.inside_fraction.value_or(0.0));
+    s.inside_goal_frames += insides.back() >= o.inside_goal;
+    if (f.path_direction) {
+      ++s.angle_frames;
+      if (f.angle_deg) {
+        angles.push_back(*f.angle_deg);
+        s.angle_goal_frames += *f.angle_deg <= o.angle_goal_deg;
+      } else {
+        ++s.angle_missing;
+      }
+    }
+    const PathAgreement* prev = i > 0 ? &frames[i - 1] : nullptr;
+    if (!prev || prev->status != PathStatus::Measured || !prev->path_y_ahead || !f.path_y_ahead) continue;
+    ++s.offset_pairs;
+    if (const auto jump = offsetJump(frames, i)) {
+      jumps.push_back(*jump);
+      s.offset_goal_pairs += *jump <= o.offset_jump_goal_m;
+    } else {
+      ++s.offset_missing;
+    }
+  }
+  s.median_inside = medianOf(insides);
+  s.inside_goal_fraction = fractionOf(s.inside_goal_frames, s.measured);
+  s.median_angle_deg = medianOf(angles);
+  s.median_offset_jump_m = medianOf(jumps);
+  if (s.centre_line_frames > 0) {
+    s.angle_goal_fraction = fractionOf(s.angle_goal_frames, s.angle_frames);
+    s.offset_goal_fraction = fractionOf(s.offset_goal_pairs, s.offset_pairs);
+  }
+  return s;
+}
+
+}  // namespace mapnav
