@@ -60,6 +60,7 @@ Json pathSummaryJson(const TrackRun& run) {
            {{"no_truth", s.no_truth}, {"path_too_short", s.path_too_short}, {"path_out_of_view", s.out_of_view}}},
           {"no_road_found", s.no_region},
           {"median_inside", roundedOrNull(s.median_inside, 3)},
+          {"median_ground_share", roundedOrNull(s.median_ground_share, 3)},
           {"inside_goal_frames", s.inside_goal_frames},
           {"inside_goal_fraction", roundedOrNull(s.inside_goal_fraction, 3)},
           {"centre_line_frames", s.centre_line_frames},
@@ -83,6 +84,8 @@ void printPathSummary(const TrackRun& run, std::ostream& out) {
   out << "  road found holds >= " << 100 * o.inside_goal << " % of the path in "
       << goalCount(s.inside_goal_frames, s.measured, s.inside_goal_fraction) << " measured frames; median "
       << fixedOrDash(s.median_inside, 3) << "\n";
+  out << "  road found covers a median " << fixedOrDash(s.median_ground_share, 3)
+      << " of the ground in view (everything below the horizon: 1, and it holds every path)\n";
   if (s.centre_line_frames == 0) {
     out << "  no centre line found: no angle or offset\n";
   } else {
@@ -138,6 +141,7 @@ void printJson(const LogTrackConfig& config, const TrackRun& run, std::ostream& 
                          {"centre_u", roundedOrNull(f.centre_u, 1)},
                          {"path_status", std::string(toString(f.path.status))},
                          {"path_inside", roundedOrNull(f.path.inside_fraction, 3)},
+                         {"ground_share", roundedOrNull(f.path.ground_share, 3)},
                          {"path_angle_deg", roundedOrNull(f.path.angle_deg, 2)},
                          {"path_offset_m", roundedOrNull(f.path.offset_m, 3)}});
   }

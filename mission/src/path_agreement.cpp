@@ -63,6 +63,22 @@ bool insideRoadFound(const DetectedObject& d, const Vec2& g, const Vec2& px) {
   return contains(d.region_vehicle, g);
 }
 
+/// PathAgreement::ground_share: the lattice points below the horizon inside `region` / all of them.
+std::optional<double> groundShare(const Polygon2& region, const Camera& camera) {
+  constexpr int kLattice = 4;
+  std::size_t ground = 0, covered = 0;
+  for (int v = kLattice / 2; v < camera.height(); v += kLattice) {
+    for (int u = kLattice / 2; u < camera.width(); u += kLattice) {
+      const Vec2 px(u, v);
+      if (!camera.backproject(px)) continue;
+      ++ground;
+      covered += contains(region, px);
+    }
+  }
+  if (ground == 0) return std::nullopt;
+  return static_cast<double>(covered) / static_cast<double>(ground);
+}
+
 }  // namespace
 
 void PathAgreementOptions::validate() const {
@@ -134,6 +150,8 @@ PathAgreement pathAgreement(std::vector<Vec2> path, const DetectedObject& detect
     r.status = PathStatus::OutOfView;
   } else {
     r.inside_fraction = static_cast<double>(r.inside) / static_cast<double>(r.path_image.size());
+    if (!ok) r.ground_share = 0.0;
+    else if (detection.region_image.size() >= 3) r.ground_share = groundShare(detection.region_image, camera);
   }
   r.path_direction = pathDirection(r.path, o);
   r.path_y_ahead = yAtX(r.path, o.offset_ahead_m);
@@ -178,7 +196,7 @@ std::optional<double> medianOf(const std::vector<double>& values) {
 PathAgreementSummary summarizePathAgreement(const std::vector<PathAgreement>& frames, const PathAgreementOptions& o) {
   PathAgreementSummary s;
   s.frames = frames.size();
-  std::vector<double> insides, angles, jumps;
+  std::vector<double> insides, shares, angles, jumps;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const PathAgreement& f = frames[i];
     s.centre_line_frames += f.centre_line;
@@ -191,6 +209,7 @@ PathAgreementSummary summarizePathAgreement(const std::vector<PathAgreement>& fr
     ++s.measured;
     s.no_region += !f.road_found;
     insides.push_back(f.inside_fraction.value_or(0.0));
+    if (f.ground_share) shares.push_back(*f.ground_share);
     s.inside_goal_frames += insides.back() >= o.inside_goal;
     if (f.path_direction) {
       ++s.angle_frames;
@@ -212,6 +231,7 @@ PathAgreementSummary summarizePathAgreement(const std::vector<PathAgreement>& fr
     }
   }
   s.median_inside = medianOf(insides);
+  s.median_ground_share = medianOf(shares);
   s.inside_goal_fraction = fractionOf(s.inside_goal_frames, s.measured);
   s.median_angle_deg = medianOf(angles);
   s.median_offset_jump_m = medianOf(jumps);

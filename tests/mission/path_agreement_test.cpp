@@ -148,6 +148,26 @@ TEST(PathAgreement, AFailedDetectionOrNoRegionIsZeroInside) {
   EXPECT_EQ(pathAgreement(frames, 0, DetectedObject{}, *levelCamera(100)).inside_fraction, 0.0);
 }
 
+// The ground share, on the lattice of every 4th pixel of every 4th row from (2, 2): the level
+// camera (cy = 239.5) sees the ground from row 242 down, 60 lattice rows of 160 points. The whole
+// image holds the path and covers all of it (the trivial region); its left half (u < 319.5: 80
+// columns) covers half; a failed detection 0; a region only on the ground (no region_image) none.
+TEST(PathAgreement, GroundShareSaysHowMuchOfTheViewTheRoadFoundTakes) {
+  const auto frames = framesAt(straightDrive({0, 0}, 0, 20));
+  const auto camera = levelCamera(100);
+  DetectedObject all, left;
+  all.region_image = {{-0.5, -0.5}, {639.5, -0.5}, {639.5, 479.5}, {-0.5, 479.5}};
+  left.region_image = {{-0.5, -0.5}, {319.5, -0.5}, {319.5, 479.5}, {-0.5, 479.5}};
+  const PathAgreement a = pathAgreement(frames, 0, all, *camera);
+  EXPECT_EQ(*a.inside_fraction, 1.0);
+  EXPECT_EQ(*a.ground_share, 1.0);
+  EXPECT_EQ(*pathAgreement(frames, 0, left, *camera).ground_share, 0.5);
+  EXPECT_EQ(*pathAgreement(frames, 0, DetectedObject::failed("x"), *camera).ground_share, 0.0);
+  EXPECT_FALSE(pathAgreement(frames, 0, groundRectangle(1, 8.6, -1, 1), *camera).ground_share);
+  std::vector<PathAgreement> run{a, pathAgreement(frames, 0, left, *camera), pathAgreement(frames, 0, left, *camera)};
+  EXPECT_EQ(*summarizePathAgreement(run).median_ground_share, 0.5);
+}
+
 TEST(PathAgreement, CentreLineAngleAndOffsetToThePath) {
   const auto camera = levelCamera(100);
   // Straight ahead; the centre line rises 0.1 m a metre, through (5, 0.5): atan(0.1) off the path,

@@ -73,6 +73,12 @@ struct PathAgreement {
   /// inside / path_image.size(); 0 when the detection failed or gave no road region; nothing when
   /// the frame is not measured.
   std::optional<double> inside_fraction;
+  /// The share of the ground in view that region_image covers, 0..1, counted on a lattice of every
+  /// 4th pixel of every 4th row (a pixel sees the ground when Camera::backproject meets it): the
+  /// trivial region "everything below the horizon" holds every path and scores 1, so a region holds
+  /// the path usefully only with a share well under 1. 0 when the detection failed; nothing when it
+  /// gives no region_image or the frame is not measured.
+  std::optional<double> ground_share;
   /// The path's unit direction over direction_near_m..direction_far_m (a least-squares line, pointing
   /// ahead); nothing when the path does not reach direction_far_m.
   std::optional<Vec2> path_direction;
@@ -112,6 +118,7 @@ struct PathAgreementSummary {
   std::size_t out_of_view = 0;      ///< unmeasured: PathStatus::OutOfView
   std::size_t no_region = 0;        ///< measured frames with no road found (failed or no region): 0 inside
   std::optional<double> median_inside;         ///< over the measured frames
+  std::optional<double> median_ground_share;   ///< over the measured frames that have one
   std::size_t inside_goal_frames = 0;          ///< measured frames with inside_fraction ≥ inside_goal
   std::optional<double> inside_goal_fraction;  ///< inside_goal_frames / measured
 
