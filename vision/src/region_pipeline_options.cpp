@@ -75,6 +75,7 @@ const OptionTable<ColorPipelineOptions>& colorPipelineOptionTable() {
           .field("nonroad_gate_sigma", &O::nonroad_gate_sigma, inRange(0, 1e6),
                  "non-road trains only on the cells outside the predicted road whose colour is more than this many "
                  "sigma (Mahalanobis) from the frame's road colour: on real roads the rest of the view is mostly road; "
+                 "until a frame shows such cells, non-road is flat (road is what the road colour explains); "
                  "0 = every cell outside")
           .field("outlier_llr", &O::outlier_llr, inRange(0, 1e6),
                  "adaptive: drop training pixels whose label the current model contradicts by more than this log-odds")
