@@ -1,6 +1,7 @@
 #include "command_support.h"
 
 #include <filesystem>
+#include <iomanip>
 #include <cmath>
 #include <ostream>
 #include <sstream>
@@ -14,6 +15,13 @@
 #include "mapnav/map/map_io.h"
 
 namespace mapnav::cli {
+
+std::string fixedOr(const std::optional<double>& v, int digits, const std::string& missing) {
+  if (!v) return missing;
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << *v;
+  return s.str();
+}
 
 namespace {
 namespace fs = std::filesystem;

@@ -22,6 +22,9 @@ std::vector<double> parseNumbers(const std::string& option, const std::string& t
 /// tree's.
 std::string dataPath(const std::string& relative);
 
+/// `v` with `digits` decimals, or `missing` ("-", "null") when there is none.
+std::string fixedOr(const std::optional<double>& v, int digits, const std::string& missing);
+
 /// `FILE:/pointer: severity: check: message`, one per line.
 void printIssues(const Issues& issues, const std::string& file, std::ostream& out);
 

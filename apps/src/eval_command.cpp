@@ -12,6 +12,7 @@
 #include "cli.h"
 #include "command_line.h"
 #include "command_support.h"
+#include "json_numbers.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/interrupt.h"
 #include "mapnav/core/json.h"
@@ -71,16 +72,9 @@ std::vector<Sample> readSet(const EvalSegmentationConfig& config) {
   return set;
 }
 
-Json number(const std::optional<double>& v) {
-  return v ? Json(std::round(*v * 10000) / 10000) : Json(nullptr);
-}
-
-std::string scoreOrNull(const std::optional<double>& v) {
-  if (!v) return "null";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(4) << *v;
-  return s.str();
-}
+/// A score in the JSON and in the text: 4 decimals, null when undefined.
+Json number(const std::optional<double>& v) { return roundedOrNull(v, 4); }
+std::string scoreOrNull(const std::optional<double>& v) { return fixedOr(v, 4, "null"); }
 
 // The two trivial answers the pipeline must beat, scored like it over the same photos.
 struct Baselines {

@@ -13,6 +13,7 @@
 #include "cli.h"
 #include "command_line.h"
 #include "command_support.h"
+#include "json_numbers.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/image/png.h"
@@ -29,20 +30,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// `v` rounded to `digits` decimals, or null.
-Json roundedOrNull(const std::optional<double>& v, int digits) {
-  if (!v) return nullptr;
-  const double scale = std::pow(10.0, digits);
-  return std::round(*v * scale) / scale;
-}
-
 /// `v` with `digits` decimals, or "-".
-std::string fixedOrDash(const std::optional<double>& v, int digits) {
-  if (!v) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << *v;
-  return s.str();
-}
+std::string fixedOrDash(const std::optional<double>& v, int digits) { return fixedOr(v, digits, "-"); }
 
 /// "K of N (K/N)" for a goal met in K of N.
 std::string goalCount(std::size_t part, std::size_t whole, const std::optional<double>& fraction) {
