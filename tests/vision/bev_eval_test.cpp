@@ -74,6 +74,28 @@ TEST(BevEval, KittiDefaultsAndBadGrids) {
   fails({-10, std::numeric_limits<double>::infinity(), 6, 46, 0.05}, "x_max_m");
 }
 
+// KITTI's grid on the camera `mapnav log import-kitti` makes of kitti_vo_seq1 (calib.txt P0: f 707.0912,
+// principal point (601.8873, 183.1104), 1226 × 370, 1.65 m up, level). Counted independently (Python,
+// u = cx + f x / z, v = cy + f h / z over the 320000 cell centres, in [−0.5, 1225.5] × [−0.5, 369.5]):
+// 308301 cells in the image; the nearest rows (z < 6.26 m) fall below its bottom edge.
+TEST(BevEval, KittiGridOnTheKittiCamera) {
+  CameraIntrinsics in;
+  in.width = 1226;
+  in.height = 370;
+  in.fx = in.fy = 707.0912;
+  in.cx = 601.8873;
+  in.cy = 183.1104;
+  CameraMount mount;
+  mount.height_m = 1.65;
+  mount.tilt_rad = 0.0;
+  const BevSampling s = bevSampling(*createCamera(LensModel::Pinhole, in, mount), BevGrid{});
+  EXPECT_EQ(s.samples.size(), 308301u);
+  // Row 799 (z = 6.025 m) projects to v = 183.11 + 707.09 · 1.65 / 6.025 = 376.8: below the image.
+  EXPECT_EQ(s.pixel_of_cell[799 * 400 + 200], -1);
+  // Row 0 (z = 45.975 m), column 200 (x = 0.025 m): u = 602.27 → 602, v = 208.49 → 208.
+  EXPECT_EQ(s.pixel_of_cell[200], 208 * 1226 + 602);
+}
+
 // label (0 non-road, 1 road, 2 ignored)   predicted (1 road)
 //   row 1: u 2, 3 road; u 4 non-road        u 2, 3, 4 road
 //   row 2: u 1 non-road; 2, 4 road; 5 ign.  u 2, 5 road
