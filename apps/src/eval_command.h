@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
+#include "mapnav/vision/bev_eval.h"
 #include "mapnav/vision/segmentation_eval.h"
 
 namespace mapnav::cli {
@@ -20,6 +21,8 @@ struct EvalSegmentationConfig {
   std::string bootstrap = "trapezoid";  ///< or "labels-first-frame"
   TrapezoidOptions trapezoid;
   std::string camera;                   ///< optional camera file; default: the assumed pin-hole (docs/eval.md)
+  bool bev = false;                     ///< score in a bird's-eye grid (needs `camera`) instead of per pixel
+  BevGrid bev_grid;                     ///< that grid; KITTI's by default
   std::string overlays;                 ///< folder for TP/FP/FN overlays, or empty
   bool json = false;
 };

@@ -36,6 +36,21 @@ std::optional<double> ratio(std::uint64_t num, std::uint64_t den) {
   return static_cast<double>(num) / static_cast<double>(den);
 }
 
+// Calls f(i) for each scored pixel index: every pixel, or the samples (checked against the image).
+template <typename F>
+void forEachSample(const Image& label, const PixelSamples* samples, F&& f) {
+  if (samples == nullptr) {
+    for (std::size_t i = 0; i < label.data.size(); ++i) f(i);
+    return;
+  }
+  for (const std::uint32_t i : *samples) {
+    if (i >= label.data.size())
+      throw InvalidInput("samples: pixel index " + std::to_string(i) + " is outside the " + std::to_string(label.width) +
+                         "x" + std::to_string(label.height) + " image");
+    f(static_cast<std::size_t>(i));
+  }
+}
+
 void checkValues(const std::vector<int>& values, const char* field) {
   for (int v : values)
     if (v < 0 || v > 255) throw InvalidInput(std::string(field) + ": label value " + std::to_string(v) + " is outside 0..255");
@@ -63,31 +78,33 @@ std::optional<double> PixelCounts::iou() const { return ratio(tp, tp + fp + fn);
 std::optional<double> PixelCounts::precision() const { return ratio(tp, tp + fp); }
 std::optional<double> PixelCounts::recall() const { return ratio(tp, tp + fn); }
 
-PixelCounts countPixels(const Image& predicted, const Image& label, const LabelClasses& classes) {
+PixelCounts countPixels(const Image& predicted, const Image& label, const LabelClasses& classes,
+                        const PixelSamples* samples) {
   checkPair(predicted, "prediction", label);
   const ClassTable t = table(classes);
   PixelCounts c;
-  for (std::size_t i = 0; i < label.data.size(); ++i) {
+  forEachSample(label, samples, [&](std::size_t i) {
     const std::uint8_t truth = t[label.data[i]];
-    if (truth == 2) continue;
+    if (truth == 2) return;
     const bool road = predicted.data[i] != 0;
     if (truth == 1) {
       (road ? c.tp : c.fn) += 1;
     } else {
       (road ? c.fp : c.tn) += 1;
     }
-  }
+  });
   return c;
 }
 
-void ScoreHistogram::add(const Image& score, const Image& label, const LabelClasses& classes) {
+void ScoreHistogram::add(const Image& score, const Image& label, const LabelClasses& classes,
+                         const PixelSamples* samples) {
   checkPair(score, "score", label);
   const ClassTable t = table(classes);
-  for (std::size_t i = 0; i < label.data.size(); ++i) {
+  forEachSample(label, samples, [&](std::size_t i) {
     const std::uint8_t truth = t[label.data[i]];
     if (truth == 1) ++road[score.data[i]];
     if (truth == 0) ++non_road[score.data[i]];
-  }
+  });
 }
 
 PixelCounts ScoreHistogram::at(int t) const {

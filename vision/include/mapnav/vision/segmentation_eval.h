@@ -34,9 +34,16 @@ struct PixelCounts {
   std::optional<double> recall() const;
 };
 
+/// Which pixels are scored, as row-major pixel indices (v · width + u); a pixel listed twice counts
+/// twice. The scores below take every pixel once when given none (image space); a bird's-eye grid
+/// gives one sample per ground cell, the pixel its centre projects to (bev_eval.h), so the same
+/// counting scores either space.
+using PixelSamples = std::vector<std::uint32_t>;
+
 /// `predicted`: 1 channel, non-zero = road. `label`: 1 channel class indices. Throws InvalidInput
-/// when either is not 1 channel or their sizes differ.
-PixelCounts countPixels(const Image& predicted, const Image& label, const LabelClasses& classes);
+/// when either is not 1 channel, their sizes differ, or a sample lies outside the image.
+PixelCounts countPixels(const Image& predicted, const Image& label, const LabelClasses& classes,
+                        const PixelSamples* samples = nullptr);
 
 /// Road-pixel scores for a confidence: for each 8-bit score level s, how many labelled-road and
 /// labelled-non-road pixels have that score (ignored pixels left out). A pixel is predicted road at
@@ -45,8 +52,9 @@ struct ScoreHistogram {
   std::vector<std::uint64_t> road = std::vector<std::uint64_t>(256, 0);
   std::vector<std::uint64_t> non_road = std::vector<std::uint64_t>(256, 0);
 
-  /// Adds one image. `score`: 1 channel, 0..255 (255 = surely road). Same checks as countPixels.
-  void add(const Image& score, const Image& label, const LabelClasses& classes);
+  /// Adds one image (its `samples`, or every pixel). `score`: 1 channel, 0..255 (255 = surely road).
+  /// Same checks as countPixels.
+  void add(const Image& score, const Image& label, const LabelClasses& classes, const PixelSamples* samples = nullptr);
   /// The counts at threshold t (1..255).
   PixelCounts at(int t) const;
   /// max over t of F1 = 2PR / (P + R); nothing when no pixel is labelled road.
