@@ -221,9 +221,10 @@ namespace {
 constexpr const char* kMissionFooter =
     "Prints a summary (or --json: {\"frames\",\"reached_goal\",\"lateral_rms_m\",\"along_rms_m\",\"heading_rms_deg\",\n"
     "\"max_error_m\",\"odometry_only_max_error_m\",\"vision_failures\",\"replans\",\"latency_ms_median\",\n"
-    "\"latency_ms_p99\",\"along_after_intersection_max_m\",...}); a progress bar on a terminal. Exit codes: 0 the goal\n"
-    "was reached (or --max-frames stopped it first), 1 the mission failed (halted, goal not reached) or the input\n"
-    "is invalid, 2 usage or I/O error.";
+    "\"latency_ms_p99\",\"along_after_intersection_max_m\",...,\"path_agreement\"}: with the truth, how well\n"
+    "Vision's road agrees with the vehicle's true future path, as `mapnav log track` says it; null without); a\n"
+    "progress bar on a terminal. Exit codes: 0 the goal was reached (or --max-frames stopped it first), 1 the\n"
+    "mission failed (halted, goal not reached) or the input is invalid, 2 usage or I/O error.";
 
 /// What replay and run share; a progress bar when stderr is a terminal.
 void addMissionOptions(CLI::App* c, MissionRunConfig& config, bool stderr_is_tty) {

@@ -54,6 +54,15 @@ std::string absolutePath(const std::filesystem::path& p) {
   return ec ? p.string() : c.string();
 }
 
+TruthPoses framesTruth(const std::vector<FrameRecord>& frames) {
+  TruthPoses truth;
+  for (const FrameRecord& f : frames) {
+    if (truth.size() <= f.index) truth.resize(f.index + 1);
+    truth[f.index] = f.truth;
+  }
+  return truth;
+}
+
 ModuleLoop::ModuleLoop(const MissionFile& mission, const Map& map, const Camera& camera, const RunOptions& options,
                        bool execute, const VehicleLimits& limits, MissionRun& run)
     : mission_(mission),
@@ -132,8 +141,9 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   const auto start = std::chrono::steady_clock::now();
   map_module_.predict(board_, t, frame.odometry);
   const auto vision_start = std::chrono::steady_clock::now();
-  const DetectedObject& detected =
-      vision_.see(board_, VisionFrame{rgb.width, rgb.height, rgb.data.data(), &camera_, t, tracing()});
+  // The road region is outlined for the trace and for path agreement (a frame with truth).
+  const DetectedObject& detected = vision_.see(
+      board_, VisionFrame{rgb.width, rgb.height, rgb.data.data(), &camera_, t, tracing() || frame.truth.has_value()});
   const auto vision_stop = std::chrono::steady_clock::now();
   const CurrentPosition& position = map_module_.localize(board_, t);
   const MotionCommand& command = navigator_.plan(board_, t);
@@ -171,6 +181,7 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   r.odometry_only = odometry_only_.pose();
   r.vision_ok = detected.status == DetectedObject::Status::Ok;
   r.vision_reason = r.vision_ok ? "" : detected.reason;
+  roads_.push_back(roadFound(detected));
   r.lines_detected = detected.lines.size();
   r.lines_labelled = static_cast<std::size_t>(std::count_if(
       detected.lines.begin(), detected.lines.end(), [](const DetectedLine& l) { return l.label.has_value(); }));
@@ -225,11 +236,17 @@ void ModuleLoop::fault(const LogFault& f) {
   run_.faults.push_back(f);
 }
 
-void ModuleLoop::finish() {
+void ModuleLoop::finish(const TruthPoses& truth) {
   flush();
   run_.metrics.replans = navigator_.replans();
   run_.odometry_scale = map_module_.odometryScale();
   accumulateMetrics(run_.frames, run_.route, run_.metrics);
+  run_.path_options = options_.path_agreement;
+  if (!run_.metrics.has_truth) return;
+  run_.path_agreement.clear();
+  for (std::size_t k = 0; k < run_.frames.size(); ++k)
+    run_.path_agreement.push_back(pathAgreement(truth, run_.frames[k].index, roads_[k], camera_, options_.path_agreement));
+  run_.metrics.path_agreement = summarizePathAgreement(run_.path_agreement, options_.path_agreement);
 }
 
 void ModuleLoop::writeTrace() {

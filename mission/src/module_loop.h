@@ -18,6 +18,7 @@
 #include "mapnav/mission/metrics.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/modules.h"
+#include "mapnav/mission/path_agreement.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/mission/trace.h"
 #include "mapnav/navigator/steering.h"
@@ -29,6 +30,9 @@ namespace mapnav::detail {
 
 /// `p` made absolute and canonical where it exists (as written when that fails), for the trace.
 std::string absolutePath(const std::filesystem::path& p);
+
+/// The frames' truth poses by frame index (nothing for an index no frame has, or a frame without).
+TruthPoses framesTruth(const std::vector<FrameRecord>& frames);
 
 class ModuleLoop final : public Driver {
  public:
@@ -43,8 +47,9 @@ class ModuleLoop final : public Driver {
   bool frame(const SourceFrame& frame);
   /// A fault of the replayed log: recorded, counted and traced (before the next frame's records).
   void fault(const LogFault& f);
-  /// The run's metrics, replans and odometry scale, once the frames are done.
-  void finish();
+  /// The run's metrics, replans and odometry scale, once the frames are done; and, when the run has
+  /// truth, each frame's path agreement against `truth` (the truth poses by frame index).
+  void finish(const TruthPoses& truth);
   void writeTrace();
 
   // Driver: Motion Control between frames.
@@ -85,6 +90,7 @@ class ModuleLoop final : public Driver {
   std::size_t replans_seen_ = 0;
   std::size_t last_failure_ = 0, halt_start_ = 0;
   std::optional<PathOffset> between_;  // the worst offset since the last frame (observeTruth)
+  std::vector<DetectedObject> roads_;  // each frame's detection, what path agreement reads (roadFound)
 };
 
 }  // namespace mapnav::detail

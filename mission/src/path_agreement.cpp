@@ -109,14 +109,25 @@ std::string_view toString(PathStatus status) {
   return "unknown";
 }
 
-std::vector<Vec2> futurePath(const std::vector<LogFrame>& frames, std::size_t i, const PathAgreementOptions& o) {
-  if (i >= frames.size() || !frames[i].truth) return {};
-  const Pose2& here = *frames[i].truth;
+TruthPoses truthPoses(const std::vector<LogFrame>& frames) {
+  TruthPoses truth;
+  truth.reserve(frames.size());
+  for (const LogFrame& f : frames) truth.push_back(f.truth);
+  return truth;
+}
+
+std::vector<Vec2> futurePath(const TruthPoses& truth, std::size_t i, const PathAgreementOptions& o) {
+  if (i >= truth.size() || !truth[i]) return {};
+  const Pose2& here = *truth[i];
   std::vector<Vec2> points{Vec2::Zero()};
-  for (std::size_t j = i + 1; j < frames.size() && frames[j].truth; ++j)
-    points.push_back(here.inverseTransform(frames[j].truth->translation()));
+  // The frames beyond far_m of arc length add nothing to the samples: stop there.
+  double reach = 0;
+  for (std::size_t j = i + 1; j < truth.size() && truth[j] && reach < o.far_m; ++j) {
+    points.push_back(here.inverseTransform(truth[j]->translation()));
+    reach += (points.back() - points[points.size() - 2]).norm();
+  }
   const Polyline2 line(std::move(points));
-  const double reach = line.length();
+  reach = line.length();
   if (reach < o.min_reach_m - kArcSlack) return {};
   const double end = std::min(o.far_m, reach);
   const auto n = static_cast<std::size_t>(std::floor((end - o.near_m) / o.step_m + kArcSlack)) + 1;
@@ -124,6 +135,19 @@ std::vector<Vec2> futurePath(const std::vector<LogFrame>& frames, std::size_t i,
   path.reserve(n);
   for (std::size_t k = 0; k < n; ++k) path.push_back(line.pointAt(sampleArc(o, k)));
   return path;
+}
+
+std::vector<Vec2> futurePath(const std::vector<LogFrame>& frames, std::size_t i, const PathAgreementOptions& o) {
+  return futurePath(truthPoses(frames), i, o);
+}
+
+DetectedObject roadFound(const DetectedObject& detection) {
+  DetectedObject d;
+  d.status = detection.status;
+  d.region_image = detection.region_image;
+  d.region_vehicle = detection.region_vehicle;
+  d.centerline_vehicle = detection.centerline_vehicle;
+  return d;
 }
 
 PathAgreement pathAgreement(std::vector<Vec2> path, const DetectedObject& detection, const Camera& camera,
@@ -167,11 +191,16 @@ PathAgreement pathAgreement(std::vector<Vec2> path, const DetectedObject& detect
   return r;
 }
 
+PathAgreement pathAgreement(const TruthPoses& truth, std::size_t i, const DetectedObject& detection,
+                            const Camera& camera, const PathAgreementOptions& options) {
+  PathAgreement r = pathAgreement(futurePath(truth, i, options), detection, camera, options);
+  if (i < truth.size() && !truth[i]) r.status = PathStatus::NoTruth;
+  return r;
+}
+
 PathAgreement pathAgreement(const std::vector<LogFrame>& frames, std::size_t i, const DetectedObject& detection,
                             const Camera& camera, const PathAgreementOptions& options) {
-  PathAgreement r = pathAgreement(futurePath(frames, i, options), detection, camera, options);
-  if (i < frames.size() && !frames[i].truth) r.status = PathStatus::NoTruth;
-  return r;
+  return pathAgreement(truthPoses(frames), i, detection, camera, options);
 }
 
 std::optional<double> offsetJump(const std::vector<PathAgreement>& frames, std::size_t i) {

@@ -11,6 +11,7 @@
 
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/motion.h"
+#include "mapnav/mission/path_agreement.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/sim/replay_log.h"
 
@@ -31,6 +32,9 @@ class ReplaySource final : public FrameSource {
   const Camera& camera() const { return *log_.header().camera; }
   /// The odometry of the frames delivered, summed, m.
   double odometryDistance() const { return distance_m_; }
+  /// The truth poses of every frame of the log, by frame index (also those skipped and those beyond
+  /// max_frames).
+  TruthPoses truth() const { return truthPoses(log_.frames()); }
   /// max_frames left frames of the log unread.
   bool stoppedEarly() const { return total_ < log_.frames().size(); }
 

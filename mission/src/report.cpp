@@ -444,6 +444,28 @@ std::string thumbnailFigure(const ReportThumbnail& t, int width_px) {
 
 // ---- the summary
 
+// The path agreement's row of the summary table (the figures summaryText prints first).
+template <typename Row>
+void pathAgreementRow(const MissionRun& run, Row&& row) {
+  const auto& s = run.metrics.path_agreement;
+  if (!s) {
+    row("path agreement", "not measured", run.metrics.has_truth ? "" : "no ground truth");
+    return;
+  }
+  const PathAgreementOptions& o = run.path_options;
+  auto figure = [](const std::optional<double>& v) { return v ? strprintf("%.3f", *v) : std::string("-"); };
+  std::string centre = "no centre line";
+  if (s->centre_line_frames > 0)
+    centre = "centre line within " + strprintf("%g", o.angle_goal_deg) + " deg in " + std::to_string(s->angle_goal_frames) +
+             " of " + std::to_string(s->angle_frames) + ", offset jump <= " + strprintf("%g", o.offset_jump_goal_m) +
+             " m in " + std::to_string(s->offset_goal_pairs) + " of " + std::to_string(s->offset_pairs) + " pairs";
+  row("path agreement",
+      "road found holds >= " + strprintf("%g", 100 * o.inside_goal) + " % of the true future path in " +
+          std::to_string(s->inside_goal_frames) + " of " + std::to_string(s->measured) + " measured frames (median " +
+          figure(s->median_inside) + ")",
+      "covers a median " + figure(s->median_ground_share) + " of the ground in view; " + centre);
+}
+
 std::string metricsTable(const MissionRun& run) {
   const MissionMetrics& m = run.metrics;
   std::string out = "<table id=\"metrics-table\">\n";
@@ -472,6 +494,7 @@ std::string metricsTable(const MissionRun& run) {
   row("route", strprintf("%.1f m", run.route.length_m),
       std::to_string(run.route.intersections.size()) + " intersections");
   row("vision failures", std::to_string(m.vision_failures), std::to_string(m.halts) + " halts");
+  pathAgreementRow(run, row);
   row("replans", std::to_string(m.replans));
   if (run.mode == "replay") {
     row("log faults", std::to_string(m.log_faults.total()),

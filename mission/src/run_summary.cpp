@@ -1,5 +1,5 @@
 // A run for people and programs: the `--json` line (runToJson), the summary (summaryText) and the
-// log faults' counts (logFaultsText).
+// log faults' counts (logFaultsText); path agreement as `mapnav log track` prints it.
 #include "mapnav/mission/runner.h"
 
 #include <cmath>
@@ -71,7 +71,9 @@ std::string runToJson(const MissionRun& run) {
          {"image_size", std::to_string(run.image_width) + "x" + std::to_string(run.image_height)},
          {"duration_s", round(run.duration_s, 1e3)},
          {"distance_m", round(run.distance_m, 1e3)},
-         {"log_faults", logFaultsJson(m.log_faults)}};
+         {"log_faults", logFaultsJson(m.log_faults)},
+         {"path_agreement", m.path_agreement ? Json::parse(pathAgreementJson(*m.path_agreement, run.path_options))
+                                             : Json(nullptr)}};
   return j.dump() + "\n";
 }
 
@@ -107,7 +109,11 @@ std::string summaryText(const MissionRun& run) {
                   run.vehicle_width_m, m.left_path_frames);
     out += line;
   } else {
-    out += "  no ground truth: errors not measured\n";
+    out += "  no ground truth: errors and path agreement not measured\n";
+  }
+  if (m.path_agreement) {
+    const bool log = run.mode == "replay";
+    out += pathAgreementText(*m.path_agreement, run.path_options, log ? "the log's truth" : "the simulator's truth", "  ");
   }
   std::snprintf(line, sizeof line, "  vision failures %zu, halts %zu, replans %zu\n", m.vision_failures, m.halts, m.replans);
   out += line;

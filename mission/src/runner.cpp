@@ -44,6 +44,7 @@ const OptionTable<RunOptions>& runOptionTable() {
 
 void RunOptions::validate() const {
   runOptionTable().validate(*this);
+  path_agreement.validate();
   map.validate();
   navigator.validate();
 }
@@ -96,7 +97,7 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
   run.distance_m = source.odometryDistance();
   run.stopped_early = !run.ended_by_halt && source.stoppedEarly();
   if (!run.frames.empty()) run.duration_s = run.frames.back().t - run.frames.front().t;
-  loop.finish();
+  loop.finish(source.truth());
 
   MissionMetrics& m = run.metrics;
   if (!run.frames.empty()) {
@@ -145,7 +146,7 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
   run.distance_m = source.distance_m();
   run.stopped_early =
       !run.ended_by_halt && !source.finished() && options.max_frames > 0 && source.frames() >= options.max_frames;
-  loop.finish();
+  loop.finish(detail::framesTruth(run.frames));
 
   MissionMetrics& m = run.metrics;
   m.goal_distance_m = (source.pose().translation() - run.goal.translation()).norm();

@@ -171,6 +171,7 @@ TrackRun trackLog(const ReplayLog& log, VisionPipeline& pipeline, const Camera& 
   const PredictedObject first = bootstrapPrediction(bootstrap, camera);
   const std::size_t total =
       options.max_frames > 0 ? std::min(options.max_frames, log.frames().size()) : log.frames().size();
+  const TruthPoses truth = truthPoses(log.frames());  // every frame's, also beyond max_frames
   Carried carried;
   for (std::size_t i = 0; i < total; ++i) {
     const LogFrame& f = log.frames()[i];
@@ -182,7 +183,7 @@ TrackRun trackLog(const ReplayLog& log, VisionPipeline& pipeline, const Camera& 
     const PredictedObject prediction = carried.prediction(first, camera, f.t);
     const DetectedObject det = pipeline.detect(VisionFrame{w, h, rgb.data.data(), &camera, f.t}, prediction);
     run.frames.push_back(measure(det, camera, run.row));
-    run.frames.back().path = pathAgreement(log.frames(), i, det, camera, options.path);
+    run.frames.back().path = pathAgreement(truth, i, det, camera, options.path);
     // An edge or a region not found in this frame is not carried on: a lost edge's last place drifts.
     carried.edges = detectedEdges(det);
     carried.region = run.frames.back().ok ? det.region_vehicle : Polygon2{};

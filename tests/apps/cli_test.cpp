@@ -502,6 +502,46 @@ TEST(Cli, ReplayRunAndTraceShowEndToEnd) {
   EXPECT_NE(text_run.out.find("odometry alone:"), std::string::npos);
   EXPECT_NE(text_run.out.find("loop latency (512x480): median"), std::string::npos);
   EXPECT_NE(text_run.out.find("wrote " + trace), std::string::npos);
+  // Path agreement, with the log's truth: Vision's road holds the vehicle's future path in every
+  // measured frame; the last frames have less than 7 m of the log ahead.
+  const auto& p = j["path_agreement"];
+  ASSERT_TRUE(p.is_object()) << json_run.out;
+  EXPECT_EQ(p["frames"], j["frames"]);
+  EXPECT_EQ(p["measured"].get<int>() + p["unmeasured"]["path_too_short"].get<int>(), j["frames"].get<int>()) << p.dump();
+  EXPECT_GT(p["measured"].get<int>(), 0);
+  EXPECT_EQ(p["inside_goal_frames"], p["measured"]) << p.dump();
+  EXPECT_EQ(p["median_inside"], 1.0);
+  EXPECT_EQ(p["centre_line_frames"], 0);  // sidewalk gives no centre line
+  EXPECT_EQ(p["angle_goal_fraction"], nullptr);
+  EXPECT_NE(text_run.out.find("  path agreement (the true future path 2-15 m ahead, from the log's truth):\n"
+                              "    road found holds >= 95 % of the path in " + std::to_string(p["measured"].get<int>()) +
+                              " of " + std::to_string(p["measured"].get<int>()) + " (1.000) measured frames"),
+            std::string::npos)
+      << text_run.out;
+
+  // The same log without its truth: path agreement is not measured (null), not 0.
+  fs::create_directories(dir / "no-truth");
+  fs::copy(dir / "log", dir / "no-truth", fs::copy_options::recursive);
+  const std::string frames = readFile(dir / "log" / "frames.jsonl");
+  std::string stripped;
+  for (std::size_t at = 0, truth; at < frames.size(); at = frames.find('}', truth) + 1) {
+    truth = frames.find(",\"truth\":{", at);
+    stripped += frames.substr(at, truth - at);
+    if (truth == std::string::npos) break;
+  }
+  ASSERT_EQ(stripped.find("truth"), std::string::npos);
+  writeFileAtomic(dir / "no-truth" / "frames.jsonl", stripped);
+  const auto blind = runCli({"replay", "--mission", mission, "--log", str(dir / "no-truth"), "--json"});
+  ASSERT_EQ(blind.err, "");
+  const auto b = nlohmann::ordered_json::parse(blind.out);
+  EXPECT_EQ(b["frames"], j["frames"]);
+  EXPECT_TRUE(b.contains("path_agreement"));
+  EXPECT_EQ(b["path_agreement"], nullptr);
+  EXPECT_EQ(b["lateral_rms_m"], nullptr);
+  const auto blind_text = runCli({"replay", "--mission", mission, "--log", str(dir / "no-truth")});
+  EXPECT_NE(blind_text.out.find("no ground truth: errors and path agreement not measured"), std::string::npos)
+      << blind_text.out;
+  EXPECT_EQ(blind_text.out.find("path agreement ("), std::string::npos) << blind_text.out;
 
   const auto show = runCli({"trace", "show", trace});
   EXPECT_EQ(show.exit_code, 0) << show.err;
@@ -516,6 +556,11 @@ TEST(Cli, ReplayRunAndTraceShowEndToEnd) {
   EXPECT_EQ(r["frames"], 4);
   EXPECT_EQ(r["mode"], "closed-loop");
   EXPECT_EQ(r["reached_goal"], false);
+  // Four frames, under a metre: no frame has 7 m of the simulator's truth after it.
+  EXPECT_EQ(r["path_agreement"]["measured"], 0);
+  EXPECT_EQ(r["path_agreement"]["unmeasured"]["path_too_short"], 4);
+  EXPECT_EQ(r["path_agreement"]["median_inside"], nullptr);
+  EXPECT_EQ(r["path_agreement"]["inside_goal_fraction"], nullptr);
 }
 
 TEST(Cli, MissionRunnerErrorsExitOneOrTwoWithAMessage) {

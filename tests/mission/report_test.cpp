@@ -171,6 +171,28 @@ TEST(ReportHtml, IsSelfContainedWithEveryPart) {
   EXPECT_EQ(html.find("<?xml"), std::string::npos);  // the SVGs are inline elements
 }
 
+TEST(ReportHtml, TheSummaryHasThePathAgreement) {
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  MissionRun run = handMadeRun();
+  PathAgreementSummary s;
+  s.frames = 6;
+  s.measured = 4;
+  s.path_too_short = 2;
+  s.inside_goal_frames = 3;
+  s.median_inside = 0.9;
+  s.median_ground_share = 0.25;
+  run.metrics.path_agreement = s;
+  const std::string html = reportHtml(run, map, {}, "");
+  EXPECT_NE(html.find("<tr><th>path agreement</th><td>road found holds &gt;= 95 % of the true future path in 3 of 4 "
+                      "measured frames (median 0.900)</td><td>covers a median 0.250 of the ground in view; no centre "
+                      "line</td></tr>"),
+            std::string::npos);
+  run.metrics.path_agreement.reset();
+  run.metrics.has_truth = false;
+  EXPECT_NE(reportHtml(run, map, {}, "").find("<tr><th>path agreement</th><td>not measured</td><td>no ground truth</td></tr>"),
+            std::string::npos);
+}
+
 TEST(ReportGeoJson, TheTrajectoriesReadBackToThePosesThroughTheMapsOrigin) {
   const Map map = loadMap(testing::mapPath("cmu_campus.json"));
   const MissionRun run = handMadeRun();

@@ -13,6 +13,7 @@
 #include "mapnav/geometry/types.h"
 #include "mapnav/map/map.h"
 #include "mapnav/mission/blackboard.h"
+#include "mapnav/mission/path_agreement.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/tokens/current_position.h"
 
@@ -136,6 +137,10 @@ struct MissionMetrics {
   LogFaultCounts log_faults;      ///< replay: the log's faults met, by kind (MissionRun::faults)
   double latency_ms_median = 0, latency_ms_p99 = 0, latency_ms_max = 0;
   double vision_ms_median = 0;    ///< the Vision module's part (the pipeline)
+  /// Path agreement (path_agreement.h) of each frame's detection with the vehicle's true future
+  /// path, summed up (summarizePathAgreement of MissionRun::path_agreement); nothing without truth:
+  /// not measured.
+  std::optional<PathAgreementSummary> path_agreement;
 };
 
 /// The error of `estimate` against `truth` with the road heading `road_heading` at the truth.

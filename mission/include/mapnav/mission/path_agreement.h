@@ -1,6 +1,7 @@
 #pragma once
-// Path agreement (`mapnav log track`, docs/kitti.md): how well the road a pipeline found agrees with
-// where the vehicle really drove next. A car keeps its lane, so its own future path, taken from a
+// Path agreement (`mapnav log track`, docs/kitti.md; `mapnav replay` and `run` when they have the
+// truth, docs/mission-format.md): how well the road a pipeline found agrees with where the vehicle
+// really drove next. A car keeps its lane, so its own future path, taken from a
 // log's truth poses, lies on the road, and its offset from the road's centre line is nearly constant
 // from frame to frame: a road found that misses the path, a centre line that turns away from it, and
 // an offset that jumps are the finder's errors.
@@ -10,10 +11,12 @@
 // v down); angles are degrees, as the CLI prints them.
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
+#include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/sim/replay_log.h"
 #include "mapnav/tokens/detected_object.h"
@@ -45,10 +48,19 @@ struct PathAgreementOptions {
   void validate() const;
 };
 
+/// The truth poses of a run's frames by frame index, world frame; nothing where a frame has none:
+/// what futurePath reads (`log track` takes a log's, a mission run the log's or the simulator's).
+using TruthPoses = std::vector<std::optional<Pose2>>;
+
+/// The truth poses of a log's frames, in order.
+TruthPoses truthPoses(const std::vector<LogFrame>& frames);
+
 /// The vehicle's future path at frame `i`: the truth positions of frames i + 1, i + 2, ... (up to
 /// the first frame without truth) in frame i's vehicle frame, as a polyline from the origin,
 /// resampled every step_m of arc length from near_m to far_m (or to where the path ends, when that is
 /// nearer). Empty when frame i has no truth or the path reaches less than min_reach_m.
+std::vector<Vec2> futurePath(const TruthPoses& truth, std::size_t i, const PathAgreementOptions& options = {});
+/// The same on a log's frames: futurePath(truthPoses(frames), i, options).
 std::vector<Vec2> futurePath(const std::vector<LogFrame>& frames, std::size_t i, const PathAgreementOptions& options = {});
 
 /// Whether a frame's path could be measured.
@@ -99,10 +111,18 @@ struct PathAgreement {
 PathAgreement pathAgreement(std::vector<Vec2> path, const DetectedObject& detection, const Camera& camera,
                             const PathAgreementOptions& options = {});
 
-/// The same for frame `i` of a log: futurePath, then pathAgreement; NoTruth or TooShort when
+/// The same for frame `i` of a run: futurePath, then pathAgreement; NoTruth or TooShort when
 /// futurePath is empty. (pathAgreement of an empty path is TooShort.)
+PathAgreement pathAgreement(const TruthPoses& truth, std::size_t i, const DetectedObject& detection,
+                            const Camera& camera, const PathAgreementOptions& options = {});
+/// The same on a log's frames: pathAgreement(truthPoses(frames), i, ...).
 PathAgreement pathAgreement(const std::vector<LogFrame>& frames, std::size_t i, const DetectedObject& detection,
                             const Camera& camera, const PathAgreementOptions& options = {});
+
+/// What pathAgreement reads of a detection and nothing else: its status, region_image,
+/// region_vehicle and centerline_vehicle. A run keeps this of each frame's detection until the
+/// frame's future path is known (the masks and lines would cost memory for nothing).
+DetectedObject roadFound(const DetectedObject& detection);
 
 /// A run's agreement over its frames, in order. Only measured frames count. Frames where the
 /// detection failed or found no road region count as 0 inside; frames without a centre line count as
@@ -140,5 +160,16 @@ PathAgreementSummary summarizePathAgreement(const std::vector<PathAgreement>& fr
 
 /// |Δ offset| between frame i − 1 and frame i (i ≥ 1) when both have an offset, m.
 std::optional<double> offsetJump(const std::vector<PathAgreement>& frames, std::size_t i);
+
+/// The summary as `--json` prints it (`mapnav log track`'s and `mapnav replay` / `run`'s
+/// "path_agreement", docs/kitti.md): one JSON object, on one line — {"path_m", "goals", "frames",
+/// "measured", "unmeasured", "no_road_found", "median_inside", ..., "offset_goal_fraction"}.
+std::string pathAgreementJson(const PathAgreementSummary& summary, const PathAgreementOptions& options);
+
+/// The summary for people, as both commands print it: a heading line "path agreement (the true future
+/// path 2-15 m ahead, from TRUTH_FROM):" and the figures' lines under it, two spaces further in; every
+/// line begins with `indent` and ends in a newline.
+std::string pathAgreementText(const PathAgreementSummary& summary, const PathAgreementOptions& options,
+                              const std::string& truth_from = "the log's truth", const std::string& indent = "");
 
 }  // namespace mapnav

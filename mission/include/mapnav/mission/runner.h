@@ -92,6 +92,12 @@ struct RunOptions {
   /// (MissionMetrics::left_path_frames). 0.6 m: a small sidewalk robot.
   double vehicle_width_m = 0.6;
   MapModuleOptions map;
+  /// Where each frame's future path is sampled and the goals of path agreement (path_agreement.h),
+  /// measured when the run has truth: Vision's detection of each frame against the truth poses of
+  /// the frames after it (replay: the log's, also beyond max_frames; closed loop: the frames run).
+  /// Vision then outlines the road region on every frame with truth (VisionFrame::want_region), as
+  /// it does on every frame when a trace is written.
+  PathAgreementOptions path_agreement;
   /// The Navigator's options; the steering speed is the mission's speed_mps.
   NavigatorOptions navigator;
   /// Called after every frame (a progress bar). Not in the trace.
@@ -121,6 +127,10 @@ struct MissionRun {
   double vehicle_width_m = 0; ///< RunOptions::vehicle_width_m, for "stays on the path"
   double odometry_scale = 1;  ///< the Map's odometry scale calibration at the end (MapModuleOptions::scale_prior_sigma)
   std::vector<LogFault> faults;  ///< replay: the log's faults met, in file order (counted in metrics.log_faults)
+  /// Each frame's path agreement, in the order of `frames`, when the run has truth (else empty);
+  /// summed up in metrics.path_agreement.
+  std::vector<PathAgreement> path_agreement;
+  PathAgreementOptions path_options;  ///< RunOptions::path_agreement, what they were measured with
   std::string outcome;        ///< one line: "goal reached", "halted at frame 12: ...", ...
 };
 
@@ -135,14 +145,15 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options =
 /// `--json`: {"frames","reached_goal","lateral_rms_m","along_rms_m","heading_rms_deg","max_error_m",
 /// "odometry_only_max_error_m","vision_failures","replans","latency_ms_median","latency_ms_p99",
 /// "along_after_intersection_max_m", "max_offset_from_centre_m", "left_path_frames", ...more,
-/// "log_faults":{"missing_image":N,...,"total":N}}; errors are null without truth. One line.
+/// "log_faults":{"missing_image":N,...,"total":N}, "path_agreement":{...}}; errors and
+/// path_agreement (pathAgreementJson) are null without truth. One line.
 std::string runToJson(const MissionRun& run);
 
 /// "3 (missing_image 1, time_order 2)": the total and the kinds that happened, for people.
 std::string logFaultsText(const LogFaultCounts& counts);
 
 /// The summary a person reads at the end: outcome, errors of the estimate and of odometry alone,
-/// failures, replans, latency.
+/// path agreement (pathAgreementText), failures, replans, latency.
 std::string summaryText(const MissionRun& run);
 
 }  // namespace mapnav
