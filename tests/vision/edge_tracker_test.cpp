@@ -496,6 +496,102 @@ TEST(EdgeTracker, LostEdgeFails) {
   EXPECT_NE(d.reason.find("lost"), std::string::npos) << d.reason;
 }
 
+// --- Starts from a predicted region (no interest segments: `mapnav eval`'s bootstrap trapezoid) ---
+
+/// A 512 x 480 frame: asphalt (100, 100, 100) with grass (60, 140, 50) left of u = 40 + 0.5 (479 - v)
+/// when `grass_left`, and right of u = 471 - 0.5 (479 - v) when `grass_right`.
+std::vector<std::uint8_t> verges(bool grass_left, bool grass_right) {
+  std::vector<std::uint8_t> rgb(512 * 480 * 3);
+  for (int v = 0; v < 480; ++v)
+    for (int u = 0; u < 512; ++u) {
+      const bool grass = (grass_left && u < 40 + 0.5 * (479 - v)) || (grass_right && u > 471 - 0.5 * (479 - v));
+      std::uint8_t* p = &rgb[3 * (static_cast<std::size_t>(v) * 512 + u)];
+      p[0] = grass ? 60 : 100;
+      p[1] = grass ? 140 : 100;
+      p[2] = grass ? 50 : 100;
+    }
+  return rgb;
+}
+
+/// The default bootstrap trapezoid of `mapnav eval` (bottom 0.5 wide at 0.98 h, top 0.2 wide at
+/// 0.7 h) as the prediction's road region, on the ground.
+PredictedObject trapezoidRegion() {
+  PredictedRegion region;
+  region.id = "train-region";
+  Polygon2 ground;
+  for (const Vec2& p : {Vec2(128, 470.4), Vec2(384, 470.4), Vec2(307.2, 336), Vec2(204.8, 336)})
+    ground.push_back(*cam().backproject(p));
+  region.vehicle = {ground};
+  PredictedObject pred;
+  pred.regions = {region};
+  return pred;
+}
+
+/// The region's left and right columns on row v (its ring: left side bottom → top, then right).
+std::pair<double, double> regionColumns(const DetectedObject& d, double v) {
+  double l = 1e9, r = -1e9;
+  for (const Vec2& p : d.region_image)
+    if (std::abs(p.y() - v) < 0.5) l = std::min(l, p.x()), r = std::max(r, p.x());
+  return {l, r};
+}
+
+TEST(EdgeTracker, FindsTheVergesFarOutsideAPredictedRegionsSides) {
+  // The trapezoid's sides are at columns 128 and 384 at the bottom; the verges at 40 and 471, up to
+  // 88 px outside them. The region between the found edges' lines reaches region_far_m (25 m).
+  const std::vector<std::uint8_t> rgb = verges(true, true);
+  EdgeTracker tracker;
+  VisionFrame vf{512, 480, rgb.data(), &cam(), 0.0};
+  vf.want_masks = true;
+  const DetectedObject d = tracker.detect(vf, trapezoidRegion());
+  EXPECT_EQ(tracker.lastReport().start_source, "region");
+  ASSERT_EQ(d.status, DetectedObject::Status::Ok) << d.reason;
+  EXPECT_EQ(d.reason, "");
+  const auto [l, r] = regionColumns(d, 479);
+  EXPECT_NEAR(l, 40, 2);
+  EXPECT_NEAR(r, 471, 2);
+  auto topRow = [](const DetectedObject& det) {
+    double top = 1e9;
+    for (const Vec2& p : det.region_image) top = std::min(top, p.y());
+    return top;
+  };
+  // This camera sees 25 m ahead above the image (row -60): the region ends where the verges' lines
+  // meet, row 479 - 431 = 48, at its last row of 4 px before it (51).
+  ASSERT_LT(cam().projectGround(Vec2(25, 0))->y(), 0);
+  EXPECT_EQ(topRow(d), 51);
+  // With region_far_m 5 it ends at the row seeing 5 m ahead.
+  EdgeTrackerOptions o;
+  o.region_far_m = 5;
+  EdgeTracker near(o);
+  const double far_row = cam().projectGround(Vec2(5, 0))->y();
+  ASSERT_GT(far_row, 60);
+  const double top = topRow(near.detect(vf, trapezoidRegion()));
+  EXPECT_GE(top, far_row - 1e-6);
+  EXPECT_LT(top, far_row + 4);  // the region's rows are 4 px apart
+  // Its per-pixel confidence: road inside (>= 129), not on the verge, none above the horizon.
+  ASSERT_EQ(d.road_confidence.width, 512);
+  EXPECT_GE(d.road_confidence.pixel(256, 420)[0], 129);
+  EXPECT_LE(d.road_confidence.pixel(10, 470)[0], 10);
+  EXPECT_LE(d.road_confidence.pixel(505, 470)[0], 10);
+  int v_sky = 0;
+  while (cam().backproject(Vec2(256, v_sky + 1)) == std::nullopt) ++v_sky;
+  EXPECT_EQ(d.road_confidence.pixel(256, v_sky)[0], 0);
+}
+
+TEST(EdgeTracker, ASideWithoutAStepIsRoadToTheImagesSide) {
+  // Grass on the right only: the left edge's search (up to the region's centre) finds no step and
+  // does not take the right verge's; the road reaches the image's left side.
+  const std::vector<std::uint8_t> rgb = verges(false, true);
+  EdgeTracker tracker;
+  const VisionFrame vf{512, 480, rgb.data(), &cam(), 0.0};
+  const DetectedObject d = tracker.detect(vf, trapezoidRegion());
+  ASSERT_EQ(d.status, DetectedObject::Status::Ok) << d.reason;
+  EXPECT_NE(d.reason.find("left edge lost"), std::string::npos) << d.reason;
+  const auto [l, r] = regionColumns(d, 479);
+  EXPECT_EQ(l, 0);
+  EXPECT_NEAR(r, 471, 2);
+  EXPECT_TRUE(d.road_confidence.empty());  // not wanted
+}
+
 TEST(EdgeTrackerPipeline, RegisteredWithDocumentedOptions) {
   registerBuiltinPipelines();
   bool found = false;

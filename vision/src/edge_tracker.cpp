@@ -74,7 +74,19 @@ const OptionTable<EdgeTrackerOptions>& edgeTrackerOptionTable() {
           .field("use_carried_edges", &O::use_carried_edges,
                  "start from advance()'d previous edges when the prediction has no segments")
           .field("single_edge", &O::single_edge,
-                 "when one edge is lost and the other (labelled) is tracked, report that edge alone instead of failing");
+                 "when one edge is lost and the other (labelled) is tracked, report that edge alone instead of failing")
+          .field("start_search_m", &O::start_search_m, above(0),
+                 "starts from a predicted region's sides: the first window searches this far either side (m on the "
+                 "ground at the start's range)")
+          .field("start_angle_search_deg", &O::start_angle_search_deg, inRange(0, 80),
+                 "starts from a predicted region's sides: the first window tries orientations within this of the "
+                 "side's")
+          .field("max_heading_deg", &O::max_heading_deg, aboveUpTo(0, 90),
+                 "starts from a predicted region's sides: an edge whose ground line is farther than this off the "
+                 "vehicle's heading counts as lost")
+          .field("region_far_m", &O::region_far_m, above(0),
+                 "starts from a predicted region's sides: the road region reported reaches up to the row this far "
+                 "ahead (m), a lost edge's side to the image side");
   return table;
 }
 

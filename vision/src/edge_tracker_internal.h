@@ -29,6 +29,9 @@ struct EdgeStart {
   std::optional<std::string> label;
   int polarity = 0;
   GreyBand band = GreyBand::NormalizedGreen;
+  /// The columns the first window's search covers along the start's row (hi < lo: the window's own
+  /// width only): a start taken from a predicted region's side is only roughly where the edge is.
+  double search_lo_u = 0, search_hi_u = -1;
 };
 
 bool normalised(GreyBand b);
@@ -40,6 +43,8 @@ struct EdgeStarts {
   std::vector<EdgeStart> left_next, right_next;  // from the prediction: each edge's segments, nearest first
   bool trace_left = true, trace_right = true;    // false: the prediction has that edge out of view
   std::string source;
+  /// With source "region": the predicted region's lowest and highest rows in the image.
+  double region_bottom_v = 0, region_top_v = 0;
 };
 
 /// The start of an edge carried from the last frame (EdgeTracker::advance()): its ground points'

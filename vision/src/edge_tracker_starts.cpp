@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "edge_tracker_internal.h"
+#include "mapnav/geometry/clip.h"
 #include "mapnav/vision/edge_tracker.h"
 
 namespace mapnav {
@@ -129,6 +130,60 @@ bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w,
   return true;
 }
 
+/// The leftmost and the rightmost column of the ring on image row v.
+std::optional<std::pair<double, double>> rowCrossings(const Polygon2& ring, double v) {
+  const Segment2 row{Vec2(-1e6, v), Vec2(1e6, v)};
+  const std::vector<Interval> in = intervalsInside(row, ring);
+  if (in.empty()) return std::nullopt;
+  return std::pair{row.pointAt(in.front().first).x(), row.pointAt(in.back().second).x()};
+}
+
+/// Start points from the prediction's first road region (a prediction without interest segments):
+/// its leftmost and rightmost columns half a window above its lowest row in the image, directed to
+/// its sides' columns at its highest row; the first window searches o.start_search_m either side.
+/// False when the region is not seen (fewer than 3 of its corners project, or it is under 8 rows).
+bool startsFromRegion(const PredictedObject& pred, const Camera& cam, int w, int h, const EdgeTrackerOptions& o,
+                      EdgeStarts& s) {
+  if (pred.regions.empty() || pred.regions.front().vehicle.empty()) return false;
+  Polygon2 ring;
+  for (const Vec2& g : pred.regions.front().vehicle.front())
+    if (const auto p = cam.projectGround(g)) ring.push_back(*p);
+  if (ring.size() < 3) return false;
+  double bottom = -std::numeric_limits<double>::infinity(), top = -bottom;
+  for (const Vec2& p : ring) {
+    bottom = std::max(bottom, p.y());
+    top = std::min(top, p.y());
+  }
+  bottom = std::min(bottom, h - 1.0);
+  top = std::max(top, 0.0);
+  const double v0 = std::max(top, bottom - 0.5 * paramsFor(o, w, h).along_px);
+  const auto lo = rowCrossings(ring, v0), hi = rowCrossings(ring, top + 1e-6);
+  if (!lo || !hi || bottom - top < 8) return false;
+  const std::string id = pred.regions.front().id;
+  auto start = [&](double u0, double u1, const char* side) {
+    EdgeStart st;
+    st.point = Vec2(std::clamp(u0, 0.0, w - 1.0), v0);
+    st.direction = (Vec2(u1, top) - Vec2(u0, v0)).normalized();
+    st.label = id + "." + side;
+    st.band = o.band;
+    // The search: o.start_search_m outward on the ground at the start's range, and inward up to
+    // the region's centre (the road lies between its edges).
+    const auto g = cam.backproject(st.point);
+    const auto q = g ? cam.projectGround(*g + Vec2(0, o.start_search_m)) : std::nullopt;
+    const double reach = q ? std::abs(q->x() - st.point.x()) : w;
+    const double centre = 0.5 * (lo->first + lo->second);
+    st.search_lo_u = side[0] == 'l' ? st.point.x() - reach : centre;
+    st.search_hi_u = side[0] == 'l' ? centre : st.point.x() + reach;
+    return st;
+  };
+  s.left = start(lo->first, hi->first, "left");
+  s.right = start(lo->second, hi->second, "right");
+  s.region_bottom_v = bottom;
+  s.region_top_v = top;
+  s.source = "region";
+  return true;
+}
+
 }  // namespace
 
 std::optional<EdgeStart> startFromCarried(const std::vector<Vec2>& ground, const std::optional<std::string>& label,
@@ -162,7 +217,7 @@ EdgeStarts chooseStarts(const PredictedObject& pred, const Camera& cam, int w, i
     s.right = *carried_right;
     s.left.band = s.right.band = o.band;
     s.source = "carried";
-  } else {
+  } else if (!startsFromRegion(pred, cam, w, h, o, s)) {
     const double sv = o.start_v >= 0 ? o.start_v : h - 1 - 0.5 * paramsFor(o, w, h).along_px;
     s.left.point = Vec2(o.start_left_u >= 0 ? o.start_left_u : 0.25 * w, sv);
     s.right.point = Vec2(o.start_right_u >= 0 ? o.start_right_u : 0.75 * w, sv);

@@ -78,8 +78,27 @@ void evaluate(TrackedEdge& e, double max_turn_deg) {
 
 }  // namespace
 
+EdgeMatch EdgeTracker::searchRow(const GreyImage& image, const Vec2& at, const Vec2& dir, const OrientedEdgeParams& p,
+                                 int polarity, double lo, double hi) const {
+  OrientedEdgeParams wide = p;
+  wide.angle_search_deg = std::max(p.angle_search_deg, options_.start_angle_search_deg);
+  wide.angle_step_deg = std::max(p.angle_step_deg, 2.0);
+  EdgeMatch best;
+  auto strength = [&](const EdgeMatch& m) { return polarity == 0 ? std::abs(m.contrast) : polarity * m.contrast; };
+  const double spacing = 0.5 * p.across_px;
+  lo = std::max(lo, 0.0);
+  hi = std::min(hi, image.width - 1.0);
+  for (double u = lo; u <= hi + 0.5 * spacing; u += spacing) {
+    EdgeMatch m = orientedEdge(image, Vec2(std::min(u, hi), at.y()), dir, wide, polarity);
+    if (!m.found || m.point.x() < lo || m.point.x() > hi) continue;
+    if (!best.found || strength(m) > strength(best)) best = std::move(m);
+  }
+  return best;
+}
+
 TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const Vec2& direction,
-                               int expected_polarity, bool gate) const {
+                               int expected_polarity, bool gate, double search_lo_u,
+                               double search_hi_u) const {
   TrackedEdge e;
   e.start = start;
   e.start_direction = direction.normalized();
@@ -96,7 +115,8 @@ TrackedEdge EdgeTracker::trace(const GreyImage& image, const Vec2& start, const 
   for (int k = 0; k < 4; ++k) {
     const Vec2 at = start + k * step * dir;
     if (!inside(at)) break;
-    m = orientedEdge(image, at, dir, p, expected_polarity);
+    m = search_lo_u <= search_hi_u ? searchRow(image, at, dir, p, expected_polarity, search_lo_u, search_hi_u)
+                                   : orientedEdge(image, at, dir, p, expected_polarity);
     if (m.found && std::abs(m.contrast) >= options_.min_contrast) break;
   }
   if (!m.found || std::abs(m.contrast) < options_.min_contrast) {
