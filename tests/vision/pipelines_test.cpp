@@ -193,6 +193,31 @@ TEST(ConcreteRoadPastABrickBranch, TheBrickRoadIsRoadAndItsEdgesAreLabelled) {
   EXPECT_TRUE(labels.contains("R22.right.0"));
 }
 
+// Blue-band takes road to be on the predicted road's side of its threshold: the sunny frame with its
+// blue band inverted (road now dark in blue, lawn bright, as a dark road between bright pavements)
+// gives the same region, to the pixels the threshold's rounding moves.
+TEST(Pipeline, BlueBandFindsARoadDarkInBlue) {
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  const Frame frame = World(campus(), wo).render(pinhole(), kOnRoad, 0.0);
+  Image inverted = frame.rgb;
+  for (std::size_t i = 2; i < inverted.data.size(); i += 3) inverted.data[i] = static_cast<std::uint8_t>(255 - inverted.data[i]);
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  const DetectedObject bright = run("blue-band", frame.rgb, pred.view);
+  const DetectedObject dark = run("blue-band", inverted, pred.view);
+  ASSERT_EQ(bright.status, DetectedObject::Status::Ok) << bright.reason;
+  ASSERT_EQ(dark.status, DetectedObject::Status::Ok) << dark.reason;
+  const int w = pinhole().width(), h = pinhole().height();
+  const Image a = regionMask(bright, w, h), b = regionMask(dark, w, h);
+  std::size_t both = 0, either = 0;
+  for (std::size_t i = 0; i < a.data.size(); ++i) {
+    both += a.data[i] != 0 && b.data[i] != 0;
+    either += a.data[i] != 0 || b.data[i] != 0;
+  }
+  ASSERT_GT(either, 0u);
+  EXPECT_GT(static_cast<double>(both) / static_cast<double>(either), 0.98);
+}
+
 class FailedFrames : public ::testing::TestWithParam<std::string> {};
 
 // A first frame of lawn only, the prediction for the road. Nothing in view is confidently off the

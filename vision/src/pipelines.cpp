@@ -544,8 +544,10 @@ class BlueBandPipeline : public BasePipeline {
   void reset() override {}
 
  protected:
-  std::optional<Image> classify(const GridFrame& frame, const PredictedObject&, const Image& valid, const Image&,
-                                std::string&) override {
+  // Road is on the side of the threshold where most of the predicted road is: bright in blue against
+  // grass (the Warp runs), but dark against a city's pavements, walls and sky-lit windows.
+  std::optional<Image> classify(const GridFrame& frame, const PredictedObject&, const Image& valid,
+                                const Image& predicted, std::string&) override {
     const int w = frame.width, h = frame.height;
     const std::size_t n = static_cast<std::size_t>(w) * h;
     double t = options_.threshold;
@@ -557,9 +559,13 @@ class BlueBandPipeline : public BasePipeline {
       cv::Mat b(1, static_cast<int>(blue.size()), CV_8UC1, blue.data()), dummy;
       t = cv::threshold(b, dummy, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
     }
+    std::size_t road_bright = 0, road_dark = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (predicted.data[i] != 0 && valid.data[i] != 0) ++(frame.rgb[3 * i + 2] >= t ? road_bright : road_dark);
+    const bool bright = road_bright >= road_dark;
     std::vector<float> score(n);
-    for (std::size_t i = 0; i < n; ++i) score[i] = frame.rgb[3 * i + 2];
-    return threshold(score, w, h, valid, t - 0.5, 128.0, frame.scale);  // blue levels
+    for (std::size_t i = 0; i < n; ++i) score[i] = bright ? frame.rgb[3 * i + 2] : 255.0f - frame.rgb[3 * i + 2];
+    return threshold(score, w, h, valid, (bright ? t : 255.0 - t) - 0.5, 128.0, frame.scale);  // blue levels
   }
 
  private:
@@ -574,8 +580,8 @@ void registerBuiltinPipelines() {
   static std::once_flag once;
   std::call_once(once, [] {
     registerPipeline({"blue-band",
-                      "Threshold on the blue band (Wallace 1985, 3.6.3, the Warp runs): road is bright in blue, "
-                      "grass dark; then region reproduction and line labelling",
+                      "Threshold on the blue band (Wallace 1985, 3.6.3, the Warp runs): road is on the predicted road's side of "
+                      "Otsu's threshold (bright against grass, dark against pavements); then region reproduction and line labelling",
                       blueBandOptionTable().list(), [] { return std::make_unique<BlueBandPipeline>(); },
                       blueBandOptionTable().presets()});
     registerPipeline({"color-rgb",

@@ -91,7 +91,8 @@ const OptionTable<BlueBandOptions>& blueBandOptionTable() {
   static const OptionTable<O> table =
       OptionTable<O>("BlueBandOptions")
           .field("threshold", &O::threshold, inRange(-1, 255),
-                 "road where blue >= this; -1 = Otsu's threshold on the ground pixels")
+                 "the blue level between road and non-road, road on the side where most of the predicted road is; "
+                 "-1 = Otsu's threshold on the ground pixels")
           .include(regionPipelineOptionTable());
   return table;
 }

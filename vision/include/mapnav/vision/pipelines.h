@@ -72,7 +72,9 @@ struct ColorPipelineOptions : RegionPipelineOptions {
 
 /// "blue-band": road where the blue channel is bright (Wallace 1985, 3.6.3).
 struct BlueBandOptions : RegionPipelineOptions {
-  double threshold = -1;  ///< road where blue >= this; -1 = Otsu's threshold on the ground pixels
+  /// The blue level between road and non-road; road is on the side where most of the predicted road
+  /// is (bright against grass, dark against pavements and walls). -1 = Otsu's threshold on the ground.
+  double threshold = -1;
 
   /// Throws InvalidInput "BlueBandOptions::FIELD = VALUE: must be ..." for a field out of its range.
   void validate() const;
