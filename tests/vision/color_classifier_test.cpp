@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "mapnav/core/error.h"
@@ -142,6 +143,75 @@ TEST(ColorClassifier, NonRoadGateTrainsNonRoadOnlyOnWhatIsNotRoadColoured) {
     for (int u = 32; u < 48; ++u) grey_band_road += llr[v * w + u] > 0;
   EXPECT_EQ(grey_band_road, 16 * h);
   EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.nonroad_gate_sigma = -1}), InvalidInput);
+}
+
+// The log brightness as a third feature: a dark grey car has the concrete's rg (178, 176, 168 scaled
+// by a third), so in rg alone it is within the non-road gate of the road, never trains non-road, and
+// is road. With brightness_sigma 0.1 it is ln 3 ≈ 1.1 away, about 11 sigma, so it trains non-road
+// (with the grass) and is not road. The road's third mean is ln((178 + 176 + 168 + 3) / 3) = ln 175,
+// and its spread the noise's (5 / sqrt 3 per channel mean, 2.9 / 175 in ln: variance 2.7e-4) plus
+// the floor's 0.01. A road trained in sun and shadow (x 0.45) keeps both.
+// brightness_separation decides per model whether the brightness is needed (below).
+TEST(ColorClassifier, BrightnessTellsADarkGreyCarFromAGreyRoad) {
+  const int w = 64, h = 64;
+  auto rgb = twoTone(w, h, false);
+  const std::vector<std::uint8_t> concrete = twoTone(w, h, false, 9);
+  for (int v = 0; v < h; ++v)  // columns 48-63: the concrete at a third of its brightness
+    for (int u = 48; u < 64; ++u)
+      for (int k = 0; k < 3; ++k)
+        rgb[(v * w + u) * 3 + k] = static_cast<std::uint8_t>(concrete[(v * w + u - 48) * 3 + k] / 3);
+  std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) (u < 32 ? road : non)[v * w + u] = 1;
+  const auto car_as_road = [&](const ColorClassifier& c) {
+    const auto llr = c.logOdds(rgb.data(), w, h);
+    int n = 0;
+    for (int v = 0; v < h; ++v)
+      for (int u = 48; u < 64; ++u) n += llr[v * w + u] > 0;
+    return n;
+  };
+  ColorClassifierOptions o{.min_pixels = 50, .stride = 1, .nonroad_gate_sigma = 8};
+  ColorClassifier rg(o);
+  rg.update(rgb.data(), w, h, road.data(), non.data());
+  EXPECT_EQ(rg.nonroad().count, 16.0 * h);  // the grass only
+  EXPECT_EQ(car_as_road(rg), 16 * h);
+  o.brightness_sigma = 0.1;
+  ColorClassifier bright(o);
+  const auto r = bright.update(rgb.data(), w, h, road.data(), non.data());
+  ASSERT_TRUE(bright.trained()) << r.note;
+  EXPECT_EQ(bright.nonroad().count, 32.0 * h);  // grass and car
+  EXPECT_NEAR(bright.road().mean[2], std::log(175.0), 0.005);
+  EXPECT_GT(bright.road().cov(2, 2), 0.01);
+  EXPECT_LT(bright.road().cov(2, 2), 0.0106);
+  EXPECT_EQ(car_as_road(bright), 0);
+  EXPECT_TRUE(bright.brightnessUsed());
+  EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.brightness_sigma = -0.1}), InvalidInput);
+
+  // With brightness_separation 5: rg alone separates the road from grass and car together by less
+  // (the car has the road's rg), so the brightness is used; from grass alone by far more, so rg
+  // alone is, and the classifier is the rg one exactly.
+  o.brightness_separation = 5;
+  ColorClassifier needed(o);
+  needed.update(rgb.data(), w, h, road.data(), non.data());
+  EXPECT_TRUE(needed.brightnessUsed());
+  EXPECT_EQ(car_as_road(needed), 0);
+  const auto lawn = twoTone(w, h, false);
+  ColorClassifier not_needed(o), rg_alone(ColorClassifierOptions{.min_pixels = 50, .stride = 1, .nonroad_gate_sigma = 8});
+  not_needed.update(lawn.data(), w, h, road.data(), non.data());
+  rg_alone.update(lawn.data(), w, h, road.data(), non.data());
+  EXPECT_FALSE(not_needed.brightnessUsed());
+  EXPECT_GT(rg_alone.separation(), 5);
+  EXPECT_NEAR(not_needed.separation(), rg_alone.separation(), 1e-9);
+  EXPECT_EQ(not_needed.logOdds(lawn.data(), w, h), rg_alone.logOdds(lawn.data(), w, h));
+
+  const auto shaded = twoTone(w, h, true);  // the concrete's top half in shadow, labelled road too
+  ColorClassifier sun_and_shade(o);
+  sun_and_shade.update(shaded.data(), w, h, road.data(), non.data());
+  const auto llr = sun_and_shade.logOdds(shaded.data(), w, h);
+  int concrete_road = 0;
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < 32; ++u) concrete_road += llr[v * w + u] > 0;
+  EXPECT_GE(concrete_road, 32 * h - 5);  // a few of the darkest shaded pixels: rg is noisy in the dark
 }
 
 // Nothing confidently off the road: every non-road label is road-coloured. With the gate, non-road

@@ -123,10 +123,18 @@ TEST(ColorClassifierFastPath, LogOddsAgreesWithTheDoublePrecisionReference) {
     for (int g = 0; g < 256; g += 3)
       for (int b = 0; b < 256; b += 3) cube.insert(cube.end(), {std::uint8_t(r), std::uint8_t(g), std::uint8_t(b)});
   const int cube_px = static_cast<int>(cube.size() / 3);
-  for (ColorSpace space : {ColorSpace::NormalizedRG, ColorSpace::RGB}) {
-    ColorClassifier c(ColorClassifierOptions{.space = space, .min_pixels = 50});
+  // rg; rg with the log brightness (a table lookup on the fast path); RGB.
+  const ColorClassifierOptions feature_sets[] = {
+      {.space = ColorSpace::NormalizedRG, .min_pixels = 50},
+      {.space = ColorSpace::NormalizedRG, .min_pixels = 50, .brightness_sigma = 0.1},
+      {.space = ColorSpace::RGB, .min_pixels = 50}};
+  for (const ColorClassifierOptions& options : feature_sets) {
+    const std::string name =
+        options.space == ColorSpace::RGB ? "RGB" : (options.brightness_sigma > 0 ? "rg+brightness" : "rg");
+    ColorClassifier c(options);
     c.update(rgb.data(), w, h, road.data(), non.data());
     ASSERT_TRUE(c.trained());
+    EXPECT_EQ(c.brightnessUsed(), options.brightness_sigma > 0) << name;
     for (const auto& [pixels, count] : {std::pair{&rgb, w * h}, std::pair{&cube, cube_px}}) {
       const std::vector<float> fast = c.logOdds(pixels->data(), count, 1);
       const std::vector<float> ref = c.logOddsReference(pixels->data(), count, 1);
@@ -137,8 +145,8 @@ TEST(ColorClassifierFastPath, LogOddsAgreesWithTheDoublePrecisionReference) {
         if (std::abs(ref[i]) > 1e-3 && (fast[i] > 0) != (ref[i] > 0)) ++sign_flips;
         EXPECT_EQ(c.logOdds(pixels->data() + 3 * i), fast[i]);  // one pixel = the vectorised row
       }
-      EXPECT_LT(worst, 1e-4) << (space == ColorSpace::RGB ? "RGB" : "rg");
-      EXPECT_EQ(sign_flips, 0);
+      EXPECT_LT(worst, 1e-4) << name;
+      EXPECT_EQ(sign_flips, 0) << name;
     }
     // Only where asked.
     std::vector<std::uint8_t> where(w * h, 0);

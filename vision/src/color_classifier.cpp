@@ -1,6 +1,7 @@
 #include "mapnav/vision/color_classifier.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -12,8 +13,33 @@ namespace mapnav {
 
 namespace {
 
-// Regularisation added to the covariance diagonal: noise floor of the feature.
-double minVariance(ColorSpace space) { return space == ColorSpace::NormalizedRG ? 4e-6 : 1.0; }
+using Features = ColorClassifier::Features;
+
+// The features the options ask for (the brightness, where used, is decided per model: usedFeatures).
+Features featuresOf(const ColorClassifierOptions& o) {
+  if (o.space == ColorSpace::RGB) return Features::RGB;
+  return o.brightness_sigma > 0 ? Features::RGBrightness : Features::RG;
+}
+
+// Added to the covariance diagonal: the camera's noise (noise_sigma levels per channel; in rg one
+// level moves r or g by about 1/500 at mid-grey, R + G + B ≈ 384) and the floor on the spread in log
+// brightness (brightness_sigma).
+Vec3 minVariance(const ColorClassifierOptions& o) {
+  const double n2 = o.noise_sigma * o.noise_sigma;
+  if (featuresOf(o) == Features::RGB) return Vec3(n2, n2, n2);
+  const double rg2 = n2 / (500.0 * 500.0);
+  return Vec3(rg2, rg2, featuresOf(o) == Features::RGBrightness ? o.brightness_sigma * o.brightness_sigma : 0.0);
+}
+
+// ln((s + 3) / 3) for s = R + G + B: the log brightness, 0 for black (+1 per channel, as rg's).
+const std::array<float, 766>& logBrightnessTable() {
+  static const std::array<float, 766> table = [] {
+    std::array<float, 766> t{};
+    for (std::size_t s = 0; s < t.size(); ++s) t[s] = static_cast<float>(std::log((static_cast<double>(s) + 3.0) / 3.0));
+    return t;
+  }();
+  return table;
+}
 
 struct Accum {
   double s0 = 0, s1 = 0, s2 = 0;                          // sums of the feature
@@ -25,7 +51,7 @@ struct Accum {
     q11 += x[1] * x[1], q12 += x[1] * x[2], q22 += x[2] * x[2];
     n += 1;
   }
-  GaussianClass estimate(ColorSpace space) const {
+  GaussianClass estimate(const ColorClassifierOptions& o) const {
     GaussianClass g;
     if (n < 2) return g;
     Mat3 sq;
@@ -34,28 +60,51 @@ struct Accum {
     g.cov = sq / n - g.mean * g.mean.transpose();
     g.count = n;
     g.valid = true;
-    const int d = featureDims(space);
+    const int d = featureDims(o);
+    const Vec3 floor = minVariance(o);
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
         if (i >= d || j >= d) g.cov(i, j) = (i == j) ? 1.0 : 0.0;
       }
-      if (i < d) g.cov(i, i) += minVariance(space);
+      if (i < d) g.cov(i, i) += floor[i];
     }
     return g;
   }
 };
 
-/// A Gaussian so broad that it is nearly flat over the feature space: rg in [0, 1]², RGB in 0..255.
-GaussianClass flatClass(ColorSpace space) {
+/// A Gaussian so broad that it is nearly flat over the feature space: rg in [0, 1]², the log
+/// brightness in [0, 5.55], RGB in 0..255.
+GaussianClass flatClass(const ColorClassifierOptions& o) {
   GaussianClass g;
-  const bool rg = space == ColorSpace::NormalizedRG;
-  g.mean = rg ? Vec3(1.0 / 3, 1.0 / 3, 0) : Vec3::Constant(127.5);
-  g.cov = (rg ? Vec3(1, 1, 1) : Vec3(Vec3::Constant(256.0 * 256.0))).asDiagonal();
+  const Features f = featuresOf(o);
+  if (f == Features::RGB) {
+    g.mean = Vec3::Constant(127.5);
+    g.cov = Vec3(Vec3::Constant(256.0 * 256.0)).asDiagonal();
+  } else {
+    g.mean = Vec3(1.0 / 3, 1.0 / 3, f == Features::RGBrightness ? 2.8 : 0.0);
+    g.cov = Vec3(1, 1, f == Features::RGBrightness ? 36.0 : 1.0).asDiagonal();
+  }
   g.valid = true;
   return g;
 }
 
 Mat3 inverseOf(const Mat3& m) { return m.inverse(); }
+
+/// The class in rg alone: its marginal, with the third feature decoupled (mean 0, variance 1).
+GaussianClass rgMarginal(GaussianClass g) {
+  g.mean[2] = 0;
+  g.cov.row(2).setZero();
+  g.cov.col(2).setZero();
+  g.cov(2, 2) = 1;
+  return g;
+}
+
+/// The Bhattacharyya distance between two Gaussians.
+double bhattacharyya(const GaussianClass& a, const GaussianClass& b) {
+  const Mat3 c = 0.5 * (a.cov + b.cov);
+  const Vec3 d = a.mean - b.mean;
+  return 0.125 * d.dot(c.inverse() * d) + 0.5 * std::log(c.determinant() / std::sqrt(a.cov.determinant() * b.cov.determinant()));
+}
 
 double mahalanobis2(const GaussianClass& g, const Vec3& x) {
   const Vec3 d = x - g.mean;
@@ -73,22 +122,23 @@ GaussianClass blendClass(const GaussianClass& old, const GaussianClass& fresh, d
 }
 
 // colorFeature, inline here (the per-pixel loops call it without going through the library's PLT).
-inline Vec3 feature(ColorSpace space, const std::uint8_t* p) {
+inline Vec3 feature(Features f, const std::uint8_t* p) {
   const double r = p[0], g = p[1], b = p[2];
-  if (space == ColorSpace::RGB) return Vec3(r, g, b);
+  if (f == Features::RGB) return Vec3(r, g, b);
   // +1 per channel: black stays neutral (1/3, 1/3) instead of dividing by zero.
   const double s = r + g + b + 3.0;
-  return Vec3((r + 1.0) / s, (g + 1.0) / s, 0.0);
+  return Vec3((r + 1.0) / s, (g + 1.0) / s, f == Features::RGBrightness ? std::log(s / 3.0) : 0.0);
 }
 
 // The log-odds of one pixel on the fast path (the same arithmetic, lane by lane, as quadraticRow).
-inline float quadratic(const LogOddsQuadratic& q, bool rg, float r, float g, float b) {
+// `ln` is logBrightnessTable() (read for RGBrightness only).
+inline float quadratic(const LogOddsQuadratic& q, Features f, const float* ln, float r, float g, float b) {
   float u0, u1, u2;
-  if (rg) {
+  if (f != Features::RGB) {
     const float inv = 1.0f / (r + g + b + 3.0f);
     u0 = (r + 1.0f) * inv - q.c0;
     u1 = (g + 1.0f) * inv - q.c1;
-    u2 = 0.0f - q.c2;
+    u2 = (f == Features::RGBrightness ? ln[static_cast<int>(r + g + b)] : 0.0f) - q.c2;
   } else {
     u0 = r - q.c0, u1 = g - q.c1, u2 = b - q.c2;
   }
@@ -100,20 +150,25 @@ inline float quadratic(const LogOddsQuadratic& q, bool rg, float r, float g, flo
 // One run of planar pixels: plain loops the vectoriser turns into SIMD (this file is built with -O3),
 // built for AVX2 too where the processor has it (8 lanes instead of 4; the same single-precision
 // operations lane by lane, no FMA: the same values).
-__attribute__((target_clones("avx2", "default"))) void quadraticRow(const LogOddsQuadratic& q, bool rg, const std::uint8_t* __restrict R, const std::uint8_t* __restrict G,
+template <Features F>
+inline void quadraticLoop(const LogOddsQuadratic& c, const std::uint8_t* __restrict R, const std::uint8_t* __restrict G,
+                          const std::uint8_t* __restrict B, const std::uint8_t* __restrict where, float* __restrict out,
+                          int n) {
+  const float* ln = logBrightnessTable().data();
+  for (int i = 0; i < n; ++i) {
+    const float v = quadratic(c, F, ln, R[i], G[i], B[i]);
+    out[i] = where[i] != 0 ? v : 0.0f;
+  }
+}
+
+__attribute__((target_clones("avx2", "default"))) void quadraticRow(const LogOddsQuadratic& q, Features f, const std::uint8_t* __restrict R, const std::uint8_t* __restrict G,
                   const std::uint8_t* __restrict B, const std::uint8_t* __restrict where, float* __restrict out,
                   int n) {
   const LogOddsQuadratic c = q;
-  if (rg) {
-    for (int i = 0; i < n; ++i) {
-      const float v = quadratic(c, true, R[i], G[i], B[i]);
-      out[i] = where[i] != 0 ? v : 0.0f;
-    }
-  } else {
-    for (int i = 0; i < n; ++i) {
-      const float v = quadratic(c, false, R[i], G[i], B[i]);
-      out[i] = where[i] != 0 ? v : 0.0f;
-    }
+  switch (f) {
+    case Features::RG: quadraticLoop<Features::RG>(c, R, G, B, where, out, n); break;
+    case Features::RGBrightness: quadraticLoop<Features::RGBrightness>(c, R, G, B, where, out, n); break;
+    case Features::RGB: quadraticLoop<Features::RGB>(c, R, G, B, where, out, n); break;
   }
 }
 
@@ -126,11 +181,16 @@ void ColorClassifierOptions::validate() const {
   requireOption(min_pixels >= 1, "ColorClassifierOptions", "min_pixels", min_pixels, ">= 1");
   requireOption(stride >= 1, "ColorClassifierOptions", "stride", stride, ">= 1");
   requireOption(nonroad_gate_sigma >= 0, "ColorClassifierOptions", "nonroad_gate_sigma", nonroad_gate_sigma, ">= 0");
+  requireOption(noise_sigma > 0, "ColorClassifierOptions", "noise_sigma", noise_sigma, "> 0");
+  requireOption(brightness_separation >= 0, "ColorClassifierOptions", "brightness_separation", brightness_separation, ">= 0");
+  requireOption(brightness_sigma >= 0, "ColorClassifierOptions", "brightness_sigma", brightness_sigma, ">= 0");
 }
 
-int featureDims(ColorSpace space) { return space == ColorSpace::NormalizedRG ? 2 : 3; }
+int featureDims(const ColorClassifierOptions& options) { return featuresOf(options) == Features::RG ? 2 : 3; }
 
-Vec3 colorFeature(ColorSpace space, const std::uint8_t* p) { return feature(space, p); }
+Vec3 colorFeature(const ColorClassifierOptions& options, const std::uint8_t* p) {
+  return feature(featuresOf(options), p);
+}
 
 ColorClassifier::ColorClassifier(ColorClassifierOptions options) : options_(options) {
   options_.validate();
@@ -151,17 +211,17 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
       for (int u = 0; u < width; u += s) f(static_cast<std::size_t>(v) * width + u);
   };
   each([&](std::size_t i) {
-    if (road[i] != 0) ar.add(feature(options_.space, rgb + 3 * i));
+    if (road[i] != 0) ar.add(feature(featuresOf(options_), rgb + 3 * i));
   });
   // Non-road: the labelled pixels, or with a gate only those far in colour from the road (this
   // frame's estimate when it is usable, else the model).
-  const GaussianClass gate_road = ar.n >= options_.min_pixels ? ar.estimate(options_.space) : road_;
+  const GaussianClass gate_road = ar.n >= options_.min_pixels ? ar.estimate(options_) : road_;
   const bool gated = options_.nonroad_gate_sigma > 0 && gate_road.valid;
   const Mat3 gate_inv = gated ? Mat3(gate_road.cov.inverse()) : Mat3::Identity();
   const double gate2 = options_.nonroad_gate_sigma * options_.nonroad_gate_sigma;
   each([&](std::size_t i) {
     if (road[i] != 0 || nonroad[i] == 0) return;
-    const Vec3 x = feature(options_.space, rgb + 3 * i);
+    const Vec3 x = feature(featuresOf(options_), rgb + 3 * i);
     const Vec3 d = x - gate_road.mean;
     if (!gated || d.dot(gate_inv * d) > gate2) an.add(x);
   });
@@ -172,7 +232,7 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
                      std::to_string(static_cast<long>(acc.n)) + ")";
       return false;
     }
-    const GaussianClass fresh = acc.estimate(options_.space);
+    const GaussianClass fresh = acc.estimate(options_);
     if (!model.valid) {
       model = fresh;
       return true;
@@ -192,7 +252,7 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
     // Too few pixels are confidently not road-coloured: the view is nearly all road. Until a frame
     // shows non-road, it is a flat density over the colour space (every colour about equally likely):
     // road is then what the road class explains better than chance.
-    nonroad_ = flatClass(options_.space);
+    nonroad_ = flatClass(options_);
     result.nonroad_accepted = true;
     result.note += std::string(result.note.empty() ? "" : "; ") + "non-road: flat (every colour)";
   }
@@ -205,15 +265,30 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
   return result;
 }
 
+ColorClassifier::Features ColorClassifier::usedFeatures() const {
+  const Features f = featuresOf(options_);
+  return f == Features::RGBrightness && !brightness_used_ ? Features::RG : f;
+}
+
 void ColorClassifier::refreshCache() {
-  road_inv_ = road_.cov.inverse();
-  nonroad_inv_ = nonroad_.cov.inverse();
-  road_logdet_ = std::log(std::max(road_.cov.determinant(), 1e-300));
-  nonroad_logdet_ = std::log(std::max(nonroad_.cov.determinant(), 1e-300));
+  // The brightness only where rg alone does not separate the classes (e.g. a grey road among grey
+  // cars and walls): where colour does, rg alone is robust to shadows (Wallace 3.4.3).
+  used_road_ = road_;
+  used_nonroad_ = nonroad_;
+  brightness_used_ = false;
+  if (featuresOf(options_) == Features::RGBrightness) {
+    const GaussianClass r = rgMarginal(road_), n = rgMarginal(nonroad_);
+    brightness_used_ = bhattacharyya(r, n) < options_.brightness_separation;
+    if (!brightness_used_) used_road_ = r, used_nonroad_ = n;
+  }
+  road_inv_ = used_road_.cov.inverse();
+  nonroad_inv_ = used_nonroad_.cov.inverse();
+  road_logdet_ = std::log(std::max(used_road_.cov.determinant(), 1e-300));
+  nonroad_logdet_ = std::log(std::max(used_nonroad_.cov.determinant(), 1e-300));
   // The fast path: both quadratic forms in one, centred between the means so that single precision
   // keeps the cancellation near the decision boundary small.
-  const Vec3 c = 0.5 * (road_.mean + nonroad_.mean);
-  const Vec3 ar = road_.mean - c, an = nonroad_.mean - c;
+  const Vec3 c = 0.5 * (used_road_.mean + used_nonroad_.mean);
+  const Vec3 ar = used_road_.mean - c, an = used_nonroad_.mean - c;
   const Mat3 q = -0.5 * (road_inv_ - nonroad_inv_);
   const Vec3 l = road_inv_ * ar - nonroad_inv_ * an;
   const double k = -0.5 * (ar.dot(road_inv_ * ar) - an.dot(nonroad_inv_ * an)) - 0.5 * (road_logdet_ - nonroad_logdet_) +
@@ -224,12 +299,12 @@ void ColorClassifier::refreshCache() {
 }
 
 float ColorClassifier::logOdds(const std::uint8_t* pixel) const {
-  return quadratic(quad_, options_.space == ColorSpace::NormalizedRG, pixel[0], pixel[1], pixel[2]);
+  return quadratic(quad_, usedFeatures(), logBrightnessTable().data(), pixel[0], pixel[1], pixel[2]);
 }
 
 float ColorClassifier::logOddsReference(const std::uint8_t* pixel) const {
-  const Vec3 x = feature(options_.space, pixel);
-  const Vec3 dr = x - road_.mean, dn = x - nonroad_.mean;
+  const Vec3 x = feature(usedFeatures(), pixel);
+  const Vec3 dr = x - used_road_.mean, dn = x - used_nonroad_.mean;
   const double lr = -0.5 * (dr.dot(road_inv_ * dr) + road_logdet_);
   const double ln = -0.5 * (dn.dot(nonroad_inv_ * dn) + nonroad_logdet_);
   const double v = lr - ln + std::log(prior_road_ / (1 - prior_road_));
@@ -240,7 +315,7 @@ std::vector<float> ColorClassifier::logOdds(const std::uint8_t* rgb, int width, 
                                             const std::uint8_t* where) const {
   std::vector<float> out(static_cast<std::size_t>(width) * height, 0.0f);
   if (!trained() || out.empty()) return out;
-  const bool rg = options_.space == ColorSpace::NormalizedRG;
+  const Features f = usedFeatures();
   // Planar colour, a band of rows at a time (small enough to stay in cache).
   constexpr int kBand = 16;
   std::vector<std::uint8_t> planes(static_cast<std::size_t>(3) * kBand * width);
@@ -257,7 +332,7 @@ std::vector<float> ColorClassifier::logOdds(const std::uint8_t* rgb, int width, 
                            cv::Mat(1, static_cast<int>(count), CV_8UC1, planes.data() + count),
                            cv::Mat(1, static_cast<int>(count), CV_8UC1, planes.data() + 2 * count)};
     cv::split(interleaved, channels);
-    quadraticRow(quad_, rg, planes.data(), planes.data() + count, planes.data() + 2 * count, mask, out.data() + first,
+    quadraticRow(quad_, f, planes.data(), planes.data() + count, planes.data() + 2 * count, mask, out.data() + first,
                  static_cast<int>(count));
   }
   return out;
@@ -274,14 +349,6 @@ std::vector<float> ColorClassifier::logOddsReference(const std::uint8_t* rgb, in
   return out;
 }
 
-double ColorClassifier::separation() const {
-  if (!trained()) return 0;
-  const Mat3 c = 0.5 * (road_.cov + nonroad_.cov);
-  const Vec3 d = road_.mean - nonroad_.mean;
-  const double term1 = 0.125 * d.dot(c.inverse() * d);
-  const double term2 =
-      0.5 * std::log(c.determinant() / std::sqrt(road_.cov.determinant() * nonroad_.cov.determinant()));
-  return term1 + term2;
-}
+double ColorClassifier::separation() const { return trained() ? bhattacharyya(used_road_, used_nonroad_) : 0; }
 
 }  // namespace mapnav

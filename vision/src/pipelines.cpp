@@ -481,6 +481,9 @@ class ClassifierPipeline : public BasePipeline {
     co.max_mean_shift_sigma = options_.max_mean_shift_sigma;
     co.min_pixels = options_.min_training_pixels;
     co.nonroad_gate_sigma = options_.nonroad_gate_sigma;
+    co.brightness_sigma = options_.brightness_sigma;
+    co.brightness_separation = options_.brightness_separation;
+    co.noise_sigma = options_.noise_sigma;
     co.stride = 1;  // train() gathers the training cells
     return co;
   }

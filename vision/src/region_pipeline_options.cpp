@@ -77,6 +77,17 @@ const OptionTable<ColorPipelineOptions>& colorPipelineOptionTable() {
                  "sigma (Mahalanobis) from the frame's road colour: on real roads the rest of the view is mostly road; "
                  "until a frame shows such cells, non-road is flat (road is what the road colour explains); "
                  "0 = every cell outside")
+          .field("brightness_sigma", &O::brightness_sigma, inRange(0, 10),
+                 "sidewalk (rg) only: the log brightness is a third feature, each class's spread in it at least this "
+                 "(0.1 = 10 %): rg alone takes grey cars, walls and kerbs for a grey road; a shadow stays in reach "
+                 "once the road's spread covers it; 0 = rg only (Wallace 3.4.3); color-rgb ignores it")
+          .field("brightness_separation", &O::brightness_separation, inRange(0, 1e6),
+                 "sidewalk: the brightness only while rg alone separates road and non-road by less than this "
+                 "Bhattacharyya distance (a grey road among grey cars and walls: 2-4); where colour separates them "
+                 "(grass: 5 and more) rg alone stays robust to shadows")
+          .field("noise_sigma", &O::noise_sigma, inRange(1e-3, 100),
+                 "the camera's noise, 8-bit levels per channel, added to every class's spread (in rg scaled to one "
+                 "level's effect at mid-grey, 1/500): a real camera's noise and compression; 1 = a rendered frame's")
           .field("outlier_llr", &O::outlier_llr, inRange(0, 1e6),
                  "adaptive: drop training pixels whose label the current model contradicts by more than this log-odds")
           .field("llr_threshold", &O::llr_threshold, inRange(-1e6, 1e6), "road where the smoothed log-odds exceed this")

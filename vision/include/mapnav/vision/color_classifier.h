@@ -1,11 +1,14 @@
 #pragma once
 // Road / non-road colour classification (Wallace 1985, 3.4): one Gaussian per class, trivariate in
 // RGB or bivariate in normalised colour rg (r = R/(R+G+B), g = G/(R+G+B), 3.4.3: robust to
-// shadows, which scale a colour), and a Bayes decision with quadratic boundaries (the log-likelihood
+// shadows, which scale a colour) — optionally with the log brightness as a third feature whose
+// spread is floored (brightness_sigma: a shadow stays within reach, a black car or a white wall
+// does not) — and a Bayes decision with quadratic boundaries (the log-likelihood
 // ratio plus the log prior ratio). The models adapt frame to frame (3.4.2: the colours drift) with a
 // guard against drifting away: an update is a blend, and a class estimate that moves the mean by
 // more than N sigma, or rests on too few pixels, is refused (the class keeps its old model).
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -40,14 +43,31 @@ struct ColorClassifierOptions {
   /// what is confidently not road-coloured may train the non-road class. 0 = every labelled pixel.
   /// ≥ 0.
   double nonroad_gate_sigma = 0;
+  /// NormalizedRG only (RGB holds the brightness already and ignores it). > 0: the log brightness
+  /// ln((R + G + B + 3) / 3) is a third feature, and every class's standard deviation in it is at
+  /// least this (natural-log units: 0.1 is a 10 % brightness change). rg alone cannot tell a grey
+  /// road from a grey car, wall or kerb; the brightness can, and a floor keeps a road learnt in even
+  /// light from rejecting every shade (a shadow is in reach when the road's spread, learnt from
+  /// frames that show shadows, covers it). 0 = rg only (Wallace 3.4.3). ≥ 0.
+  double brightness_sigma = 0;
+  /// With brightness_sigma > 0: the brightness is used only while rg alone separates the road and
+  /// non-road models by less than this Bhattacharyya distance. Where colour tells road from its
+  /// surroundings (grey path, green lawn: 5 and more), rg alone stays robust to shadows; where it
+  /// does not (a grey road among grey cars and walls: 2 to 4), the brightness is needed. ≥ 0.
+  double brightness_separation = std::numeric_limits<double>::infinity();
+  /// The camera's noise, 8-bit levels per channel: its variance is added to every class's (in RGB
+  /// as it is; in rg scaled by 1/500², one level's effect at mid-grey). 1 suits rendered frames;
+  /// a real camera's noise and compression call for more (the colour pipelines' 3). > 0.
+  double noise_sigma = 1;
 
   void validate() const;
 };
 
-/// Feature dimensions of a space: 2 (rg) or 3 (RGB).
-int featureDims(ColorSpace space);
-/// The feature of one pixel (rg in [0, 1]; RGB in 0..255), in the first featureDims() entries.
-Vec3 colorFeature(ColorSpace space, const std::uint8_t* rgb);
+/// Feature dimensions: 2 (rg), 3 (rg and log brightness, or RGB).
+int featureDims(const ColorClassifierOptions& options);
+/// The feature of one pixel (rg in [0, 1] and ln((R+G+B+3)/3) in [0, 5.55]; RGB in 0..255), in
+/// the first featureDims() entries, 0 in the rest.
+Vec3 colorFeature(const ColorClassifierOptions& options, const std::uint8_t* rgb);
 
 /// The fast path's form of the log-odds: k + l·u + uᵀ q u in u = feature − c, single precision
 /// (q's off-diagonal entries doubled). Internal to ColorClassifier; built from the class models.
@@ -83,7 +103,11 @@ class ColorClassifier {
   float logOddsReference(const std::uint8_t* pixel) const;
 
   bool trained() const { return road_.valid && nonroad_.valid; }
-  /// Bhattacharyya distance between the two class models (0: indistinguishable).
+  /// Whether the log brightness is in use (brightness_sigma, brightness_separation).
+  bool brightnessUsed() const { return brightness_used_; }
+  /// What a pixel's feature is: RGB; rg; or rg and the log brightness.
+  enum class Features { RGB, RG, RGBrightness };
+  /// Bhattacharyya distance between the two class models as used (0: indistinguishable).
   double separation() const;
   const GaussianClass& road() const { return road_; }
   const GaussianClass& nonroad() const { return nonroad_; }
@@ -95,7 +119,10 @@ class ColorClassifier {
   ColorClassifierOptions options_;
   GaussianClass road_, nonroad_;
   double prior_road_ = 0.5;
-  // cached for logOdds
+  // cached for logOdds: the models as used (in rg alone when the brightness is not)
+  GaussianClass used_road_, used_nonroad_;
+  bool brightness_used_ = false;
+  Features usedFeatures() const;
   Mat3 road_inv_, nonroad_inv_;
   double road_logdet_ = 0, nonroad_logdet_ = 0;
   LogOddsQuadratic quad_;

@@ -62,6 +62,9 @@ struct ColorPipelineOptions : RegionPipelineOptions {
   int min_training_pixels = 400;      ///< refuse an estimate from fewer labelled training cells
   int label_erosion_px = 6;           ///< training labels: the predicted road and the rest eroded by this
   double nonroad_gate_sigma = 8;      ///< non-road trains only on cells this many sigma from the road colour
+  double brightness_sigma = 0.1;      ///< sidewalk: log brightness a third feature, spread floored at this; 0 = rg only
+  double brightness_separation = 5;   ///< sidewalk: the brightness only while rg separates the classes by less
+  double noise_sigma = 3;             ///< the camera's noise, levels per channel, added to every class's spread
   double outlier_llr = 6;             ///< adaptive: drop training pixels the model contradicts by more log-odds
   double llr_threshold = 0;           ///< road where the smoothed log-odds exceed this
   double min_separation = 0.5;        ///< Bhattacharyya distance of the classes below which: "no road-coloured region"
