@@ -205,16 +205,20 @@ TEST_F(StraightRoad, TheClosedLoopMeasuresItOnTheSimulatorsTruth) {
   EXPECT_EQ(s.frames, 20u);
   // The run ends after 20 frames, and so does the truth: measured are the frames the vehicle drove
   // 7 m or more after (min_reach_m), the truth between frames taken as straight (the road is).
-  std::size_t reach7 = 0;
+  // A frame that reaches 7 m to within the simulated motion's rounding (at 0.5 m a frame one does,
+  // 1e-9 m short) may count either way.
+  std::size_t reach7 = 0, borderline = 0;
   for (std::size_t i = 0; i < run.frames.size(); ++i) {
     double driven = 0;
     for (std::size_t j = i + 1; j < run.frames.size(); ++j)
       driven += (run.frames[j].truth->translation() - run.frames[j - 1].truth->translation()).norm();
-    reach7 += driven >= 7.0;
+    if (std::abs(driven - 7.0) < 1e-6) ++borderline;
+    else reach7 += driven > 7.0;
   }
   EXPECT_GT(reach7, 0u);
-  EXPECT_EQ(s.measured, reach7);
-  EXPECT_EQ(s.path_too_short, 20u - reach7);
+  EXPECT_GE(s.measured, reach7);
+  EXPECT_LE(s.measured, reach7 + borderline);
+  EXPECT_EQ(s.measured + s.path_too_short, 20u);
   EXPECT_EQ(s.inside_goal_frames, s.measured);
   EXPECT_NE(summaryText(run).find("from the simulator's truth"), std::string::npos);
 }
