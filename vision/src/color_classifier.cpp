@@ -13,12 +13,20 @@ namespace mapnav {
 
 namespace {
 
-using Features = ColorClassifier::Features;
+// What a pixel's feature is: RGB; rg; or rg and the log brightness.
+enum class Features { RGB, RG, RGBrightness };
 
-// The features the options ask for (the brightness, where used, is decided per model: usedFeatures).
+// The features the options ask for.
 Features featuresOf(const ColorClassifierOptions& o) {
   if (o.space == ColorSpace::RGB) return Features::RGB;
   return o.brightness_sigma > 0 ? Features::RGBrightness : Features::RG;
+}
+
+// The features the models use: rg alone when the brightness was asked for but is not needed
+// (ColorClassifier::brightnessUsed()).
+Features usedFeatures(const ColorClassifierOptions& o, bool brightness_used) {
+  const Features f = featuresOf(o);
+  return f == Features::RGBrightness && !brightness_used ? Features::RG : f;
 }
 
 // Added to the covariance diagonal: the camera's noise (noise_sigma levels per channel; in rg one
@@ -206,12 +214,13 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
                                                       const std::uint8_t* road, const std::uint8_t* nonroad) {
   Accum ar, an;
   const int s = options_.stride;
+  const Features features = featuresOf(options_);
   const auto each = [&](auto&& f) {
     for (int v = 0; v < height; v += s)
       for (int u = 0; u < width; u += s) f(static_cast<std::size_t>(v) * width + u);
   };
   each([&](std::size_t i) {
-    if (road[i] != 0) ar.add(feature(featuresOf(options_), rgb + 3 * i));
+    if (road[i] != 0) ar.add(feature(features, rgb + 3 * i));
   });
   // Non-road: the labelled pixels, or with a gate only those far in colour from the road (this
   // frame's estimate when it is usable, else the model).
@@ -221,7 +230,7 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
   const double gate2 = options_.nonroad_gate_sigma * options_.nonroad_gate_sigma;
   each([&](std::size_t i) {
     if (road[i] != 0 || nonroad[i] == 0) return;
-    const Vec3 x = feature(featuresOf(options_), rgb + 3 * i);
+    const Vec3 x = feature(features, rgb + 3 * i);
     const Vec3 d = x - gate_road.mean;
     if (!gated || d.dot(gate_inv * d) > gate2) an.add(x);
   });
@@ -265,11 +274,6 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
   return result;
 }
 
-ColorClassifier::Features ColorClassifier::usedFeatures() const {
-  const Features f = featuresOf(options_);
-  return f == Features::RGBrightness && !brightness_used_ ? Features::RG : f;
-}
-
 void ColorClassifier::refreshCache() {
   // The brightness only where rg alone does not separate the classes (e.g. a grey road among grey
   // cars and walls): where colour does, rg alone is robust to shadows (Wallace 3.4.3).
@@ -299,11 +303,11 @@ void ColorClassifier::refreshCache() {
 }
 
 float ColorClassifier::logOdds(const std::uint8_t* pixel) const {
-  return quadratic(quad_, usedFeatures(), logBrightnessTable().data(), pixel[0], pixel[1], pixel[2]);
+  return quadratic(quad_, usedFeatures(options_, brightness_used_), logBrightnessTable().data(), pixel[0], pixel[1], pixel[2]);
 }
 
 float ColorClassifier::logOddsReference(const std::uint8_t* pixel) const {
-  const Vec3 x = feature(usedFeatures(), pixel);
+  const Vec3 x = feature(usedFeatures(options_, brightness_used_), pixel);
   const Vec3 dr = x - used_road_.mean, dn = x - used_nonroad_.mean;
   const double lr = -0.5 * (dr.dot(road_inv_ * dr) + road_logdet_);
   const double ln = -0.5 * (dn.dot(nonroad_inv_ * dn) + nonroad_logdet_);
@@ -315,7 +319,7 @@ std::vector<float> ColorClassifier::logOdds(const std::uint8_t* rgb, int width, 
                                             const std::uint8_t* where) const {
   std::vector<float> out(static_cast<std::size_t>(width) * height, 0.0f);
   if (!trained() || out.empty()) return out;
-  const Features f = usedFeatures();
+  const Features f = usedFeatures(options_, brightness_used_);
   // Planar colour, a band of rows at a time (small enough to stay in cache).
   constexpr int kBand = 16;
   std::vector<std::uint8_t> planes(static_cast<std::size_t>(3) * kBand * width);

@@ -105,8 +105,6 @@ class ColorClassifier {
   bool trained() const { return road_.valid && nonroad_.valid; }
   /// Whether the log brightness is in use (brightness_sigma, brightness_separation).
   bool brightnessUsed() const { return brightness_used_; }
-  /// What a pixel's feature is: RGB; rg; or rg and the log brightness.
-  enum class Features { RGB, RG, RGBrightness };
   /// Bhattacharyya distance between the two class models as used (0: indistinguishable).
   double separation() const;
   const GaussianClass& road() const { return road_; }
@@ -122,7 +120,6 @@ class ColorClassifier {
   // cached for logOdds: the models as used (in rg alone when the brightness is not)
   GaussianClass used_road_, used_nonroad_;
   bool brightness_used_ = false;
-  Features usedFeatures() const;
   Mat3 road_inv_, nonroad_inv_;
   double road_logdet_ = 0, nonroad_logdet_ = 0;
   LogOddsQuadratic quad_;

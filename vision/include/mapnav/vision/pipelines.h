@@ -73,7 +73,7 @@ struct ColorPipelineOptions : RegionPipelineOptions {
   void validate() const;
 };
 
-/// "blue-band": road where the blue channel is bright (Wallace 1985, 3.6.3).
+/// "blue-band": road on one side of a threshold on the blue channel (Wallace 1985, 3.6.3).
 struct BlueBandOptions : RegionPipelineOptions {
   /// The blue level between road and non-road; road is on the side where most of the predicted road
   /// is (bright against grass, dark against pavements and walls). -1 = Otsu's threshold on the ground.
