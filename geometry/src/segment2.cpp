@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <CGAL/intersections.h>
+#include <Eigen/Eigenvalues>
 
 namespace mapnav {
 
@@ -57,6 +58,18 @@ std::optional<Vec2> segmentIntersection(const Segment2& s, const Segment2& t) {
   if (!result) return std::nullopt;
   if (const Point* p = boost::get<Point>(&*result)) return fromCgal(*p);
   return std::nullopt;  // overlap along a piece
+}
+
+Vec2 principalDirection(const std::vector<Vec2>& points, Vec2& mean) {
+  mean = Vec2::Zero();
+  for (const Vec2& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Mat2 c = Mat2::Zero();
+  for (const Vec2& p : points) c += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Mat2> es(c);
+  Vec2 d = es.eigenvectors().col(1);
+  if (d.x() < 0) d = -d;
+  return d;
 }
 
 double angleBetweenLines(const Segment2& s, const Segment2& t) {

@@ -10,6 +10,7 @@
 #include "mapnav/geometry/polygon.h"
 #include "mapnav/geometry/polyline2.h"
 #include "mapnav/geometry/pose2.h"
+#include "mapnav/geometry/segment2.h"
 #include "mapnav/mission/metrics.h"
 
 namespace mapnav {
@@ -32,14 +33,8 @@ std::optional<Vec2> pathDirection(const std::vector<Vec2>& path, const PathAgree
     if (s >= o.direction_near_m - kArcSlack && s <= o.direction_far_m + kArcSlack) pts.push_back(path[k]);
   }
   if (pts.size() < 2) return std::nullopt;
-  Vec2 mean = Vec2::Zero();
-  for (const Vec2& p : pts) mean += p;
-  mean /= static_cast<double>(pts.size());
-  Mat2 cov = Mat2::Zero();
-  for (const Vec2& p : pts) cov += (p - mean) * (p - mean).transpose();
-  // The principal axis of a symmetric 2 x 2 matrix: the angle that diagonalises it.
-  const double angle = 0.5 * std::atan2(2 * cov(0, 1), cov(0, 0) - cov(1, 1));
-  Vec2 dir = unitVector(angle);
+  Vec2 mean;
+  Vec2 dir = principalDirection(pts, mean);
   if (dir.dot(pts.back() - pts.front()) < 0) dir = -dir;
   return dir;
 }

@@ -11,10 +11,9 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
-
 #include "edge_tracker_internal.h"
 #include "mapnav/core/error.h"
+#include "mapnav/geometry/segment2.h"
 #include "mapnav/geometry/simplify.h"
 #include "mapnav/image/image.h"
 #include "mapnav/vision/edge_tracker.h"
@@ -39,19 +38,6 @@ double polylineDistance(const std::vector<Vec2>& line, const Vec2& p, bool& inte
     }
   }
   return best;
-}
-
-/// Principal direction of points (unit), through their mean.
-Vec2 principalDirection(const std::vector<Vec2>& pts, Vec2& mean) {
-  mean = Vec2::Zero();
-  for (const Vec2& p : pts) mean += p;
-  mean /= static_cast<double>(pts.size());
-  Mat2 c = Mat2::Zero();
-  for (const Vec2& p : pts) c += (p - mean) * (p - mean).transpose();
-  Eigen::SelfAdjointEigenSolver<Mat2> es(c);
-  Vec2 d = es.eigenvectors().col(1);
-  if (d.x() < 0) d = -d;
-  return d;
 }
 
 /// Traces the vehicle's left and right edges from `starts` into report.left and report.right, each
@@ -229,14 +215,33 @@ DetectedObject twoEdges(const VisionFrame& frame, const EdgeTrackReport& report,
   return d;
 }
 
-/// Column where the line fitted to an edge's image points crosses row v (a straight edge on the
-/// ground is straight in a pin-hole's image); `fallback` without an edge or for a level line.
-double boundaryColumn(const TrackedEdge* e, double v, double fallback) {
-  if (e == nullptr || e->image.size() < 2) return fallback;
-  Vec2 mean;
-  const Vec2 d = principalDirection(e->image, mean);
-  if (std::abs(d.y()) < 1e-6) return fallback;
-  return mean.x() + d.x() * (v - mean.y()) / d.y();
+/// The line fitted to an edge's image points (a straight edge on the ground is straight in a
+/// pin-hole's image), and the points' spread about it (RMS, px, at least 1 px: how well the line
+/// gives the edge's position).
+struct ImageLine {
+  Vec2 mean, direction;
+  double spread = 1;
+};
+
+/// Nothing without an edge (a lost side) or with fewer than 2 points.
+std::optional<ImageLine> fitImageLine(const TrackedEdge* e) {
+  if (e == nullptr || e->image.size() < 2) return std::nullopt;
+  ImageLine l;
+  l.direction = principalDirection(e->image, l.mean);
+  double ss = 0;
+  for (const Vec2& p : e->image) {
+    const Vec2 r = p - l.mean;
+    const double off = r.x() * l.direction.y() - r.y() * l.direction.x();
+    ss += off * off;
+  }
+  l.spread = std::max(1.0, std::sqrt(ss / static_cast<double>(e->image.size())));
+  return l;
+}
+
+/// Column where the line crosses row v; `fallback` without a line or for a level one.
+double boundaryColumn(const std::optional<ImageLine>& l, double v, double fallback) {
+  if (!l || std::abs(l->direction.y()) < 1e-6) return fallback;
+  return l->mean.x() + l->direction.x() * (v - l->mean.y()) / l->direction.y();
 }
 
 /// Whether an edge's ground points run within max_heading_deg of the vehicle's heading: a road edge
@@ -251,7 +256,8 @@ bool alongHeading(const TrackedEdge& e, double max_heading_deg) {
 /// With starts from a predicted region: the road between the two edges (a lost edge's side: the
 /// image's side), from the bottom row up to `top_v`, the edges extended beyond their traces; every
 /// `row_step` rows, up to where the boundaries meet.
-Polygon2 regionBetween(const TrackedEdge* left, const TrackedEdge* right, int w, int h, double top_v) {
+Polygon2 regionBetween(const std::optional<ImageLine>& left, const std::optional<ImageLine>& right, int w, int h,
+                       double top_v) {
   Polygon2 l, r;
   const double row_step = 4;
   for (double v = h - 1.0; v >= top_v - 1e-9; v -= row_step) {
@@ -266,29 +272,15 @@ Polygon2 regionBetween(const TrackedEdge* left, const TrackedEdge* right, int w,
   return ring.size() >= 4 ? ring : Polygon2{};
 }
 
-/// The spread of an edge's image points about their fitted line (RMS, px), at least 1 px: how well
-/// the line gives the edge's position.
-double lineSpread(const TrackedEdge& e) {
-  Vec2 mean;
-  const Vec2 d = principalDirection(e.image, mean);
-  double ss = 0;
-  for (const Vec2& p : e.image) {
-    const Vec2 r = p - mean;
-    const double off = r.x() * d.y() - r.y() * d.x();
-    ss += off * off;
-  }
-  return std::max(1.0, std::sqrt(ss / static_cast<double>(e.image.size())));
-}
-
 /// The per-pixel road confidence of regionBetween's road: the least of three chances, each 1/2 on
 /// the region's border. Inside each found edge: a logistic of the signed distance to its fitted line
 /// in units of its points' spread about it (a lost edge's side: the image's side, certain). Nearer
 /// than far_m: 1 / (1 + (range / far_m)^4), the far end's range being a guess good to a factor of
 /// about 2 (0.94 at half of it, 0.06 at twice). 0 where the camera does not see the ground.
-Image regionConfidence(const TrackedEdge* left, const TrackedEdge* right, const Camera& cam, int w, int h,
-                       double far_m) {
+Image regionConfidence(const std::optional<ImageLine>& left, const std::optional<ImageLine>& right, const Camera& cam,
+                       int w, int h, double far_m) {
   Image out(w, h, 1);
-  const double sl = left ? lineSpread(*left) : 1, sr = right ? lineSpread(*right) : 1;
+  const double sl = left ? left->spread : 1, sr = right ? right->spread : 1;
   auto logistic = [](double x) { return 1 / (1 + std::exp(-x)); };
   for (int v = 0; v < h; ++v) {
     const auto g = cam.backproject(Vec2(0.5 * (w - 1), v));
@@ -313,14 +305,14 @@ DetectedObject EdgeTracker::regionDetection(const VisionFrame& frame, const std:
   const double top_v = std::clamp(far ? far->y() : 0.0, 0.0, frame.height - 1.0);
   DetectedObject d;
   d.timestamp = frame.timestamp;
-  d.region_image = regionBetween(left_ok ? &report_.left : nullptr, right_ok ? &report_.right : nullptr, frame.width,
-                                 frame.height, top_v);
+  const std::optional<ImageLine> left = fitImageLine(left_ok ? &report_.left : nullptr),
+                                 right = fitImageLine(right_ok ? &report_.right : nullptr);
+  d.region_image = regionBetween(left, right, frame.width, frame.height, top_v);
   if (d.region_image.empty()) return DetectedObject::failed("edges cross: no road between them");
   for (const Vec2& p : d.region_image)
     if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
   if (frame.want_masks)
-    d.road_confidence = regionConfidence(left_ok ? &report_.left : nullptr, right_ok ? &report_.right : nullptr, cam,
-                                         frame.width, frame.height, options_.region_far_m);
+    d.road_confidence = regionConfidence(left, right, cam, frame.width, frame.height, options_.region_far_m);
   if (left_ok) addLines(d, report_.left, cam);
   if (right_ok) addLines(d, report_.right, cam);
   const double score = (left_ok ? report_.left.eval.score : 0) + (right_ok ? report_.right.eval.score : 0);

@@ -43,8 +43,6 @@ struct EdgeStarts {
   std::vector<EdgeStart> left_next, right_next;  // from the prediction: each edge's segments, nearest first
   bool trace_left = true, trace_right = true;    // false: the prediction has that edge out of view
   std::string source;
-  /// With source "region": the predicted region's lowest and highest rows in the image.
-  double region_bottom_v = 0, region_top_v = 0;
 };
 
 /// The start of an edge carried from the last frame (EdgeTracker::advance()): its ground points'

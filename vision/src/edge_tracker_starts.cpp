@@ -178,8 +178,6 @@ bool startsFromRegion(const PredictedObject& pred, const Camera& cam, int w, int
   };
   s.left = start(lo->first, hi->first, "left");
   s.right = start(lo->second, hi->second, "right");
-  s.region_bottom_v = bottom;
-  s.region_top_v = top;
   s.source = "region";
   return true;
 }

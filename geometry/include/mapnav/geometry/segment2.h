@@ -1,5 +1,6 @@
 #pragma once
 #include <optional>
+#include <vector>
 
 #include "mapnav/geometry/types.h"
 
@@ -35,6 +36,10 @@ bool segmentsIntersect(const Segment2& s, const Segment2& t);
 /// The intersection point of two segments that cross at a single point; nothing when they do not
 /// meet or overlap along a piece (then there is no single point).
 std::optional<Vec2> segmentIntersection(const Segment2& s, const Segment2& t);
+
+/// The total-least-squares line through `points` (at least one): it passes through their mean,
+/// written to `mean`, along the returned unit direction of their largest spread, oriented with x ≥ 0.
+Vec2 principalDirection(const std::vector<Vec2>& points, Vec2& mean);
 
 /// Smallest angle between the two segments' lines, in [0, pi/2].
 double angleBetweenLines(const Segment2& s, const Segment2& t);
