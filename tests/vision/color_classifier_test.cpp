@@ -255,15 +255,43 @@ TEST(Region, BlockReductionKeepsTheRoadAndDropsSpeckle) {
     road.pixel((k * 37) % 30, (k * 53) % h)[0] = 255;
     road.pixel(45 + (k * 7) % 40, (k * 29) % h)[0] = 0;
   }
-  // A separate blob on the right.
+  // A blob on the right, 18 px from the road: the block closing joins its blocks to the road's, but
+  // it is more than two blocks (16 px) from the road's pixels, so it is not a part split off by a line.
   for (int v = 10; v < 40; ++v)
-    for (int u = 105; u < 125; ++u) road.pixel(u, v)[0] = 255;
+    for (int u = 108; u < 126; ++u) road.pixel(u, v)[0] = 255;
   const RegionResult r = reproduceRegion(road, valid, pred);
   ASSERT_TRUE(r.found);
   EXPECT_EQ(r.area_px, 50.0 * h);
   EXPECT_EQ(r.mask.pixel(110, 20)[0], 0);
   EXPECT_EQ(r.mask.pixel(60, 50)[0], 255);
   EXPECT_GE(r.contour.size(), 4u);
+}
+
+// A lane marking 6 px wide (wider than the pixel closing fills) splits the road into a left part of
+// 38 columns and a right one of 36: both are the region's mask, the outline is the larger's; with
+// min_part_fraction above 1 the mask is the larger part alone.
+TEST(Region, KeepsThePartALaneMarkingSplitsOff) {
+  const int w = 128, h = 96;
+  Image road(w, h, 1), valid(w, h, 1), pred(w, h, 1);
+  std::fill(valid.data.begin(), valid.data.end(), 255);
+  for (int v = 0; v < h; ++v)
+    for (int u = 20; u < 100; ++u) {
+      pred.pixel(u, v)[0] = 255;
+      road.pixel(u, v)[0] = (u >= 58 && u < 64) ? 0 : 255;
+    }
+  const RegionResult both = reproduceRegion(road, valid, pred);
+  ASSERT_TRUE(both.found);
+  EXPECT_EQ(both.area_px, (38.0 + 36.0) * h);
+  EXPECT_EQ(both.mask.pixel(80, 50)[0], 255);
+  EXPECT_EQ(both.mask.pixel(60, 50)[0], 0);
+  double max_u = 0;
+  for (const Vec2& p : both.contour) max_u = std::max(max_u, p.x());
+  EXPECT_EQ(max_u, 57.0);
+  RegionOptions main_only;
+  main_only.min_part_fraction = 1.5;
+  const RegionResult left = reproduceRegion(road, valid, pred, main_only);
+  EXPECT_EQ(left.area_px, 38.0 * h);
+  EXPECT_EQ(left.mask.pixel(80, 50)[0], 0);
 }
 
 // Holes: a 100 x 80 road with a 4 x 4 hole (a leaf: 16 px, 0.2 % of the area) and a 20 x 20 hole

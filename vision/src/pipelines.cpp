@@ -203,6 +203,7 @@ class BasePipeline : public VisionPipeline {
     ro.refine_margin_blocks = common().refine_margin_blocks;
     ro.pixel_morph_px = onGrid(common().pixel_morph_px, scale);
     ro.max_hole_fraction = common().max_hole_fraction;
+    ro.min_part_fraction = common().min_part_fraction;
     ro.reference = common().reference;
     RegionResult region = reproduceRegion(*road, valid, predicted, ro);
     const double area_px = region.area_px * scale * scale;

@@ -25,6 +25,30 @@ Image toImage(const cv::Mat& m) {
   return out;
 }
 
+// Contour i filled (255), inside its bounding box `box` only (a contour lies within it).
+cv::Mat filledInBox(const std::vector<std::vector<cv::Point>>& contours, std::size_t i, const cv::Rect& box) {
+  cv::Mat one = cv::Mat::zeros(box.height, box.width, CV_8UC1);
+  cv::drawContours(one, contours, static_cast<int>(i), cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), INT_MAX,
+                   -box.tl());
+  return one;
+}
+
+// Adds to `out` (the main part, filled) the other parts that a line split from it: those within two
+// blocks (2 × `block` pixels) of it that score at least `fraction` of its score.
+void addSplitParts(const std::vector<std::vector<cv::Point>>& contours, const std::vector<double>& scores,
+                   std::size_t main, double fraction, int block, cv::Mat& out) {
+  cv::Mat near;
+  for (std::size_t i = 0; i < contours.size(); ++i) {
+    if (i == main || scores[i] < fraction * scores[main]) continue;
+    if (near.empty())
+      cv::dilate(out, near, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(4 * block + 1, 4 * block + 1)));
+    const cv::Rect box = cv::boundingRect(contours[i]);
+    cv::Mat part = filledInBox(contours, i, box);
+    cv::bitwise_and(part, near(box), part);
+    if (cv::countNonZero(part) > 0) cv::drawContours(out, contours, static_cast<int>(i), cv::Scalar(255), cv::FILLED);
+  }
+}
+
 }  // namespace
 
 void RegionOptions::validate() const {
@@ -36,6 +60,7 @@ void RegionOptions::validate() const {
   requireOption(pixel_morph_px >= 0, "RegionOptions", "pixel_morph_px", pixel_morph_px, ">= 0");
   requireOption(max_hole_fraction >= 0 && max_hole_fraction <= 1, "RegionOptions", "max_hole_fraction",
                 max_hole_fraction, "in [0, 1]");
+  requireOption(min_part_fraction >= 0, "RegionOptions", "min_part_fraction", min_part_fraction, ">= 0");
 }
 
 Image rasterizePolygon(const Polygon2& ring, int width, int height) {
@@ -133,9 +158,10 @@ RegionResult reproduceRegion(const Image& road_pixels, const Image& valid, const
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(px, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   if (contours.empty()) return result;
-  // The outer boundary that holds most of the chosen block component (with one, that one).
+  // The outer boundary that holds most of the chosen block component (with one, that one): the main part.
   std::size_t pick = 0;
   double pick_score = -1;
+  std::vector<double> scores(contours.size(), 0.0);
   cv::Mat core_px;
   if (contours.size() > 1) {
     const cv::Mat core = labels == best;
@@ -143,14 +169,11 @@ RegionResult reproduceRegion(const Image& road_pixels, const Image& valid, const
     core_px = core_px(cv::Rect(0, 0, w, h));
   }
   for (std::size_t i = 0; contours.size() > 1 && i < contours.size(); ++i) {
-    // Filled inside its bounding box only (a contour lies within it).
     const cv::Rect box = cv::boundingRect(contours[i]);
-    cv::Mat one = cv::Mat::zeros(box.height, box.width, CV_8UC1);
-    cv::drawContours(one, contours, static_cast<int>(i), cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), INT_MAX,
-                     -box.tl());
     cv::Mat both;
-    cv::bitwise_and(one, core_px(box), both);
+    cv::bitwise_and(filledInBox(contours, i, box), core_px(box), both);
     const double score = cv::countNonZero(both) + 1e-3 * cv::contourArea(contours[i]);
+    scores[i] = score;
     if (score > pick_score) {
       pick_score = score;
       pick = i;
@@ -158,6 +181,7 @@ RegionResult reproduceRegion(const Image& road_pixels, const Image& valid, const
   }
   cv::Mat out = cv::Mat::zeros(h, w, CV_8UC1);
   cv::drawContours(out, contours, static_cast<int>(pick), cv::Scalar(255), cv::FILLED);
+  addSplitParts(contours, scores, pick, options.min_part_fraction, bs, out);
   if (options.max_hole_fraction < 1) {  // the holes larger than the fraction of the outline's area stay
     cv::Mat holes, hole_labels, stats, centroids;
     cv::bitwise_and(out, ~px, holes);

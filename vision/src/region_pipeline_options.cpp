@@ -30,6 +30,11 @@ const OptionTable<RegionPipelineOptions>& regionPipelineOptionTable() {
           .field("max_hole_fraction", &O::max_hole_fraction, inRange(0, 1),
                  "fill the region's holes up to this fraction of its area (leaves, cracks, slab gaps); larger "
                  "holes (a car on the road) stay out of the region; 0 = fill none, 1 = fill every hole")
+          .field("min_part_fraction", &O::min_part_fraction, inRange(0, 1e6),
+                 "where a line (a lane marking, a kerb) splits the road-coloured pixels inside the block "
+                 "region, every part within two blocks of the main part holding at least this fraction of "
+                 "what the main part holds of the block region joins the region's mask (the outline and its "
+                 "lines stay the main part's); above 1 = the main part only")
           .field("region_tolerance_px", &O::region_tolerance_px, inRange(1e-6, 100),
                  "polygon tolerance of region_image, pixels")
           .field("simplify_tolerance_px", &O::simplify_tolerance_px, inRange(1e-6, 100),

@@ -34,6 +34,7 @@ struct RegionPipelineOptions {
   int refine_margin_blocks = 1;       ///< the pixel region reaches at most this many blocks beyond the blocks'
   int pixel_morph_px = 2;             ///< pixel-level closing, then opening radius
   double max_hole_fraction = 0.02;    ///< fill the region's holes up to this fraction of its area
+  double min_part_fraction = 0.1;     ///< the region's parts split off by a thin line join it from this fraction
   double region_tolerance_px = 0.75;  ///< polygon tolerance of the region outline (region_image)
   double simplify_tolerance_px = 3.0; ///< polygon fit tolerance for the lines
   double min_line_length_px = 12;     ///< shorter polygon edges are dropped

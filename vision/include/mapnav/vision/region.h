@@ -4,7 +4,8 @@
 // connected region that is the road (the component overlapping the prediction most, else the one
 // touching the bottom of the image most), then its boundary. The block region decides *which* pixels
 // form the road; the reproduced region is the pixel classification inside it (within a margin of a
-// block), closed, opened and with its small holes filled, so that its boundary keeps pixel accuracy.
+// block), closed, opened and with its small holes filled, so that its boundary keeps pixel accuracy:
+// its main part, and the parts a line (a lane marking, a kerb) splits from it.
 #include <vector>
 
 #include "mapnav/geometry/types.h"
@@ -21,6 +22,12 @@ struct RegionOptions {
   /// Fill the region's holes up to this fraction of its area (leaves, cracks, slab gaps); larger
   /// holes (a car on the road) stay holes. 0 = fill none, 1 = fill every hole. In [0, 1]
   double max_hole_fraction = 0.02;
+  /// The road-coloured pixels inside the block region can fall into several parts where a line
+  /// crosses the road (a lane marking, a kerb between road and pavement). The mask keeps every
+  /// other part within two blocks' side of the main part (16 px at the defaults) that holds at
+  /// least this fraction of what the main part holds of the block region; the outline (`contour`)
+  /// stays the main part's. ≥ 0; above 1: the main part only.
+  double min_part_fraction = 0.1;
   bool reference = false;        ///< OpenCV's morphology instead of the fast binary one (same answer)
 
   void validate() const;
@@ -29,7 +36,7 @@ struct RegionOptions {
 struct RegionResult {
   bool found = false;
   Image mask;                 ///< 1 channel, 255 inside the reproduced region (its large holes left out)
-  std::vector<Vec2> contour;  ///< its outer boundary (pixel centres), closed ring without repeat
+  std::vector<Vec2> contour;  ///< the outer boundary of its main part (pixel centres), closed ring without repeat
   double area_px = 0;
 };
 
