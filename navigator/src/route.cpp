@@ -56,7 +56,12 @@ struct RoadGraph::Impl {
   route_detail::BidirectionalSearch search;
 
   explicit Impl(const Map& m) : map(m) {
-    network = route_detail::Network::build(map, [&](Index v, Index w) { return turnAngle(v, w); });
+    std::vector<double> in(2 * map.roads().size()), out(in.size());
+    for (Index v = 0; v < in.size(); ++v) {
+      in[v] = headingIn(v);
+      out[v] = headingOut(v);
+    }
+    network = route_detail::Network::build(map, in, out);
     blocks.road.assign(map.roads().size(), 0);
     blocks.node.assign(map.intersections().size(), 0);
   }

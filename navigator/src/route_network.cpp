@@ -36,6 +36,65 @@ std::size_t Network::bytes() const {
   return csr + v * (sizeof(double) + sizeof(Index) + 1) + (arriving_begin.size() + arriving.size()) * sizeof(Index);
 }
 
+Network Network::build(const Map& map, const std::vector<double>& heading_in, const std::vector<double>& heading_out) {
+  const auto& roads = map.roads();
+  const auto& nodes = map.intersections();
+  Network n;
+  n.intersections = nodes.size();
+  const std::size_t count = 2 * roads.size();
+  n.drive_cost.resize(count);
+  n.end_node.resize(count);
+  n.drivable.resize(count);
+  std::vector<Index> start_node(count);
+  auto nodeIndex = [&](const std::string& id) { return static_cast<Index>(map.findIntersection(id) - nodes.data()); };
+  std::vector<Index> arriving_count(nodes.size() + 1, 0), leaving_begin(nodes.size() + 1, 0);
+  for (std::size_t r = 0; r < roads.size(); ++r) {
+    const Index from = nodeIndex(roads[r].from), to = nodeIndex(roads[r].to);
+    const double cost = roads[r].centerline.length() * roads[r].cost_factor;
+    for (const bool forward : {true, false}) {
+      const Index v = static_cast<Index>(2 * r + (forward ? 0 : 1));
+      n.drive_cost[v] = cost;
+      n.end_node[v] = forward ? to : from;
+      start_node[v] = forward ? from : to;
+      n.drivable[v] = forward || !roads[r].oneway;
+      if (!n.drivable[v]) continue;
+      ++arriving_count[n.end_node[v] + 1];
+      ++leaving_begin[start_node[v] + 1];
+    }
+  }
+  for (std::size_t i = 1; i <= nodes.size(); ++i) {
+    arriving_count[i] += arriving_count[i - 1];
+    leaving_begin[i] += leaving_begin[i - 1];
+  }
+  n.arriving_begin = arriving_count;
+  n.arriving.resize(arriving_count.back());
+  std::vector<Index> leaving(leaving_begin.back());
+  std::vector<Index> fill_a(arriving_count.begin(), arriving_count.end() - 1), fill_l(leaving_begin.begin(), leaving_begin.end() - 1);
+  for (Index v = 0; v < count; ++v) {
+    if (!n.drivable[v]) continue;
+    n.arriving[fill_a[n.end_node[v]]++] = v;
+    leaving[fill_l[start_node[v]]++] = v;
+  }
+  std::size_t edge_count = 0;
+  for (std::size_t x = 0; x < nodes.size(); ++x) {
+    edge_count += static_cast<std::size_t>(arriving_count[x + 1] - arriving_count[x]) * (leaving_begin[x + 1] - leaving_begin[x]);
+  }
+  std::vector<std::pair<Index, Index>> edges;
+  std::vector<Turn> turns;
+  edges.reserve(edge_count);
+  turns.reserve(edge_count);
+  for (Index v = 0; v < count; ++v) {  // by source, so the graph keeps this order of out-edges
+    if (!n.drivable[v]) continue;
+    const Index x = n.end_node[v];
+    for (Index i = leaving_begin[x]; i < leaving_begin[x + 1]; ++i) {
+      edges.emplace_back(v, leaving[i]);
+      turns.push_back(Turn{std::abs(normalizeAngle(heading_out[leaving[i]] - heading_in[v]))});
+    }
+  }
+  n.graph = TurnGraph(boost::edges_are_unsorted_multi_pass, edges.begin(), edges.end(), turns.begin(), count);
+  return n;
+}
+
 double Landmarks::bound(Index a, Index b) const {
   double best = 0;
   const double* fa = &from[static_cast<std::size_t>(a) * count];

@@ -92,10 +92,9 @@ struct Network {
   std::vector<Index> arriving;        ///< traversals ending at each intersection, by intersection
   std::size_t intersections = 0;
 
-  /// Edges between the drivable traversals of `map`; `turn_angle(v, w)` is the heading change
-  /// turning from v onto w.
-  template <class TurnAngle>
-  static Network build(const Map& map, TurnAngle turn_angle);
+  /// Edges between the drivable traversals of `map`, given per traversal the heading arriving at
+  /// its end and leaving its start (the turn from v onto w is normalizeAngle(out[w] - in[v])).
+  static Network build(const Map& map, const std::vector<double>& heading_in, const std::vector<double>& heading_out);
 
   std::size_t traversals() const { return drive_cost.size(); }
   /// The cost of edge v → w: the turn (a U-turn when w drives back v's road) and the drive of w.
@@ -113,6 +112,14 @@ Landmarks chooseLandmarks(const Network& network, int count);
 /// The reference: Boost's Dijkstra over the whole graph.
 Path dijkstraPath(const Network& network, const QueryEnds& ends, const BlockMarks& blocks, const TurnCosts& turns);
 
+/// An entry of a search queue: vertex `v` at distance `dist`, its key's bucket (an integer, as a
+/// double so that no key overflows it).
+struct QueueEntry {
+  double bucket = 0;
+  double dist = 0;
+  Index v = 0;
+};
+
 /// The fast query: bidirectional A* with landmark lower bounds. Its buffers are kept between
 /// queries and reset only where a query wrote, so a query costs what it visits.
 class BidirectionalSearch {
@@ -126,7 +133,8 @@ class BidirectionalSearch {
   std::vector<double> potential_;     // forward potential (the backward one is its negative); NaN: useless
   std::vector<double> dist_[2];
   std::vector<Index> pred_[2];
-  std::vector<std::pair<double, Index>> heap_[2];
+  std::vector<QueueEntry> heap_[2];
+  double quantum_ = 1;  // bucket width of the queues' keys
   std::uint32_t query_ = 0;
   std::size_t scanned_ = 0;
   // This query's landmark terms: the source's exits and the goal's entries (node, drive cost).
@@ -141,61 +149,5 @@ class BidirectionalSearch {
 /// same route has the same cost to the last bit).
 double pathCost(const Network& network, const QueryEnds& ends, const TurnCosts& turns, const std::vector<Index>& traversals,
                 std::size_t target);
-
-// ---------------------------------------------------------------------------------------------
-
-template <class TurnAngle>
-Network Network::build(const Map& map, TurnAngle turn_angle) {
-  const auto& roads = map.roads();
-  const auto& nodes = map.intersections();
-  Network n;
-  n.intersections = nodes.size();
-  const std::size_t count = 2 * roads.size();
-  n.drive_cost.resize(count);
-  n.end_node.resize(count);
-  n.drivable.resize(count);
-  std::vector<Index> start_node(count);
-  auto nodeIndex = [&](const std::string& id) { return static_cast<Index>(map.findIntersection(id) - nodes.data()); };
-  std::vector<Index> arriving_count(nodes.size() + 1, 0), leaving_begin(nodes.size() + 1, 0);
-  for (std::size_t r = 0; r < roads.size(); ++r) {
-    const Index from = nodeIndex(roads[r].from), to = nodeIndex(roads[r].to);
-    const double cost = roads[r].centerline.length() * roads[r].cost_factor;
-    for (const bool forward : {true, false}) {
-      const Index v = static_cast<Index>(2 * r + (forward ? 0 : 1));
-      n.drive_cost[v] = cost;
-      n.end_node[v] = forward ? to : from;
-      start_node[v] = forward ? from : to;
-      n.drivable[v] = forward || !roads[r].oneway;
-      if (!n.drivable[v]) continue;
-      ++arriving_count[n.end_node[v] + 1];
-      ++leaving_begin[start_node[v] + 1];
-    }
-  }
-  for (std::size_t i = 1; i <= nodes.size(); ++i) {
-    arriving_count[i] += arriving_count[i - 1];
-    leaving_begin[i] += leaving_begin[i - 1];
-  }
-  n.arriving_begin = arriving_count;
-  n.arriving.resize(arriving_count.back());
-  std::vector<Index> leaving(leaving_begin.back());
-  std::vector<Index> fill_a(arriving_count.begin(), arriving_count.end() - 1), fill_l(leaving_begin.begin(), leaving_begin.end() - 1);
-  for (Index v = 0; v < count; ++v) {
-    if (!n.drivable[v]) continue;
-    n.arriving[fill_a[n.end_node[v]]++] = v;
-    leaving[fill_l[start_node[v]]++] = v;
-  }
-  std::vector<std::pair<Index, Index>> edges;
-  std::vector<Turn> turns;
-  for (Index v = 0; v < count; ++v) {  // by source, so the graph keeps this order of out-edges
-    if (!n.drivable[v]) continue;
-    const Index x = n.end_node[v];
-    for (Index i = leaving_begin[x]; i < leaving_begin[x + 1]; ++i) {
-      edges.emplace_back(v, leaving[i]);
-      turns.push_back(Turn{std::abs(turn_angle(v, leaving[i]))});
-    }
-  }
-  n.graph = TurnGraph(boost::edges_are_unsorted_multi_pass, edges.begin(), edges.end(), turns.begin(), count);
-  return n;
-}
 
 }  // namespace mapnav::route_detail
