@@ -21,10 +21,11 @@ struct RouteOptions {
   double u_turn_penalty_m = 50.0;
   /// Roads and intersections that may not be used (ids).
   std::vector<std::string> blocked;
-  /// Bidirectional A* with landmark lower bounds (ALT), which visits little more than the roads
-  /// near the route; false runs Dijkstra over the whole graph (the reference: routes of the same
-  /// cost, far slower on large maps). The first A* query of a RoadGraph computes the landmark
-  /// distances (2 × 8 Dijkstra runs over the intersections: 8 s at a million on a 2-core machine).
+  /// Bidirectional A* with landmark lower bounds (ALT), which on a grid visits little more than the
+  /// route's roads (on irregular maps with uneven cost factors, a band around the route); false runs
+  /// Dijkstra over the whole graph (the reference: routes of the same cost, far slower on large
+  /// maps). The first A* query of a RoadGraph computes the landmark distances (17 Dijkstra runs
+  /// over the intersections: 5-13 s at a million on a shared 2-core machine).
   bool use_astar = true;
 
   /// Throws InvalidInput naming the first bad field and its value.
