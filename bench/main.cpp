@@ -1,9 +1,11 @@
 // Google Benchmark's main, plus what the project reports: for every benchmark family run at several
-// sizes (BM_X/1000, BM_X/100000), the ratio of its largest to its smallest size's time, measured in
-// the same run, so the machine's speed cancels out.
+// sizes (BM_X/1000, BM_X/100000), the ratio of its largest to its smallest size's time (and, with
+// more than two sizes, of each size to the one before), measured in the same run, so the machine's
+// speed cancels out.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -36,6 +38,11 @@ class RatioReporter : public benchmark::ConsoleReporter {
       const auto& [small, t_small] = *times.begin();
       const auto& [large, t_large] = *times.rbegin();
       std::printf("ratio %s: time(%ld) / time(%ld) = %.2f\n", family.c_str(), large, small, t_large / t_small);
+      if (times.size() < 3) continue;
+      // More than two sizes: each step's growth too.
+      for (auto a = times.begin(), b = std::next(a); b != times.end(); ++a, ++b) {
+        std::printf("  step %s: time(%ld) / time(%ld) = %.2f\n", family.c_str(), b->first, a->first, b->second / a->second);
+      }
     }
   }
 

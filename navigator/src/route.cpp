@@ -5,16 +5,11 @@
 #include <cstdio>
 #include <limits>
 #include <set>
-#include <unordered_map>
-
-#include <boost/graph/adjacency_list.hpp>
-#include <boost/graph/astar_search.hpp>
-#include <boost/graph/dijkstra_shortest_paths.hpp>
-#include <boost/property_map/function_property_map.hpp>
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/options.h"
+#include "route_network.h"
 
 namespace mapnav {
 
@@ -32,136 +27,71 @@ std::string turnDirection(double angle) {
 
 namespace {
 
-// What an edge costs, before the query's options: driving `meters` (x cost factor) of `road`
-// after turning by `angle` at intersection `node` (none for the start's edges).
-struct Step {
-  double meters = 0;
-  double angle = 0;
-  bool u_turn = false;
-  std::size_t road = 0;
-  std::size_t node = SIZE_MAX;
-};
-using Graph = boost::adjacency_list<boost::vecS, boost::vecS, boost::directedS, boost::no_property, Step>;
-using Vertex = Graph::vertex_descriptor;
-using Edge = Graph::edge_descriptor;
+using route_detail::Index;
 
-// A vertex of the search graph is a directed traversal of a road: having driven road `road` in
-// direction `forward` (from → to) or backward, the vehicle is at the traversal's end node. Turn
-// costs then sit on the edges between traversals.
-struct Traversal {
-  std::size_t road = 0;
-  bool forward = true;
-};
-
-struct Found {};  // thrown by the A* visitor when the goal is taken off the queue
+// How many landmarks the A* lower bounds use. Farthest-point selection takes the corners of a
+// grid first (which alone make its bounds exact without turns), then points along the edges; 8
+// cost 2 × 8 Dijkstra runs once and 128 bytes per intersection. 16 did not speed up queries on an
+// irregular 100k map (median 19 ms against 15 ms with 8, the machine shared).
+constexpr int kLandmarks = 8;
 
 // A query's start and goal: their roads (indices) and arc lengths from the roads' `from` ends.
 struct RouteEnds {
-  std::size_t sr = 0, gr = 0;
+  Index sr = 0, gr = 0;
   double s_start = 0, s_goal = 0;
 };
 
-// The roads and intersections (indices) a query may not use.
-struct Blocks {
-  std::vector<bool> road, node;
-};
-
-// The edges one query adds (S's, and those into G), removed when the query ends, whatever happens,
-// so that the next one starts from the graph as it was built.
-struct QueryEdges {
-  Graph& graph;
-  Vertex S, G;
-  std::vector<Vertex> into_goal;
-  QueryEdges(Graph& g, Vertex s, Vertex goal) : graph(g), S(s), G(goal) {}
-  QueryEdges(const QueryEdges&) = delete;
-  QueryEdges& operator=(const QueryEdges&) = delete;
-  ~QueryEdges() {
-    boost::clear_out_edges(S, graph);
-    for (Vertex v : into_goal) boost::remove_edge(v, G, graph);
-  }
-};
-
-// The search's result: per vertex its predecessor (itself when unreached) and its distance.
-struct SearchResult {
-  std::vector<Vertex> pred;
-  std::vector<double> dist;
+// Unsets a query's block marks when the query ends, whatever happens.
+struct ClearBlocks {
+  route_detail::BlockMarks& marks;
+  ~ClearBlocks() { marks.clear(); }
 };
 
 }  // namespace
 
 struct RoadGraph::Impl {
   const Map& map;
-  Graph graph;                                        // traversals 0..2R-1, then S = 2R, G = 2R + 1
-  std::vector<Traversal> traversals;                  // per traversal vertex
-  std::vector<Vec2> end_position;                     // per traversal vertex: where it ends (heuristic)
-  std::unordered_map<std::string, std::size_t> road_index;
-  std::vector<std::vector<Vertex>> arriving;          // per intersection: traversals ending there
-  double min_cost_factor = 1.0;
+  route_detail::Network network;
+  route_detail::BlockMarks blocks;
+  std::optional<route_detail::Landmarks> landmarks;  // computed by the first A* query
+  route_detail::BidirectionalSearch search;
 
-  explicit Impl(const Map& m) : map(m), graph(2 * m.roads().size() + 2) {
-    const auto& roads = map.roads();
-    for (std::size_t r = 0; r < roads.size(); ++r) {
-      road_index.emplace(roads[r].id, r);
-      min_cost_factor = std::min(min_cost_factor, roads[r].cost_factor);
+  explicit Impl(const Map& m) : map(m) {
+    std::vector<double> in(2 * map.roads().size()), out(in.size());
+    for (Index v = 0; v < in.size(); ++v) {
+      in[v] = headingIn(v);
+      out[v] = headingOut(v);
     }
-    // Two traversals per road: vertex 2r forward, 2r + 1 backward (a one-way road's backward
-    // traversal gets no edges). Turn costs and blocking are query options, applied by the weight
-    // map, so the graph is built once.
-    arriving.resize(map.intersections().size());
-    std::vector<std::vector<Vertex>> leaving(map.intersections().size());
-    for (std::size_t r = 0; r < roads.size(); ++r) {
-      for (const bool forward : {true, false}) {
-        const Vertex v = traversals.size();
-        traversals.push_back({r, forward});
-        end_position.push_back(map.intersection(forward ? roads[r].to : roads[r].from).position);
-        if (!forward && roads[r].oneway) continue;
-        arriving[node(endNode(traversals[v]))].push_back(v);
-        leaving[node(startNode(traversals[v]))].push_back(v);
-      }
-    }
-    for (std::size_t n = 0; n < arriving.size(); ++n) {
-      for (Vertex v : arriving[n]) {
-        const Traversal& in = traversals[v];
-        for (Vertex w : leaving[n]) {
-          const Traversal& out = traversals[w];
-          boost::add_edge(v, w, Step{length(out.road), normalizeAngle(headingOut(out) - headingIn(in)),
-                                     out.road == in.road && out.forward != in.forward, out.road, n}, graph);
-        }
-      }
-    }
+    network = route_detail::Network::build(map, in, out);
+    blocks.road.assign(map.roads().size(), 0);
+    blocks.node.assign(map.intersections().size(), 0);
   }
 
-  Vertex start() const { return traversals.size(); }
-  Vertex goal() const { return traversals.size() + 1; }
-  std::size_t node(const std::string& id) const {
-    return static_cast<std::size_t>(map.findIntersection(id) - map.intersections().data());
+  Index node(const std::string& id) const {
+    return static_cast<Index>(map.findIntersection(id) - map.intersections().data());
   }
-  const Road& road(std::size_t r) const { return map.roads()[r]; }
-  std::string endNode(const Traversal& t) const { return t.forward ? road(t.road).to : road(t.road).from; }
-  std::string startNode(const Traversal& t) const { return t.forward ? road(t.road).from : road(t.road).to; }
-  double length(std::size_t r) const { return road(r).centerline.length(); }
+  Index roadIndex(const std::string& id) const { return static_cast<Index>(map.findRoad(id) - map.roads().data()); }
+  const Road& road(Index r) const { return map.roads()[r]; }
+  // Traversal v drives road v / 2, forward (from → to) when v is even.
+  static bool forward(Index v) { return (v & 1U) == 0; }
+  const std::string& endNode(Index v) const { return forward(v) ? road(v >> 1).to : road(v >> 1).from; }
+  double length(Index r) const { return road(r).centerline.length(); }
   // Heading arriving at the end node, and leaving the start node, of a traversal.
-  double headingIn(const Traversal& t) const {
-    const Polyline2& c = road(t.road).centerline;
-    return t.forward ? c.headingAt(c.length()) : normalizeAngle(c.headingAt(0) + kPi);
+  double headingIn(Index v) const {
+    const Polyline2& c = road(v >> 1).centerline;
+    return forward(v) ? c.headingAt(c.length()) : normalizeAngle(c.headingAt(0) + kPi);
   }
-  double headingOut(const Traversal& t) const {
-    const Polyline2& c = road(t.road).centerline;
-    return t.forward ? c.headingAt(0) : normalizeAngle(c.headingAt(c.length()) + kPi);
+  double headingOut(Index v) const {
+    const Polyline2& c = road(v >> 1).centerline;
+    return forward(v) ? c.headingAt(0) : normalizeAngle(c.headingAt(c.length()) + kPi);
   }
-  double turnCost(double angle, bool u_turn, const RouteOptions& o) const {
-    return u_turn ? o.u_turn_penalty_m : std::abs(angle) / (kPi / 2) * o.turn_penalty_m_per_90deg;
-  }
+  double turnAngle(Index in, Index out) const { return normalizeAngle(headingOut(out) - headingIn(in)); }
 
   // One query's steps (RoadGraph::route).
-  Blocks blocks(const std::set<std::string>& blocked) const;
-  bool usable(const Traversal& t, const Blocks& b) const {
-    return !b.road[t.road] && (t.forward || !road(t.road).oneway);
-  }
-  void connect(const RouteEnds& e, const Blocks& b, QueryEdges& edges);
-  SearchResult search(const RouteEnds& e, const Blocks& b, const RouteOptions& options);
-  Route routeAlong(const SearchResult& found, const RouteEnds& e, const Blocks& b, const RoadPosition& from,
-                   const RoadPosition& to) const;
+  void markBlocks(const std::set<std::string>& blocked);
+  route_detail::QueryEnds queryEnds(const RouteEnds& e, const route_detail::TurnCosts& turns) const;
+  Route routeAlong(const route_detail::Path& path, const route_detail::QueryEnds& q, const RouteEnds& e,
+                   const RoadPosition& from, const RoadPosition& to) const;
 };
 
 RoadGraph::RoadGraph(const Map& map) : impl_(std::make_unique<Impl>(map)) {}
@@ -169,7 +99,7 @@ RoadGraph::~RoadGraph() = default;
 RoadGraph::RoadGraph(RoadGraph&&) noexcept = default;
 RoadGraph& RoadGraph::operator=(RoadGraph&&) noexcept = default;
 const Map& RoadGraph::map() const { return impl_->map; }
-std::size_t RoadGraph::vertexCount() const { return impl_->traversals.size(); }
+std::size_t RoadGraph::vertexCount() const { return impl_->network.traversals(); }
 
 namespace {
 
@@ -224,111 +154,56 @@ std::optional<std::string> noRouteWithoutSearch(const Map& map, const RoadPositi
 
 }  // namespace
 
-Blocks RoadGraph::Impl::blocks(const std::set<std::string>& blocked) const {
-  Blocks b{std::vector<bool>(map.roads().size(), false), std::vector<bool>(map.intersections().size(), false)};
+void RoadGraph::Impl::markBlocks(const std::set<std::string>& blocked) {
+  std::vector<Index> roads, nodes;
   for (const std::string& id : blocked) {
-    if (const Road* r = map.findRoad(id)) b.road[road_index.at(r->id)] = true;
-    if (map.findIntersection(id) != nullptr) b.node[node(id)] = true;
+    if (map.findRoad(id) != nullptr) roads.push_back(roadIndex(id));
+    if (map.findIntersection(id) != nullptr) nodes.push_back(node(id));
   }
-  return b;
+  blocks.set(roads, nodes);
 }
 
-// S and G split their roads: S's edges drive the rest of the start road, the edges into G turn onto
-// the goal road and drive to the goal.
-void RoadGraph::Impl::connect(const RouteEnds& e, const Blocks& b, QueryEdges& edges) {
-  const Vertex S = start(), G = goal();
-  const double start_len = length(e.sr), goal_len = length(e.gr);
-  // S → traversals of the start road, driving the rest of it (either way: the vehicle may set off
-  // in either direction).
-  for (const bool forward : {true, false}) {
-    const Vertex v = 2 * e.sr + (forward ? 0 : 1);
-    if (!usable(traversals[v], b)) continue;
-    boost::add_edge(S, v, Step{forward ? start_len - e.s_start : e.s_start, 0.0, false, e.sr, SIZE_MAX}, graph);
+// The start's edges drive the rest of the start road (either way: the vehicle may set off in
+// either direction); the goal's edges turn onto the goal road and drive to the goal.
+route_detail::QueryEnds RoadGraph::Impl::queryEnds(const RouteEnds& e, const route_detail::TurnCosts& turns) const {
+  route_detail::QueryEnds q;
+  const double start_factor = road(e.sr).cost_factor, goal_factor = road(e.gr).cost_factor;
+  for (const bool fwd : {true, false}) {
+    const Index v = 2 * e.sr + (fwd ? 0 : 1);
+    if (!network.usable(v, blocks)) continue;
+    const double meters = fwd ? length(e.sr) - e.s_start : e.s_start;
+    q.sources.push_back({v, meters * start_factor, meters * start_factor, fwd});
   }
-  // Traversals arriving at an end of the goal road → G, turning onto it and driving to the goal.
-  for (const bool forward : {true, false}) {
-    const Traversal onto{e.gr, forward};  // driving the goal road in this direction reaches G
-    if (!usable(onto, b)) continue;
-    const std::size_t n = node(startNode(onto));
-    for (Vertex v : arriving[n]) {
-      const Traversal& in = traversals[v];
-      boost::add_edge(v, G,
-                      Step{forward ? e.s_goal : goal_len - e.s_goal, normalizeAngle(headingOut(onto) - headingIn(in)),
-                           in.road == e.gr && in.forward != forward, e.gr, n},
-                      graph);
-      edges.into_goal.push_back(v);
+  for (const bool fwd : {true, false}) {
+    const Index onto = 2 * e.gr + (fwd ? 0 : 1);  // driving the goal road this way reaches the goal
+    if (!network.usable(onto, blocks)) continue;
+    const Index n = network.end_node[onto ^ 1U];  // where it is entered
+    if (blocks.node[n] != 0) continue;
+    const double drive = (fwd ? e.s_goal : length(e.gr) - e.s_goal) * goal_factor;
+    for (Index i = network.arriving_begin[n]; i < network.arriving_begin[n + 1]; ++i) {
+      const Index v = network.arriving[i];
+      if (!network.usable(v, blocks)) continue;
+      const double turn = route_detail::turnCost(std::abs(turnAngle(v, onto)), v == (onto ^ 1U), turns);
+      q.targets.push_back({v, drive + turn, drive, fwd});
     }
   }
   // Start and goal on the same road: straight there, if the road may be driven that way.
-  if (e.sr == e.gr && usable(Traversal{e.sr, e.s_goal >= e.s_start}, b)) {
-    boost::add_edge(S, G, Step{std::abs(e.s_goal - e.s_start), 0.0, false, e.sr, SIZE_MAX}, graph);
+  if (e.sr == e.gr && network.usable(2 * e.sr + (e.s_goal >= e.s_start ? 0 : 1), blocks)) {
+    q.direct = std::abs(e.s_goal - e.s_start) * start_factor;
   }
+  return q;
 }
 
-// A* (or Dijkstra) from S to G; blocked parts cost "infinity".
-SearchResult RoadGraph::Impl::search(const RouteEnds& e, const Blocks& b, const RouteOptions& options) {
-  const Vertex S = start(), G = goal();
-  constexpr double kBlocked = std::numeric_limits<double>::max();  // Boost's "infinity"
-  auto weight = boost::make_function_property_map<Edge, double>([&](const Edge& edge) {
-    const Step& step = graph[edge];
-    if (b.road[step.road] || (step.node != SIZE_MAX && b.node[step.node])) return kBlocked;
-    const double turn = step.node == SIZE_MAX ? 0.0 : turnCost(step.angle, step.u_turn, options);
-    return step.meters * road(step.road).cost_factor + turn;
-  });
-  const std::size_t n = boost::num_vertices(graph);
-  SearchResult found{std::vector<Vertex>(n), std::vector<double>(n, std::numeric_limits<double>::infinity())};
-  std::vector<Vertex>& pred = found.pred;
-  std::vector<double>& dist = found.dist;
-  const Vec2 goal_point = road(e.gr).centerline.pointAt(e.s_goal);
-  if (options.use_astar) {
-    // Euclidean distance to the goal never exceeds the remaining cost when scaled by the
-    // smallest cost factor, so A* stays exact.
-    auto heuristic = [&](Vertex v) {
-      if (v == G) return 0.0;
-      const Vec2 p = v == S ? road(e.sr).centerline.pointAt(e.s_start) : end_position[v];
-      return (p - goal_point).norm() * min_cost_factor;
-    };
-    struct Visitor : boost::default_astar_visitor {
-      Vertex goal;
-      explicit Visitor(Vertex gv) : goal(gv) {}
-      void examine_vertex(Vertex v, const Graph&) {
-        if (v == goal) throw Found{};
-      }
-    };
-    std::vector<double> rank(n);
-    std::vector<boost::default_color_type> color(n);
-    const auto index = boost::get(boost::vertex_index, graph);
-    try {
-      boost::astar_search(graph, S, heuristic,
-                          boost::weight_map(weight)
-                              .predecessor_map(boost::make_iterator_property_map(pred.begin(), index))
-                              .distance_map(boost::make_iterator_property_map(dist.begin(), index))
-                              .rank_map(boost::make_iterator_property_map(rank.begin(), index))
-                              .color_map(boost::make_iterator_property_map(color.begin(), index))
-                              .visitor(Visitor(G)));
-    } catch (const Found&) {
-    }
-  } else {
-    boost::dijkstra_shortest_paths(graph, S,
-                                   boost::weight_map(weight).predecessor_map(boost::make_iterator_property_map(pred.begin(), boost::get(boost::vertex_index, graph)))
-                                       .distance_map(boost::make_iterator_property_map(dist.begin(), boost::get(boost::vertex_index, graph))));
-  }
-  return found;
-}
-
-// The route the search found: vertices S, traversals..., G, turned into legs and the centre line.
-Route RoadGraph::Impl::routeAlong(const SearchResult& found, const RouteEnds& e, const Blocks& b,
+// The route the search found, turned into legs and the centre line.
+Route RoadGraph::Impl::routeAlong(const route_detail::Path& path, const route_detail::QueryEnds& q, const RouteEnds& e,
                                   const RoadPosition& from, const RoadPosition& to) const {
-  const Vertex S = start(), G = goal();
   const Road& start_road = road(e.sr);
   const Road& goal_road = road(e.gr);
-  std::vector<Vertex> chain;
-  for (Vertex v = G; v != S; v = found.pred[v]) chain.push_back(v);
-  std::reverse(chain.begin(), chain.end());  // traversals..., G
+  const std::vector<Index>& chain = path.traversals;
   Route route;
   route.from = from;
   route.to = to;
-  route.cost = found.dist[G];
+  route.cost = path.cost;
   std::vector<Vec2> line;
   auto addPiece = [&](const Road& road, double s0, double s1) {  // drive along road from arc s0 to s1
     const Polyline2 piece = road.centerline.slice(std::min(s0, s1), std::max(s0, s1));
@@ -342,31 +217,23 @@ Route RoadGraph::Impl::routeAlong(const SearchResult& found, const RouteEnds& e,
     if (route.roads.empty() || route.roads.back() != road.id) route.roads.push_back(road.id);
     route.legs.push_back(Leg{LegAction::Drive, road.id, meters, "", 0.0});
   };
-  auto addTurn = [&](const std::string& node, double angle, const std::string& onto) {
-    route.intersections.push_back(node);
-    route.legs.push_back(Leg{LegAction::Turn, onto, 0.0, node, angle});
+  auto addTurn = [&](Index in, Index out) {
+    route.intersections.push_back(endNode(in));
+    route.legs.push_back(Leg{LegAction::Turn, road(out >> 1).id, 0.0, endNode(in), turnAngle(in, out)});
   };
-  if (chain.size() == 1) {  // S → G on one road
+  if (chain.empty()) {  // along one road
     addPiece(start_road, e.s_start, e.s_goal);
   } else {
-    const Traversal first = traversals[chain.front()];
-    addPiece(start_road, e.s_start, first.forward ? length(e.sr) : 0.0);
+    addPiece(start_road, e.s_start, forward(chain.front()) ? length(e.sr) : 0.0);
     for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
-      const Traversal in = traversals[chain[i]];
-      if (chain[i + 1] == G) {
-        // The goal road is entered at the end the last traversal arrives at: from its `from` end
-        // it is driven forward (a loop road, from == to, is entered forward when it may be).
-        const bool forward = endNode(in) == goal_road.from && usable(Traversal{e.gr, true}, b);
-        const Traversal onto{e.gr, forward};
-        addTurn(endNode(in), normalizeAngle(headingOut(onto) - headingIn(in)), goal_road.id);
-        addPiece(goal_road, forward ? 0.0 : length(e.gr), e.s_goal);
-      } else {
-        const Traversal out = traversals[chain[i + 1]];
-        addTurn(endNode(in), normalizeAngle(headingOut(out) - headingIn(in)), road(out.road).id);
-        const double len = length(out.road);
-        addPiece(road(out.road), out.forward ? 0.0 : len, out.forward ? len : 0.0);
-      }
+      const Index out = chain[i + 1];
+      addTurn(chain[i], out);
+      const double len = length(out >> 1);
+      addPiece(road(out >> 1), forward(out) ? 0.0 : len, forward(out) ? len : 0.0);
     }
+    const bool onto_forward = q.targets[path.target].forward;
+    addTurn(chain.back(), 2 * e.gr + (onto_forward ? 0 : 1));
+    addPiece(goal_road, onto_forward ? 0.0 : length(e.gr), e.s_goal);
   }
   route.line = Polyline2(std::move(line));
   return route;
@@ -378,7 +245,7 @@ RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, c
   const Map& map = g.map;
   const Road& start_road = map.road(from.road);
   const Road& goal_road = map.road(to.road);
-  const RouteEnds ends{g.road_index.at(start_road.id), g.road_index.at(goal_road.id), arcFromStart(start_road, from),
+  const RouteEnds ends{g.roadIndex(start_road.id), g.roadIndex(goal_road.id), arcFromStart(start_road, from),
                        arcFromStart(goal_road, to)};
   const std::set<std::string> blocked = blockedIds(map, options.blocked);
   RouteResult result;
@@ -386,20 +253,25 @@ RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, c
     result.reason = std::move(*why);
     return result;
   }
-  const Blocks blocks = g.blocks(blocked);
-  QueryEdges edges(g.graph, g.start(), g.goal());
-  g.connect(ends, blocks, edges);
-  const SearchResult found = g.search(ends, blocks, options);
-  // Both searches start every predecessor at the vertex itself (and every distance at DBL_MAX,
-  // which is finite), so an unreached goal is one that is still its own predecessor.
-  if (found.pred[g.goal()] == g.goal()) {
+  g.markBlocks(blocked);
+  const ClearBlocks clear{g.blocks};
+  const route_detail::TurnCosts turns{options.turn_penalty_m_per_90deg, options.u_turn_penalty_m};
+  const route_detail::QueryEnds q = g.queryEnds(ends, turns);
+  route_detail::Path path;
+  if (options.use_astar) {
+    if (!g.landmarks) g.landmarks = route_detail::chooseLandmarks(g.network, kLandmarks);
+    path = g.search.run(g.network, *g.landmarks, q, g.blocks, turns);
+  } else {
+    path = route_detail::dijkstraPath(g.network, q, g.blocks, turns);
+  }
+  if (!path.found) {
     result.reason = blocked.empty()
                         ? "no route from " + toString(from) + " to " + toString(to) + " respects the one-way roads"
                         : "every route from " + toString(from) + " to " + toString(to) +
                               " passes a blocked road or intersection";
     return result;
   }
-  result.route = g.routeAlong(found, ends, blocks, from, to);
+  result.route = g.routeAlong(path, q, ends, from, to);
   return result;
 }
 
