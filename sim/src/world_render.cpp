@@ -18,6 +18,16 @@ namespace mapnav {
 
 using namespace world_detail;
 
+namespace {
+
+/// std::round(v) (halves away from zero) for v in [0, 2^23], inline rather than the library call.
+float roundNonNegative(float v) {
+  const auto t = static_cast<float>(static_cast<std::int32_t>(v));
+  return v - t >= 0.5f ? t + 1.0f : t;  // v − t is exact
+}
+
+}  // namespace
+
 RayTable::RayTable(const Camera& camera)
     : model_(camera.model()), intrinsics_(camera.intrinsics()), mount_(camera.mount()),
       width_(camera.width()), height_(camera.height()),
@@ -92,6 +102,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
   const std::size_t n = static_cast<std::size_t>(w) * h;
   Frame frame{Image(w, h, 3), Image(w, h, 1)};
   std::vector<float> buf(n * 3);
+  const auto cache = std::make_unique<NoiseCache>();  // the noise lattice's last cells
 
   const double ch = std::cos(pose.heading()), sh = std::sin(pose.heading());
   const double tx = pose.x(), ty = pose.y();
@@ -101,7 +112,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
     if (r.kind == RayTable::Kind::Ground) {
       const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
       bool paved = false;
-      c = im.shade(p, r.footprint, r.range, paved);
+      c = im.shade(p, r.footprint, r.range, paved, cache.get());
       frame.mask.data[i] = paved ? 255 : 0;
     } else if (r.kind == RayTable::Kind::Sky) {
       c = im.sky(r.elevation);
@@ -145,7 +156,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
             const Vec2 q = Vec2(r.x, r.y) + fa * su + fb * sv;
             const Vec2 p(ch * q.x() - sh * q.y() + tx, sh * q.x() + ch * q.y() + ty);
             bool paved = false;
-            sum = sum + im.shade(p, r.footprint, r.range, paved);
+            sum = sum + im.shade(p, r.footprint, r.range, paved, cache.get());
           }
         const float k = 1.0f / static_cast<float>(ns * ns);
         buf[3 * i] = sum.r * k;
@@ -213,7 +224,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
                         static_cast<float>((hsh >> 32) & 0xFFFF) + static_cast<float>(hsh >> 48);
         v += sigma * (s / 65536.0f - 2.0f);
       }
-      v = std::clamp(std::round(v), lo, 255.0f);
+      v = roundNonNegative(std::clamp(v, lo, 255.0f));  // = clamp(round(v)): the bounds are whole
       frame.rgb.data[3 * i + k] = static_cast<std::uint8_t>(v);
     }
   }

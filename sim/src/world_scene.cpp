@@ -269,30 +269,38 @@ int World::Impl::pavedAt(const Vec2& p, int cell) const {
   return found;
 }
 
-double World::Impl::shadowAt(const Vec2& p, int cell, bool with_flecks, double footprint) const {
-  if (shadow_everywhere) return 1.0;
-  if (cell < 0) return 0.0;
-  float s = 0;
+void World::Impl::canopy(const Vec2& p, int cell, double footprint, NoiseCache* nc, float& bare, float& flecked) const {
+  bare = flecked = shadow_everywhere ? 1.0f : 0.0f;
+  if (shadow_everywhere || cell < 0) return;
+  // The disc edges are smoothed over max(0.25 m, footprint): the same for both unless wide.
+  const auto edge = static_cast<float>(std::max(0.25, footprint));
+  const bool wide = footprint > 0.25;
+  float s = 0, s_bare = 0;
   double wobble = std::numeric_limits<double>::quiet_NaN();
   for (std::uint32_t i = disc_start[static_cast<std::size_t>(cell)]; i < disc_start[static_cast<std::size_t>(cell) + 1]; ++i) {
     const Disc& d = discs[cell_discs[i]];
     double dist = (p - d.c).norm();
     if (dist > d.r + 0.45) continue;
     if (std::isnan(wobble)) {  // ragged, leafy canopy outlines
-      wobble = 0.3 * valueNoise(options.seed ^ 0xC4A0ULL, p.x() * 1.3, p.y() * 1.3) +
-               0.15 * valueNoise(options.seed ^ 0xC4A1ULL, p.x() * 4.0, p.y() * 4.0);
+      NoiseMemo* memo = channelOf(nc, kCanopyChannel);
+      wobble = 0.3 * valueNoise(options.seed ^ 0xC4A0ULL, p.x() * 1.3, p.y() * 1.3, memo) +
+               0.15 * valueNoise(options.seed ^ 0xC4A1ULL, p.x() * 4.0, p.y() * 4.0, memo != nullptr ? memo + 1 : nullptr);
     }
     dist += wobble;
-    s = std::max(s, smoothstep(0.0f, static_cast<float>(std::max(0.25, footprint)), static_cast<float>(d.r - dist)));
-    if (s >= 1) break;
+    const auto inside = static_cast<float>(d.r - dist);
+    s = std::max(s, smoothstep(0.0f, edge, inside));
+    s_bare = wide ? std::max(s_bare, smoothstep(0.0f, 0.25f, inside)) : s;
+    if (s >= 1) break;  // then s_bare >= s is 1 too
   }
-  if (s > 0 && with_flecks) {
+  bare = s_bare;
+  if (s > 0) {
     // Sun flecks through gaps in the canopy.
-    const float n = valueNoise(options.seed ^ 0xF1ECULL, p.x() * 1.7, p.y() * 1.7) +
-                    0.5f * valueNoise(options.seed ^ 0xF1EDULL, p.x() * 4.1, p.y() * 4.1);
+    NoiseMemo* memo = channelOf(nc, kFleckChannel);
+    const float n = valueNoise(options.seed ^ 0xF1ECULL, p.x() * 1.7, p.y() * 1.7, memo) +
+                    0.5f * valueNoise(options.seed ^ 0xF1EDULL, p.x() * 4.1, p.y() * 4.1, memo != nullptr ? memo + 1 : nullptr);
     s *= 1.0f - 0.9f * smoothstep(0.55f, 0.75f, n) * filterWeight(2.0, footprint);
   }
-  return s;
+  flecked = s;
 }
 
 }  // namespace mapnav

@@ -24,6 +24,13 @@ namespace world_detail {
 
 constexpr double kCell = 3.0;   // grid cell, m
 
+// NoiseCache channels of the noise that is not a texture's (a texture's fractal sum k uses
+// channel k, its salt's key in World::Impl::texture).
+constexpr int kWobbleChannel = 0;  // the shoulder's ragged edge
+constexpr int kWornChannel = 1;    // the worn strip of lawn beside the pavement
+constexpr int kCanopyChannel = 6;  // the canopies' ragged outlines (two octaves)
+constexpr int kFleckChannel = 7;   // sun flecks (two octaves)
+
 enum class Material { Concrete, Asphalt, Grass, Dirt, Gravel, Brick, Other };
 
 struct Surface {
@@ -64,7 +71,7 @@ struct PolyRef {
 
 }  // namespace world_detail
 
-struct World::Impl {
+struct [[gnu::visibility("hidden")]] World::Impl {
   using C3 = world_detail::C3;
   using Surface = world_detail::Surface;
   using RoadInfo = world_detail::RoadInfo;
@@ -72,6 +79,8 @@ struct World::Impl {
   using Segment = world_detail::Segment;
   using Disc = world_detail::Disc;
   using PolyRef = world_detail::PolyRef;
+  using NoiseCache = world_detail::NoiseCache;
+  using NoiseMemo = world_detail::NoiseMemo;
 
   WorldOptions options;
   std::vector<Surface> surfaces;
@@ -105,9 +114,14 @@ struct World::Impl {
 
   /// Index of the paved polygon holding p (roads before intersections), or -1.
   int pavedAt(const Vec2& p, int cell) const;
-  double shadowAt(const Vec2& p, int cell, bool with_flecks, double footprint = 0.0) const;
-  C3 shade(const Vec2& p, double footprint, double range, bool& paved) const;
-  C3 texture(int surface, const Vec2& p, double footprint, double along, double lateral, int road) const;
+  /// Tree shadow at p, 0 sunlit … 1 full: `bare` at the point without the sun flecks (where the
+  /// leaves fall), `flecked` over a pixel `footprint` wide with the flecks. `nc` may be nullptr.
+  void canopy(const Vec2& p, int cell, double footprint, NoiseCache* nc, float& bare, float& flecked) const;
+  /// The colour of ground point p seen by a pixel `footprint` wide at `range`; `paved` its class.
+  /// `nc` (may be nullptr) memoizes the noise lattice between calls (the same colour either way).
+  C3 shade(const Vec2& p, double footprint, double range, bool& paved, NoiseCache* nc) const;
+  C3 texture(int surface, const Vec2& p, double footprint, double along, double lateral, int road,
+             NoiseCache* nc) const;
   C3 sky(double elevation) const;
 };
 
