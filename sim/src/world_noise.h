@@ -4,6 +4,7 @@
 // it is a pure function of the seed and the world point, so frames are deterministic.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "mapnav/geometry/types.h"
@@ -92,6 +93,27 @@ inline float filterWeight(double freq, double footprint) {
     f *= 2.0;
   }
   return sum / norm;
+}
+
+/// fbm of m points at once (the same values as m calls): point j is (xs[j], ys[j]), `footprints[j]`
+/// wide; its sum goes to out[j]. Octave by octave, so that the last lattice cell stays at hand.
+inline void fbmBatch(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
+                     double base_freq, int octaves, float* out) {
+  std::fill(out, out + m, 0.0f);
+  float norm = 0, amp = 1;
+  double f = base_freq;
+  for (int o = 0; o < octaves; ++o) {
+    const std::uint64_t s = salt + static_cast<std::uint64_t>(o) * 0x51ED27ULL;
+    NoiseMemo memo;
+    for (std::size_t j = 0; j < m; ++j) {
+      const float w = filterWeight(f, footprints[j]);
+      if (w > 0) out[j] += amp * w * valueNoise(s, xs[j] * f, ys[j] * f, &memo);
+    }
+    norm += amp;
+    amp *= 0.5f;
+    f *= 2.0;
+  }
+  for (std::size_t j = 0; j < m; ++j) out[j] = out[j] / norm;
 }
 
 inline float smoothstep(float e0, float e1, float x) {

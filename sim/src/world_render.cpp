@@ -20,10 +20,13 @@ using namespace world_detail;
 
 namespace {
 
-/// std::round(v) (halves away from zero) for v in [0, 2^23], inline rather than the library call.
-float roundNonNegative(float v) {
-  const auto t = static_cast<float>(static_cast<std::int32_t>(v));
-  return v - t >= 0.5f ? t + 1.0f : t;  // v − t is exact
+/// std::round(std::clamp(v, lo, 255)) as a byte (lo ≥ 0 whole; clamping first is the same, the bounds
+/// being whole), inline rather than the library call and without a branch on the fraction (the
+/// sensor noise makes its side a coin toss).
+std::uint8_t toByte(float v, float lo) {
+  const float c = std::clamp(v, lo, 255.0f);
+  const auto t = static_cast<std::int32_t>(c);
+  return static_cast<std::uint8_t>(t + static_cast<std::int32_t>(c - static_cast<float>(t) >= 0.5f));  // exact
 }
 
 }  // namespace
@@ -73,6 +76,69 @@ bool RayTable::matches(const Camera& camera) const {
   return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
 }
 
+void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, RowScratch& rs,
+                           NoiseCache& nc, float* rgb, std::uint8_t* mask) const {
+  const auto w = static_cast<std::size_t>(rays.width());
+  const auto [ch, sh, tx, ty] = pose;
+  rs.ground.resize(w);
+  rs.points.resize(w);
+  rs.values.resize(static_cast<std::size_t>(NoiseCache::kChannels) * w);
+  for (auto& group : rs.group) group.clear();
+  // Where each ground pixel lies, the pixels grouped by their texture's material; the sky.
+  for (std::size_t u = 0; u < w; ++u) {
+    const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
+    C3 c;
+    if (r.kind == RayTable::Kind::Ground) {
+      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
+      rs.points[u] = p;
+      locate(p, &nc, rs.ground[u]);
+      mask[u] = rs.ground[u].paved ? 255 : 0;
+      const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
+      rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
+      continue;
+    }
+    if (r.kind == RayTable::Kind::Sky) c = sky(r.elevation);
+    rgb[3 * u] = c.r;
+    rgb[3 * u + 1] = c.g;
+    rgb[3 * u + 2] = c.b;
+  }
+  // The fractal sums of each group's texture, channel by channel.
+  for (int m = 0; m < kMaterials; ++m) {
+    const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
+    if (group.empty()) continue;
+    const std::size_t n = group.size();
+    rs.xs.resize(n);
+    rs.ys.resize(n);
+    rs.footprints.resize(n);
+    rs.sums.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      rs.xs[j] = rs.points[group[j]].x();
+      rs.ys[j] = rs.points[group[j]].y();
+      rs.footprints[j] = rays.at(static_cast<int>(group[j]), v).footprint;
+    }
+    for (int k : materialChannels(static_cast<Material>(m))) {
+      if (k == 0) break;
+      const FbmSpec spec = fbmSpec(k);
+      fbmBatch(salts[static_cast<std::size_t>(k)], rs.xs.data(), rs.ys.data(), rs.footprints.data(), n, spec.base_freq,
+               spec.octaves, rs.sums.data());
+      float* values = rs.values.data() + static_cast<std::size_t>(k) * w;
+      for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
+    }
+  }
+  // Each ground pixel's texture from those sums, then its edge, leaves, shadow and haze.
+  for (const auto& group : rs.group)
+    for (std::uint32_t u : group) {
+      const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
+      const GroundPoint& g = rs.ground[u];
+      const Vec2& p = rs.points[u];
+      C3 c = texture(g.surface, p, r.footprint, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
+      c = finish(p, g, c, r.footprint, r.range, &nc);
+      rgb[3 * u] = c.r;
+      rgb[3 * u + 1] = c.g;
+      rgb[3 * u + 2] = c.b;
+    }
+}
+
 Frame World::render(const Camera& camera, const Pose2& pose, double t) const {
   std::shared_ptr<const RayTable> table;
   {
@@ -106,20 +172,10 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
 
   const double ch = std::cos(pose.heading()), sh = std::sin(pose.heading());
   const double tx = pose.x(), ty = pose.y();
-  for (std::size_t i = 0; i < n; ++i) {
-    const RayTable::Ray& r = rays.rays()[i];
-    C3 c;
-    if (r.kind == RayTable::Kind::Ground) {
-      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
-      bool paved = false;
-      c = im.shade(p, r.footprint, r.range, paved, cache.get());
-      frame.mask.data[i] = paved ? 255 : 0;
-    } else if (r.kind == RayTable::Kind::Sky) {
-      c = im.sky(r.elevation);
-    }
-    buf[3 * i] = c.r;
-    buf[3 * i + 1] = c.g;
-    buf[3 * i + 2] = c.b;
+  RowScratch scratch;
+  for (int v = 0; v < h; ++v) {
+    const std::size_t row = static_cast<std::size_t>(v) * w;
+    im.shadeRow(rays, v, {ch, sh, tx, ty}, scratch, *cache, buf.data() + 3 * row, frame.mask.data.data() + row);
   }
   if (o.paved_edge_samples > 1) {
     // The pixels the paved area's edge crosses: the mean of n × n samples spread over the pixel's
@@ -224,8 +280,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
                         static_cast<float>((hsh >> 32) & 0xFFFF) + static_cast<float>(hsh >> 48);
         v += sigma * (s / 65536.0f - 2.0f);
       }
-      v = roundNonNegative(std::clamp(v, lo, 255.0f));  // = clamp(round(v)): the bounds are whole
-      frame.rgb.data[3 * i + k] = static_cast<std::uint8_t>(v);
+      frame.rgb.data[3 * i + k] = toByte(v, lo);
     }
   }
   return frame;
