@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "mapnav/geometry/types.h"
 
@@ -115,6 +116,18 @@ inline void fbmBatch(std::uint64_t salt, const double* xs, const double* ys, con
   }
   for (std::size_t j = 0; j < m; ++j) out[j] = out[j] / norm;
 }
+
+/// Scratch of fbmRow, kept between calls.
+struct FbmScratch {
+  std::vector<double> fx, fy;
+  std::vector<float> tx, ty, w, a, b, c, d;
+  void resize(std::size_t m);
+};
+
+/// fbmBatch's values (bit for bit), with the CPU's vector units where it has AVX2
+/// (world_noise_batch.cpp).
+void fbmRow(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
+            double base_freq, int octaves, float* out, FbmScratch& scratch);
 
 inline float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);

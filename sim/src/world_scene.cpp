@@ -30,12 +30,11 @@ Material materialOf(const std::string& name) {
 bool crossingContains(const PavedPolygon& poly, const Vec2& p) {
   if (!poly.box.contains(p)) return false;
   const auto band = static_cast<std::size_t>(
-      std::clamp((p.y() - poly.band_y0) / kBand, 0.0, static_cast<double>(poly.bands.size() - 1)));
+      std::clamp((p.y() - poly.band_y0) / kBand, 0.0, static_cast<double>(poly.band_start.size() - 2)));
   bool inside = false;
-  const std::size_t n = poly.ring.size();
-  for (std::uint32_t i : poly.bands[band]) {
-    const Vec2& a = poly.ring[i];
-    const Vec2& b = poly.ring[(i + 1) % n];
+  for (std::uint32_t i = poly.band_start[band]; i < poly.band_start[band + 1]; ++i) {
+    const Vec2& a = poly.band_edges[i].a;
+    const Vec2& b = poly.band_edges[i].b;
     if ((a.y() > p.y()) != (b.y() > p.y())) {
       const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
       if (p.x() < x) inside = !inside;
@@ -122,14 +121,19 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
     for (const Vec2& v : poly.ring) poly.box.extend(v);
     poly.band_y0 = poly.box.min().y();
     const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kBand)) + 1;
-    poly.bands.assign(nb, {});
+    std::vector<std::vector<Edge>> bands(nb);
     const std::size_t n = poly.ring.size();
     for (std::size_t i = 0; i < n; ++i) {
-      const double y0 = std::min(poly.ring[i].y(), poly.ring[(i + 1) % n].y());
-      const double y1 = std::max(poly.ring[i].y(), poly.ring[(i + 1) % n].y());
+      const Edge e{poly.ring[i], poly.ring[(i + 1) % n]};
+      const double y0 = std::min(e.a.y(), e.b.y()), y1 = std::max(e.a.y(), e.b.y());
       const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
       const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
-      for (std::size_t b = b0; b <= b1; ++b) poly.bands[b].push_back(static_cast<std::uint32_t>(i));
+      for (std::size_t b = b0; b <= b1; ++b) bands[b].push_back(e);
+    }
+    poly.band_start.assign(1, 0);
+    for (const auto& band : bands) {
+      poly.band_edges.insert(poly.band_edges.end(), band.begin(), band.end());
+      poly.band_start.push_back(static_cast<std::uint32_t>(poly.band_edges.size()));
     }
   }
 

@@ -121,6 +121,7 @@ struct RowScratch {
   std::vector<std::uint32_t> group[kMaterials];  // the row's ground pixels by their texture's material
   std::vector<double> xs, ys;                   // one group's points, gathered
   std::vector<float> footprints, sums;
+  FbmScratch fbm;
 };
 
 struct Surface {
@@ -129,11 +130,16 @@ struct Surface {
   C3 spread;
 };
 
+struct Edge {
+  Vec2 a, b;
+};
+
 struct PavedPolygon {
   Polygon2 ring;
   Box2 box;
   double band_y0 = 0;
-  std::vector<std::vector<std::uint32_t>> bands;  // per y-band, the edges (start vertex) meeting it
+  std::vector<std::uint32_t> band_start;  // CSR offsets into band_edges, one per y-band + 1
+  std::vector<Edge> band_edges;           // per y-band, the edges meeting it (in ring order)
   int surface = 0;
   int road = -1;  // index into roads; -1 for an intersection
 };
