@@ -97,7 +97,9 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
     amp *= 0.5f;
     f *= 2.0;
   }
-  for (std::size_t j = 0; j < m; ++j) out[j] = out[j] / norm;
+  const __m256 vnorm = _mm256_set1_ps(norm);
+  for (std::size_t j = 0; j < m8; j += 8) _mm256_storeu_ps(out + j, _mm256_div_ps(_mm256_loadu_ps(out + j), vnorm));
+  for (std::size_t j = m8; j < m; ++j) out[j] = out[j] / norm;
 }
 
 }  // namespace

@@ -36,8 +36,14 @@ bool crossingContains(const PavedPolygon& poly, const Vec2& p) {
     const Vec2& a = poly.band_edges[i].a;
     const Vec2& b = poly.band_edges[i].b;
     if ((a.y() > p.y()) != (b.y() > p.y())) {
-      const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
-      if (p.x() < x) inside = !inside;
+      // The crossing x lies between a.x and b.x (to a few ulps): beyond its margin the side is plain.
+      const Edge& e = poly.band_edges[i];
+      if (p.x() < e.x_lo) {
+        inside = !inside;
+      } else if (p.x() <= e.x_hi) {
+        const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+        if (p.x() < x) inside = !inside;
+      }
     }
   }
   return inside;
@@ -124,7 +130,11 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
     std::vector<std::vector<Edge>> bands(nb);
     const std::size_t n = poly.ring.size();
     for (std::size_t i = 0; i < n; ++i) {
-      const Edge e{poly.ring[i], poly.ring[(i + 1) % n]};
+      Edge e{poly.ring[i], poly.ring[(i + 1) % n]};
+      const double lo = std::min(e.a.x(), e.b.x()), hi = std::max(e.a.x(), e.b.x());
+      const double margin = 1e-9 * (std::abs(lo) + std::abs(hi) + 1.0);
+      e.x_lo = lo - margin;
+      e.x_hi = hi + margin;
       const double y0 = std::min(e.a.y(), e.b.y()), y1 = std::max(e.a.y(), e.b.y());
       const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
       const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kBand, 0.0, double(nb - 1)));

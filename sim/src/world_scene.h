@@ -132,6 +132,7 @@ struct Surface {
 
 struct Edge {
   Vec2 a, b;
+  double x_lo = 0, x_hi = 0;  // the edge's x extent widened by far more than the rounding of its crossing
 };
 
 struct PavedPolygon {
