@@ -230,6 +230,12 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   /// with the texture's fractal sums evaluated channel by channel over the row.
   void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, world_detail::RowScratch& rs,
                 NoiseCache& nc, float* rgb, std::uint8_t* mask) const;
+  /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
+  /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel).
+  void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,
+                   NoiseCache& nc, float* buf) const;
+  /// Rows [v0, v1) through the camera: illumination drift, TV colour shift, sensor noise, bytes.
+  void camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf, std::uint8_t* rgb) const;
   /// The texture `c` of located point p finished: the lawn's worn edge, leaves, shadow, haze.
   C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, double range,
             NoiseCache* nc) const;
