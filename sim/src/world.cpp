@@ -41,6 +41,7 @@ void WorldOptions::validate() const {
   requireOption(finiteIn(tv_chroma_gain, 0, 2), kOwner, "tv_chroma_gain", tv_chroma_gain, "in [0, 2]");
   requireOption(paved_edge_samples >= 1 && paved_edge_samples <= 16, kOwner, "paved_edge_samples",
                 paved_edge_samples, "in [1, 16]");
+  requireOption(threads >= 0 && threads <= 256, kOwner, "threads", threads, "in [0, 256]");
   requireOption(tv_chroma_blur_px >= 0 && tv_chroma_blur_px <= 16, kOwner, "tv_chroma_blur_px", tv_chroma_blur_px,
                 "in [0, 16]");
 }
@@ -54,6 +55,10 @@ const WorldOptions& World::options() const { return impl_->options; }
 
 bool World::isPaved(const Vec2& p) const { return impl_->pavedAt(p, impl_->cellIndex(p)) >= 0; }
 
-double World::shadowAt(const Vec2& p) const { return impl_->shadowAt(p, impl_->cellIndex(p), true); }
+double World::shadowAt(const Vec2& p) const {
+  float bare = 0, flecked = 0;
+  impl_->canopy(p, impl_->cellIndex(p), 0.0, nullptr, bare, flecked);
+  return flecked;
+}
 
 }  // namespace mapnav

@@ -4,7 +4,9 @@
 // it is a pure function of the seed and the world point, so frames are deterministic.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "mapnav/geometry/types.h"
 
@@ -30,14 +32,42 @@ inline float unit01(std::uint64_t h) { return static_cast<float>(h >> 40) * (1.0
 /// [-1, 1)
 inline float unitSigned(std::uint64_t h) { return unit01(h) * 2.0f - 1.0f; }
 
-/// Smooth value noise in [-1, 1], unit lattice.
-inline float valueNoise(std::uint64_t salt, double x, double y) {
+/// The last lattice cell one noise channel (one salt, one octave) looked up, with its four corner
+/// values. Neighbouring pixels mostly fall in the same cell (every pixel of a frame does for the
+/// coarse octaves), so the corners' four hashes are computed once per cell run, not per pixel; the
+/// values are the very same, so the picture does not change.
+struct NoiseMemo {
+  std::uint64_t salt = 0;
+  std::int64_t ix = INT64_MIN, iy = INT64_MIN;  // no finite point's cell
+  float a = 0, b = 0, c = 0, d = 0;
+};
+
+/// One memo per noise channel (a texture's fractal sum, the shoulder's wobble, ...) and octave.
+/// One per thread that renders; a lookup without one (nullptr) hashes the corners each time.
+struct NoiseCache {
+  static constexpr int kOctaves = 8;
+  static constexpr int kChannels = 64;
+  NoiseMemo memo[kChannels * kOctaves];
+  /// The memos of channel k (< kChannels), one per octave.
+  NoiseMemo* channel(int k) { return memo + k * kOctaves; }
+};
+/// A channel's memos, or nullptr without a cache.
+inline NoiseMemo* channelOf(NoiseCache* cache, int k) { return cache != nullptr ? cache->channel(k) : nullptr; }
+
+/// Smooth value noise in [-1, 1], unit lattice. `memo` (may be nullptr) keeps the last cell's corners.
+[[gnu::always_inline]] inline float valueNoise(std::uint64_t salt, double x, double y, NoiseMemo* memo = nullptr) {
   const double fx = std::floor(x), fy = std::floor(y);
   const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
   const float tx = static_cast<float>(x - fx), ty = static_cast<float>(y - fy);
   const float ux = tx * tx * (3.0f - 2.0f * tx), uy = ty * ty * (3.0f - 2.0f * ty);
-  const float a = unitSigned(hash2(salt, ix, iy)), b = unitSigned(hash2(salt, ix + 1, iy));
-  const float c = unitSigned(hash2(salt, ix, iy + 1)), d = unitSigned(hash2(salt, ix + 1, iy + 1));
+  float a, b, c, d;
+  if (memo != nullptr && memo->ix == ix && memo->iy == iy && memo->salt == salt) {
+    a = memo->a, b = memo->b, c = memo->c, d = memo->d;
+  } else {
+    a = unitSigned(hash2(salt, ix, iy)), b = unitSigned(hash2(salt, ix + 1, iy));
+    c = unitSigned(hash2(salt, ix, iy + 1)), d = unitSigned(hash2(salt, ix + 1, iy + 1));
+    if (memo != nullptr) *memo = {salt, ix, iy, a, b, c, d};
+  }
   const float ab = a + (b - a) * ux, cd = c + (d - c) * ux;
   return ab + (cd - ab) * uy;
 }
@@ -49,18 +79,55 @@ inline float filterWeight(double freq, double footprint) {
 
 /// Fractal value noise, octaves from base_freq doubling; octaves finer than the footprint fade out
 /// (the result keeps its normalisation, so far away it tends to 0 = the mean colour).
-inline float fbm(std::uint64_t salt, const Vec2& p, double base_freq, int octaves, double footprint) {
+/// `memo` (may be nullptr): one per octave.
+[[gnu::always_inline]] inline float fbm(std::uint64_t salt, const Vec2& p, double base_freq, int octaves, double footprint,
+                 NoiseMemo* memo = nullptr) {
   float sum = 0, norm = 0, amp = 1;
   double f = base_freq;
   for (int o = 0; o < octaves; ++o) {
     const float w = filterWeight(f, footprint);
-    if (w > 0) sum += amp * w * valueNoise(salt + static_cast<std::uint64_t>(o) * 0x51ED27ULL, p.x() * f, p.y() * f);
+    if (w > 0)
+      sum += amp * w * valueNoise(salt + static_cast<std::uint64_t>(o) * 0x51ED27ULL, p.x() * f, p.y() * f,
+                                  memo != nullptr ? memo + o : nullptr);
     norm += amp;
     amp *= 0.5f;
     f *= 2.0;
   }
   return sum / norm;
 }
+
+/// fbm of m points at once (the same values as m calls): point j is (xs[j], ys[j]), `footprints[j]`
+/// wide; its sum goes to out[j]. Octave by octave, so that the last lattice cell stays at hand.
+inline void fbmBatch(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
+                     double base_freq, int octaves, float* out) {
+  std::fill(out, out + m, 0.0f);
+  float norm = 0, amp = 1;
+  double f = base_freq;
+  for (int o = 0; o < octaves; ++o) {
+    const std::uint64_t s = salt + static_cast<std::uint64_t>(o) * 0x51ED27ULL;
+    NoiseMemo memo;
+    for (std::size_t j = 0; j < m; ++j) {
+      const float w = filterWeight(f, footprints[j]);
+      if (w > 0) out[j] += amp * w * valueNoise(s, xs[j] * f, ys[j] * f, &memo);
+    }
+    norm += amp;
+    amp *= 0.5f;
+    f *= 2.0;
+  }
+  for (std::size_t j = 0; j < m; ++j) out[j] = out[j] / norm;
+}
+
+/// Scratch of fbmRow, kept between calls.
+struct FbmScratch {
+  std::vector<double> fx, fy;
+  std::vector<float> tx, ty, w, a, b, c, d;
+  void resize(std::size_t m);
+};
+
+/// fbmBatch's values (bit for bit), with the CPU's vector units where it has AVX2
+/// (world_noise_batch.cpp).
+void fbmRow(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
+            double base_freq, int octaves, float* out, FbmScratch& scratch);
 
 inline float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
@@ -76,12 +143,14 @@ inline float lineCoverage(double d, double width, double footprint) {
 }
 
 /// Thin wandering crack lines: where ridged noise is near zero. Returns coverage 0..1.
-inline float crackCoverage(std::uint64_t salt, const Vec2& p, double footprint, double width) {
+/// `memo` (may be nullptr): three, one per octave.
+inline float crackCoverage(std::uint64_t salt, const Vec2& p, double footprint, double width, NoiseMemo* memo = nullptr) {
   constexpr double kFreq = 0.9;
   if (footprint > 0.08) return 0.0f;
-  const double n = valueNoise(salt, p.x() * kFreq, p.y() * kFreq) +
-                   0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5) +
-                   0.08 * valueNoise(salt + 9, p.x() * kFreq * 23, p.y() * kFreq * 23);
+  const auto at = [memo](int i) { return memo != nullptr ? memo + i : nullptr; };
+  const double n = valueNoise(salt, p.x() * kFreq, p.y() * kFreq, at(0)) +
+                   0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5, at(1)) +
+                   0.08 * valueNoise(salt + 9, p.x() * kFreq * 23, p.y() * kFreq * 23, at(2));
   // |grad| of the noise is ~2.4 × freq per unit: distance to the zero line in metres.
   const double d = std::abs(n) / (2.4 * kFreq);
   return lineCoverage(d, width, footprint) * (1.0f - static_cast<float>(footprint / 0.08));

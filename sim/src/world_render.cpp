@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <thread>
 #include <vector>
 
 #include "world_scene.h"
@@ -17,6 +18,34 @@
 namespace mapnav {
 
 using namespace world_detail;
+
+namespace {
+
+/// std::round(std::clamp(v, lo, 255)) as a byte (lo ≥ 0 whole; clamping first is the same, the bounds
+/// being whole), inline rather than the library call and without a branch on the fraction (the
+/// sensor noise makes its side a coin toss).
+std::uint8_t toByte(float v, float lo) {
+  const float c = std::clamp(v, lo, 255.0f);
+  const auto t = static_cast<std::int32_t>(c);
+  return static_cast<std::uint8_t>(t + static_cast<std::int32_t>(c - static_cast<float>(t) >= 0.5f));  // exact
+}
+
+/// Runs body(v0, v1) on bands of the rows [0, h), one band per thread (this one included).
+template <class Body>
+void forRowBands(int h, int threads, const Body& body) {
+  const int n = std::clamp(threads, 1, std::max(1, h));
+  if (n == 1) {
+    body(0, h);
+    return;
+  }
+  std::vector<std::thread> pool;
+  pool.reserve(static_cast<std::size_t>(n - 1));
+  for (int k = 1; k < n; ++k) pool.emplace_back([&body, h, n, k] { body(h * k / n, h * (k + 1) / n); });
+  body(0, h / n);
+  for (std::thread& th : pool) th.join();
+}
+
+}  // namespace
 
 RayTable::RayTable(const Camera& camera)
     : model_(camera.model()), intrinsics_(camera.intrinsics()), mount_(camera.mount()),
@@ -63,6 +92,69 @@ bool RayTable::matches(const Camera& camera) const {
   return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
 }
 
+void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, RowScratch& rs,
+                           NoiseCache& nc, float* rgb, std::uint8_t* mask) const {
+  const auto w = static_cast<std::size_t>(rays.width());
+  const auto [ch, sh, tx, ty] = pose;
+  rs.ground.resize(w);
+  rs.points.resize(w);
+  rs.values.resize(static_cast<std::size_t>(NoiseCache::kChannels) * w);
+  for (auto& group : rs.group) group.clear();
+  // Where each ground pixel lies, the pixels grouped by their texture's material; the sky.
+  for (std::size_t u = 0; u < w; ++u) {
+    const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
+    C3 c;
+    if (r.kind == RayTable::Kind::Ground) {
+      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
+      rs.points[u] = p;
+      locate(p, &nc, rs.ground[u]);
+      mask[u] = rs.ground[u].paved ? 255 : 0;
+      const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
+      rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
+      continue;
+    }
+    if (r.kind == RayTable::Kind::Sky) c = sky(r.elevation);
+    rgb[3 * u] = c.r;
+    rgb[3 * u + 1] = c.g;
+    rgb[3 * u + 2] = c.b;
+  }
+  // The fractal sums of each group's texture, channel by channel.
+  for (int m = 0; m < kMaterials; ++m) {
+    const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
+    if (group.empty()) continue;
+    const std::size_t n = group.size();
+    rs.xs.resize(n);
+    rs.ys.resize(n);
+    rs.footprints.resize(n);
+    rs.sums.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      rs.xs[j] = rs.points[group[j]].x();
+      rs.ys[j] = rs.points[group[j]].y();
+      rs.footprints[j] = rays.at(static_cast<int>(group[j]), v).footprint;
+    }
+    for (int k : materialChannels(static_cast<Material>(m))) {
+      if (k == 0) break;
+      const FbmSpec spec = fbmSpec(k);
+      fbmRow(salts[static_cast<std::size_t>(k)], rs.xs.data(), rs.ys.data(), rs.footprints.data(), n, spec.base_freq,
+             spec.octaves, rs.sums.data(), rs.fbm);
+      float* values = rs.values.data() + static_cast<std::size_t>(k) * w;
+      for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
+    }
+  }
+  // Each ground pixel's texture from those sums, then its edge, leaves, shadow and haze.
+  for (const auto& group : rs.group)
+    for (std::uint32_t u : group) {
+      const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
+      const GroundPoint& g = rs.ground[u];
+      const Vec2& p = rs.points[u];
+      C3 c = texture(g.surface, p, r.footprint, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
+      c = finish(p, g, c, r.footprint, r.range, &nc);
+      rgb[3 * u] = c.r;
+      rgb[3 * u + 1] = c.g;
+      rgb[3 * u + 2] = c.b;
+    }
+}
+
 Frame World::render(const Camera& camera, const Pose2& pose, double t) const {
   std::shared_ptr<const RayTable> table;
   {
@@ -85,81 +177,64 @@ Frame World::render(const Camera& camera, const Pose2& pose, double t) const {
   return render(*table, pose, t);
 }
 
-Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
-  const Impl& im = *impl_;
-  const WorldOptions& o = im.options;
+void World::Impl::edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose,
+                              const std::uint8_t* mask, NoiseCache& nc, float* buf) const {
+  // The pixels the paved area's edge crosses: the mean of n × n samples spread over the pixel's
+  // ground footprint, its sides taken from the neighbouring pixels' rays (locally affine).
   const int w = rays.width(), h = rays.height();
-  const std::size_t n = static_cast<std::size_t>(w) * h;
-  Frame frame{Image(w, h, 3), Image(w, h, 1)};
-  std::vector<float> buf(n * 3);
-
-  const double ch = std::cos(pose.heading()), sh = std::sin(pose.heading());
-  const double tx = pose.x(), ty = pose.y();
-  for (std::size_t i = 0; i < n; ++i) {
-    const RayTable::Ray& r = rays.rays()[i];
-    C3 c;
-    if (r.kind == RayTable::Kind::Ground) {
-      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
-      bool paved = false;
-      c = im.shade(p, r.footprint, r.range, paved);
-      frame.mask.data[i] = paved ? 255 : 0;
-    } else if (r.kind == RayTable::Kind::Sky) {
-      c = im.sky(r.elevation);
+  const int ns = options.paved_edge_samples;
+  const auto [ch, sh, tx, ty] = pose;
+  const auto ground = [&](int u, int v) {
+    return u >= 0 && u < w && v >= 0 && v < h && rays.at(u, v).kind == RayTable::Kind::Ground;
+  };
+  const auto point = [&](int u, int v) { return Vec2(rays.at(u, v).x, rays.at(u, v).y); };
+  // Half the step to the next pixel along u (dv = 0) or v, from the neighbours that are ground.
+  const auto halfStep = [&](int u, int v, int du, int dv) {
+    const bool fwd = ground(u + du, v + dv), back = ground(u - du, v - dv);
+    if (fwd && back) return Vec2(0.25 * (point(u + du, v + dv) - point(u - du, v - dv)));
+    if (fwd) return Vec2(0.5 * (point(u + du, v + dv) - point(u, v)));
+    if (back) return Vec2(0.5 * (point(u, v) - point(u - du, v - dv)));
+    return Vec2(0, 0);
+  };
+  // mask: the centres' classes (mixing leaves them)
+  const auto differs = [&](int u, int v, std::uint8_t m) {
+    return ground(u, v) && mask[static_cast<std::size_t>(v) * w + u] != m;
+  };
+  for (int v = v0; v < v1; ++v)
+    for (int u = 0; u < w; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * w + u;
+      const std::uint8_t m = mask[i];
+      if (!ground(u, v) || !(differs(u - 1, v, m) || differs(u + 1, v, m) || differs(u, v - 1, m) || differs(u, v + 1, m)))
+        continue;
+      const RayTable::Ray& r = rays.at(u, v);
+      const Vec2 su = halfStep(u, v, 1, 0), sv = halfStep(u, v, 0, 1);
+      C3 sum{0, 0, 0};
+      for (int a = 0; a < ns; ++a)
+        for (int b = 0; b < ns; ++b) {
+          const double fa = (2.0 * a + 1.0) / ns - 1.0, fb = (2.0 * b + 1.0) / ns - 1.0;  // in (−1, 1)
+          const Vec2 q = Vec2(r.x, r.y) + fa * su + fb * sv;
+          const Vec2 p(ch * q.x() - sh * q.y() + tx, sh * q.x() + ch * q.y() + ty);
+          bool paved = false;
+          sum = sum + shade(p, r.footprint, r.range, paved, &nc);
+        }
+      const float k = 1.0f / static_cast<float>(ns * ns);
+      buf[3 * i] = sum.r * k;
+      buf[3 * i + 1] = sum.g * k;
+      buf[3 * i + 2] = sum.b * k;
     }
-    buf[3 * i] = c.r;
-    buf[3 * i + 1] = c.g;
-    buf[3 * i + 2] = c.b;
-  }
-  if (o.paved_edge_samples > 1) {
-    // The pixels the paved area's edge crosses: the mean of n × n samples spread over the pixel's
-    // ground footprint, its sides taken from the neighbouring pixels' rays (locally affine).
-    const int ns = o.paved_edge_samples;
-    const auto ground = [&](int u, int v) {
-      return u >= 0 && u < w && v >= 0 && v < h && rays.at(u, v).kind == RayTable::Kind::Ground;
-    };
-    const auto point = [&](int u, int v) { return Vec2(rays.at(u, v).x, rays.at(u, v).y); };
-    // Half the step to the next pixel along u (dv = 0) or v, from the neighbours that are ground.
-    const auto halfStep = [&](int u, int v, int du, int dv) {
-      const bool fwd = ground(u + du, v + dv), back = ground(u - du, v - dv);
-      if (fwd && back) return Vec2(0.25 * (point(u + du, v + dv) - point(u - du, v - dv)));
-      if (fwd) return Vec2(0.5 * (point(u + du, v + dv) - point(u, v)));
-      if (back) return Vec2(0.5 * (point(u, v) - point(u - du, v - dv)));
-      return Vec2(0, 0);
-    };
-    const std::vector<std::uint8_t>& mask = frame.mask.data;  // the centres' classes (mixing leaves them)
-    const auto differs = [&](int u, int v, std::uint8_t m) {
-      return ground(u, v) && mask[static_cast<std::size_t>(v) * w + u] != m;
-    };
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u) {
-        const std::size_t i = static_cast<std::size_t>(v) * w + u;
-        const std::uint8_t m = mask[i];
-        if (!ground(u, v) || !(differs(u - 1, v, m) || differs(u + 1, v, m) || differs(u, v - 1, m) || differs(u, v + 1, m)))
-          continue;
-        const RayTable::Ray& r = rays.at(u, v);
-        const Vec2 su = halfStep(u, v, 1, 0), sv = halfStep(u, v, 0, 1);
-        C3 sum{0, 0, 0};
-        for (int a = 0; a < ns; ++a)
-          for (int b = 0; b < ns; ++b) {
-            const double fa = (2.0 * a + 1.0) / ns - 1.0, fb = (2.0 * b + 1.0) / ns - 1.0;  // in (−1, 1)
-            const Vec2 q = Vec2(r.x, r.y) + fa * su + fb * sv;
-            const Vec2 p(ch * q.x() - sh * q.y() + tx, sh * q.x() + ch * q.y() + ty);
-            bool paved = false;
-            sum = sum + im.shade(p, r.footprint, r.range, paved);
-          }
-        const float k = 1.0f / static_cast<float>(ns * ns);
-        buf[3 * i] = sum.r * k;
-        buf[3 * i + 1] = sum.g * k;
-        buf[3 * i + 2] = sum.b * k;
-      }
-  }
+}
 
+void World::Impl::camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf,
+                         std::uint8_t* rgb) const {
+  const WorldOptions& o = options;
+  const int w = rays.width();
+  const std::size_t i0 = static_cast<std::size_t>(v0) * w, i1 = static_cast<std::size_t>(v1) * w;
   // Slow drifts of brightness and white balance along the mission.
   const double phase = 2 * kPi * t / o.illumination_period_s;
   const auto gain = static_cast<float>(1.0 + o.illumination_drift * std::sin(phase));
   const auto wb = static_cast<float>(o.white_balance_drift * std::sin(phase / 1.618));
   const std::array<float, 3> g{gain * (1 + wb), gain, gain * (1 - wb)};
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = i0; i < i1; ++i)
     for (int k = 0; k < 3; ++k) buf[3 * i + static_cast<std::size_t>(k)] *= g[static_cast<std::size_t>(k)];
 
   if (o.tv_color_shift) {
@@ -169,8 +244,8 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
     const auto sn = static_cast<float>(std::sin(theta) * o.tv_chroma_gain);
     std::vector<float> y(static_cast<std::size_t>(w)), cb(static_cast<std::size_t>(w)), cr(static_cast<std::size_t>(w));
     const int rad = o.tv_chroma_blur_px;
-    for (int v = 0; v < h; ++v) {
-      float* row = buf.data() + static_cast<std::size_t>(v) * w * 3;
+    for (int v = v0; v < v1; ++v) {
+      float* row = buf + static_cast<std::size_t>(v) * w * 3;
       for (int u = 0; u < w; ++u) {
         const float R = row[3 * u], G = row[3 * u + 1], B = row[3 * u + 2];
         const float Y = 0.299f * R + 0.587f * G + 0.114f * B;
@@ -203,7 +278,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
   for (double v : {pose.x(), pose.y(), pose.heading(), t}) frame_seed = mix64(frame_seed ^ std::bit_cast<std::uint64_t>(v));
   const auto sigma = static_cast<float>(o.noise_sigma * 1.7320508);  // sum of 4 U(-.5,.5) has sd 1/√3
   const float lo = o.low_dynamic_range ? 37.0f : 0.0f;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = i0; i < i1; ++i) {
     const bool lit = rays.rays()[i].kind != RayTable::Kind::None;
     for (std::size_t k = 0; k < 3; ++k) {
       float v = buf[3 * i + k];
@@ -213,10 +288,36 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
                         static_cast<float>((hsh >> 32) & 0xFFFF) + static_cast<float>(hsh >> 48);
         v += sigma * (s / 65536.0f - 2.0f);
       }
-      v = std::clamp(std::round(v), lo, 255.0f);
-      frame.rgb.data[3 * i + k] = static_cast<std::uint8_t>(v);
+      rgb[3 * i + k] = toByte(v, lo);
     }
   }
+}
+
+Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
+  const Impl& im = *impl_;
+  const WorldOptions& o = im.options;
+  const int w = rays.width(), h = rays.height();
+  Frame frame{Image(w, h, 3), Image(w, h, 1)};
+  std::vector<float> buf(static_cast<std::size_t>(w) * h * 3);
+  const std::array<double, 4> pose4{std::cos(pose.heading()), std::sin(pose.heading()), pose.x(), pose.y()};
+  const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  // Each pixel's colour depends on its row alone (the edge samples on the finished mask), so the
+  // bands of rows and their threads do not change the frame.
+  forRowBands(h, threads, [&](int v0, int v1) {
+    const auto cache = std::make_unique<NoiseCache>();  // the noise lattice's last cells
+    RowScratch scratch;
+    for (int v = v0; v < v1; ++v) {
+      const std::size_t row = static_cast<std::size_t>(v) * w;
+      im.shadeRow(rays, v, pose4, scratch, *cache, buf.data() + 3 * row, frame.mask.data.data() + row);
+    }
+  });
+  forRowBands(h, threads, [&](int v0, int v1) {
+    if (o.paved_edge_samples > 1) {
+      const auto cache = std::make_unique<NoiseCache>();
+      im.edgeSamples(rays, v0, v1, pose4, frame.mask.data.data(), *cache, buf.data());
+    }
+    im.camera(rays, v0, v1, pose, t, buf.data(), frame.rgb.data.data());
+  });
   return frame;
 }
 

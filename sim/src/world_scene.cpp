@@ -30,15 +30,20 @@ Material materialOf(const std::string& name) {
 bool crossingContains(const PavedPolygon& poly, const Vec2& p) {
   if (!poly.box.contains(p)) return false;
   const auto band = static_cast<std::size_t>(
-      std::clamp((p.y() - poly.band_y0) / kBand, 0.0, static_cast<double>(poly.bands.size() - 1)));
+      std::clamp((p.y() - poly.band_y0) / kBand, 0.0, static_cast<double>(poly.band_start.size() - 2)));
   bool inside = false;
-  const std::size_t n = poly.ring.size();
-  for (std::uint32_t i : poly.bands[band]) {
-    const Vec2& a = poly.ring[i];
-    const Vec2& b = poly.ring[(i + 1) % n];
+  for (std::uint32_t i = poly.band_start[band]; i < poly.band_start[band + 1]; ++i) {
+    const Vec2& a = poly.band_edges[i].a;
+    const Vec2& b = poly.band_edges[i].b;
     if ((a.y() > p.y()) != (b.y() > p.y())) {
-      const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
-      if (p.x() < x) inside = !inside;
+      // The crossing x lies between a.x and b.x (to a few ulps): beyond its margin the side is plain.
+      const Edge& e = poly.band_edges[i];
+      if (p.x() < e.x_lo) {
+        inside = !inside;
+      } else if (p.x() <= e.x_hi) {
+        const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+        if (p.x() < x) inside = !inside;
+      }
     }
   }
   return inside;
@@ -74,6 +79,7 @@ int World::Impl::surfaceIndex(const Map& map, const std::string& name) {
 
 World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
   options.validate();
+  for (std::size_t k = 0; k < salts.size(); ++k) salts[k] = mix64(options.seed * 0x100000001B3ULL + k);
   shadow_everywhere = options.shadow_density >= 0.999;
   lawn = surfaceIndex(map, map.findSurface("grass") ? "grass" : "");
   if (!map.findSurface("grass")) surfaces[static_cast<std::size_t>(lawn)] = {Material::Grass, {70, 120, 50}, {14, 18, 12}};
@@ -121,14 +127,23 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
     for (const Vec2& v : poly.ring) poly.box.extend(v);
     poly.band_y0 = poly.box.min().y();
     const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kBand)) + 1;
-    poly.bands.assign(nb, {});
+    std::vector<std::vector<Edge>> bands(nb);
     const std::size_t n = poly.ring.size();
     for (std::size_t i = 0; i < n; ++i) {
-      const double y0 = std::min(poly.ring[i].y(), poly.ring[(i + 1) % n].y());
-      const double y1 = std::max(poly.ring[i].y(), poly.ring[(i + 1) % n].y());
+      Edge e{poly.ring[i], poly.ring[(i + 1) % n]};
+      const double lo = std::min(e.a.x(), e.b.x()), hi = std::max(e.a.x(), e.b.x());
+      const double margin = 1e-9 * (std::abs(lo) + std::abs(hi) + 1.0);
+      e.x_lo = lo - margin;
+      e.x_hi = hi + margin;
+      const double y0 = std::min(e.a.y(), e.b.y()), y1 = std::max(e.a.y(), e.b.y());
       const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
       const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
-      for (std::size_t b = b0; b <= b1; ++b) poly.bands[b].push_back(static_cast<std::uint32_t>(i));
+      for (std::size_t b = b0; b <= b1; ++b) bands[b].push_back(e);
+    }
+    poly.band_start.assign(1, 0);
+    for (const auto& band : bands) {
+      poly.band_edges.insert(poly.band_edges.end(), band.begin(), band.end());
+      poly.band_start.push_back(static_cast<std::uint32_t>(poly.band_edges.size()));
     }
   }
 
@@ -269,30 +284,38 @@ int World::Impl::pavedAt(const Vec2& p, int cell) const {
   return found;
 }
 
-double World::Impl::shadowAt(const Vec2& p, int cell, bool with_flecks, double footprint) const {
-  if (shadow_everywhere) return 1.0;
-  if (cell < 0) return 0.0;
-  float s = 0;
+void World::Impl::canopy(const Vec2& p, int cell, double footprint, NoiseCache* nc, float& bare, float& flecked) const {
+  bare = flecked = shadow_everywhere ? 1.0f : 0.0f;
+  if (shadow_everywhere || cell < 0) return;
+  // The disc edges are smoothed over max(0.25 m, footprint): the same for both unless wide.
+  const auto edge = static_cast<float>(std::max(0.25, footprint));
+  const bool wide = footprint > 0.25;
+  float s = 0, s_bare = 0;
   double wobble = std::numeric_limits<double>::quiet_NaN();
   for (std::uint32_t i = disc_start[static_cast<std::size_t>(cell)]; i < disc_start[static_cast<std::size_t>(cell) + 1]; ++i) {
     const Disc& d = discs[cell_discs[i]];
     double dist = (p - d.c).norm();
     if (dist > d.r + 0.45) continue;
     if (std::isnan(wobble)) {  // ragged, leafy canopy outlines
-      wobble = 0.3 * valueNoise(options.seed ^ 0xC4A0ULL, p.x() * 1.3, p.y() * 1.3) +
-               0.15 * valueNoise(options.seed ^ 0xC4A1ULL, p.x() * 4.0, p.y() * 4.0);
+      NoiseMemo* memo = channelOf(nc, kCanopyChannel);
+      wobble = 0.3 * valueNoise(options.seed ^ 0xC4A0ULL, p.x() * 1.3, p.y() * 1.3, memo) +
+               0.15 * valueNoise(options.seed ^ 0xC4A1ULL, p.x() * 4.0, p.y() * 4.0, memo != nullptr ? memo + 1 : nullptr);
     }
     dist += wobble;
-    s = std::max(s, smoothstep(0.0f, static_cast<float>(std::max(0.25, footprint)), static_cast<float>(d.r - dist)));
-    if (s >= 1) break;
+    const auto inside = static_cast<float>(d.r - dist);
+    s = std::max(s, smoothstep(0.0f, edge, inside));
+    s_bare = wide ? std::max(s_bare, smoothstep(0.0f, 0.25f, inside)) : s;
+    if (s >= 1) break;  // then s_bare >= s is 1 too
   }
-  if (s > 0 && with_flecks) {
+  bare = s_bare;
+  if (s > 0) {
     // Sun flecks through gaps in the canopy.
-    const float n = valueNoise(options.seed ^ 0xF1ECULL, p.x() * 1.7, p.y() * 1.7) +
-                    0.5f * valueNoise(options.seed ^ 0xF1EDULL, p.x() * 4.1, p.y() * 4.1);
+    NoiseMemo* memo = channelOf(nc, kFleckChannel);
+    const float n = valueNoise(options.seed ^ 0xF1ECULL, p.x() * 1.7, p.y() * 1.7, memo) +
+                    0.5f * valueNoise(options.seed ^ 0xF1EDULL, p.x() * 4.1, p.y() * 4.1, memo != nullptr ? memo + 1 : nullptr);
     s *= 1.0f - 0.9f * smoothstep(0.55f, 0.75f, n) * filterWeight(2.0, footprint);
   }
-  return s;
+  flecked = s;
 }
 
 }  // namespace mapnav

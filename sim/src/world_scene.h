@@ -9,6 +9,8 @@
 // position along a road, (3) the tree-canopy discs whose shadow touches it. A ground point's
 // paved test is then a lookup plus, in boundary cells only, an exact crossing-number test against
 // the polygon's edges in a 1 m band of y.
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -24,7 +26,103 @@ namespace world_detail {
 
 constexpr double kCell = 3.0;   // grid cell, m
 
+// NoiseCache channels of the noise that is not a texture's (a texture's fractal sum k uses
+// channel k, its salt's key in World::Impl::texture).
+constexpr int kWobbleChannel = 0;  // the shoulder's ragged edge
+constexpr int kWornChannel = 1;    // the worn strip of lawn beside the pavement
+constexpr int kCanopyChannel = 6;  // the canopies' ragged outlines (two octaves)
+constexpr int kFleckChannel = 7;   // sun flecks (two octaves)
+
+// A texture's fractal sums (World::Impl::texture): channel k is the key of its salt and its
+// NoiseCache channel; the renderer evaluates a row's sums channel by channel (fbmBatch).
+struct FbmSpec {
+  double base_freq = 0;  // cycles/m of the coarsest octave
+  int octaves = 0;
+};
+constexpr FbmSpec fbmSpec(int k) {
+  switch (k) {
+    case 2: return {0.7, 4};    // concrete: mottle
+    case 3: return {30.0, 3};   //   grain
+    case 4: return {0.35, 3};   //   stains
+    case 10: return {0.12, 3};  // asphalt: wear
+    case 11: return {1.5, 3};   //   mottle
+    case 12: return {40.0, 3};  //   grain
+    case 14: return {0.08, 2};  //   cracked zones
+    case 16: return {0.25, 3};  //   stains
+    case 20: return {0.15, 3};  // grass: patches
+    case 21: return {0.3, 3};   //   dry
+    case 22: return {2.5, 3};   //   clumps
+    case 23: return {40.0, 3};  //   blades
+    case 24: return {9.0, 2};   //   tufts
+    case 30: return {0.8, 4};   // dirt: mottle
+    case 31: return {25.0, 3};  //   grain
+    case 32: return {0.2, 2};   //   wet
+    case 40: return {0.5, 3};   // gravel: mottle
+    case 41: return {45.0, 2};  //   stones
+    case 51: return {20.0, 2};  // brick: grain
+    case 60: return {1.0, 5};   // other
+    default: return {};
+  }
+}
+
 enum class Material { Concrete, Asphalt, Grass, Dirt, Gravel, Brick, Other };
+constexpr int kMaterials = 7;
+
+/// The texture channels a material's texture may read (0 ends the list).
+constexpr std::array<int, 6> materialChannels(Material m) {
+  switch (m) {
+    case Material::Concrete: return {2, 3, 4, 0};
+    case Material::Asphalt: return {10, 11, 12, 14, 16, 0};
+    case Material::Grass: return {20, 21, 22, 23, 24, 0};
+    case Material::Dirt: return {30, 31, 32, 0};
+    case Material::Gravel: return {40, 41, 0};
+    case Material::Brick: return {51, 0};
+    case Material::Other: return {60, 0};
+  }
+  return {};
+}
+
+/// A texture's fractal sums evaluated at its point when asked.
+struct PointNoise {
+  const std::uint64_t* salts;
+  Vec2 p;
+  double footprint;
+  NoiseCache* nc;
+  float operator()(int k) const {
+    const FbmSpec s = fbmSpec(k);
+    return fbm(salts[k], p, s.base_freq, s.octaves, footprint, channelOf(nc, k));
+  }
+};
+
+/// A texture's fractal sums evaluated beforehand for a row of pixels: channel k of pixel i is
+/// values[k * stride + i].
+struct RowNoise {
+  const float* values;
+  std::size_t stride, i;
+  float operator()(int k) const { return values[static_cast<std::size_t>(k) * stride + i]; }
+};
+
+/// Where a ground point lies: its paved area or shoulder, the road it belongs to.
+struct GroundPoint {
+  int cell = -1;
+  bool paved = false;
+  int surface = 0;       // the surface whose texture it shows
+  int texture_road = -1; // the road whose slabs it follows (-1: the world grid)
+  double along = 0, lateral = 0;  // along and beside the nearest centre line
+  double best = 0;       // distance to that centre line
+  int best_road = -1;    // that road, -1 when none is within reach
+};
+
+/// A renderer's scratch for one row (World::Impl::shadeRow), kept between rows.
+struct RowScratch {
+  std::vector<GroundPoint> ground;
+  std::vector<Vec2> points;
+  std::vector<float> values;                    // channel k of pixel u: values[k * width + u]
+  std::vector<std::uint32_t> group[kMaterials];  // the row's ground pixels by their texture's material
+  std::vector<double> xs, ys;                   // one group's points, gathered
+  std::vector<float> footprints, sums;
+  FbmScratch fbm;
+};
 
 struct Surface {
   Material material = Material::Other;
@@ -32,11 +130,17 @@ struct Surface {
   C3 spread;
 };
 
+struct Edge {
+  Vec2 a, b;
+  double x_lo = 0, x_hi = 0;  // the edge's x extent widened by far more than the rounding of its crossing
+};
+
 struct PavedPolygon {
   Polygon2 ring;
   Box2 box;
   double band_y0 = 0;
-  std::vector<std::vector<std::uint32_t>> bands;  // per y-band, the edges (start vertex) meeting it
+  std::vector<std::uint32_t> band_start;  // CSR offsets into band_edges, one per y-band + 1
+  std::vector<Edge> band_edges;           // per y-band, the edges meeting it (in ring order)
   int surface = 0;
   int road = -1;  // index into roads; -1 for an intersection
 };
@@ -64,7 +168,7 @@ struct PolyRef {
 
 }  // namespace world_detail
 
-struct World::Impl {
+struct [[gnu::visibility("hidden")]] World::Impl {
   using C3 = world_detail::C3;
   using Surface = world_detail::Surface;
   using RoadInfo = world_detail::RoadInfo;
@@ -72,8 +176,11 @@ struct World::Impl {
   using Segment = world_detail::Segment;
   using Disc = world_detail::Disc;
   using PolyRef = world_detail::PolyRef;
+  using NoiseCache = world_detail::NoiseCache;
+  using NoiseMemo = world_detail::NoiseMemo;
 
   WorldOptions options;
+  std::array<std::uint64_t, world_detail::NoiseCache::kChannels> salts{};  // texture salt k (texture)
   std::vector<Surface> surfaces;
   int lawn = -1;  // the background surface
   std::vector<RoadInfo> roads;
@@ -105,9 +212,33 @@ struct World::Impl {
 
   /// Index of the paved polygon holding p (roads before intersections), or -1.
   int pavedAt(const Vec2& p, int cell) const;
-  double shadowAt(const Vec2& p, int cell, bool with_flecks, double footprint = 0.0) const;
-  C3 shade(const Vec2& p, double footprint, double range, bool& paved) const;
-  C3 texture(int surface, const Vec2& p, double footprint, double along, double lateral, int road) const;
+  /// Tree shadow at p, 0 sunlit … 1 full: `bare` at the point without the sun flecks (where the
+  /// leaves fall), `flecked` over a pixel `footprint` wide with the flecks. `nc` may be nullptr.
+  void canopy(const Vec2& p, int cell, double footprint, NoiseCache* nc, float& bare, float& flecked) const;
+  /// The colour of ground point p seen by a pixel `footprint` wide at `range`; `paved` its class.
+  /// `nc` (may be nullptr) memoizes the noise lattice between calls (the same colour either way).
+  /// It is locate, texture and finish in turn.
+  C3 shade(const Vec2& p, double footprint, double range, bool& paved, NoiseCache* nc) const;
+  /// Where p lies (the shoulder's ragged edge from `nc`'s wobble channel).
+  void locate(const Vec2& p, NoiseCache* nc, world_detail::GroundPoint& g) const;
+  /// A surface's texture at p; `noise(k)` gives its fractal sum k (PointNoise or RowNoise).
+  template <class Noise>
+  C3 texture(int surface, const Vec2& p, double footprint, double along, double lateral, int road,
+             const Noise& noise, NoiseCache* nc) const;
+  /// Shades row v of a frame seen from pose (cos, sin of the heading, x, y): its pixels' colours
+  /// (3 floats each, before the camera's drift and noise) and mask. The same as `shade` per pixel,
+  /// with the texture's fractal sums evaluated channel by channel over the row.
+  void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, world_detail::RowScratch& rs,
+                NoiseCache& nc, float* rgb, std::uint8_t* mask) const;
+  /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
+  /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel).
+  void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,
+                   NoiseCache& nc, float* buf) const;
+  /// Rows [v0, v1) through the camera: illumination drift, TV colour shift, sensor noise, bytes.
+  void camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf, std::uint8_t* rgb) const;
+  /// The texture `c` of located point p finished: the lawn's worn edge, leaves, shadow, haze.
+  C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, double range,
+            NoiseCache* nc) const;
   C3 sky(double elevation) const;
 };
 

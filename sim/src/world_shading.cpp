@@ -19,10 +19,11 @@ C3 World::Impl::sky(double elevation) const {
   return lerp(horizon, zenith, t);
 }
 
-C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double along, double lateral, int road) const {
+template <class Noise>
+C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double along, double lateral, int road,
+                        const Noise& noise, NoiseCache* nc) const {
   const Surface& sf = surfaces[static_cast<std::size_t>(surface_index)];
-  const std::uint64_t seed = options.seed;
-  const auto salt = [&](std::uint64_t k) { return mix64(seed * 0x100000001B3ULL + k); };
+  const auto salt = [&](int k) { return salts[static_cast<std::size_t>(k)]; };
   C3 c = sf.rgb;
   switch (sf.material) {
     case Material::Concrete: {
@@ -52,8 +53,8 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
       const std::uint64_t slab_hash = hash2(salt(1) + static_cast<std::uint64_t>(road + 1), slab_i, slab_j);
       const float tone = 1.0f + 0.035f * unitSigned(slab_hash) * pn;  // each slab poured apart
       c = c * tone;
-      const float mottle = fbm(salt(2), p, 0.7, 4, fp);
-      const float grain = fbm(salt(3), p, 30.0, 3, fp);
+      const float mottle = noise(2);
+      const float grain = noise(3);
       c = c + sf.spread * (pn * (1.3f * mottle + 1.4f * grain));
       // Dust and stains, heavier toward the edges.
       if (options.dust > 0) {
@@ -62,12 +63,12 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
           const double half = roads[static_cast<std::size_t>(road)].width / 2;
           edge = smoothstep(0.35f, 0.0f, static_cast<float>(half - std::abs(lateral)));
         }
-        const float stain = std::clamp(0.5f + 1.6f * fbm(salt(4), p, 0.35, 3, fp), 0.0f, 1.0f);
+        const float stain = std::clamp(0.5f + 1.6f * noise(4), 0.0f, 1.0f);
         const float amount = static_cast<float>(options.dust) * std::clamp(0.35f * stain * stain + 0.5f * edge, 0.0f, 1.0f);
         c = lerp(c, C3{138, 124, 100}, amount);
       }
       if (options.crack_density > 0 && unit01(mix64(slab_hash)) < options.crack_density) {
-        const float cr = crackCoverage(salt(5) + static_cast<std::uint64_t>(slab_i * 31 + slab_j), p, fp, 0.004);
+        const float cr = crackCoverage(salt(5) + static_cast<std::uint64_t>(slab_i * 31 + slab_j), p, fp, 0.004, channelOf(nc, 5));
         c = c * (1.0f - 0.45f * cr);
       }
       c = c * (1.0f - static_cast<float>(options.slab_gap_darkness) * gap);
@@ -76,10 +77,10 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
     case Material::Asphalt: {
       const auto pn = static_cast<float>(options.pavement_noise);
       // Blue-grey to black (the paper's park path): large patches of different wear.
-      const float wear = fbm(salt(10), p, 0.12, 3, fp);
+      const float wear = noise(10);
       c = c * (1.0f + 0.22f * wear * pn) + C3{-2, 0, 4} * (wear * pn);
-      const float mottle = fbm(salt(11), p, 1.5, 3, fp);
-      const float grain = fbm(salt(12), p, 40.0, 3, fp);
+      const float mottle = noise(11);
+      const float grain = noise(12);
       c = c + sf.spread * (pn * (0.9f * mottle + 2.2f * grain));
       // Bright aggregate stones.
       if (fp < 0.02) {
@@ -88,42 +89,42 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
         if (unit01(h) < 0.04f) c = c + C3{16, 16, 15} * (pn * (1.0f - static_cast<float>(fp / 0.02)));
       }
       if (options.crack_density > 0) {
-        const float zone = fbm(salt(14), p, 0.08, 2, fp);
+        const float zone = noise(14);
         if (zone < static_cast<float>(options.crack_density) * 0.6f - 0.3f) {
-          c = c * (1.0f - 0.5f * crackCoverage(salt(15), p, fp, 0.007));
+          c = c * (1.0f - 0.5f * crackCoverage(salt(15), p, fp, 0.007, channelOf(nc, 15)));
         }
       }
       if (options.dust > 0) {
-        const float stain = std::clamp(fbm(salt(16), p, 0.25, 3, fp) * 2.0f, 0.0f, 1.0f);
+        const float stain = std::clamp(noise(16) * 2.0f, 0.0f, 1.0f);
         c = lerp(c, C3{120, 112, 98}, 0.25f * static_cast<float>(options.dust) * stain);
       }
       break;
     }
     case Material::Grass: {
       const auto gn = static_cast<float>(options.ground_noise);
-      const float patch = fbm(salt(20), p, 0.15, 3, fp);
-      const float dry = std::clamp(fbm(salt(21), p, 0.3, 3, fp) * 2.5f, 0.0f, 1.0f);
+      const float patch = noise(20);
+      const float dry = std::clamp(noise(21) * 2.5f, 0.0f, 1.0f);
       c = c * (1.0f + 0.3f * patch * gn);
       c = lerp(c, C3{118, 122, 72}, std::min(1.0f, 0.3f + 0.5f * dry) * gn);  // not a golf course
-      const float clump = fbm(salt(22), p, 2.5, 3, fp);
-      const float tuft = fbm(salt(24), p, 9.0, 2, fp);
-      const float blade = fbm(salt(23), p, 40.0, 3, fp);
+      const float clump = noise(22);
+      const float tuft = noise(24);
+      const float blade = noise(23);
       c = c * (1.0f + gn * (0.22f * clump + 0.35f * tuft + 0.6f * blade)) + sf.spread * (0.3f * gn * blade);
       break;
     }
     case Material::Dirt: {
       const auto gn = static_cast<float>(options.ground_noise);
-      const float m = fbm(salt(30), p, 0.8, 4, fp);
-      const float g = fbm(salt(31), p, 25.0, 3, fp);
+      const float m = noise(30);
+      const float g = noise(31);
       c = c + sf.spread * (gn * (1.3f * m + 1.5f * g));
-      const float wet = std::clamp(fbm(salt(32), p, 0.2, 2, fp) * 2.0f, 0.0f, 1.0f);
+      const float wet = std::clamp(noise(32) * 2.0f, 0.0f, 1.0f);
       c = c * (1.0f - 0.25f * wet * gn);
       break;
     }
     case Material::Gravel: {
       const auto gn = static_cast<float>(options.ground_noise);
-      const float m = fbm(salt(40), p, 0.5, 3, fp);
-      const float g = fbm(salt(41), p, 45.0, 2, fp);
+      const float m = noise(40);
+      const float g = noise(41);
       c = c + sf.spread * (gn * (0.8f * m + 2.2f * g));
       break;
     }
@@ -139,11 +140,11 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
       const double du = std::abs(xs - std::round(xs)) * kL;
       const float mortar = std::max(lineCoverage(dv, kMortar, fp), lineCoverage(du, kMortar, fp));
       c = lerp(c, C3{150, 145, 135}, 0.7f * mortar);
-      c = c + sf.spread * (gn * 0.8f * fbm(salt(51), p, 20.0, 2, fp));
+      c = c + sf.spread * (gn * 0.8f * noise(51));
       break;
     }
     case Material::Other: {
-      const float m = fbm(salt(60), p, 1.0, 5, fp);
+      const float m = noise(60);
       c = c + sf.spread * (2.0f * m * static_cast<float>(options.ground_noise));
       break;
     }
@@ -151,15 +152,16 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
   return c;
 }
 
-C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved) const {
+void World::Impl::locate(const Vec2& p, NoiseCache* nc, GroundPoint& g) const {
   const int cell = cellIndex(p);
   const int poly = pavedAt(p, cell);
-  paved = poly >= 0;
+  g.cell = cell;
+  g.paved = poly >= 0;
   // Nearest centre-line segment within reach: the road a point belongs to, its side, arc length.
   double best = std::numeric_limits<double>::infinity(), along = 0, lateral = 0;
   int best_road = -1;
-  const int want_road = paved ? polys[static_cast<std::size_t>(poly)].road : -2;
-  if (cell >= 0 && !(paved && want_road < 0)) {
+  const int want_road = g.paved ? polys[static_cast<std::size_t>(poly)].road : -2;
+  if (cell >= 0 && !(g.paved && want_road < 0)) {
     for (std::uint32_t i = seg_start[static_cast<std::size_t>(cell)]; i < seg_start[static_cast<std::size_t>(cell) + 1]; ++i) {
       const Segment& s = segments[cell_segs[i]];
       if (want_road >= 0 && s.road != want_road) continue;
@@ -174,29 +176,46 @@ C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved) const
       }
     }
   }
-  C3 c;
-  if (paved) {
+  g.along = along;
+  g.lateral = lateral;
+  g.best = best;
+  g.best_road = best_road;
+  if (g.paved) {
     const PavedPolygon& pp = polys[static_cast<std::size_t>(poly)];
-    c = texture(pp.surface, p, fp, along, lateral, pp.road >= 0 && best_road >= 0 ? pp.road : -1);
-  } else {
-    int surface = lawn;
-    if (best_road >= 0) {
-      const RoadInfo& r = roads[static_cast<std::size_t>(best_road)];
-      const double edge = best - r.width / 2;
-      const double wobble = 0.4 * valueNoise(options.seed ^ 0x5B0ULL, p.x() * 0.8, p.y() * 0.8);
-      if (edge < options.shoulder_width_m + wobble) surface = lateral > 0 ? r.left : r.right;
-    }
-    c = texture(surface, p, fp, along, lateral, -1);
-    if (best_road >= 0 && surfaces[static_cast<std::size_t>(surface)].material == Material::Grass) {
-      // Worn, dusty strip where the lawn meets the pavement.
-      const double edge = best - roads[static_cast<std::size_t>(best_road)].width / 2;
-      const float worn = smoothstep(0.25f, 0.0f, static_cast<float>(edge)) *
-                         (0.5f + 0.5f * valueNoise(options.seed ^ 0xED6EULL, p.x() * 3, p.y() * 3));
-      c = lerp(c, C3{112, 108, 78}, 0.5f * worn);
-    }
+    g.surface = pp.surface;
+    g.texture_road = pp.road >= 0 && best_road >= 0 ? pp.road : -1;
+    return;
+  }
+  g.surface = lawn;
+  g.texture_road = -1;
+  if (best_road >= 0) {
+    const RoadInfo& r = roads[static_cast<std::size_t>(best_road)];
+    const double edge = best - r.width / 2;
+    const double wobble = 0.4 * valueNoise(options.seed ^ 0x5B0ULL, p.x() * 0.8, p.y() * 0.8, channelOf(nc, kWobbleChannel));
+    if (edge < options.shoulder_width_m + wobble) g.surface = lateral > 0 ? r.left : r.right;
+  }
+}
+
+C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved, NoiseCache* nc) const {
+  GroundPoint g;
+  locate(p, nc, g);
+  paved = g.paved;
+  const C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, PointNoise{salts.data(), p, fp, nc}, nc);
+  return finish(p, g, c, fp, range, nc);
+}
+
+C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, double range, NoiseCache* nc) const {
+  const int cell = g.cell;
+  if (!g.paved && g.best_road >= 0 && surfaces[static_cast<std::size_t>(g.surface)].material == Material::Grass) {
+    // Worn, dusty strip where the lawn meets the pavement.
+    const double edge = g.best - roads[static_cast<std::size_t>(g.best_road)].width / 2;
+    const float worn = smoothstep(0.25f, 0.0f, static_cast<float>(edge)) *
+                       (0.5f + 0.5f * valueNoise(options.seed ^ 0xED6EULL, p.x() * 3, p.y() * 3, channelOf(nc, kWornChannel)));
+    c = lerp(c, C3{112, 108, 78}, 0.5f * worn);
   }
   // Fallen leaves: jittered cells of 0.12 m, more of them under the trees.
-  const double tree = shadowAt(p, cell, false);
+  float tree = 0, flecked = 0;  // tree shadow: at the point (leaves fall there), and as seen
+  canopy(p, cell, fp, nc, tree, flecked);
   if (options.leaf_density > 0) {
     constexpr double kLeafCell = 0.12;
     const double density = std::min(1.0, options.leaf_density * (0.5 + 2.5 * (shadow_everywhere ? 0.2 : tree)));
@@ -223,7 +242,7 @@ C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved) const
     }
   }
   // Tree shadow: k·C, tinted toward the skylight.
-  const double s = shadow_everywhere ? 1.0 : shadowAt(p, cell, true, fp);
+  const double s = flecked;
   if (s > 0) {
     const auto k = static_cast<float>(options.shadow_k), b = static_cast<float>(options.shadow_blue_shift);
     const C3 lit{1, 1, 1}, shadow{k * (1 - b), k, k * (1 + b)};
@@ -234,5 +253,10 @@ C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved) const
   const float haze = static_cast<float>(1.0 - std::exp(-range / options.haze_distance_m));
   return lerp(c, C3{196, 206, 218}, haze);
 }
+
+template C3 World::Impl::texture<PointNoise>(int, const Vec2&, double, double, double, int, const PointNoise&,
+                                             NoiseCache*) const;
+template C3 World::Impl::texture<RowNoise>(int, const Vec2&, double, double, double, int, const RowNoise&,
+                                           NoiseCache*) const;
 
 }  // namespace mapnav

@@ -90,6 +90,11 @@ struct WorldOptions {
   /// shadows on dark surfaces become flat splotches of black level and max/min ≤ 255/37 < 7.
   bool low_dynamic_range = false;
 
+  /// Runtime threads: bands of rows rendered in parallel (1 = this thread only, 0 = every core).
+  /// The frame does not depend on it. Default 1: the simulator's callers (tests, missions) often
+  /// run side by side on every core already. In [0, 256].
+  int threads = 1;
+
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
