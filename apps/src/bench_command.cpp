@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "bench_measure.h"
+#include "bench_sim_route.h"
 #include "cli.h"
 #include "command_line.h"
 #include "command_support.h"
@@ -27,59 +29,6 @@
 namespace mapnav::cli {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// Keeps the compiler from dropping work whose result is otherwise unused.
-template <class T>
-inline void keep(const T& value) {
-  asm volatile("" : : "g"(&value) : "memory");
-}
-
-struct Measured {
-  double s_per_frame = 0;  // the median batch's time per call
-  int batches = 0;
-};
-
-// Runs `once` in batches until `min_time_s` has passed and there are at least 5 batches (3 when one
-// call alone takes a third of the time), and takes the median batch: the machine's noise (other
-// processes, frequency changes) lands in the outer batches. A warm-up call and a calibration that
-// sizes a batch to about a tenth of `min_time_s` come first and are not counted.
-template <class F>
-Measured measure(F&& once, double min_time_s) {
-  once();
-  const double batch_target = min_time_s / 10;
-  long n = 1;
-  double per_call = 0;
-  for (;;) {
-    const Clock::time_point t0 = Clock::now();
-    for (long i = 0; i < n; ++i) once();
-    const double dt = secondsSince(t0);
-    if (dt >= batch_target / 4 || n >= (1L << 30)) {
-      per_call = dt / static_cast<double>(n);
-      break;
-    }
-    n *= 4;
-  }
-  const long calls = std::max(1L, static_cast<long>(std::ceil(batch_target / std::max(per_call, 1e-9))));
-  const int min_batches = per_call > min_time_s / 3 ? 3 : 5;
-  std::vector<double> batches;
-  const Clock::time_point start = Clock::now();
-  while (static_cast<int>(batches.size()) < min_batches ||
-         (secondsSince(start) < min_time_s && batches.size() < 1000)) {
-    const Clock::time_point t0 = Clock::now();
-    for (long i = 0; i < calls; ++i) once();
-    batches.push_back(secondsSince(t0) / static_cast<double>(calls));
-  }
-  std::sort(batches.begin(), batches.end());
-  const std::size_t m = batches.size();
-  const double median = m % 2 ? batches[m / 2] : 0.5 * (batches[m / 2 - 1] + batches[m / 2]);
-  return {median, static_cast<int>(m)};
-}
 
 // One row of the table: the runtime at one size and thread count, with what it is compared to.
 struct Row {
@@ -151,8 +100,7 @@ struct SidewalkTimes {
   double referenceRatio() const { return reference.s_per_frame / fast.s_per_frame; }
 };
 
-SidewalkTimes timeSidewalk(double min_time_s) {
-  const SidewalkScene scene = makeSidewalkScene(std::filesystem::path(defaultParkMapPath()).parent_path());
+SidewalkTimes timeSidewalk(const SidewalkScene& scene, double min_time_s) {
   registerBuiltinPipelines();
   SidewalkTimes t;
   t.width = scene.camera->width();
@@ -197,6 +145,8 @@ struct BenchResults {
   int small = 0, large = 0;         // the smallest and the largest size
   std::vector<Growth> growth;       // empty with one size
   SidewalkTimes sidewalk;
+  RenderTimes render;
+  std::vector<RouteTimes> routes;  // one per --route-sizes
 };
 
 void printHeader(const BenchConfig& config, int cores, std::ostream& out) {
@@ -319,6 +269,21 @@ Json benchJson(const BenchConfig& config, const BenchResults& r) {
                  {"cost_per_pixel_ratio", number(x.ratio)}});
   }
   doc["cost_per_pixel_growth"] = g;
+  doc["render"] = {{"width", r.render.width},
+                   {"height", r.render.height},
+                   {"ms", number(r.render.ms())},
+                   {"fps", number(1e3 / r.render.ms())},
+                   {"memcpy_ms", number(1e3 * r.render.copy.s_per_frame)},
+                   {"memcpy_ratio", number(r.render.memcpyRatio())}};
+  Json routes = Json::array();
+  for (const RouteTimes& t : r.routes) {
+    routes.push_back({{"intersections", t.intersections},
+                      {"prep_s", number(t.prep_s)},
+                      {"astar_ms", number(1e3 * t.astar.s_per_frame)},
+                      {"dijkstra_ms", number(1e3 * t.dijkstra.s_per_frame)},
+                      {"dijkstra_ratio", number(t.dijkstraRatio())}});
+  }
+  doc["route"] = routes;
   doc["cores"] = r.cores;
   doc["min_time_s"] = config.min_time_s;
   return doc;
@@ -351,25 +316,57 @@ void printSummary(const BenchResults& r, std::ostream& out) {
       << " with the Map's prediction first, the loop's two costly steps), memcpy_ratio "
       << sig(sidewalk.memcpyRatio()) << ", reference_ratio " << sig(sidewalk.referenceRatio()) << " (reference, every pixel: "
       << sig(1e3 * sidewalk.reference.s_per_frame) << " ms)\n";
+  out << "renderer (the simulator's frames) at " << r.render.width << "x" << r.render.height
+      << " on the campus scene, one thread: " << sig(r.render.ms()) << " ms/frame (" << strprintf("%.0f", 1e3 / r.render.ms())
+      << " frames/s), memcpy_ratio " << sig(r.render.memcpyRatio()) << " (a copy of the frame's colour and mask planes: "
+      << sig(1e3 * r.render.copy.s_per_frame) << " ms)\n";
+  for (const RouteTimes& t : r.routes) {
+    out << "route query on a grid campus of " << t.intersections << " intersections: A* " << sig(1e3 * t.astar.s_per_frame)
+        << " ms, Dijkstra (the reference) " << sig(1e3 * t.dijkstra.s_per_frame) << " ms, ratio "
+        << sig(t.dijkstraRatio()) << "; preprocessing " << sig(t.prep_s) << " s\n";
+  }
+  if (r.routes.size() >= 2) {
+    const RouteTimes &a = r.routes.front(), &b = r.routes.back();
+    out << "route query growth from " << a.intersections << " to " << b.intersections
+        << " intersections: A* " << strprintf("%.2f", b.astar.s_per_frame / a.astar.s_per_frame) << "x, Dijkstra "
+        << strprintf("%.2f", b.dijkstra.s_per_frame / a.dijkstra.s_per_frame) << "x for "
+        << strprintf("%.1f", static_cast<double>(b.intersections) / a.intersections) << "x the intersections\n";
+  }
 }
 
 }  // namespace
 
 std::string defaultParkMapPath() { return dataPath("maps/park_path.json"); }
 
-std::vector<int> parseBenchSizes(const std::string& text) {
-  const std::string expected = "sizes in pixels a side, whole numbers in [16, 4096], e.g. 64,128,256,512,1024";
-  const std::vector<double> values = parseNumbers("--sizes", text, 1, 64, expected);
-  std::vector<int> sizes;
+namespace {
+
+// Whole numbers in [lo, hi], comma-separated, sorted, without repeats; `what` says what they are
+// (for the message).
+std::vector<int> parseWholeNumbers(const std::string& option, const std::string& text, std::size_t max_count, int lo,
+                                   int hi, const std::string& what) {
+  const std::string range = strprintf("[%d, %d]", lo, hi);
+  const std::vector<double> values = parseNumbers(option, text, 1, max_count, what + ", whole numbers in " + range);
+  std::vector<int> out;
   for (double v : values) {
-    if (v != std::floor(v) || v < 16 || v > 4096) {
-      throw InvalidInput("--sizes \"" + text + "\": " + strprintf("%g", v) + " is not a whole number in [16, 4096]");
+    if (v != std::floor(v) || v < lo || v > hi) {
+      throw InvalidInput(option + " \"" + text + "\": " + strprintf("%g", v) + " is not a whole number in " + range);
     }
-    sizes.push_back(static_cast<int>(v));
+    out.push_back(static_cast<int>(v));
   }
-  std::sort(sizes.begin(), sizes.end());
-  sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
-  return sizes;
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> parseBenchSizes(const std::string& text) {
+  return parseWholeNumbers("--sizes", text, 64, 16, 4096, "sizes in pixels a side (e.g. 64,128,256,512,1024)");
+}
+
+std::vector<int> parseRouteSizes(const std::string& text) {
+  if (text.empty()) return {};
+  return parseWholeNumbers("--route-sizes", text, 16, 4, 4000000, "intersections (e.g. 10000,100000)");
 }
 
 double parseBenchMinTime(const std::string& text) {
@@ -400,7 +397,10 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     r.small = config.sizes.front();
     r.large = config.sizes.back();
     r.growth = costGrowth(r.rows, r.small, r.large, thread_counts);
-    r.sidewalk = timeSidewalk(config.min_time_s);
+    const SidewalkScene scene = makeSidewalkScene(std::filesystem::path(defaultParkMapPath()).parent_path());
+    r.sidewalk = timeSidewalk(scene, config.min_time_s);
+    r.render = timeRender(scene, config.min_time_s);
+    r.routes = timeRoutes(config.route_sizes, config.min_time_s);
     if (config.json) {
       out << benchJson(config, r).dump() << "\n";
     } else {
@@ -415,15 +415,19 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
 void registerBenchCommand(CLI::App& app, Commands& commands) {
   auto* bench = commands.hold<BenchConfig>();
   struct Texts {
-    std::string sizes = "64,128,256,512,1024", min_time = "0.2", road_model = "line";
+    std::string sizes = "64,128,256,512,1024", min_time = "0.2", road_model = "line", route_sizes = "10000,100000";
   };
   auto* text = commands.hold<Texts>();
-  CLI::App* bn = app.add_subcommand("bench", "Time the park road finder's runtime per frame on this machine (Jochem & Baluja 1993, section 6) and the sidewalk pipeline at 512x480");
+  CLI::App* bn = app.add_subcommand("bench", "Time the park road finder's runtime per frame on this machine (Jochem & Baluja 1993, section 6), the sidewalk pipeline and the simulator's renderer at 512x480, and route queries at 10k and 100k intersections");
   bn->add_flag("--json", bench->json, "Print one JSON object instead of the table");
   bn->add_option("--sizes", text->sizes, "Square frame sizes, pixels a side, comma-separated, each in [16, 4096]")
       ->default_str("64,128,256,512,1024");
   bn->add_option("--min-time", text->min_time, "Seconds to spend on each measurement at least (> 0, at most 60)")
       ->default_str("0.2");
+  bn->add_option("--route-sizes", text->route_sizes,
+                 "Grid campuses of the route queries, intersections each, comma-separated, each in [4, 4000000]; "
+                 "\"\" = none")
+      ->default_str("10000,100000");
   bn->add_option("--threads", bench->threads, "Threads of the multi-threaded rows; 0 = every core")
       ->default_val(0)
       ->check(CLI::Range(0, 256));
@@ -445,11 +449,20 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
       "Cost per pixel growth = (time at the largest size / time at the smallest) / pixel ratio: 1 = linear.\n"
       "Training (clustering + perceptron on the first frame, one thread) is reported at 512, or at the largest\n"
       "size when 512 is not measured; train_ms in the JSON, with every size's under \"training\".\n"
+      "Then, at 512x480 on the campus scene, one thread: the sidewalk pipeline (ms/frame, memcpy_ratio,\n"
+      "reference_ratio) and the simulator's renderer (ms/frame, memcpy_ratio = render time / a copy of the frame's\n"
+      "colour and mask planes); and route queries on grid campuses of --route-sizes intersections (32 seeded\n"
+      "queries, default turn penalties): A* and the Dijkstra reference per query, their ratio, the growth\n"
+      "from the smallest to the largest (beside the ratio of their intersections: linear growth) and the\n"
+      "preprocessing (graph and landmarks, once per map, seconds).\n"
       "--json prints {\"runtime\":[{\"size\",\"threads\",\"fps\",\"ms\",\"px_per_s\",\"memcpy_ratio\",\n"
-      "\"reference_ratio\",...},...],\"train_ms\",...}. Exit codes: 0 measured, 1 an invalid --map, 2 usage or I/O error.");
+      "\"reference_ratio\",...},...],\"train_ms\",...,\"sidewalk\":{...},\"render\":{\"ms\",\"fps\",\"memcpy_ratio\",...},\n"
+      "\"route\":[{\"intersections\",\"prep_s\",\"astar_ms\",\"dijkstra_ms\",\"dijkstra_ratio\"},...]}.\n"
+      "Exit codes: 0 measured, 1 an invalid --map, 2 usage or I/O error.");
   bn->callback(commands.choose([bench, text](std::ostream& out, std::ostream& err) {
     bench->sizes = parseBenchSizes(text->sizes);
     bench->min_time_s = parseBenchMinTime(text->min_time);
+    bench->route_sizes = parseRouteSizes(text->route_sizes);
     bench->road_model = roadModelFromString(text->road_model);
     return runBench(*bench, out, err);
   }));

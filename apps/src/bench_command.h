@@ -20,6 +20,9 @@ struct BenchConfig {
   /// The road finder's model (--road-model): the paper's straight line (default) or the §9 arc, whose
   /// ground refinement is timed too.
   RoadModel road_model = RoadModel::Line;
+  /// The grid campuses of the route queries, intersections each (rounded up to a square grid),
+  /// 4..4 000 000; empty = no route queries.
+  std::vector<int> route_sizes{10000, 100000};
 };
 
 /// maps/park_path.json: the installed copy next to the program (../share/mapnav/maps) when there is
@@ -29,6 +32,9 @@ std::string defaultParkMapPath();
 /// "64,128,256": the sizes, each a whole number in [16, 4096], sorted, without repeats. Throws
 /// InvalidInput naming --sizes.
 std::vector<int> parseBenchSizes(const std::string& text);
+/// "10000,100000": intersections, whole numbers in [4, 4000000], sorted, without repeats; "" = none.
+/// Throws InvalidInput naming --route-sizes.
+std::vector<int> parseRouteSizes(const std::string& text);
 /// "0.2": seconds, a number in (0, 60]. Throws InvalidInput naming --min-time.
 double parseBenchMinTime(const std::string& text);
 

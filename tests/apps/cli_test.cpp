@@ -366,7 +366,7 @@ TEST(Cli, CalibrateTiltFromTwoGroundParallelLinesAndSegmentFromAGivenRegion) {
 // `mapnav bench` end to end at two small sizes: the JSON's shape and that its numbers agree with each
 // other. No timing asserts: the machine decides how fast.
 TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
-  const auto r = runCli({"bench", "--json", "--sizes", "64,128", "--min-time", "0.01"});
+  const auto r = runCli({"bench", "--json", "--sizes", "64,128", "--min-time", "0.01", "--route-sizes", "400,100"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.contains("runtime")) << r.out;
@@ -424,18 +424,38 @@ TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
   EXPECT_NEAR(sw["memcpy_ratio"].get<double>(), sw_ms / sw["memcpy_ms"].get<double>(), 1e-9 * sw["memcpy_ratio"].get<double>());
   EXPECT_NEAR(sw["reference_ratio"].get<double>(), sw["reference_ms"].get<double>() / sw_ms,
               1e-9 * sw["reference_ratio"].get<double>());
+  // The renderer at the same size, and the route queries on grids of 10 x 10 and 20 x 20, smallest first.
+  const auto& render = j["render"];
+  EXPECT_EQ(render["width"], 512);
+  EXPECT_EQ(render["height"], 480);
+  const double render_ms = render["ms"].get<double>();
+  EXPECT_GT(render_ms, 0.0);
+  EXPECT_NEAR(render["fps"].get<double>(), 1000.0 / render_ms, 1e-9 * render["fps"].get<double>());
+  EXPECT_NEAR(render["memcpy_ratio"].get<double>(), render_ms / render["memcpy_ms"].get<double>(),
+              1e-9 * render["memcpy_ratio"].get<double>());
+  ASSERT_EQ(j["route"].size(), 2u) << r.out;
+  EXPECT_EQ(j["route"][0]["intersections"], 100);
+  EXPECT_EQ(j["route"][1]["intersections"], 400);
+  for (const auto& q : j["route"]) {
+    EXPECT_GT(q["prep_s"].get<double>(), 0.0) << q.dump();
+    EXPECT_NEAR(q["dijkstra_ratio"].get<double>(), q["dijkstra_ms"].get<double>() / q["astar_ms"].get<double>(),
+                1e-9 * q["dijkstra_ratio"].get<double>())
+        << q.dump();
+  }
 }
 
 TEST(Cli, BenchPrintsATableWithTheRatios) {
-  const auto r = runCli({"bench", "--sizes", "32,64", "--min-time", "0.01", "--threads", "2"});
+  const auto r = runCli({"bench", "--sizes", "32,64", "--min-time", "0.01", "--threads", "2", "--route-sizes", "100,400"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* text : {"cores", "memcpy_ratio", "reference_ratio", "frames/s", "cost per pixel growth", "training at 64x64",
-                           "sidewalk pipeline", "at 512x480"}) {
+                           "sidewalk pipeline", "at 512x480", "renderer", "grid campus of 100 intersections",
+                           "grid campus of 400 intersections", "route query growth from 100 to 400 intersections"}) {
     EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
   }
   EXPECT_NE(r.out.find("line road model"), std::string::npos) << r.out;  // the default, the paper's
   // The arc model (§9) is timed when asked for, and says so.
-  const auto arc = runCli({"bench", "--sizes", "32", "--min-time", "0.01", "--threads", "1", "--road-model", "arc"});
+  const auto arc = runCli({"bench", "--sizes", "32", "--min-time", "0.01", "--threads", "1", "--road-model", "arc",
+                           "--route-sizes", ""});
   ASSERT_EQ(arc.exit_code, 0) << arc.err;
   EXPECT_NE(arc.out.find("arc road model"), std::string::npos) << arc.out;
   const auto help = runCli({"bench", "--help"});
@@ -459,7 +479,10 @@ TEST(Cli, BenchRefusesBadOptionsWithExitTwoNamingTheOption) {
                                          {{"--min-time", "soon"}, "--min-time"},
                                          {{"--threads", "-1"}, "--threads"},
                                          {{"--threads", "many"}, "--threads"},
-                                         {{"--road-model", "curve"}, "--road-model"}}) {
+                                         {{"--road-model", "curve"}, "--road-model"},
+                                         {{"--route-sizes", "2"}, "--route-sizes"},
+                                         {{"--route-sizes", "100,5e6"}, "--route-sizes"},
+                                         {{"--route-sizes", "100.5"}, "--route-sizes"}}) {
     std::vector<std::string> args{"bench"};
     args.insert(args.end(), c.args.begin(), c.args.end());
     const auto r = runCli(args);

@@ -1,0 +1,34 @@
+#pragma once
+// `mapnav bench`'s other two measurements (issue 31): the simulator's renderer per frame beside a
+// memcpy of the frame, and route queries on generated grid campuses, A* beside the Dijkstra
+// reference, with their growth from 10k to 100k intersections (internal to apps/).
+#include <vector>
+
+#include "bench_measure.h"
+#include "mapnav/scenes/sidewalk_scene.h"
+
+namespace mapnav::cli {
+
+/// World::render per frame on the sidewalk scene's map and camera (512 x 480, the default world,
+/// the scene's poses in turn, one thread), and a copy of a frame's colour and mask planes.
+struct RenderTimes {
+  int width = 0, height = 0;
+  Measured render, copy;
+  double ms() const { return 1e3 * render.s_per_frame; }
+  double memcpyRatio() const { return render.s_per_frame / copy.s_per_frame; }
+};
+RenderTimes timeRender(const SidewalkScene& scene, double min_time_s);
+
+/// One grid campus: its size, the preprocessing (RoadGraph and the landmarks of the first A* query)
+/// and the mean query time over 32 seeded queries between random road positions, with the default
+/// turn penalties, by A* and by the Dijkstra reference.
+struct RouteTimes {
+  int intersections = 0;
+  double prep_s = 0;
+  Measured astar, dijkstra;  // per query
+  double dijkstraRatio() const { return dijkstra.s_per_frame / astar.s_per_frame; }
+};
+/// Grid campuses of `intersections` each (rounded up to a square), in that order.
+std::vector<RouteTimes> timeRoutes(const std::vector<int>& intersections, double min_time_s);
+
+}  // namespace mapnav::cli
