@@ -167,6 +167,45 @@ double netRgb(const std::vector<double>& w, const Vec3& f) {
 }
 }  // namespace
 
+std::vector<std::int8_t> ClusterPerceptron::trainingClasses(const std::uint8_t* rgb, int width, int height,
+                                                            const std::uint8_t* road) const {
+  const int st = opt_.train_stride;
+  std::vector<std::int8_t> cls(static_cast<std::size_t>(width) * height, 0);
+  const auto each = [&](auto&& f) {
+    for (int v = 0; v < height; v += st)
+      for (int u = 0; u < width; u += st) {
+        const std::size_t i = static_cast<std::size_t>(v) * width + u;
+        f(i, feature(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]));
+      }
+  };
+  // The road's colour estimate: mean and covariance of the outline's features (a level of noise
+  // added to the diagonal, so that a flat road does not make the gate a point).
+  Vec3 sum = Vec3::Zero();
+  Mat3 sq = Mat3::Zero();
+  double n = 0;
+  each([&](std::size_t i, const Vec3& f) {
+    if (road[i] == 0) return;
+    cls[i] = 1;
+    sum += f;
+    sq += f * f.transpose();
+    n += 1;
+  });
+  const bool gated = opt_.nonroad_gate_sigma > 0 && n >= 2;
+  Mat3 inv = Mat3::Identity();
+  Vec3 mean = Vec3::Zero();
+  if (gated) {
+    mean = sum / n;
+    inv = (Mat3(sq / n - mean * mean.transpose()) + Mat3::Identity()).inverse();
+  }
+  const double gate2 = opt_.nonroad_gate_sigma * opt_.nonroad_gate_sigma;
+  each([&](std::size_t i, const Vec3& f) {
+    if (road[i] != 0) return;
+    const Vec3 d = f - mean;
+    if (!gated || d.dot(inv * d) > gate2) cls[i] = -1;
+  });
+  return cls;
+}
+
 std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, int width, int height,
                                                        const std::uint8_t* road) {
   if (opt_.raw_rgb) return trainRgbPerceptron(rgb, width, height, road);
@@ -176,14 +215,13 @@ std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, 
   // to per-cluster counts of road and non-road pixels.
   std::vector<double> pos(n, 0.0), neg(n, 0.0);
   double total = 0;
-  const int st = opt_.train_stride;
-  for (int v = 0; v < height; v += st)
-    for (int u = 0; u < width; u += st) {
-      const std::size_t i = static_cast<std::size_t>(v) * width + u;
-      const int k = nearest(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
-      (road[i] != 0 ? pos : neg)[k] += 1;
-      total += 1;
-    }
+  const std::vector<std::int8_t> cls = trainingClasses(rgb, width, height, road);
+  for (std::size_t i = 0; i < cls.size(); ++i) {
+    if (cls[i] == 0) continue;
+    const int k = nearest(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+    (cls[i] > 0 ? pos : neg)[k] += 1;
+    total += 1;
+  }
   if (opt_.balance_classes) {
     double inside = 0, outside = 0;
     for (int k = 0; k < n; ++k) {
@@ -235,15 +273,14 @@ std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rg
   // Pixels of the same colour have the same inputs: the LMS sums reduce exactly to per-colour counts.
   std::unordered_map<std::uint32_t, std::pair<double, double>> counts;  // colour → (road, not road)
   double total = 0;
-  const int st = opt_.train_stride;
-  for (int v = 0; v < height; v += st)
-    for (int u = 0; u < width; u += st) {
-      const std::size_t i = static_cast<std::size_t>(v) * width + u;
-      const std::uint32_t key = (std::uint32_t{rgb[3 * i]} << 16) | (std::uint32_t{rgb[3 * i + 1]} << 8) | rgb[3 * i + 2];
-      auto& c = counts[key];
-      (road[i] != 0 ? c.first : c.second) += 1;
-      total += 1;
-    }
+  const std::vector<std::int8_t> cls = trainingClasses(rgb, width, height, road);
+  for (std::size_t i = 0; i < cls.size(); ++i) {
+    if (cls[i] == 0) continue;
+    const std::uint32_t key = (std::uint32_t{rgb[3 * i]} << 16) | (std::uint32_t{rgb[3 * i + 1]} << 8) | rgb[3 * i + 2];
+    auto& c = counts[key];
+    (cls[i] > 0 ? c.first : c.second) += 1;
+    total += 1;
+  }
   if (opt_.balance_classes) {
     double inside = 0, outside = 0;
     for (const auto& [key, c] : counts) {
