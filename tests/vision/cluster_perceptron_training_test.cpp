@@ -294,11 +294,47 @@ TEST(ClusterPerceptron, BalancedBootstrapFindsASmallRoad) {
     ClusterPerceptronOptions o;
     o.clusters = 2;
     o.balance_classes = balance;
+    o.nonroad_gate_sigma = 0;  // the paper's bootstrap, balanced or not (the gate: the next test)
     ClusterPerceptron cp(o);
     cp.trainClusters(frame.data.data(), 100, 100);
     cp.trainPerceptron(frame.data.data(), 100, 100, outline.data.data());
     EXPECT_EQ(cp.outputReference(50, 50, 50) > 0, balance) << "balance " << balance;
     EXPECT_LT(cp.outputReference(200, 200, 200), 0) << "balance " << balance;
+  }
+}
+
+// The non-road gate on the same frame, unbalanced. The paper's bootstrap calls none of the outline
+// road (the share 0 < nonroad_gate_below 0.5), so the perceptron is trained again with "not road"
+// only where the colour lies more than 16 sigma from the outline's (grey 50, covariance 0 + 1 level^2:
+// grey 200 lies 150 sqrt(3) sigma away, the 900 dark pixels outside 0 away and train nothing): grey
+// 50 is road (100 road pixels, none against), grey 200 not. With nonroad_gate_below 0 it is never
+// used; with the outline on every dark pixel the paper's bootstrap separates (share 1) and stands.
+TEST(ClusterPerceptron, NonroadGateWhereThePapersBootstrapCannotSeparate) {
+  Image frame(100, 100, 3);
+  Image small(100, 100, 1), whole(100, 100, 1);
+  for (int v = 0; v < 100; ++v)
+    for (int u = 0; u < 100; ++u) {
+      const bool inside = u >= 45 && u < 55 && v >= 90;
+      const bool dark = inside || (v < 30 && u < 30);
+      std::fill(frame.pixel(u, v), frame.pixel(u, v) + 3, dark ? 50 : 200);
+      small.pixel(u, v)[0] = inside ? 255 : 0;
+      whole.pixel(u, v)[0] = dark ? 255 : 0;
+    }
+  struct Case {
+    double below;
+    const Image* outline;
+    bool gated;
+  };
+  for (const Case& c : {Case{0.5, &small, true}, Case{0.0, &small, false}, Case{0.5, &whole, false}}) {
+    ClusterPerceptronOptions o;
+    o.clusters = 2;
+    o.nonroad_gate_below = c.below;
+    ClusterPerceptron cp(o);
+    cp.trainClusters(frame.data.data(), 100, 100);
+    cp.trainPerceptron(frame.data.data(), 100, 100, c.outline->data.data());
+    EXPECT_EQ(cp.nonroadGated(), c.gated) << c.below;
+    EXPECT_EQ(cp.outputReference(50, 50, 50) > 0, c.gated || c.outline == &whole) << c.below;
+    EXPECT_LT(cp.outputReference(200, 200, 200), 0) << c.below;
   }
 }
 

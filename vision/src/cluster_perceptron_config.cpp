@@ -39,6 +39,10 @@ void ClusterPerceptronOptions::validate() const {
   requireOption(adaptive_window >= 1 && adaptive_window <= 1000, o, "adaptive_window", adaptive_window, "in [1, 1000]");
   requireOption(adaptive_max_clusters >= 1 && adaptive_max_clusters <= 30, o, "adaptive_max_clusters",
                 adaptive_max_clusters, "in [1, 30]");
+  requireOption(std::isfinite(nonroad_gate_sigma) && nonroad_gate_sigma >= 0, o, "nonroad_gate_sigma",
+                nonroad_gate_sigma, ">= 0");
+  requireOption(nonroad_gate_below >= 0 && nonroad_gate_below <= 1, o, "nonroad_gate_below", nonroad_gate_below,
+                "in [0, 1]");
   requireOption(threads >= 0 && threads <= 256, o, "threads", threads, "in [0, 256] (0 = every core)");
   requireOption(min_road_fraction >= 0 && min_road_fraction <= 1, o, "min_road_fraction", min_road_fraction,
                 "in [0, 1]");

@@ -415,7 +415,11 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   Scratch& scr = scratch();
   const long long road_px =
       classifyFrame(*this, LutView{lut_.data(), sub_offset_.data(), sub_.data()}, rgb, width, height, scr);
-  if (want_mask) res.mask = roadMask(scr.cert, width, height);
+  if (want_mask) {
+    res.mask = roadMask(scr.cert, width, height);
+    res.certainty = Image(width, height, 1);
+    std::copy(scr.cert.begin(), scr.cert.end(), res.certainty.data.begin());
+  }
   if (static_cast<double>(road_px) < opt_.min_road_fraction * width * height)
     return failed(std::move(res), "no road-coloured pixels");
   // §5: the Hough over the road block rows.

@@ -167,45 +167,115 @@ double netRgb(const std::vector<double>& w, const Vec3& f) {
 }
 }  // namespace
 
+std::vector<std::int8_t> ClusterPerceptron::trainingClasses(const std::uint8_t* rgb, int width, int height,
+                                                            const std::uint8_t* road, bool gated) const {
+  const int st = opt_.train_stride;
+  std::vector<std::int8_t> cls(static_cast<std::size_t>(width) * height, 0);
+  const auto each = [&](auto&& f) {
+    for (int v = 0; v < height; v += st)
+      for (int u = 0; u < width; u += st) {
+        const std::size_t i = static_cast<std::size_t>(v) * width + u;
+        f(i, feature(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]));
+      }
+  };
+  gated = gated && opt_.nonroad_gate_sigma > 0;
+  each([&](std::size_t i, const Vec3&) { cls[i] = road[i] != 0 ? 1 : gated ? 0 : -1; });
+  if (!gated) return cls;
+  // The road's colour estimate: mean and covariance of the outline's features (a level of noise
+  // added to the diagonal, so that a flat road does not make the gate a point).
+  Vec3 sum = Vec3::Zero();
+  Mat3 sq = Mat3::Zero();
+  double n = 0;
+  each([&](std::size_t i, const Vec3& f) {
+    if (road[i] == 0) return;
+    sum += f;
+    sq += f * f.transpose();
+    n += 1;
+  });
+  if (n < 1) {  // no road to measure the gate from: every pixel outside is not road, as in the paper
+    each([&](std::size_t i, const Vec3&) { cls[i] = road[i] != 0 ? 1 : -1; });
+    return cls;
+  }
+  const Vec3 mean = sum / n;
+  const Mat3 inv = (Mat3(sq / n - mean * mean.transpose()) + Mat3::Identity()).inverse();
+  const double gate2 = opt_.nonroad_gate_sigma * opt_.nonroad_gate_sigma;
+  each([&](std::size_t i, const Vec3& f) {
+    const Vec3 d = f - mean;
+    if (road[i] == 0 && d.dot(inv * d) > gate2) cls[i] = -1;
+  });
+  return cls;
+}
+
 std::vector<double> ClusterPerceptron::trainPerceptron(const std::uint8_t* rgb, int width, int height,
                                                        const std::uint8_t* road) {
-  if (opt_.raw_rgb) return trainRgbPerceptron(rgb, width, height, road);
-  if (means_.empty()) throw InvalidInput("trainPerceptron: the clusters are not trained");
+  if (!opt_.raw_rgb && means_.empty()) throw InvalidInput("trainPerceptron: the clusters are not trained");
+  const auto train = [&](bool gated) {
+    const std::vector<std::int8_t> cls = trainingClasses(rgb, width, height, road, gated);
+    return opt_.raw_rgb ? trainRgbPerceptron(rgb, cls) : trainClusterPerceptron(rgb, cls);
+  };
+  // The paper's bootstrap first; the gate only when it calls most of its own road outline not road.
+  Trained t = train(false);
+  gated_ = opt_.nonroad_gate_sigma > 0 && t.road_share < opt_.nonroad_gate_below;
+  if (gated_) t = train(true);
+  return t.history;
+}
+
+namespace {
+/// balance_classes: every road count scaled so that the road's total equals the rest's; returns the
+/// new total of the counts (unchanged when either class is empty).
+template <typename Counts, typename Road, typename Rest>
+double balanceCounts(Counts& counts, Road road, Rest rest, double total) {
+  double inside = 0, outside = 0;
+  for (auto& c : counts) {
+    inside += road(c);
+    outside += rest(c);
+  }
+  if (inside <= 0 || outside <= 0) return total;
+  for (auto& c : counts) road(c) *= outside / inside;
+  return 2 * outside;
+}
+}  // namespace
+
+ClusterPerceptron::Trained ClusterPerceptron::trainClusterPerceptron(const std::uint8_t* rgb,
+                                                                     const std::vector<std::int8_t>& cls) {
   const int n = static_cast<int>(means_.size());
   // Every pixel won by the same cluster has the same inputs, so the per-pixel LMS sums reduce exactly
   // to per-cluster counts of road and non-road pixels.
-  std::vector<double> pos(n, 0.0), neg(n, 0.0);
+  std::vector<std::pair<double, double>> counts(static_cast<std::size_t>(n), {0.0, 0.0});  // (road, not road)
   double total = 0;
-  const int st = opt_.train_stride;
-  for (int v = 0; v < height; v += st)
-    for (int u = 0; u < width; u += st) {
-      const std::size_t i = static_cast<std::size_t>(v) * width + u;
-      const int k = nearest(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
-      (road[i] != 0 ? pos : neg)[k] += 1;
-      total += 1;
-    }
-  if (opt_.balance_classes) {
-    double inside = 0, outside = 0;
-    for (int k = 0; k < n; ++k) {
-      inside += pos[k];
-      outside += neg[k];
-    }
-    if (inside > 0 && outside > 0) {
-      for (double& p : pos) p *= outside / inside;
-      total = 2 * outside;
-    }
+  for (std::size_t i = 0; i < cls.size(); ++i) {
+    if (cls[i] == 0) continue;
+    auto& c = counts[static_cast<std::size_t>(nearest(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]))];
+    (cls[i] > 0 ? c.first : c.second) += 1;
+    total += 1;
   }
-  return runLms(static_cast<std::size_t>(n) + 1, total, [&](std::vector<double>& grad) {
+  const std::vector<double> road_px = [&] {
+    std::vector<double> r;
+    for (const auto& c : counts) r.push_back(c.first);
+    return r;
+  }();
+  if (opt_.balance_classes)
+    total = balanceCounts(counts, [](auto& c) -> double& { return c.first; }, [](auto& c) { return c.second; }, total);
+  Trained t;
+  t.history = runLms(static_cast<std::size_t>(n) + 1, total, [&](std::vector<double>& grad) {
     double err = 0;
     for (int k = 0; k < n; ++k) {
+      const auto [pos, neg] = counts[static_cast<std::size_t>(k)];
       const double y = std::tanh(netFor(weights_, k));
-      const double e = pos[k] * (1.0 - y) + neg[k] * (-1.0 - y);  // Σ (target − output)
-      err += pos[k] * std::abs(1.0 - y) + neg[k] * std::abs(-1.0 - y);
+      const double e = pos * (1.0 - y) + neg * (-1.0 - y);  // Σ (target − output)
+      err += pos * std::abs(1.0 - y) + neg * std::abs(-1.0 - y);
       for (int j = 0; j < n; ++j) grad[j] += e * (j == k ? 1.0 : -1.0);
       grad[n] += e;  // bias input 1
     }
     return err;
   });
+  double road = 0, called = 0;
+  for (int k = 0; k < n; ++k) {
+    road += road_px[static_cast<std::size_t>(k)];
+    if (certaintyOf(std::tanh(netFor(weights_, k))) > 127) called += road_px[static_cast<std::size_t>(k)];
+  }
+  t.road_share = road > 0 ? called / road : 0.0;
+  return t;
 }
 
 std::vector<double> ClusterPerceptron::runLms(std::size_t inputs, double total,
@@ -230,37 +300,31 @@ std::vector<double> ClusterPerceptron::runLms(std::size_t inputs, double total,
   return history;
 }
 
-std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rgb, int width, int height,
-                                                          const std::uint8_t* road) {
+ClusterPerceptron::Trained ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rgb,
+                                                                 const std::vector<std::int8_t>& cls) {
   // Pixels of the same colour have the same inputs: the LMS sums reduce exactly to per-colour counts.
   std::unordered_map<std::uint32_t, std::pair<double, double>> counts;  // colour → (road, not road)
   double total = 0;
-  const int st = opt_.train_stride;
-  for (int v = 0; v < height; v += st)
-    for (int u = 0; u < width; u += st) {
-      const std::size_t i = static_cast<std::size_t>(v) * width + u;
-      const std::uint32_t key = (std::uint32_t{rgb[3 * i]} << 16) | (std::uint32_t{rgb[3 * i + 1]} << 8) | rgb[3 * i + 2];
-      auto& c = counts[key];
-      (road[i] != 0 ? c.first : c.second) += 1;
-      total += 1;
-    }
-  if (opt_.balance_classes) {
-    double inside = 0, outside = 0;
-    for (const auto& [key, c] : counts) {
-      inside += c.first;
-      outside += c.second;
-    }
-    if (inside > 0 && outside > 0) {
-      for (auto& [key, c] : counts) c.first *= outside / inside;
-      total = 2 * outside;
-    }
+  for (std::size_t i = 0; i < cls.size(); ++i) {
+    if (cls[i] == 0) continue;
+    const std::uint32_t key = (std::uint32_t{rgb[3 * i]} << 16) | (std::uint32_t{rgb[3 * i + 1]} << 8) | rgb[3 * i + 2];
+    auto& c = counts[key];
+    (cls[i] > 0 ? c.first : c.second) += 1;
+    total += 1;
   }
   std::vector<std::pair<std::uint32_t, std::pair<double, double>>> colours(counts.begin(), counts.end());
   std::sort(colours.begin(), colours.end());  // a fixed summation order: the same weights every run
-  return runLms(4, total, [&](std::vector<double>& grad) {
+  std::vector<double> road_px;
+  for (const auto& c : colours) road_px.push_back(c.second.first);
+  if (opt_.balance_classes)
+    total = balanceCounts(colours, [](auto& c) -> double& { return c.second.first; },
+                          [](auto& c) { return c.second.second; }, total);
+  const auto featureOf = [&](std::uint32_t key) { return feature(key >> 16, (key >> 8) & 255, key & 255); };
+  Trained t;
+  t.history = runLms(4, total, [&](std::vector<double>& grad) {
     double err = 0;
     for (const auto& [key, pn] : colours) {
-      const Vec3 f = feature(key >> 16, (key >> 8) & 255, key & 255);
+      const Vec3 f = featureOf(key);
       const double y = std::tanh(netRgb(weights_, f));
       const double e = pn.first * (1.0 - y) + pn.second * (-1.0 - y);
       err += pn.first * std::abs(1.0 - y) + pn.second * std::abs(-1.0 - y);
@@ -271,6 +335,13 @@ std::vector<double> ClusterPerceptron::trainRgbPerceptron(const std::uint8_t* rg
     }
     return err;
   });
+  double road = 0, called = 0;
+  for (std::size_t k = 0; k < colours.size(); ++k) {
+    road += road_px[k];
+    if (certaintyOf(std::tanh(netRgb(weights_, featureOf(colours[k].first)))) > 127) called += road_px[k];
+  }
+  t.road_share = road > 0 ? called / road : 0.0;
+  return t;
 }
 
 double ClusterPerceptron::outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const {
