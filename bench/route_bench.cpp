@@ -1,6 +1,7 @@
 // Route queries on generated grid campuses of 10k, 100k and 1M intersections (100 × 100, 317 × 317
-// and 1000 × 1000, 40 m apart): milliseconds per query between random road positions (seeded),
-// with the default turn penalties. Each map and its RoadGraph are built once per process; the
+// and 1000 × 1000, 40 m apart): milliseconds per query between random road positions (seeded; the
+// scene mapnav/scenes/route_scene.h, which `mapnav bench` times too), with the default turn
+// penalties. Each map and its RoadGraph are built once per process; the
 // build and the landmark preprocessing (done by the first A* query) are timed there and reported as
 // counters: prep_s (graph + landmarks, seconds), landmarks_s, and prep_MiB, the rise of the
 // process's peak resident memory while they ran (Linux: /proc/self/clear_refs resets the peak).
@@ -12,10 +13,9 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <random>
 #include <string>
 
-#include "mapnav/map/generate.h"
+#include "mapnav/scenes/route_scene.h"
 #include "mapnav/navigator/route.h"
 
 namespace {
@@ -23,9 +23,8 @@ namespace {
 using namespace mapnav;
 
 struct Campus {
-  std::unique_ptr<Map> map;
+  RouteScene scene;  // the map and its 32 queries
   std::unique_ptr<RoadGraph> graph;
-  std::vector<std::pair<RoadPosition, RoadPosition>> queries;
   double graph_s = 0, landmarks_s = 0, prep_mib = 0;
 };
 
@@ -52,27 +51,14 @@ Campus& campus(int intersections) {
   static std::map<int, Campus> campuses;
   auto it = campuses.find(intersections);
   if (it != campuses.end()) return it->second;
-  GridMapOptions options;
-  int n = 2;
-  while (n * n < intersections) ++n;
-  options.columns = options.rows = n;
-  Campus c;
-  c.map = std::make_unique<Map>(makeGridMap(options));
-  std::mt19937 rng(3);
-  std::uniform_int_distribution<std::size_t> pick(0, c.map->roads().size() - 1);
-  std::uniform_real_distribution<double> along(1.0, 39.0);
-  for (int i = 0; i < 32; ++i) {
-    const Road& a = c.map->roads()[pick(rng)];
-    const Road& b = c.map->roads()[pick(rng)];
-    c.queries.emplace_back(RoadPosition{a.id, a.from, along(rng)}, RoadPosition{b.id, b.from, along(rng)});
-  }
+  Campus c{makeRouteScene(intersections), nullptr};
   std::ofstream("/proc/self/clear_refs") << "5";  // peak resident memory := current
   const double rss0 = statusKb("VmRSS");
   auto t0 = std::chrono::steady_clock::now();
-  c.graph = std::make_unique<RoadGraph>(*c.map);
+  c.graph = std::make_unique<RoadGraph>(*c.scene.map);
   c.graph_s = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();
-  const auto& [from, to] = c.queries.front();
+  const auto& [from, to] = c.scene.queries.front();
   benchmark::DoNotOptimize(c.graph->route(from, to));  // the first A* query computes the landmarks
   c.landmarks_s = secondsSince(t0);
   c.prep_mib = (statusKb("VmHWM") - rss0) / 1024;
@@ -87,7 +73,7 @@ void BM_RouteQuery(benchmark::State& state) {
   double length = 0;
   std::vector<double> ms;  // each query's wall time
   for (auto _ : state) {
-    const auto& [from, to] = c.queries[i++ % c.queries.size()];
+    const auto& [from, to] = c.scene.queries[i++ % c.scene.queries.size()];
     const auto t0 = std::chrono::steady_clock::now();
     const RouteResult r = c.graph->route(from, to, options);
     ms.push_back(1e3 * secondsSince(t0));
@@ -97,7 +83,7 @@ void BM_RouteQuery(benchmark::State& state) {
   std::sort(ms.begin(), ms.end());
   state.counters["median_ms"] = ms[ms.size() / 2];
   state.counters["max_ms"] = ms.back();
-  state.counters["intersections"] = static_cast<double>(c.map->intersections().size());
+  state.counters["intersections"] = static_cast<double>(c.scene.map->intersections().size());
   state.counters["route_m"] = length / static_cast<double>(state.iterations());
   state.counters["prep_s"] = c.graph_s + c.landmarks_s;
   state.counters["landmarks_s"] = c.landmarks_s;

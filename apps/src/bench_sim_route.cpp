@@ -2,10 +2,7 @@
 
 #include <cstdint>
 #include <cstring>
-#include <random>
-#include <utility>
 
-#include "mapnav/map/generate.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/sim/world.h"
 
@@ -41,20 +38,9 @@ RenderTimes timeRender(const SidewalkScene& scene, double min_time_s) {
 std::vector<RouteTimes> timeRoutes(const std::vector<int>& intersections, double min_time_s) {
   std::vector<RouteTimes> out;
   for (const int wanted : intersections) {
-    GridMapOptions options;
-    int n = 2;
-    while (n * n < wanted) ++n;
-    options.columns = options.rows = n;
-    const Map map(makeGridMap(options));
-    std::mt19937 rng(3);
-    std::uniform_int_distribution<std::size_t> pick(0, map.roads().size() - 1);
-    std::uniform_real_distribution<double> along(1.0, 39.0);
-    std::vector<std::pair<RoadPosition, RoadPosition>> queries;
-    for (int i = 0; i < 32; ++i) {
-      const Road& a = map.roads()[pick(rng)];
-      const Road& b = map.roads()[pick(rng)];
-      queries.emplace_back(RoadPosition{a.id, a.from, along(rng)}, RoadPosition{b.id, b.from, along(rng)});
-    }
+    const RouteScene scene = makeRouteScene(wanted);
+    const Map& map = *scene.map;
+    const auto& queries = scene.queries;
     RouteTimes t;
     t.intersections = static_cast<int>(map.intersections().size());
     const Clock::time_point t0 = Clock::now();

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bench_measure.h"
+#include "mapnav/scenes/route_scene.h"
 #include "mapnav/scenes/sidewalk_scene.h"
 
 namespace mapnav::cli {
@@ -19,8 +20,8 @@ struct RenderTimes {
 };
 RenderTimes timeRender(const SidewalkScene& scene, double min_time_s);
 
-/// One grid campus: its size, the preprocessing (RoadGraph and the landmarks of the first A* query)
-/// and the mean query time over 32 seeded queries between random road positions, with the default
+/// One grid campus (mapnav/scenes/route_scene.h): its size, the preprocessing (RoadGraph and the
+/// landmarks of the first A* query) and the mean query time over its 32 queries, with the default
 /// turn penalties, by A* and by the Dijkstra reference.
 struct RouteTimes {
   int intersections = 0;
