@@ -213,9 +213,11 @@ class ClusterPerceptronPipeline : public VisionPipeline {
       features = greyTextureFeatures(frame.rgb, w, h, opts_.texture_window);
       pixels = features.data.data();
     }
-    // The bootstrap (§4): the predicted road outline, else the default trapezoid.
-    const Image outline = bootstrapOutline(prediction, cam);
-    if (retrainOn(h)) {
+    // The bootstrap (§4): the predicted road outline, else the default trapezoid; drawn only for a
+    // training or the scoring's region, not on every frame of the loop.
+    const bool retrain = retrainOn(h);
+    const Image outline = retrain || frame.want_masks ? bootstrapOutline(prediction, cam) : Image();
+    if (retrain) {
       ClusterPerceptronOptions o = opts_;
       // Grey frames' texture features are not colours: normalised, their texture would be gone.
       if (pixels != frame.rgb) o.normalized_color = false;
