@@ -110,13 +110,33 @@ void printTable(const LogTrackConfig& config, const TrackRun& run, std::ostream&
   if (!config.contact_sheet.empty()) out << "contact sheet " << config.contact_sheet << "\n";
 }
 
+/// The pipeline's options with config.prior_px as its `prior_px` when it has that option and the
+/// options do not set it.
+std::string withTrackingPrior(const LogTrackConfig& config) {
+  if (!(config.prior_px > 0)) return config.options_json;
+  const auto pipelines = listPipelines();
+  const auto info = std::find_if(pipelines.begin(), pipelines.end(), [&](const PipelineInfo& p) { return p.name == config.pipeline; });
+  if (info == pipelines.end() ||
+      std::none_of(info->options.begin(), info->options.end(), [](const OptionInfo& o) { return o.name == "prior_px"; }))
+    return config.options_json;
+  nlohmann::json options;
+  try {
+    options = nlohmann::json::parse(config.options_json);
+  } catch (const nlohmann::json::exception&) {
+    return config.options_json;  // createPipeline() reports it
+  }
+  if (!options.is_object() || options.contains("prior_px")) return config.options_json;
+  options["prior_px"] = config.prior_px;
+  return options.dump();
+}
+
 }  // namespace
 
 int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
-    config.trapezoid.validate();
+    if (config.trapezoid) config.trapezoid->validate();
     loadPlugins(config.plugins);
-    auto pipeline = createPipeline(config.pipeline, config.options_json);
+    auto pipeline = createPipeline(config.pipeline, withTrackingPrior(config));
     const ReplayLog log = ReplayLog::open(config.dir);
     const std::shared_ptr<const Camera> camera =
         config.camera.empty() ? log.header().camera : std::shared_ptr<const Camera>(loadCamera(config.camera));
@@ -131,7 +151,9 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
         overlays.push_back(drawDetection(rgb, prediction, detection, *camera));
         drawGroundPath(overlays.back(), measured.path.path, *camera);
       };
-    const TrackRun run = trackLog(log, *pipeline, *camera, bottomTrapezoid(w, h, config.trapezoid),
+    const Polygon2 bootstrap = config.trapezoid ? bottomTrapezoid(w, h, *config.trapezoid)
+                                                : laneOutline(*camera, config.lane_width_m, config.lane_far_m);
+    const TrackRun run = trackLog(log, *pipeline, *camera, bootstrap,
                                   TrackOptions{config.row, config.max_frames, {}}, draw);
     writeOverlays(config, overlays);
     writeContactSheet(config, overlays);
@@ -153,19 +175,36 @@ void registerTrackCommand(CLI::App& log, Commands& commands) {
   lt->add_option("dir", track->dir, "Log folder")->required()->check(CLI::ExistingDirectory);
   addPipelineOptions(lt, track->pipeline, track->options_json, track->plugins, "edge-tracker");
   lt->add_option("--camera", track->camera, "Camera file instead of the log's own")->check(CLI::ExistingFile);
+  auto* lane = commands.hold<std::string>();
+  CLI::Option* lane_opt =
+      lt->add_option("--lane", *lane,
+                     "The first frame's road outline as WIDTH,FAR: the vehicle's lane on the ground, WIDTH metres wide "
+                     "from the nearest ground in view to FAR metres ahead, projected with the camera (default 3,30: "
+                     "a car's lane; give a sidewalk's width for a sidewalk vehicle)");
   lt->add_option("--trapezoid", *trapezoid,
-                 "The first frame's road outline as BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions of the image's width "
-                 "and height; default 0.5,0.2,0.7,0.98)");
+                 "The first frame's road outline as an image trapezoid BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions "
+                 "of the image's width and height, as mapnav eval segmentation's) instead of the lane")
+      ->excludes(lane_opt);
+  lt->add_option("--prior-px", track->prior_px,
+                 "Tracking: a pipeline with a prior_px option (cluster-perceptron) keeps to this many pixels of the "
+                 "road it found a frame before, unless --options sets prior_px; 0: the pipeline's default")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
   lt->add_option("--row", track->row, "Image row where the edges and the centre line are measured (default: 85 % of the height)");
   lt->add_option("--max-frames", track->max_frames, "Stop after this many frames (0: all)")->default_val(0);
   lt->add_option("--overlays", track->overlays, "Folder to write one overlay per frame to");
   lt->add_option("--contact-sheet", track->contact_sheet, "PNG of 8 overlays spread over the run, half size, two a row");
   lt->add_flag("--json", track->json, "Print the per-frame measurements as JSON");
   lt->footer("Exit codes: 0 ran (the frames where the pipeline failed are listed), 1 invalid input, 2 usage or I/O error.");
-  lt->callback(commands.choose([track, trapezoid](std::ostream& out, std::ostream& err) {
+  lt->callback(commands.choose([track, trapezoid, lane](std::ostream& out, std::ostream& err) {
     if (!trapezoid->empty()) {
       const auto v = parseNumbers("--trapezoid", *trapezoid, 4, 4, "BOTTOM_WIDTH,TOP_WIDTH,TOP,BOTTOM (fractions)");
       track->trapezoid = TrapezoidOptions{v[0], v[1], v[2], v[3]};
+    }
+    if (!lane->empty()) {
+      const auto v = parseNumbers("--lane", *lane, 2, 2, "WIDTH,FAR (metres)");
+      track->lane_width_m = v[0];
+      track->lane_far_m = v[1];
     }
     return runLogTrack(*track, out, err);
   }));

@@ -8,6 +8,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/mission/image_region.h"
@@ -42,6 +43,31 @@ PredictedObject bootstrapPrediction(const Polygon2& trapezoid, const Camera& cam
   if (br && tr) p.segments.push_back(edgeSegment(kRight, {*br, *tr}, camera));
   return p;
 }
+
+}  // namespace
+
+Polygon2 laneOutline(const Camera& camera, double width_m, double far_m) {
+  const auto bad = [](const std::string& why) { return InvalidInput("--lane: " + why); };
+  if (!std::isfinite(width_m) || width_m <= 0 || !std::isfinite(far_m) || far_m <= 0)
+    throw bad("the width and the far end must be positive metres");
+  const auto near = camera.backproject(Vec2((camera.width() - 1) / 2.0, 0.98 * camera.height()));
+  if (!near) throw bad("the camera does not see the ground near the image's bottom row");
+  if (far_m <= near->x())
+    // The distance rounded up, so that the message never reads as a far end beyond it.
+    throw bad("the far end " + numberText(far_m) + " m is not beyond the nearest ground in view, " +
+              strprintf("%.2f", std::ceil(near->x() * 100) / 100) + " m ahead");
+  // The image's left is the vehicle's left (+y).
+  Polygon2 outline;
+  for (const Vec2& g : {Vec2(near->x(), width_m / 2), Vec2(near->x(), -width_m / 2), Vec2(far_m, -width_m / 2),
+                        Vec2(far_m, width_m / 2)}) {
+    const auto p = camera.projectGround(g);
+    if (!p) throw bad("a corner of the lane cannot be imaged by the camera");
+    outline.push_back(*p);
+  }
+  return outline;
+}
+
+namespace {
 
 /// The edges a detection found, on the ground, by the label the tracker gave them: from the nearest
 /// point to the farthest within kCarryFarM.

@@ -69,10 +69,12 @@ TEST(LogTrackCli, JsonHoldsThePathAgreementOnAStraightRoad) {
     }
     writer.finish();
   }
-  // The edge tracker (the default) finds both edges from the default trapezoid's sides, and the
-  // centre line between them on the path; its road region starts at the traces' first points, a
-  // little above the bottom row, so the nearest samples in view may fall outside it.
-  const auto r = runCli({"log", "track", dir.string(), "--json"});
+  // The edge tracker (the default) finds both edges from the sides of eval segmentation's trapezoid,
+  // and the centre line between them on the path; its road region starts at the traces' first
+  // points, a little above the bottom row, so the nearest samples in view may fall outside it. (From
+  // the default lane bootstrap, on the road's edges, its traces stop at row 230, short of the 15 m
+  // path's row 210: frame 0 holds 0.60 of the path.)
+  const auto r = runCli({"log", "track", dir.string(), "--trapezoid", "0.5,0.2,0.7,0.98", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_EQ(j["per_frame"].size(), 14u);
@@ -108,13 +110,22 @@ TEST(LogTrackCli, JsonHoldsThePathAgreementOnAStraightRoad) {
   EXPECT_EQ(p["offset_goal_fraction"], 1.0);
   EXPECT_EQ(p["goals"]["angle_deg"], 3.0);
   // The table gives the same, the headline before the count of frames tracked.
-  const auto table = runCli({"log", "track", dir.string()});
+  const auto table = runCli({"log", "track", dir.string(), "--trapezoid", "0.5,0.2,0.7,0.98"});
   ASSERT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("centre line within 3 deg of the path in 7 of 7 (1.000) frames"), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("not measured: 5 of 14 frames (no truth 0, path too short 5, path out of view 0)"),
             std::string::npos)
       << table.out;
   EXPECT_LT(table.out.find("path agreement"), table.out.find("frames tracked")) << table.out;
+  // The camera (1.5 m up, 10° down, f = 400) sees the ground at row 470.4 1.788 m ahead: a lane
+  // ending at 1 m is refused, naming the option; a lane and a trapezoid together are a usage error.
+  const auto short_lane = runCli({"log", "track", dir.string(), "--lane", "3,1"});
+  EXPECT_EQ(short_lane.exit_code, 1) << short_lane.err;
+  EXPECT_NE(short_lane.err.find("--lane: the far end 1 m is not beyond the nearest ground in view, 1.79 m ahead"), std::string::npos)
+      << short_lane.err;
+  const auto both = runCli({"log", "track", dir.string(), "--lane", "3,30", "--trapezoid", "0.5,0.2,0.7,0.98"});
+  EXPECT_EQ(both.exit_code, 2) << both.err;
+  EXPECT_NE(both.err.find("excludes"), std::string::npos) << both.err;
 }
 
 class RealKittiSequence : public ::testing::Test {
@@ -222,9 +233,35 @@ TEST_F(RealKittiSequence, HoughRoadFinderHoldsTheLaneWithThePrior) {
   EXPECT_TRUE(fs::exists(sheet));
   // The same without the prior leaves the lane in more than 10 frames (14 when written).
   const auto free = track({"--pipeline", "cluster-perceptron", "--trapezoid", "0.36,0.1,0.6,0.98", "--options",
-                           R"({"balance_classes":true})"});
+                           R"({"balance_classes":true,"prior_px":0})"});
   EXPECT_LE(onLane(free), 41) << free.dump();  // 37 when written
   EXPECT_GE(free["max_jump_px"]["centre"].get<double>(), 200) << free.dump();  // 458.5 when written
+}
+
+// Issue 24's goals at the defaults: `log track` bootstraps from the vehicle's 3 m lane on the ground
+// (the camera's 1.65 m height: 6.5 to 30 m ahead), and the Hough finder trains its grey frames with
+// balanced classes, and `log track` has it keep to 20 px of the centre line carried from the last
+// frame (--prior-px). When
+// written: the road band held ≥ 95 % of the path in 45 of 45 frames, covering a median 0.132 of the
+// ground in view (the trivial "everything below the horizon" covers 1), the centre line was within 3°
+// of the path in 42 of 42, its offset changed by ≤ 0.3 m in 41 of 43 pairs.
+TEST_F(RealKittiSequence, HoughRoadFinderMeetsThePathGoalsAtTheDefaults) {
+  const auto j = track({"--pipeline", "cluster-perceptron"});
+  EXPECT_EQ(j["tracked"], 51) << j.dump();
+  const auto& p = j["path_agreement"];
+  EXPECT_EQ(p["measured"], 45) << p.dump();
+  EXPECT_GE(p["inside_goal_fraction"].get<double>(), 0.9) << p.dump();
+  EXPECT_LE(p["median_ground_share"].get<double>(), 0.3) << p.dump();
+  EXPECT_GE(p["angle_goal_fraction"].get<double>(), 0.9) << p.dump();
+  EXPECT_GE(p["offset_goal_fraction"].get<double>(), 0.9) << p.dump();
+  // Grey frames trained as colour frames are (the non-road gate, unbalanced) miss the path's direction
+  // (within 3° in 28 of 42 frames when written).
+  const auto unbalanced = track({"--pipeline", "cluster-perceptron", "--options", R"({"grey_balance_classes":false})"});
+  EXPECT_LE(unbalanced["path_agreement"]["angle_goal_fraction"].get<double>(), 0.8) << unbalanced["path_agreement"].dump();
+  // Without the tracking prior the Hough's maximum leaves the lane: the offset to the path jumps by
+  // more than 0.3 m in most pairs (within it in 10 of 43 when written).
+  const auto free = track({"--pipeline", "cluster-perceptron", "--prior-px", "0"});
+  EXPECT_LE(free["path_agreement"]["offset_goal_fraction"].get<double>(), 0.5) << free["path_agreement"].dump();
 }
 
 }  // namespace

@@ -297,6 +297,37 @@ class FixedRoad : public VisionPipeline {
   void reset() override {}
 };
 
+// The lane bootstrap of `log track` on a level pin-hole 1.5 m up, 640 x 500, f = 500, principal point
+// (319.5, 240): ground (x, y) → u = 319.5 − 500·y/x, v = 240 + 750/x. Row 0.98 · 500 = 490 sees the
+// ground 750 / 250 = 3 m ahead; a 3 m lane's corners there are 500 · 1.5 / 3 = 250 px either side of
+// the centre, at 30 m 25 px either side on row 265.
+TEST(LaneOutline, ProjectsTheVehiclesLaneFromTheNearestGroundInView) {
+  const auto camera = createCamera(LensModel::Pinhole, CameraIntrinsics{640, 500, 500, 500, 319.5, 240, {}},
+                                   CameraMount{Vec2::Zero(), 1.5, 0.0, 0.0, 0.0});
+  const Polygon2 lane = laneOutline(*camera, 3.0, 30.0);
+  ASSERT_EQ(lane.size(), 4u);
+  EXPECT_NEAR(lane[0].x(), 69.5, 1e-9);  // bottom left
+  EXPECT_NEAR(lane[0].y(), 490, 1e-9);
+  EXPECT_NEAR(lane[1].x(), 569.5, 1e-9);  // bottom right
+  EXPECT_NEAR(lane[1].y(), 490, 1e-9);
+  EXPECT_NEAR(lane[2].x(), 344.5, 1e-9);  // top right
+  EXPECT_NEAR(lane[2].y(), 265, 1e-9);
+  EXPECT_NEAR(lane[3].x(), 294.5, 1e-9);  // top left
+  EXPECT_NEAR(lane[3].y(), 265, 1e-9);
+  try {
+    laneOutline(*camera, 3.0, 2.0);
+    ADD_FAILURE() << "a lane ending before the nearest ground in view was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_STREQ(e.what(), "--lane: the far end 2 m is not beyond the nearest ground in view, 3.00 m ahead");
+  }
+  EXPECT_THROW(laneOutline(*camera, 0.0, 30.0), InvalidInput);
+  EXPECT_THROW(laneOutline(*camera, 3.0, std::nan("")), InvalidInput);
+  // A camera looking 30 degrees up does not see the ground at its bottom row.
+  const auto up = createCamera(LensModel::Pinhole, CameraIntrinsics{640, 500, 500, 500, 319.5, 240, {}},
+                               CameraMount{Vec2::Zero(), 1.5, degToRad(-30), 0.0, 0.0});
+  EXPECT_THROW(laneOutline(*up, 3.0, 30.0), InvalidInput);
+}
+
 TEST(TrackLogPath, EachFrameIsHeldAgainstTheLogsTruthAhead) {
   // 20 frames 1 m apart straight ahead, blank images: frame i's path reaches 19 − i m.
   const std::filesystem::path dir = testing::freshTempDir() / "log";

@@ -160,6 +160,9 @@ const OptionTable<ClusterPerceptronPipelineOptions>& clusterPerceptronPipelineOp
                  "asphalt from grass and paving; colour frames are not affected")
           .field("texture_window", &O::texture_window, oddIn(inRange(3, 63)),
                  "grey_features: side of the box of the local mean, Laplacian and deviation, pixels (odd)")
+          .field("grey_balance_classes", &O::grey_balance_classes,
+                 "beyond the paper: a grey frame's perceptron is trained with balance_classes (the non-road gate "
+                 "cannot part grey textures); colour frames keep balance_classes as set")
           .field("retrain_each_frame", &O::retrain_each_frame,
                  "beyond the paper: every frame clusters its colours and retrains the perceptron on its own bootstrap "
                  "(the prediction, else the trapezoid); false = train on the first frame and freeze (the paper), "
@@ -219,8 +222,12 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     const Image outline = retrain || frame.want_masks ? bootstrapOutline(prediction, cam) : Image();
     if (retrain) {
       ClusterPerceptronOptions o = opts_;
-      // Grey frames' texture features are not colours: normalised, their texture would be gone.
-      if (pixels != frame.rgb) o.normalized_color = false;
+      // Grey frames' texture features are not colours: normalised, their texture would be gone,
+      // and the gate's feature distance barely parts them: the classes are balanced instead.
+      if (pixels != frame.rgb) {
+        o.normalized_color = false;
+        o.balance_classes = o.balance_classes || opts_.grey_balance_classes;
+      }
       finder_ = ClusterPerceptron(o);
       finder_.trainClusters(pixels, w, h);
       finder_.setRowWidths(trapezoidRowWidths(outline));

@@ -61,6 +61,15 @@ struct TrackRun {
 using TrackObserver = std::function<void(const Image& rgb, const PredictedObject& prediction,
                                          const DetectedObject& detection, const TrackedFrame& measured)>;
 
+/// The vehicle's own lane as a bootstrap outline in pixels (bottomTrapezoid's order: bottom left,
+/// bottom right, top right, top left): the ground strip `width_m` wide centred on the vehicle's
+/// x axis, from the ground seen at 98 % of the image's height on its centre column to `far_m` ahead
+/// (metres), projected with the camera. Unlike an image trapezoid it means the same on every camera:
+/// the road right ahead of a vehicle that stands on it. Throws InvalidInput naming `--lane` when
+/// width_m or far_m is not positive and finite, when that row does not see the ground or the far end
+/// is not beyond it, or a corner cannot be imaged.
+Polygon2 laneOutline(const Camera& camera, double width_m, double far_m);
+
 /// Runs `pipeline` over the log's frames with `camera` (whose image size every frame must have).
 /// `bootstrap` is the first frame's road outline in pixels, four corners: bottom left, bottom
 /// right, top right, top left (bottomTrapezoid's order); its sides are the edges tracked. Throws

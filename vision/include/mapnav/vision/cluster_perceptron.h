@@ -131,7 +131,11 @@ struct ClusterPerceptronOptions {
   /// et al.'s tracker its interest segments): when find() or track() is given a prior centre line
   /// and this is > 0, the Hough and the edge consensus consider only centre lines whose columns on
   /// the top and the bottom road rows lie within this many pixels of the prior's. 0 = the whole
-  /// image (the paper).
+  /// image (the paper), the default: in a mission the prediction comes from the Map's estimate, and
+  /// where that is off the road by more than the window the finder cannot show it (park_loop closed
+  /// loop, 220 frames: off the path in 0 frames without a prior, in 92 with 20 px, 48 with 30). `mapnav
+  /// log track`, whose prediction is the road the finder itself found a frame before, sets 20 px
+  /// (its --prior-px; docs/kitti.md).
   double prior_px = 0;
   /// Arc model, beyond the paper (as Wallace 1985 §3.2 carries the last frame's edges into the new
   /// one with the vehicle's motion): the ground fit also uses the road edges that the fits of the
@@ -336,6 +340,13 @@ struct ClusterPerceptronPipelineOptions : ClusterPerceptronOptions {
   /// instead of (R, G, B), so that texture can separate asphalt from grass and paving.
   bool grey_features = true;
   int texture_window = 7;  ///< greyTextureFeatures()' window side, pixels: odd, in [3, 63]
+  /// Beyond the paper: a grey frame's perceptron is trained with balance_classes. The non-road gate
+  /// parts the road from the rest by the distance of their features, which a grey frame's texture
+  /// features barely have (kitti_vo_seq1: asphalt and mown grass 13-23 grey levels apart), so there the
+  /// gated perceptron calls the whole ground road; balanced, a cluster is road when it holds more of
+  /// the outline than of the rest. Colour frames keep balance_classes as set (balanced, CamVid's
+  /// colour photos lose the road beyond the trapezoid: camvid_train road IoU 0.72 instead of 0.84).
+  bool grey_balance_classes = true;
   /// Beyond the paper: every frame clusters its own colours and retrains the perceptron on its own
   /// bootstrap (the frame's prediction, else the trapezoid). Without it the pipeline trains on the
   /// first frame and freezes (the paper's park mode), except that a perceptron the non-road gate
