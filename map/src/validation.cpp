@@ -9,6 +9,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/core/json.h"
 #include "mapnav/geometry/polygon.h"
 #include "spatial_internal.h"
@@ -185,8 +186,8 @@ class Validator {
         }
       }
       if (!std::isfinite(road.width) || road.width <= 0 || road.width > options_.max_width_m) {
-        error("roads.invalid_width", ptr + "/width",
-              "width " + fmt(road.width) + " m must be > 0 and <= " + fmt(options_.max_width_m) + " m");
+        const auto [width, widest] = comparedText(road.width, options_.max_width_m);
+        error("roads.invalid_width", ptr + "/width", "width " + width + " m must be > 0 and <= " + widest + " m");
       }
       if (!std::isfinite(road.cost_factor) || road.cost_factor <= 0) {
         error("schema.range", ptr + "/cost_factor", "cost_factor " + fmt(road.cost_factor) + " must be > 0");
@@ -240,7 +241,8 @@ class Validator {
       }
     }
     if (road.centerline.length() < options_.min_road_length_m) {
-      warning("roads.very_short", ptr, "road \"" + road.id + "\" is " + fmt(road.centerline.length()) + " m long (< " + fmt(options_.min_road_length_m) + " m)");
+      const auto [length, least] = comparedText(road.centerline.length(), options_.min_road_length_m);
+      warning("roads.very_short", ptr, "road \"" + road.id + "\" is " + length + " m long (< " + least + " m)");
     }
   }
 

@@ -18,6 +18,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/geometry/polyline2.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/map/geodesy.h"
@@ -487,8 +488,9 @@ class Importer {
                                          " m " + (loop ? "loop" : "stub"));
         continue;
       }
+      const auto [meters, least] = comparedText(length, options_.min_piece_m);
       warn("osm.tiny_piece", wayRef(way),
-           "piece " + p.id + " is only " + fixed(length) + " m long" +
+           "piece " + p.id + " is only " + meters + " m long (< " + least + " m)" +
                (loop || stub ? std::string(" (--repair drops it)") : std::string()));
       kept.push_back(p);
     }
