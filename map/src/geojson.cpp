@@ -40,6 +40,8 @@ struct RawFeature {
   std::optional<std::string> id, kind_name, from, to, surface, left, right;
   std::optional<double> width, cost_factor;
   std::optional<bool> oneway;
+  std::optional<int> layer;
+  std::optional<RoadStructure> structure;
   std::optional<LatLon> center;
 };
 
@@ -164,6 +166,20 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
         raw.oneway = it->get<bool>();
       } else {
         addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, "oneway"), "expected true or false");
+      }
+    }
+    if (const auto layer = numberProperty(p, pptr, "layer", issues)) {
+      if (*layer == std::floor(*layer) && std::abs(*layer) <= 10) {
+        raw.layer = static_cast<int>(*layer);
+      } else {
+        addIssue(issues, Severity::Error, "schema.range", pointerJoin(pptr, "layer"), "expected an integer in [-10, 10]");
+      }
+    }
+    if (const auto structure = stringProperty(p, pptr, "structure", issues)) {
+      raw.structure = roadStructureFromString(*structure);
+      if (!raw.structure) {
+        addIssue(issues, Severity::Error, "schema.enum", pointerJoin(pptr, "structure"),
+                 "unknown road structure \"" + *structure + "\"; expected one of none, bridge, tunnel");
       }
     }
     if (const auto it = p.find("center"); it != p.end() && !it->is_null()) {
@@ -302,6 +318,8 @@ class MapBuilder {
       road.right = raw.right.value_or(options_.default_shoulder);
       road.oneway = raw.oneway.value_or(false);
       road.cost_factor = raw.cost_factor.value_or(1.0);
+      road.layer = raw.layer.value_or(0);
+      road.structure = raw.structure.value_or(RoadStructure::None);
       map_.roads.push_back(std::move(road));
       result_.road_features.push_back(raw.pointer);
     }
@@ -471,6 +489,8 @@ std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& or
                        {"surface", r.surface}, {"left", r.left}, {"right", r.right}};
     if (r.oneway) properties["oneway"] = true;
     if (r.cost_factor != 1.0) properties["cost_factor"] = r.cost_factor;
+    if (r.layer != 0) properties["layer"] = r.layer;
+    if (r.structure != RoadStructure::None) properties["structure"] = toString(r.structure);
     Json geometry = {{"type", "LineString"}, {"coordinates", positions(r.centerline.points())}};
     features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
   }

@@ -246,7 +246,8 @@ class Validator {
     }
   }
 
-  // Roads crossing each other away from every intersection they share. One R-tree over all
+  // Roads on the same layer crossing each other away from every intersection they share (roads on
+  // different layers pass over and under each other). One R-tree over all
   // segments, so the cost grows with the segments that are close, not with the square of the map.
   void checkCrossings() {
     using Value = std::pair<spatial::BBox, std::pair<std::size_t, std::size_t>>;  // (road, segment)
@@ -270,6 +271,7 @@ class Validator {
       for (const Value& w : found) {
         const auto [q, t] = w.second;
         if (q <= r || reported.contains({r, q})) continue;
+        if (map_.roads[r].layer != map_.roads[q].layer) continue;  // a bridge over, a tunnel under
         const Segment2 a = map_.roads[r].centerline.segment(s), b = map_.roads[q].centerline.segment(t);
         if (!segmentsIntersect(a, b)) continue;
         const Vec2 p = meetingPoint(a, b);

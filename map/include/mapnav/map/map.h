@@ -23,6 +23,13 @@ std::optional<IntersectionKind> intersectionKindFromString(std::string_view text
 /// Every kind, in declaration order (for help texts and enumerations).
 const std::vector<IntersectionKind>& allIntersectionKinds();
 
+/// What carries a road over or under the others (OSM's `bridge`, `tunnel` and `covered` tags): a
+/// bridge is drawn with a casing, a tunnel dashed and is not in a view from outside it.
+enum class RoadStructure { None, Bridge, Tunnel };
+/// "none", "bridge", "tunnel".
+std::string_view toString(RoadStructure structure);
+std::optional<RoadStructure> roadStructureFromString(std::string_view text);
+
 /// How a surface looks to the camera: mean colour and its standard deviation, 0–255 RGB.
 struct Appearance {
   Vec3 rgb = Vec3::Zero();
@@ -58,6 +65,10 @@ struct Road {
   std::string left, right;         ///< shoulder surfaces seen walking from → to
   bool oneway = false;             ///< drivable only from → to
   double cost_factor = 1.0;        ///< multiplies the length in route costs
+  /// The level the road is on (OSM `layer`; 0 the ground): roads on different layers may cross
+  /// without an intersection (a bridge over a path), roads on the same layer may not.
+  int layer = 0;
+  RoadStructure structure = RoadStructure::None;  ///< see RoadStructure
   Properties properties = {};  ///< see Properties
   bool operator==(const Road&) const = default;
 };
