@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <ostream>
 #include <unordered_map>
 
 #include "mapnav/core/error.h"
@@ -83,6 +84,10 @@ std::optional<IntersectionKind> intersectionKindFromString(std::string_view text
     if (name == text) return k;
   }
   return std::nullopt;
+}
+
+std::ostream& operator<<(std::ostream& out, const PropertyValue& value) {
+  return value.is_json ? out << value.text : out << '"' << value.text << '"';
 }
 
 std::string_view toString(RoadStructure structure) {

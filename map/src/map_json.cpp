@@ -110,32 +110,40 @@ std::optional<std::vector<std::pair<std::string, Appearance>>> readSurfaces(cons
 
 namespace {
 
-/// "properties": {"name": "string", ...}; nothing when absent.
+/// "properties": {"name": any JSON value, ...}; nothing when absent.
 Properties readProperties(JsonObject& object, Issues& issues) {
   Properties out;
   const Json* value = object.member("properties", false);
   if (value == nullptr) return out;
-  const std::string pointer = object.pointer("properties");
   if (!value->is_object()) {
-    addIssue(issues, Severity::Error, "schema.type", pointer, "expected an object of strings, got " + std::string(jsonTypeName(*value)));
+    addIssue(issues, Severity::Error, "schema.type", object.pointer("properties"),
+             "expected an object, got " + std::string(jsonTypeName(*value)));
     return out;
   }
-  for (auto it = value->begin(); it != value->end(); ++it) {
-    if (it->is_string()) {
-      out.emplace(it.key(), it->get<std::string>());
-    } else {
-      addIssue(issues, Severity::Error, "schema.type", pointerJoin(pointer, it.key()),
-               "expected a string, got " + std::string(jsonTypeName(*it)));
-    }
-  }
+  for (auto it = value->begin(); it != value->end(); ++it) out.emplace(it.key(), propertyFromJson(*it));
   return out;
 }
 
 Json propertiesToJson(const Properties& properties) {
   Json out = Json::object();
-  for (const auto& [key, value] : properties) out[key] = value;
+  for (const auto& [key, value] : properties) out[key] = propertyToJson(value);
   return out;
 }
+
+}  // namespace
+
+PropertyValue propertyFromJson(const Json& value) {
+  return value.is_string() ? PropertyValue(value.get<std::string>()) : PropertyValue::json(value.dump());
+}
+
+Json propertyToJson(const PropertyValue& value) {
+  if (!value.is_json) return value.text;
+  Json parsed = Json::parse(value.text, nullptr, false);
+  if (parsed.is_discarded()) throw InvalidInput("a property value marked as JSON is not JSON: " + value.text);
+  return parsed;
+}
+
+namespace {
 
 std::optional<Intersection> readIntersection(const Json& value, const std::string& pointer, Issues& issues) {
   JsonObject object(value, pointer, issues);
