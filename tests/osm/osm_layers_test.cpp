@@ -86,6 +86,20 @@ TEST(OsmLayers, ATunnelAndABridgeCrossingOtherWaysImportWithAndWithoutRepair) {
   }
 }
 
+// covered=yes (a roofed way) is a tunnel to the view: not seen from above or outside; its layer
+// stays the tagged one.
+TEST(OsmLayers, ACoveredWayIsATunnelOnItsTaggedLayer) {
+  std::string text = readFile(fixture());
+  const std::string bridge = "<tag k=\"bridge\" v=\"yes\"/>";
+  text.replace(text.find(bridge), bridge.size(), "<tag k=\"covered\" v=\"yes\"/>");
+  const fs::path file = testing::freshTempDir() / "covered.osm";
+  std::ofstream(file) << text;
+  const MapData map = importOsm(file, options(false)).map;
+  EXPECT_EQ(roadOf(map, "w203").structure, RoadStructure::Tunnel);
+  EXPECT_EQ(roadOf(map, "w203").layer, 1);
+  EXPECT_TRUE(errorChecks(validateMap(map)).empty());
+}
+
 TEST(OsmLayers, LayerAndStructureSurviveTheJsonMapAndGeoJson) {
   const MapData map = importOsm(fixture(), options(false)).map;
   const std::string json = mapToJson(map);
