@@ -10,17 +10,20 @@
 
 #include <algorithm>
 #include <chrono>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
 
+#include "bench_util.h"
 #include "mapnav/scenes/route_scene.h"
 #include "mapnav/navigator/route.h"
 
 namespace {
 
 using namespace mapnav;
+using bench::resetPeakMemory;
+using bench::secondsSince;
+using bench::statusKb;
 
 struct Campus {
   RouteScene scene;  // the map and its 32 queries
@@ -28,31 +31,12 @@ struct Campus {
   double graph_s = 0, landmarks_s = 0, prep_mib = 0;
 };
 
-// A field of /proc/self/status in kB ("VmRSS", "VmHWM"); 0 where there is none.
-double statusKb(const std::string& field) {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  double kb = 0;
-  while (status >> key) {
-    if (key == field + ":") {
-      status >> kb;
-      return kb;
-    }
-    status.ignore(1 << 12, '\n');
-  }
-  return 0;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 Campus& campus(int intersections) {
   static std::map<int, Campus> campuses;
   auto it = campuses.find(intersections);
   if (it != campuses.end()) return it->second;
   Campus c{makeRouteScene(intersections), nullptr};
-  std::ofstream("/proc/self/clear_refs") << "5";  // peak resident memory := current
+  resetPeakMemory();
   const double rss0 = statusKb("VmRSS");
   auto t0 = std::chrono::steady_clock::now();
   c.graph = std::make_unique<RoadGraph>(*c.scene.map);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <ostream>
 #include <sstream>
 
@@ -106,6 +107,18 @@ int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::
   });
 }
 
+// "; --repair may fix the 3 roads.crossing_without_intersection" — only the errors it can repair
+// ("" when there are none).
+static std::string repairHint(const Issues& issues) {
+  std::map<std::string, int> fixable;
+  for (const Issue& issue : issues) {
+    if (issue.severity == Severity::Error && osmRepairCanFix(issue.check)) ++fixable[issue.check];
+  }
+  std::string hint;
+  for (const auto& [check, count] : fixable) hint += (hint.empty() ? "" : ", ") + std::to_string(count) + " " + check;
+  return hint.empty() ? hint : "; --repair may fix the " + hint;
+}
+
 int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
     OsmImportOptions options;
@@ -130,7 +143,7 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
     printIssues(issues, config.output, err);
     if (hasErrors(issues)) {
       err << "mapnav: error: " << config.input << ": the imported map is invalid (" << countSeverity(issues, Severity::Error)
-          << " errors" << (config.repair ? "" : "; --repair may fix them") << "); nothing written\n";
+          << " errors" << (config.repair ? "" : repairHint(issues)) << "); nothing written\n";
       return static_cast<int>(kInvalid);
     }
     saveMap(imported.map, config.output);

@@ -2,7 +2,9 @@
 
 #include "cli.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 
 #include <filesystem>
 #include <iomanip>
@@ -60,15 +62,60 @@ int runRectify(const RectifyConfig& config, std::ostream& out, std::ostream& err
   });
 }
 
+namespace {
+
+// The photos of one size, read in the order of their file names (so that the calibration does not
+// depend on the order they are given in): those of the most common size, and those within
+// `tolerance` pixels of it cut or padded to it; the others skipped, each with its size.
+struct SameSizePhotos {
+  std::vector<std::string> files;
+  std::vector<Image> images;
+  std::vector<std::string> fitted, skipped;  // "NAME: what was done"
+};
+
+SameSizePhotos sameSizePhotos(std::vector<std::string> files, int tolerance) {
+  std::sort(files.begin(), files.end());
+  std::vector<Image> all;
+  std::vector<ImageSize> sizes;
+  for (const std::string& file : files) {
+    all.push_back(readImage(file));
+    sizes.push_back({all.back().width, all.back().height});
+  }
+  const ImageSize common = mostCommonSize(sizes);
+  auto text = [](const ImageSize& s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
+  SameSizePhotos out;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    if (std::abs(sizes[i].width - common.width) > tolerance || std::abs(sizes[i].height - common.height) > tolerance) {
+      out.skipped.push_back(files[i] + ": " + text(sizes[i]) + ", not the common " + text(common) + " (--size-tolerance " +
+                            std::to_string(tolerance) + " px)");
+      continue;
+    }
+    if (sizes[i] != common) {
+      const bool larger = sizes[i].width >= common.width && sizes[i].height >= common.height;
+      const bool smaller = sizes[i].width <= common.width && sizes[i].height <= common.height;
+      out.fitted.push_back(files[i] + ": " + text(sizes[i]) + (larger ? " cut" : smaller ? " padded" : " cut and padded") +
+                           " at the right and bottom to " + text(common));
+      all[i] = fitToSize(all[i], common);
+    }
+    out.files.push_back(files[i]);
+    out.images.push_back(std::move(all[i]));
+  }
+  return out;
+}
+
+}  // namespace
+
 int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
     requireOutput(config.output, "--output");
     if (config.images.empty()) throw InvalidInput("no images given");
-    std::vector<Image> images;
-    images.reserve(config.images.size());
-    for (const std::string& file : config.images) images.push_back(readImage(file));
-    const ChessboardResult result =
-        calibrateChessboard(images, config.cols, config.rows, config.square_m, config.images);
+    if (config.size_tolerance_px < 0) {
+      throw InvalidInput("--size-tolerance " + std::to_string(config.size_tolerance_px) + ": must be >= 0");
+    }
+    const SameSizePhotos photos = sameSizePhotos(config.images, config.size_tolerance_px);
+    const std::vector<Image>& images = photos.images;
+    ChessboardResult result = calibrateChessboard(images, config.cols, config.rows, config.square_m, photos.files);
+    result.rejected.insert(result.rejected.begin(), photos.skipped.begin(), photos.skipped.end());
 
     if (!config.corners_dir.empty()) {
       std::filesystem::create_directories(config.corners_dir);
@@ -78,7 +125,7 @@ int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream
             drawChessboardCorners(images[i], config.cols, config.rows, corners.value_or(std::vector<Vec2>{}), corners.has_value());
         const std::filesystem::path name =
             std::filesystem::path(config.corners_dir) /
-            (std::filesystem::path(config.images[i]).stem().string() + "_corners.png");
+            (std::filesystem::path(photos.files[i]).stem().string() + "_corners.png");
         writePng(drawn, name);
       }
     }
@@ -88,8 +135,9 @@ int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream
 
     const CameraIntrinsics& in = result.intrinsics;
     out << std::fixed << std::setprecision(3);
-    out << "calibrated from " << result.images_used << " of " << images.size() << " images (" << in.width << "x"
-        << in.height << ")\n";
+    out << "calibrated from " << result.images_used << " of " << config.images.size() << " images (" << in.width << "x"
+        << in.height << ", the most common size)\n";
+    for (const std::string& f : photos.fitted) out << "  fitted " << f << "\n";
     for (const std::string& r : result.rejected) out << "  skipped " << r << "\n";
     out << "focal " << in.fx << ", " << in.fy << " px; principal point " << in.cx << ", " << in.cy << " px\n";
     out << std::setprecision(6) << "distortion k1 k2 p1 p2 k3: " << in.distortion[0] << " " << in.distortion[1] << " "
@@ -153,6 +201,10 @@ void addChessboard(CLI::App& calibrate, Commands& commands) {
   cb->add_option("--square", chessboard->square_m, "Square size, m")->default_val(0.025)->check(CLI::PositiveNumber);
   cb->add_option("-o,--output", chessboard->output, "Camera file to write (mapnav-camera/1; fill in the mount)")->required();
   cb->add_option("--corners", chessboard->corners_dir, "Folder to draw the detected corners into");
+  cb->add_option("--size-tolerance", chessboard->size_tolerance_px,
+                 "Photos within this many pixels of the most common size are cut or padded to it; others are skipped")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cb->callback(commands.choose([chessboard, board](std::ostream& out, std::ostream& err) {
     const auto x = board->find('x');
     try {

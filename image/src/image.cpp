@@ -1,6 +1,9 @@
 // Image conversions that need no codec: grey to RGB, and the test for a grey frame given as RGB.
 #include "mapnav/image/image.h"
 
+#include <algorithm>
+#include <map>
+
 namespace mapnav {
 
 bool isGreyFrame(const std::uint8_t* rgb, int width, int height) {
@@ -19,6 +22,29 @@ Image toRgb(Image image) {
     rgb.data[3 * i] = rgb.data[3 * i + 1] = rgb.data[3 * i + 2] = v;
   }
   return rgb;
+}
+
+ImageSize mostCommonSize(const std::vector<ImageSize>& sizes) {
+  std::map<ImageSize, int> count;
+  for (const ImageSize& s : sizes) ++count[s];
+  ImageSize best;
+  int best_count = 0;
+  auto pixels = [](const ImageSize& s) { return static_cast<long long>(s.width) * s.height; };
+  for (const auto& [size, n] : count) {  // in size order, so ties are settled the same way every time
+    if (n > best_count || (n == best_count && (pixels(size) > pixels(best) ||
+                                               (pixels(size) == pixels(best) && size.width > best.width)))) {
+      best = size;
+      best_count = n;
+    }
+  }
+  return best;
+}
+
+Image fitToSize(const Image& image, ImageSize size) {
+  Image out(size.width, size.height, image.channels);
+  const int w = std::min(size.width, image.width), h = std::min(size.height, image.height);
+  for (int y = 0; y < h; ++y) std::copy_n(image.pixel(0, y), static_cast<std::size_t>(w) * image.channels, out.pixel(0, y));
+  return out;
 }
 
 }  // namespace mapnav

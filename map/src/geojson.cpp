@@ -40,8 +40,19 @@ struct RawFeature {
   std::optional<std::string> id, kind_name, from, to, surface, left, right;
   std::optional<double> width, cost_factor;
   std::optional<bool> oneway;
+  std::optional<int> layer;
+  std::optional<RoadStructure> structure;
   std::optional<LatLon> center;
+  Properties extra;  // the members mapnav does not interpret for this kind of feature, kept as they are
 };
+
+// The members of a feature's properties that mapnav interprets: for roads, and for intersections.
+// A kept property named like one of them (an OSM way's `surface` tag) is written inside the member
+// kShadowed instead, and read back from there.
+const std::set<std::string, std::less<>> kRoadMembers{"id",    "from",   "to",          "width", "surface",   "left",
+                                                      "right", "oneway", "cost_factor", "layer", "structure", "mapnav_kept"};
+const std::set<std::string, std::less<>> kIntersectionMembers{"id", "kind", "center", "mapnav_kept"};
+constexpr const char* kShadowed = "mapnav_kept";
 
 std::optional<LatLon> readPosition(const Json& value, const std::string& pointer, Issues& issues) {
   if (!value.is_array() || value.size() < 2 || value.size() > 3) {
@@ -166,10 +177,34 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
         addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, "oneway"), "expected true or false");
       }
     }
+    if (const auto layer = numberProperty(p, pptr, "layer", issues)) {
+      if (*layer == std::floor(*layer) && std::abs(*layer) <= 10) {
+        raw.layer = static_cast<int>(*layer);
+      } else {
+        addIssue(issues, Severity::Error, "schema.range", pointerJoin(pptr, "layer"), "expected an integer in [-10, 10]");
+      }
+    }
+    if (const auto structure = stringProperty(p, pptr, "structure", issues)) {
+      raw.structure = roadStructureFromString(*structure);
+      if (!raw.structure) {
+        addIssue(issues, Severity::Error, "schema.enum", pointerJoin(pptr, "structure"),
+                 "unknown road structure \"" + *structure + "\"; expected one of none, bridge, tunnel");
+      }
+    }
     if (const auto it = p.find("center"); it != p.end() && !it->is_null()) {
       raw.center = readPosition(*it, pointerJoin(pptr, "center"), issues);
     }
     if (issues.size() != before) return std::nullopt;
+    const auto& interpreted = raw.kind == RawFeature::Kind::Road ? kRoadMembers : kIntersectionMembers;
+    for (auto it = p.begin(); it != p.end(); ++it) {
+      if (!interpreted.contains(it.key())) raw.extra.emplace(it.key(), propertyFromJson(*it));
+    }
+    if (const auto it = p.find(kShadowed); it != p.end() && it->is_object()) {
+      for (auto k = it->begin(); k != it->end(); ++k) raw.extra.emplace(k.key(), propertyFromJson(*k));
+    } else if (it != p.end()) {
+      addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, kShadowed), "expected an object");
+      return std::nullopt;
+    }
   }
   return raw;
 }
@@ -279,6 +314,7 @@ class MapBuilder {
         x.shape = project(raw.coordinates);
         x.position = raw.center ? frame_.toLocal(*raw.center) : centroid(*x.shape);
       }
+      x.properties = raw.extra;
       map_.intersections.push_back(std::move(x));
       result_.intersection_features.push_back(raw.pointer);
       kind_names_.push_back(raw.kind_name);
@@ -302,6 +338,9 @@ class MapBuilder {
       road.right = raw.right.value_or(options_.default_shoulder);
       road.oneway = raw.oneway.value_or(false);
       road.cost_factor = raw.cost_factor.value_or(1.0);
+      road.layer = raw.layer.value_or(0);
+      road.structure = raw.structure.value_or(RoadStructure::None);
+      road.properties = raw.extra;
       map_.roads.push_back(std::move(road));
       result_.road_features.push_back(raw.pointer);
     }
@@ -436,6 +475,18 @@ std::string GeoJsonImport::toFeaturePointer(const std::string& map_pointer) cons
   return out;
 }
 
+namespace {
+
+// The element's kept properties after the members mapnav writes; those named like one of them
+// (which a re-import would read as that member) inside kShadowed.
+void addKept(Json& out, const Properties& kept, const std::set<std::string, std::less<>>& interpreted) {
+  Json shadowed = Json::object();
+  for (const auto& [key, value] : kept) (interpreted.contains(key) ? shadowed[key] : out[key]) = propertyToJson(value);
+  if (!shadowed.empty()) out[kShadowed] = std::move(shadowed);
+}
+
+}  // namespace
+
 std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& origin_override) {
   const std::optional<GeoOrigin> origin = origin_override ? origin_override : map.origin;
   if (!origin) {
@@ -464,6 +515,7 @@ std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& or
     } else {
       geometry = {{"type", "Point"}, {"coordinates", position(x.position)}};
     }
+    addKept(properties, x.properties, kIntersectionMembers);
     features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
   }
   for (const Road& r : map.roads) {
@@ -471,6 +523,9 @@ std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& or
                        {"surface", r.surface}, {"left", r.left}, {"right", r.right}};
     if (r.oneway) properties["oneway"] = true;
     if (r.cost_factor != 1.0) properties["cost_factor"] = r.cost_factor;
+    if (r.layer != 0) properties["layer"] = r.layer;
+    if (r.structure != RoadStructure::None) properties["structure"] = toString(r.structure);
+    addKept(properties, r.properties, kRoadMembers);
     Json geometry = {{"type", "LineString"}, {"coordinates", positions(r.centerline.points())}};
     features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
   }

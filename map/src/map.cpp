@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <ostream>
 #include <unordered_map>
 
 #include "mapnav/core/error.h"
@@ -25,6 +26,12 @@ constexpr std::array<std::pair<IntersectionKind, std::string_view>, 7> kKindName
     {IntersectionKind::End, "end"},
     {IntersectionKind::Plaza, "plaza"},
     {IntersectionKind::Other, "other"},
+}};
+
+constexpr std::array<std::pair<RoadStructure, std::string_view>, 3> kStructureNames{{
+    {RoadStructure::None, "none"},
+    {RoadStructure::Bridge, "bridge"},
+    {RoadStructure::Tunnel, "tunnel"},
 }};
 
 // What an R-tree entry stands for: a road segment or an intersection shape.
@@ -75,6 +82,24 @@ std::string_view toString(IntersectionKind kind) {
 std::optional<IntersectionKind> intersectionKindFromString(std::string_view text) {
   for (const auto& [k, name] : kKindNames) {
     if (name == text) return k;
+  }
+  return std::nullopt;
+}
+
+std::ostream& operator<<(std::ostream& out, const PropertyValue& value) {
+  return value.is_json ? out << value.text : out << '"' << value.text << '"';
+}
+
+std::string_view toString(RoadStructure structure) {
+  for (const auto& [s, name] : kStructureNames) {
+    if (s == structure) return name;
+  }
+  return "none";
+}
+
+std::optional<RoadStructure> roadStructureFromString(std::string_view text) {
+  for (const auto& [s, name] : kStructureNames) {
+    if (name == text) return s;
   }
   return std::nullopt;
 }

@@ -3,6 +3,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/map/map_io.h"
 #include "map_json_internal.h"
 
@@ -109,32 +110,40 @@ std::optional<std::vector<std::pair<std::string, Appearance>>> readSurfaces(cons
 
 namespace {
 
-/// "properties": {"name": "string", ...}; nothing when absent.
+/// "properties": {"name": any JSON value, ...}; nothing when absent.
 Properties readProperties(JsonObject& object, Issues& issues) {
   Properties out;
   const Json* value = object.member("properties", false);
   if (value == nullptr) return out;
-  const std::string pointer = object.pointer("properties");
   if (!value->is_object()) {
-    addIssue(issues, Severity::Error, "schema.type", pointer, "expected an object of strings, got " + std::string(jsonTypeName(*value)));
+    addIssue(issues, Severity::Error, "schema.type", object.pointer("properties"),
+             "expected an object, got " + std::string(jsonTypeName(*value)));
     return out;
   }
-  for (auto it = value->begin(); it != value->end(); ++it) {
-    if (it->is_string()) {
-      out.emplace(it.key(), it->get<std::string>());
-    } else {
-      addIssue(issues, Severity::Error, "schema.type", pointerJoin(pointer, it.key()),
-               "expected a string, got " + std::string(jsonTypeName(*it)));
-    }
-  }
+  for (auto it = value->begin(); it != value->end(); ++it) out.emplace(it.key(), propertyFromJson(*it));
   return out;
 }
 
 Json propertiesToJson(const Properties& properties) {
   Json out = Json::object();
-  for (const auto& [key, value] : properties) out[key] = value;
+  for (const auto& [key, value] : properties) out[key] = propertyToJson(value);
   return out;
 }
+
+}  // namespace
+
+PropertyValue propertyFromJson(const Json& value) {
+  return value.is_string() ? PropertyValue(value.get<std::string>()) : PropertyValue::json(value.dump());
+}
+
+Json propertyToJson(const PropertyValue& value) {
+  if (!value.is_json) return value.text;
+  Json parsed = Json::parse(value.text, nullptr, false);
+  if (parsed.is_discarded()) throw InvalidInput("a property value marked as JSON is not JSON: " + value.text);
+  return parsed;
+}
+
+namespace {
 
 std::optional<Intersection> readIntersection(const Json& value, const std::string& pointer, Issues& issues) {
   JsonObject object(value, pointer, issues);
@@ -167,6 +176,30 @@ std::optional<Intersection> readIntersection(const Json& value, const std::strin
   return x;
 }
 
+/// "layer": an integer in [-10, 10] (OSM's range; default 0).
+std::optional<int> readLayer(JsonObject& object) {
+  const auto layer = object.number("layer", false, -10, 10);
+  if (!layer) return std::nullopt;
+  if (*layer != std::floor(*layer)) {
+    addIssue(object.issues(), Severity::Error, "schema.type", object.pointer("layer"),
+             "expected an integer, got " + numberText(*layer));
+    return std::nullopt;
+  }
+  return static_cast<int>(*layer);
+}
+
+/// "structure": "none", "bridge" or "tunnel" (default none).
+std::optional<RoadStructure> readStructure(JsonObject& object) {
+  const auto text = object.string("structure", false);
+  if (!text) return std::nullopt;
+  const auto structure = roadStructureFromString(*text);
+  if (!structure) {
+    addIssue(object.issues(), Severity::Error, "schema.enum", object.pointer("structure"),
+             "unknown road structure \"" + *text + "\"; expected one of none, bridge, tunnel");
+  }
+  return structure;
+}
+
 std::optional<Road> readRoad(const Json& value, const std::string& pointer, Issues& issues) {
   JsonObject object(value, pointer, issues);
   if (!object.isObject()) return std::nullopt;
@@ -180,9 +213,12 @@ std::optional<Road> readRoad(const Json& value, const std::string& pointer, Issu
   const auto right = object.string("right");
   const auto oneway = object.boolean("oneway", false);
   const auto cost_factor = object.number("cost_factor", false);
+  const auto layer = readLayer(object);
+  const auto structure = readStructure(object);
   Properties properties = readProperties(object, issues);
   object.rejectUnknownMembers();
-  const bool optional_ok = (oneway || !object.has("oneway")) && (cost_factor || !object.has("cost_factor"));
+  const bool optional_ok = (oneway || !object.has("oneway")) && (cost_factor || !object.has("cost_factor")) &&
+                           (layer || !object.has("layer")) && (structure || !object.has("structure"));
   if (!id || !from || !to || !centerline || !width || !surface || !left || !right || !optional_ok) return std::nullopt;
   Road road;
   road.id = *id;
@@ -195,6 +231,8 @@ std::optional<Road> readRoad(const Json& value, const std::string& pointer, Issu
   road.right = *right;
   road.oneway = oneway.value_or(false);
   road.cost_factor = cost_factor.value_or(1.0);
+  road.layer = layer.value_or(0);
+  road.structure = structure.value_or(RoadStructure::None);
   road.properties = std::move(properties);
   return road;
 }
@@ -317,6 +355,8 @@ std::string mapToJson(const MapData& map) {
               {"left", r.left}, {"right", r.right}};
     if (r.oneway) j["oneway"] = true;
     if (r.cost_factor != 1.0) j["cost_factor"] = r.cost_factor;
+    if (r.layer != 0) j["layer"] = r.layer;
+    if (r.structure != RoadStructure::None) j["structure"] = toString(r.structure);
     if (!r.properties.empty()) j["properties"] = propertiesToJson(r.properties);
     j["centerline"] = pointsToJson(r.centerline.points());
     roads.push_back(std::move(j));

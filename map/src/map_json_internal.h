@@ -25,5 +25,8 @@ Json pointToJson(const Vec2& p);
 Json pointsToJson(const std::vector<Vec2>& points);
 Json surfacesToJson(const std::vector<std::pair<std::string, Appearance>>& surfaces);
 Json originToJson(const GeoOrigin& origin);
+/// A property's JSON value as kept (a string as itself, anything else as its compact text), and back.
+PropertyValue propertyFromJson(const Json& value);
+Json propertyToJson(const PropertyValue& value);
 
 }  // namespace mapnav

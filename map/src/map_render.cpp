@@ -63,8 +63,13 @@ void drawMapLayers(render::Canvas& canvas, const render::View& view, const Map& 
                    const std::vector<const Road*>& roads, const std::vector<const Intersection*>& intersections,
                    bool labels) {
   const double ppm = view.pixelsPerMetre();
-  // Shoulders: a band of each shoulder's colour along each side, so that a dirt or brick edge shows.
-  for (const Road* road : roads) {
+  // Lower layers first, so that a bridge is drawn over what it crosses (stable: map order within).
+  std::vector<const Road*> by_layer = roads;
+  std::stable_sort(by_layer.begin(), by_layer.end(), [](const Road* a, const Road* b) { return a->layer < b->layer; });
+  // Shoulders: a band of each shoulder's colour along each side, so that a dirt or brick edge shows
+  // (none along a tunnel: its sides are underground).
+  for (const Road* road : by_layer) {
+    if (road->structure == RoadStructure::Tunnel) continue;
     for (const bool left : {true, false}) {
       const Appearance* a = map.findSurface(left ? road->left : road->right);
       if (a == nullptr) continue;
@@ -78,14 +83,36 @@ void drawMapLayers(render::Canvas& canvas, const render::View& view, const Map& 
       canvas.polygon(toPixels(view, ring), style);
     }
   }
-  // Paved areas: roads then intersections, in their surface colours with a dark outline.
-  for (const Road* road : roads) {
-    const Appearance* a = map.findSurface(road->surface);
+  // Paved areas in their surface colours with a dark outline: tunnels faint with a dashed outline,
+  // then the ground's roads, the intersections, and bridges last on a dark casing.
+  auto pave = [&](const Road& road) {
+    const Appearance* a = map.findSurface(road.surface);
     Style style;
     style.fill = a ? toRgb(a->rgb) : Rgb{180, 180, 180};
     style.stroke = shade(*style.fill, 0.45);
     style.stroke_width_px = 1.2;
-    canvas.polygon(toPixels(view, map.roadPolygon(*road)), style);
+    if (road.structure == RoadStructure::Tunnel) {
+      style.opacity = 0.4;
+      style.stroke = Rgb{40, 40, 40};
+      style.stroke_width_px = 1.6;
+      style.dashed = true;
+    }
+    if (road.structure == RoadStructure::Bridge) {
+      Style casing;
+      casing.fill = Rgb{45, 45, 50};
+      const double outer = road.width / 2 + std::max(0.6, 2.5 / ppm);  // at least 2.5 px of casing
+      std::vector<Vec2> ring = road.centerline.offset(outer).points();
+      const std::vector<Vec2> right = road.centerline.offset(-outer).points();
+      ring.insert(ring.end(), right.rbegin(), right.rend());
+      canvas.polygon(toPixels(view, ring), casing);
+    }
+    canvas.polygon(toPixels(view, map.roadPolygon(road)), style);
+  };
+  for (const Road* road : by_layer) {
+    if (road->structure == RoadStructure::Tunnel) pave(*road);
+  }
+  for (const Road* road : by_layer) {
+    if (road->structure == RoadStructure::None) pave(*road);
   }
   for (const Intersection* x : intersections) {
     const auto ends = map.roadsAt(x->id);
@@ -97,6 +124,9 @@ void drawMapLayers(render::Canvas& canvas, const render::View& view, const Map& 
       style.stroke_width_px = 1.2;
     }
     canvas.polygon(toPixels(view, map.intersectionShape(*x)), style);
+  }
+  for (const Road* road : by_layer) {
+    if (road->structure == RoadStructure::Bridge) pave(*road);
   }
   // Centre lines, dashed, so that direction and curvature read at a glance.
   for (const Road* road : roads) {

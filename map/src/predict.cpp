@@ -63,6 +63,11 @@ std::string intersectionSurface(const Map& map, const Intersection& intersection
 namespace {
 
 // An interest segment in the world, before the view clips it.
+// A tunnel is seen only from inside it (the vehicle on its paved width); everything else from anywhere.
+bool canBeSeen(const Road& road, const Vec2& vehicle) {
+  return road.structure != RoadStructure::Tunnel || road.centerline.project(vehicle).distance <= road.width / 2;
+}
+
 struct MapSegment {
   std::string id, owner, side;
   Segment2 world;
@@ -360,6 +365,7 @@ Prediction ViewPredictor::predict(const Pose2& pose, const Camera& camera) {
   };
 
   for (const Road* road : map.roadsMeeting(footprint)) {
+    if (!canBeSeen(*road, pose.translation())) continue;
     const Store::Parts& parts = store_->of(*road, predictor, map, options);
     // A road is a curve in view when its centre line inside the footprint is more than one straight piece.
     int visible_pieces = 0;

@@ -9,6 +9,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/core/json.h"
 #include "mapnav/geometry/polygon.h"
 #include "spatial_internal.h"
@@ -185,8 +186,8 @@ class Validator {
         }
       }
       if (!std::isfinite(road.width) || road.width <= 0 || road.width > options_.max_width_m) {
-        error("roads.invalid_width", ptr + "/width",
-              "width " + fmt(road.width) + " m must be > 0 and <= " + fmt(options_.max_width_m) + " m");
+        const auto [width, widest] = comparedText(road.width, options_.max_width_m);
+        error("roads.invalid_width", ptr + "/width", "width " + width + " m must be > 0 and <= " + widest + " m");
       }
       if (!std::isfinite(road.cost_factor) || road.cost_factor <= 0) {
         error("schema.range", ptr + "/cost_factor", "cost_factor " + fmt(road.cost_factor) + " must be > 0");
@@ -240,11 +241,13 @@ class Validator {
       }
     }
     if (road.centerline.length() < options_.min_road_length_m) {
-      warning("roads.very_short", ptr, "road \"" + road.id + "\" is " + fmt(road.centerline.length()) + " m long (< " + fmt(options_.min_road_length_m) + " m)");
+      const auto [length, least] = comparedText(road.centerline.length(), options_.min_road_length_m);
+      warning("roads.very_short", ptr, "road \"" + road.id + "\" is " + length + " m long (< " + least + " m)");
     }
   }
 
-  // Roads crossing each other away from every intersection they share. One R-tree over all
+  // Roads on the same layer crossing each other away from every intersection they share (roads on
+  // different layers pass over and under each other). One R-tree over all
   // segments, so the cost grows with the segments that are close, not with the square of the map.
   void checkCrossings() {
     using Value = std::pair<spatial::BBox, std::pair<std::size_t, std::size_t>>;  // (road, segment)
@@ -268,6 +271,7 @@ class Validator {
       for (const Value& w : found) {
         const auto [q, t] = w.second;
         if (q <= r || reported.contains({r, q})) continue;
+        if (map_.roads[r].layer != map_.roads[q].layer) continue;  // a bridge over, a tunnel under
         const Segment2 a = map_.roads[r].centerline.segment(s), b = map_.roads[q].centerline.segment(t);
         if (!segmentsIntersect(a, b)) continue;
         const Vec2 p = meetingPoint(a, b);

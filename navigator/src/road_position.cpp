@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/strprintf.h"
 
 namespace mapnav {
 
@@ -88,20 +89,24 @@ std::string toString(const RoadPosition& p) {
   return text;
 }
 
-Pose2 toPose(const Map& map, const RoadPosition& p) {
-  const Road& road = map.road(p.road);
+double arcFromStart(const Road& road, const RoadPosition& p) {
   if (p.node != road.from && p.node != road.to) {
     throw InvalidInput("road position " + toString(p) + ": " + p.node + " is not an end of " + road.id + " (it runs " +
                        road.from + " to " + road.to + ")");
   }
   const double length = road.centerline.length();
   if (!(p.meters >= 0) || p.meters > length) {
-    char buffer[160];
-    std::snprintf(buffer, sizeof buffer, ": %g m is beyond the road's %.2f m", p.meters, length);
-    throw InvalidInput("road position " + toString(p) + buffer);
+    const auto [meters, len] = comparedText(p.meters, length);
+    throw InvalidInput("road position " + toString(p) + ": " + meters + " m is " +
+                       (p.meters > length ? "beyond" : "outside") + " the road's " + len + " m");
   }
+  return p.node == road.from ? p.meters : length - p.meters;
+}
+
+Pose2 toPose(const Map& map, const RoadPosition& p) {
+  const Road& road = map.road(p.road);
+  const double s = arcFromStart(road, p);
   const bool forward = p.node == road.from;
-  const double s = forward ? p.meters : length - p.meters;
   const double heading = normalizeAngle(road.centerline.headingAt(s) + (forward ? 0.0 : kPi));
   const Vec2 at = road.centerline.pointAt(s) + p.lateral * leftNormal(unitVector(heading));
   return Pose2(at, heading);

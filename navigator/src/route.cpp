@@ -103,20 +103,6 @@ std::size_t RoadGraph::vertexCount() const { return impl_->network.traversals();
 
 namespace {
 
-// Where a road position is on its road: arc length from the road's `from` end.
-double arcFromStart(const Road& road, const RoadPosition& p) {
-  const double len = road.centerline.length();
-  if (p.node != road.from && p.node != road.to) {
-    throw InvalidInput("road position " + toString(p) + ": " + p.node + " is not an end of " + road.id);
-  }
-  if (!(p.meters >= 0) || p.meters > len) {
-    char text[96];
-    std::snprintf(text, sizeof text, ": %g m is beyond the road's %.2f m", p.meters, len);
-    throw InvalidInput("road position " + toString(p) + text);
-  }
-  return p.node == road.from ? p.meters : len - p.meters;
-}
-
 // The ids of `blocked`, each checked to name a road or an intersection (NotFound otherwise).
 std::set<std::string> blockedIds(const Map& map, const std::vector<std::string>& ids) {
   std::set<std::string> blocked;

@@ -18,6 +18,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/geometry/polyline2.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/map/geodesy.h"
@@ -79,6 +80,7 @@ struct RawWay {
   NodeId id = 0;
   std::string highway, width, surface, name, oneway, area;
   int layer = 0;
+  RoadStructure structure = RoadStructure::None;
   std::vector<NodeId> refs;
 };
 
@@ -91,6 +93,15 @@ int layerOf(const std::string& layer, const std::string& bridge, const std::stri
   if (!bridge.empty() && bridge != "no") return 1;
   if (!tunnel.empty() && tunnel != "no") return -1;
   return 0;
+}
+
+/// What carries the way: a bridge (`bridge` other than "no"), a tunnel (`tunnel` other than "no",
+/// building passages included, or `covered=yes`: a roof over it hides it from above as a tunnel
+/// does), or nothing.
+RoadStructure structureOf(const std::string& bridge, const std::string& tunnel, const std::string& covered) {
+  if (!bridge.empty() && bridge != "no") return RoadStructure::Bridge;
+  if ((!tunnel.empty() && tunnel != "no") || covered == "yes") return RoadStructure::Tunnel;
+  return RoadStructure::None;
 }
 
 /// Collects the nodes and the kept ways of the file.
@@ -120,6 +131,7 @@ class Collector : public osmium::handler::Handler {
     w.oneway = tag("oneway");
     w.area = tag("area");
     w.layer = layerOf(tag("layer"), tag("bridge"), tag("tunnel"));
+    w.structure = structureOf(tag("bridge"), tag("tunnel"), tag("covered"));
     for (const osmium::NodeRef& ref : way.nodes()) w.refs.push_back(ref.ref());
     ways.push_back(std::move(w));
   }
@@ -487,8 +499,9 @@ class Importer {
                                          " m " + (loop ? "loop" : "stub"));
         continue;
       }
+      const auto [meters, least] = comparedText(length, options_.min_piece_m);
       warn("osm.tiny_piece", wayRef(way),
-           "piece " + p.id + " is only " + fixed(length) + " m long" +
+           "piece " + p.id + " is only " + meters + " m long (< " + least + " m)" +
                (loop || stub ? std::string(" (--repair drops it)") : std::string()));
       kept.push_back(p);
     }
@@ -594,6 +607,8 @@ class Importer {
                                                 " so that routes avoid them where they can");
         }
       }
+      road.layer = way.layer;
+      road.structure = way.structure;
       road.properties["osm_way"] = std::to_string(way.id);
       road.properties["highway"] = way.highway;
       if (!way.name.empty()) road.properties["name"] = way.name;
@@ -613,6 +628,13 @@ class Importer {
 };
 
 }  // namespace
+
+bool osmRepairCanFix(std::string_view check) {
+  // A same-layer crossing gets an intersection; merged nodes and dropped tiny pieces take away
+  // repeated points and degenerate centre lines.
+  return check == "roads.crossing_without_intersection" || check == "roads.repeated_point" ||
+         check == "roads.too_few_points";
+}
 
 OsmImport importOsm(const std::filesystem::path& file, const OsmImportOptions& options) {
   options.validate();

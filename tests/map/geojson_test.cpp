@@ -4,6 +4,8 @@
 
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/map/geodesy.h"
@@ -25,6 +27,7 @@ void expectSameNetwork(const MapData& a, const MapData& b, double tol) {
     EXPECT_EQ(x.id, y.id);
     EXPECT_EQ(x.kind, y.kind);
     EXPECT_VEC2_NEAR(x.position, y.position, tol);
+    EXPECT_EQ(x.properties, y.properties);
     ASSERT_EQ(x.shape.has_value(), y.shape.has_value());
     if (x.shape) {
       ASSERT_EQ(x.shape->size(), y.shape->size());
@@ -41,6 +44,7 @@ void expectSameNetwork(const MapData& a, const MapData& b, double tol) {
     EXPECT_EQ(r.width, s.width);
     EXPECT_EQ(std::tie(r.surface, r.left, r.right, r.oneway, r.cost_factor),
               std::tie(s.surface, s.left, s.right, s.oneway, s.cost_factor));
+    EXPECT_EQ(std::tie(r.layer, r.structure, r.properties), std::tie(s.layer, s.structure, s.properties));
     ASSERT_EQ(r.centerline.size(), s.centerline.size());
     for (std::size_t k = 0; k < r.centerline.size(); ++k) {
       EXPECT_VEC2_NEAR(r.centerline.points()[k], s.centerline.points()[k], tol);
@@ -66,6 +70,60 @@ TEST(GeoJsonExport, ExportThenImportGivesTheSameMapWithinAMillimetre) {
   expectSameNetwork(back->map, park, 0.001);
   ASSERT_TRUE(back->map.origin);
   EXPECT_EQ(*back->map.origin, *park.origin);
+}
+
+// Properties mapnav does not interpret, of every JSON type and nested, on a road and on a point
+// intersection: GeoJSON -> map -> GeoJSON gives each feature's properties equal as JSON values to
+// the input's, through the JSON map file too, and a second round trip gives the same text.
+TEST(GeoJsonExport, ARoundTripKeepsArbitraryNestedPropertiesLossless) {
+  const std::string nested = R"({"osm_way": 12, "tags": {"a": [1, 2.5, null, true, {"b": "c", "d": []}]}, "name": "Main walk",
+    "note": null, "kind": "footbridge", "ratio": -1e-7, "flag": false, "unicode": "Straße \u00e9"})";
+  const std::string text = R"({"type": "FeatureCollection", "mapnav": {"format": "mapnav-map/1", "name": "kept",
+    "origin": {"lat": 42.05, "lon": -87.67, "alt": 0}, "surfaces": {"concrete": {"rgb": [178, 176, 168], "spread": [10, 10, 10]},
+    "grass": {"rgb": [72, 122, 52], "spread": [16, 16, 16]}}}, "features": [
+    {"type": "Feature", "properties": {"id": "A", "kind": "end", "osm_node": "5", "levels": [0, {"x": 1}]},
+     "geometry": {"type": "Point", "coordinates": [-87.67, 42.05]}},
+    {"type": "Feature", "properties": {"id": "B", "kind": "end"}, "geometry": {"type": "Point", "coordinates": [-87.6698, 42.05]}},
+    {"type": "Feature", "properties": )" + nested.substr(0, nested.size() - 1) + R"(, "id": "R", "from": "A", "to": "B"},
+     "geometry": {"type": "LineString", "coordinates": [[-87.67, 42.05], [-87.6698, 42.05]]}}]})";
+  Issues issues;
+  const auto first = importGeoJson(text, issues);
+  ASSERT_TRUE(first) << (issues.empty() ? "" : issues[0].message);
+  const Road& road = first->map.roads.at(0);
+  EXPECT_EQ(road.properties.at("name"), PropertyValue("Main walk"));
+  EXPECT_EQ(road.properties.at("osm_way"), PropertyValue::json("12"));
+  EXPECT_EQ(road.properties.at("kind"), PropertyValue("footbridge"));  // a road's kind is not interpreted
+  EXPECT_EQ(road.properties.at("tags"), PropertyValue::json(R"({"a":[1,2.5,null,true,{"b":"c","d":[]}]})"));
+  EXPECT_EQ(road.properties.size(), 8u);
+  EXPECT_EQ(first->map.intersections.at(0).properties.at("levels"), PropertyValue::json(R"([0,{"x":1}])"));
+  // Each feature's properties as exported equal the input's as JSON values (member order aside).
+  const std::string exported = exportGeoJson(first->map);
+  const auto in = nlohmann::json::parse(text), out = nlohmann::json::parse(exported);
+  ASSERT_EQ(out["features"].size(), 3u);
+  EXPECT_EQ(out["features"][0]["properties"], in["features"][0]["properties"]);
+  auto road_in = in["features"][2]["properties"], road_out = out["features"][2]["properties"];
+  for (const char* added : {"width", "surface", "left", "right"}) road_out.erase(added);  // the defaults, written out
+  EXPECT_EQ(road_out, road_in);
+  // Through the JSON map file, and a second round trip: the same map, the same GeoJSON text.
+  const auto reread = parseMap(mapToJson(first->map), issues);
+  ASSERT_TRUE(reread);
+  EXPECT_EQ(*reread, first->map);
+  const auto second = importGeoJson(exported, issues);
+  ASSERT_TRUE(second);
+  expectSameNetwork(first->map, second->map, 1e-3);
+  EXPECT_EQ(exportGeoJson(second->map), exported);
+  // A kept property named like a member mapnav writes (an OSM way's surface tag) goes inside
+  // mapnav_kept and comes back out of it.
+  MapData shadowing = first->map;
+  shadowing.roads[0].properties["surface"] = "paving_stones";
+  shadowing.roads[0].properties["id"] = PropertyValue::json("7");
+  const std::string with_kept = exportGeoJson(shadowing);
+  EXPECT_EQ(nlohmann::json::parse(with_kept)["features"][2]["properties"]["mapnav_kept"],
+            nlohmann::json::parse(R"({"id": 7, "surface": "paving_stones"})"));
+  const auto third = importGeoJson(with_kept, issues);
+  ASSERT_TRUE(third);
+  EXPECT_EQ(third->map.roads[0].properties, shadowing.roads[0].properties);
+  EXPECT_EQ(third->map.roads[0].surface, "concrete");
 }
 
 TEST(GeoJsonExport, AMapWithoutOriginNeedsOne) {

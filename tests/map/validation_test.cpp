@@ -109,6 +109,21 @@ TEST(ValidateMap, ARoadPassingThroughAnIntersectionItDoesNotEndAtIsACrossing) {
   EXPECT_TRUE(found);
 }
 
+// Lengths and widths a hair from the limit: the message prints enough digits that the numbers read
+// in the order the comparison says (not "1.00 m long (< 1.00 m)").
+TEST(ValidateMap, NumbersInMessagesNeverContradictTheComparison) {
+  MapData data = testing::crossOfFourRoads();
+  data.roads[0].centerline = Polyline2({Vec2(0, 0), Vec2(0.9996, 0)});
+  data.intersections[1].position = Vec2(0.9996, 0);  // E
+  ASSERT_EQ(data.intersections[1].id, "E");
+  ValidationOptions options;
+  data.roads[1].width = options.max_width_m + 0.001;
+  std::map<std::string, std::string> messages;
+  for (const Issue& issue : validateMap(data, options)) messages[issue.check] = issue.message;
+  EXPECT_EQ(messages["roads.very_short"], "road \"R1\" is 0.9996 m long (< 1.0000 m)");
+  EXPECT_EQ(messages["roads.invalid_width"], "width 100.001 m must be > 0 and <= 100.000 m");
+}
+
 TEST(ValidateMap, ALoopRoadBackToItsStartIsNotASelfIntersectionButAFigureEightIs) {
   // A lollipop, as OpenStreetMap has them: a loop leaving E and coming back to it.
   MapData data = testing::crossOfFourRoads();

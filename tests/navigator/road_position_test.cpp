@@ -5,6 +5,8 @@
 #include <string>
 
 #include "mapnav/core/error.h"
+#include "mapnav/map/generate.h"
+#include "mapnav/navigator/route.h"
 
 namespace mapnav {
 namespace {
@@ -58,6 +60,36 @@ TEST(RoadPositionText, ToStringReadsBackToTheSamePosition) {
   EXPECT_EQ(toString(RoadPosition{"R1", "I1", 3.0, 0.0}), "R1@I1+3");
   EXPECT_EQ(toString(RoadPosition{"R1", "I1", 2.5, -0.4}), "R1@I1+2.5/-0.4");
   EXPECT_EQ(toString(RoadPosition{"R1", "I1", 1e6, 0.5}), "R1@I1+1000000/+0.5");
+}
+
+// A position just past the end of a 0.878061 m road: the message prints enough digits not to say
+// "0.879 m is beyond the road's 0.88 m" (issue 27), and the same from toPose and from a route.
+TEST(RoadPositionRange, TheMessageNeverContradictsTheComparison) {
+  MapData data = makeGridMap(GridMapOptions{2, 2, 30, 2});  // for its surfaces
+  data.intersections.resize(2);
+  data.intersections[1].position = Vec2(0.878061, 0);
+  data.roads.resize(1);
+  Road& road = data.roads.front();
+  road.from = data.intersections[0].id;
+  road.to = data.intersections[1].id;
+  road.width = 0.5;
+  road.centerline = Polyline2({Vec2(0, 0), Vec2(0.878061, 0)});
+  const Map map(data);
+  const RoadPosition p{road.id, road.from, 0.879};
+  const std::string want = "road position " + toString(p) + ": 0.879 m is beyond the road's 0.878 m";
+  auto message = [&](auto&& call) -> std::string {
+    try {
+      call();
+    } catch (const InvalidInput& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message([&] { toPose(map, p); }), want);
+  RoadGraph graph(map);
+  EXPECT_EQ(message([&] { graph.route(p, RoadPosition{road.id, road.from, 0.1}); }), want);
+  EXPECT_EQ(message([&] { toPose(map, RoadPosition{road.id, road.from, -0.5}); }),
+            "road position " + road.id + "@" + road.from + "+-0.5: -0.50 m is outside the road's 0.88 m");
 }
 
 }  // namespace

@@ -28,6 +28,42 @@ TEST(ImportOsmCli, TheRealCampusImportsWithItsRepairsListedAndValidates) {
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
 }
 
+// Issue 27: the real campus imported, exported as GeoJSON and imported again keeps every OSM tag
+// the import copied (osm_node, osm_way, highway, name, surface), element by element.
+TEST(ImportOsmCli, TheCampusKeepsEveryCopiedOsmTagThroughGeoJson) {
+  ASSERT_TRUE(testing::realDataPresent("osm/nu_campus_south.osm"));
+  const fs::path dir = testing::freshTempDir();
+  const fs::path json = dir / "campus.json", geo = dir / "campus.geojson", back = dir / "back.json";
+  auto r = runCli({"map", "import-osm", testing::realDataPath("osm/nu_campus_south.osm").string(), "-o", json.string(),
+                   "--repair"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runCli({"map", "export-geojson", json.string(), "-o", geo.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runCli({"map", "import-geojson", geo.string(), "-o", back.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Map a = loadMap(json), b = loadMap(back);
+  std::size_t tags = 0, names = 0;
+  ASSERT_EQ(a.roads().size(), b.roads().size());
+  for (const Road& road : a.roads()) {
+    const Road* again = b.findRoad(road.id);
+    ASSERT_NE(again, nullptr) << road.id;
+    EXPECT_EQ(again->properties, road.properties) << road.id;
+    tags += road.properties.size();
+    names += road.properties.contains("name");
+  }
+  ASSERT_EQ(a.intersections().size(), b.intersections().size());
+  for (const Intersection& x : a.intersections()) {
+    const Intersection* again = b.findIntersection(x.id);
+    ASSERT_NE(again, nullptr) << x.id;
+    EXPECT_EQ(again->properties, x.properties) << x.id;
+    tags += x.properties.size();
+  }
+  // 660 roads with osm_way and highway each, some named; 495 of 497 intersections are OSM nodes
+  // (2 were added by --repair).
+  EXPECT_GT(names, 0u);
+  EXPECT_GE(tags, 2 * 660u + 495u);
+}
+
 TEST(ImportOsmCli, BadInputExitsNonZeroNamingTheProblemAndWritesNothing) {
   ASSERT_TRUE(testing::realDataPresent("osm/nu_campus_south.osm"));
   const fs::path dir = testing::freshTempDir();

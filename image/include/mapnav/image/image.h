@@ -1,6 +1,7 @@
 #pragma once
 // A plain 8-bit image, so that camera frames and masks cross module boundaries without OpenCV in
 // any public header. Pixel (x, y): column x from the left, row y from the top.
+#include <compare>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -32,5 +33,17 @@ Image toRgb(Image image);
 /// Whether every pixel of an RGB frame has R = G = B (a grey camera's frame given as RGB, as toRgb
 /// makes it).
 bool isGreyFrame(const std::uint8_t* rgb, int width, int height);
+
+/// An image size, width × height in pixels.
+struct ImageSize {
+  int width = 0, height = 0;
+  auto operator<=>(const ImageSize&) const = default;
+};
+/// The size most of `sizes` have, whatever their order: among sizes of equal count the one of most
+/// pixels, then the widest. {0, 0} when `sizes` is empty.
+ImageSize mostCommonSize(const std::vector<ImageSize>& sizes);
+/// `image` cut or padded (black) at its right and bottom edges to `size`, so that every pixel keeps
+/// its coordinates (and a camera's principal point stays where it was).
+Image fitToSize(const Image& image, ImageSize size);
 
 }  // namespace mapnav

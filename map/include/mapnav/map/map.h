@@ -3,6 +3,7 @@
 // nodes, roads are edges) and the geometric map (their shapes). `MapData` is the map as authored,
 // plain data that may be invalid; `Map` is a validated map with lookups and a spatial index.
 #include <cstddef>
+#include <iosfwd>
 #include <map>
 #include <memory>
 #include <optional>
@@ -23,6 +24,13 @@ std::optional<IntersectionKind> intersectionKindFromString(std::string_view text
 /// Every kind, in declaration order (for help texts and enumerations).
 const std::vector<IntersectionKind>& allIntersectionKinds();
 
+/// What carries a road over or under the others (OSM's `bridge`, `tunnel` and `covered` tags): a
+/// bridge is drawn with a casing, a tunnel dashed and is not in a view from outside it.
+enum class RoadStructure { None, Bridge, Tunnel };
+/// "none", "bridge", "tunnel".
+std::string_view toString(RoadStructure structure);
+std::optional<RoadStructure> roadStructureFromString(std::string_view text);
+
 /// How a surface looks to the camera: mean colour and its standard deviation, 0–255 RGB.
 struct Appearance {
   Vec3 rgb = Vec3::Zero();
@@ -36,9 +44,31 @@ struct GeoOrigin {
   bool operator==(const GeoOrigin&) const = default;
 };
 
-/// Free-form string properties kept with an element, for people and other tools (the OSM ids of an
-/// imported map: `osm_node`, `osm_way`, `highway`). mapnav itself never reads them.
-using Properties = std::map<std::string, std::string>;
+/// One property's value: a string, or any other JSON value (a number, true, an array, a nested
+/// object) kept as its compact JSON text, so that what mapnav does not interpret survives a round
+/// trip through the map and GeoJSON without this header knowing JSON.
+struct PropertyValue {
+  std::string text;      ///< the string itself, or the JSON text of a value that is not a string
+  bool is_json = false;  ///< `text` is JSON text
+
+  PropertyValue() = default;
+  PropertyValue(std::string value) : text(std::move(value)) {}  // NOLINT: a string converts implicitly
+  PropertyValue(const char* value) : text(value) {}             // NOLINT
+  /// A value that is not a string, as JSON text ("3", "[1,2]", "{\"a\":null}").
+  static PropertyValue json(std::string json_text) {
+    PropertyValue v(std::move(json_text));
+    v.is_json = true;
+    return v;
+  }
+  bool operator==(const PropertyValue&) const = default;
+};
+/// For test failures: the string quoted, JSON text as it is.
+std::ostream& operator<<(std::ostream& out, const PropertyValue& value);
+
+/// Free-form properties kept with an element, for people and other tools (the OSM ids and tags of
+/// an imported map: `osm_node`, `osm_way`, `highway`, `name`; anything a GeoJSON feature carries
+/// that mapnav does not interpret). mapnav itself never reads them; it writes them back.
+using Properties = std::map<std::string, PropertyValue>;
 
 struct Intersection {
   std::string id;
@@ -58,6 +88,10 @@ struct Road {
   std::string left, right;         ///< shoulder surfaces seen walking from → to
   bool oneway = false;             ///< drivable only from → to
   double cost_factor = 1.0;        ///< multiplies the length in route costs
+  /// The level the road is on (OSM `layer`; 0 the ground): roads on different layers may cross
+  /// without an intersection (a bridge over a path), roads on the same layer may not.
+  int layer = 0;
+  RoadStructure structure = RoadStructure::None;  ///< see RoadStructure
   Properties properties = {};  ///< see Properties
   bool operator==(const Road&) const = default;
 };

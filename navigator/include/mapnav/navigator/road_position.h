@@ -22,6 +22,13 @@ struct RoadPosition {
 RoadPosition parseRoadPosition(std::string_view text);
 std::string toString(const RoadPosition& position);
 
+/// Where a road position is along its road: the arc length of the centre line from the road's
+/// `from` end (on a loop road, whose ends are both `node`, the metres count from `from`: the
+/// position faces along the centre line). Throws InvalidInput when `node` is not an end of the road
+/// or `meters` is not within [0, the road's length], the numbers printed so that they never
+/// contradict the comparison.
+double arcFromStart(const Road& road, const RoadPosition& position);
+
 /// The world pose at a road position: on the centre line (plus the lateral offset), heading along
 /// the road away from `node`. Throws NotFound for an unknown road, InvalidInput when `node` is not
 /// an end of the road or `meters` is beyond its length.

@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mapnav/core/issue.h"
@@ -72,6 +73,11 @@ struct OsmImport {
 /// IoError naming the file (and the line for malformed XML) when it cannot be read, InvalidInput
 /// when nothing walkable is left. Validate the map with validateMap() / Map.
 OsmImport importOsm(const std::filesystem::path& file, const OsmImportOptions& options = {});
+
+/// Whether importing with `repair` can take away map validation errors of this check (the hint after
+/// a failed import names only these): a crossing of two roads on the same layer, repeated points
+/// and degenerate centre lines.
+bool osmRepairCanFix(std::string_view check);
 
 /// The intersection kind of a node from the headings (radians) of the roads leaving it: 1 road →
 /// End; 2 → L when they turn by more than 30 degrees, else Other; 3 → T when two of them are within
