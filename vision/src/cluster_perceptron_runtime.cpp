@@ -190,12 +190,12 @@ __attribute__((target("avx2"), always_inline)) inline __m128i lookup16Avx2(const
 /// multiple of 8 pixels): the certainties from the table (lookup16Avx2()), the ambiguous cells (255)
 /// classified one by one as classifyRow() does, then each 8 pixels' sum (sum of absolute differences)
 /// added to its block's and the road pixels (the bytes' top bits) counted. The same bytes, sums and
-/// count as classifyRow() and blockSums().
+/// count as classifyRow() and blockSums(). `last_row`: the frame's last (nothing to read beyond it).
 __attribute__((target("avx2"))) long long classifySumRowAvx2(const std::uint8_t* __restrict p, std::uint8_t* __restrict c,
                                                             int width, const std::uint8_t* __restrict lut,
                                                             const std::uint32_t* __restrict sub_offset,
                                                             const std::uint8_t* __restrict sub, int bs,
-                                                            std::uint32_t* __restrict sums) {
+                                                            std::uint32_t* __restrict sums, bool last_row) {
   const __m128i ambiguous = _mm_set1_epi8(static_cast<char>(kAmbiguous)), zero = _mm_setzero_si128();
   const int groups = bs / 8;  // 8-pixel groups per block
   int u = 0, block = 0, left = groups;  // the block of pixel u, and its groups from u on
@@ -207,8 +207,9 @@ __attribute__((target("avx2"))) long long classifySumRowAvx2(const std::uint8_t*
       left = groups;
     }
   };
-  // The loads read 32 bytes from each 8 pixels' first: stop where they would pass the row's end.
-  for (; u + 19 <= width; u += 16, p += 48) {
+  // The loads read 32 bytes from each 8 pixels' first, 8 beyond the 16 pixels: into the next row,
+  // but not past the frame's last.
+  for (const int end = last_row ? width - 3 : width; u + 16 <= end; u += 16, p += 48) {
     __m128i q = lookup16Avx2(p, lut);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(c + u), q);
     if (const unsigned amb = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(q, ambiguous))); amb != 0) {
@@ -273,7 +274,7 @@ long long classifyFrame(const ClusterPerceptron& finder, const LutView& tables, 
       std::uint32_t* const sums = bsum + static_cast<std::size_t>(r) * cols;
 #ifdef MAPNAV_CP_AVX2
       if (fast && avx2 && bs % 8 == 0) {
-        road_px += classifySumRowAvx2(p, c, width, lut, sub_offset, sub, bs, sums);
+        road_px += classifySumRowAvx2(p, c, width, lut, sub_offset, sub, bs, sums, v == height - 1);
         continue;
       }
 #endif
