@@ -226,6 +226,26 @@ std::vector<Growth> costGrowth(const std::vector<Row>& rows, int small, int larg
   return growth;
 }
 
+// The one-thread park finder row at `size`, if measured.
+const Row* oneThreadRow(const std::vector<Row>& rows, int size) {
+  const auto it = std::find_if(rows.begin(), rows.end(), [&](const Row& r) { return r.size == size && r.threads == 1; });
+  return it == rows.end() ? nullptr : &*it;
+}
+
+// Issue 31's two park finder figures, one thread, from the table's rows: frames/s at 512 x 512 and the
+// memcpy ratio at 1024 x 1024 (each where that size was measured).
+void printParkTargets(const std::vector<Row>& rows, std::ostream& out) {
+  const Row *at512 = oneThreadRow(rows, 512), *at1024 = oneThreadRow(rows, 1024);
+  if (at512 == nullptr && at1024 == nullptr) return;
+  out << "park road finder (the fast path, one thread):";
+  if (at512 != nullptr) out << " " << strprintf("%.0f", at512->fps()) << " frames/s at 512x512 (issue 31: >= 2000)";
+  if (at512 != nullptr && at1024 != nullptr) out << ",";
+  if (at1024 != nullptr)
+    out << " memcpy_ratio " << strprintf("%.2f", at1024->memcpyRatio()) << " at 1024x1024 (issue 31: <= 5; memcpy "
+        << sig(1e3 * at1024->memcpy.s_per_frame) << " ms)";
+  out << "\n";
+}
+
 Json benchJson(const BenchConfig& config, const BenchResults& r) {
   Json doc = Json::object();
   const SidewalkTimes& sidewalk = r.sidewalk;
@@ -252,6 +272,10 @@ Json benchJson(const BenchConfig& config, const BenchResults& r) {
                        {"batches", row.runtime.batches}});
   }
   doc["runtime"] = runtime;
+  Json park = Json::object();  // issue 31's two figures, one thread
+  if (const Row* row = oneThreadRow(r.rows, 512)) park["fps_512"] = number(row->fps());
+  if (const Row* row = oneThreadRow(r.rows, 1024)) park["memcpy_ratio_1024"] = number(row->memcpyRatio());
+  doc["park"] = park;
   doc["road_model"] = toString(config.road_model);
   doc["train_ms"] = number(r.train.ms());
   doc["train_size"] = r.train.size;
@@ -316,6 +340,7 @@ void printSummary(const BenchResults& r, std::ostream& out) {
       << " with the Map's prediction first, the loop's two costly steps), memcpy_ratio "
       << sig(sidewalk.memcpyRatio()) << ", reference_ratio " << sig(sidewalk.referenceRatio()) << " (reference, every pixel: "
       << sig(1e3 * sidewalk.reference.s_per_frame) << " ms)\n";
+  printParkTargets(r.rows, out);
   out << "renderer (the simulator's frames) at " << r.render.width << "x" << r.render.height
       << " on the campus scene, one thread: " << sig(r.render.ms()) << " ms/frame (" << strprintf("%.0f", 1e3 / r.render.ms())
       << " frames/s), memcpy_ratio " << sig(r.render.memcpyRatio()) << " (a copy of the frame's colour and mask planes: "
@@ -449,6 +474,8 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
       "Cost per pixel growth = (time at the largest size / time at the smallest) / pixel ratio: 1 = linear.\n"
       "Training (clustering + perceptron on the first frame, one thread) is reported at 512, or at the largest\n"
       "size when 512 is not measured; train_ms in the JSON, with every size's under \"training\".\n"
+      "The park finder line repeats issue 31's two figures from the table, one thread: frames/s at 512 and\n"
+      "memcpy_ratio at 1024 (targets >= 2000 and <= 5; \"park\":{\"fps_512\",\"memcpy_ratio_1024\"} in the JSON).\n"
       "Then, at 512x480 on the campus scene, one thread: the sidewalk pipeline (ms/frame, memcpy_ratio,\n"
       "reference_ratio) and the simulator's renderer (ms/frame, memcpy_ratio = render time / a copy of the frame's\n"
       "colour and mask planes); and route queries on grid campuses of --route-sizes intersections (32 seeded\n"

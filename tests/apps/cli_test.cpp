@@ -1,6 +1,7 @@
 // The `mapnav` command run end to end: exit codes, messages, files written or not.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -433,6 +434,7 @@ TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
   EXPECT_NEAR(render["fps"].get<double>(), 1000.0 / render_ms, 1e-9 * render["fps"].get<double>());
   EXPECT_NEAR(render["memcpy_ratio"].get<double>(), render_ms / render["memcpy_ms"].get<double>(),
               1e-9 * render["memcpy_ratio"].get<double>());
+  EXPECT_TRUE(j["park"].is_object() && j["park"].empty()) << j["park"].dump();  // neither 512 nor 1024 measured
   ASSERT_EQ(j["route"].size(), 2u) << r.out;
   EXPECT_EQ(j["route"][0]["intersections"], 100);
   EXPECT_EQ(j["route"][1]["intersections"], 400);
@@ -462,6 +464,26 @@ TEST(Cli, BenchPrintsATableWithTheRatios) {
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.out.find("memcpy_ratio"), std::string::npos) << help.out;
   EXPECT_NE(help.out.find("reference_ratio"), std::string::npos) << help.out;
+}
+
+// Issue 31's park finder figures: at 512 the line with frames/s (one thread) and its target, the JSON's
+// park.fps_512 the one-thread row's; no 1024 figure without 1024.
+TEST(Cli, BenchPrintsTheParkFinderFiguresOfIssue31) {
+  const auto r = runCli({"bench", "--json", "--sizes", "512", "--min-time", "0.01", "--route-sizes", ""});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j["park"].contains("fps_512")) << j["park"].dump();
+  EXPECT_FALSE(j["park"].contains("memcpy_ratio_1024")) << j["park"].dump();
+  // The first one-thread row (on a one-core machine both rows have one thread).
+  const auto& rows = j["runtime"];
+  const auto first = std::find_if(rows.begin(), rows.end(), [](const auto& row) { return row["threads"] == 1; });
+  ASSERT_NE(first, rows.end()) << rows.dump();
+  EXPECT_EQ(j["park"]["fps_512"].get<double>(), (*first)["fps"].get<double>());
+  const auto text = runCli({"bench", "--sizes", "512", "--min-time", "0.01", "--threads", "1", "--route-sizes", ""});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("park road finder (the fast path, one thread): "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(" frames/s at 512x512 (issue 31: >= 2000)"), std::string::npos) << text.out;
+  EXPECT_EQ(text.out.find("at 1024x1024"), std::string::npos) << text.out;
 }
 
 TEST(Cli, BenchRefusesBadOptionsWithExitTwoNamingTheOption) {

@@ -17,6 +17,7 @@
 #include "mapnav/geometry/simplify.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/sim/world.h"
+#include "mapnav/vision/cluster_perceptron.h"
 #include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
@@ -364,6 +365,69 @@ TEST(SidewalkFastPaths, AFrameThatWantsNoRegionGetsTheSameLinesWithoutTheOutline
     }
     EXPECT_EQ(ok, 5);
   }
+}
+
+// The park finder's fast path (ClusterPerceptron: lookup table, and where the CPU has AVX2 with blocks
+// a multiple of 8 pixels, one vector pass per row for the certainties, block sums and road count)
+// against the per-pixel reference, on noisy synthetic frames of widths that leave every kind of row
+// tail (not a multiple of 16, a last row without 8 bytes beyond it) and block sizes of both paths:
+// the same certainties, mask, Hough answer and confidence (which sums the block sums), to the bit.
+TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBlock) {
+  struct Case {
+    int width, height, block;
+  };
+  int found = 0, cases = 0;
+  for (const Case k : {Case{64, 48, 8}, Case{100, 60, 8}, Case{131, 70, 16}, Case{203, 90, 8}, Case{67, 50, 6},
+                       Case{19, 40, 8}}) {
+    const auto frame = [&](std::uint32_t seed) {
+      std::mt19937 rng(seed);
+      std::normal_distribution<double> noise(0, 28);  // wide: many colours in the table's boundary cells
+      Image rgb(k.width, k.height, 3), outline(k.width, k.height, 1);
+      for (int v = 0; v < k.height; ++v) {
+        const double half = k.width * (0.1 + 0.3 * v / k.height), centre = 0.5 * k.width + 0.1 * (v - k.height / 2.0);
+        for (int u = 0; u < k.width; ++u) {
+          const bool road = std::abs(u - centre) <= half;
+          const double c[3] = {road ? 125.0 : 70.0, road ? 122.0 : 125.0, road ? 130.0 : 50.0};
+          for (int b = 0; b < 3; ++b)
+            rgb.pixel(u, v)[b] = static_cast<std::uint8_t>(std::clamp(std::lround(c[b] + noise(rng)), 0L, 255L));
+          outline.pixel(u, v)[0] = road ? 255 : 0;
+        }
+      }
+      return std::make_pair(rgb, outline);
+    };
+    ClusterPerceptronOptions o;
+    o.block_size = k.block;
+    ClusterPerceptron fast(o);
+    const auto [train, outline] = frame(1);
+    fast.trainClusters(train.data.data(), k.width, k.height);
+    fast.setRowWidths(trapezoidRowWidths(outline));
+    fast.trainPerceptron(train.data.data(), k.width, k.height, outline.data.data());
+    ClusterPerceptron reference = fast;
+    reference.setFast(false);
+    for (std::uint32_t seed = 2; seed <= 4; ++seed) {
+      const Image rgb = frame(seed).first;
+      const RoadFinding a = fast.find(rgb.data.data(), k.width, k.height, true);
+      const RoadFinding b = reference.find(rgb.data.data(), k.width, k.height, true);
+      const std::string at = std::to_string(k.width) + " x " + std::to_string(k.height) + ", block " +
+                             std::to_string(k.block) + ", seed " + std::to_string(seed);
+      EXPECT_EQ(a.certainty, b.certainty) << at;
+      EXPECT_EQ(a.mask, b.mask) << at;
+      ASSERT_EQ(a.ok, b.ok) << at << ": " << a.reason << " / " << b.reason;
+      EXPECT_EQ(a.confidence, b.confidence) << at;
+      EXPECT_EQ(a.shift, b.shift) << at;
+      EXPECT_EQ(a.intercept_col, b.intercept_col) << at;
+      EXPECT_EQ(a.centerline_image.a, b.centerline_image.a) << at;
+      EXPECT_EQ(a.centerline_image.b, b.centerline_image.b) << at;
+      // Both classes present: the frames are no all-road or all-grass shortcut.
+      const auto road = std::count(a.mask.data.begin(), a.mask.data.end(), 255);
+      EXPECT_GT(road, static_cast<long>(a.mask.data.size() / 10)) << at;
+      EXPECT_LT(road, static_cast<long>(a.mask.data.size() * 9 / 10)) << at;
+      found += a.ok;
+      ++cases;
+    }
+  }
+  EXPECT_EQ(cases, 18);
+  EXPECT_GE(found, 12);
 }
 
 }  // namespace

@@ -65,13 +65,33 @@ void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, st
 
 namespace {
 
-/// How many candidates lie within `tol` pixels of the road edges the model puts at
-/// centre ∓ width/2 (each row counts a left and a right edge at most once).
-int edgeSupport(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m,
+/// What edgeSupport() computes per candidate that the consensus's hypotheses share (their rows v0, v1
+/// and arc basis are the Hough model's; only the coefficients differ): the row's t and arc offset, and
+/// the candidate's edge offset from the centre (∓ half the row's width).
+struct SupportTerms {
+  std::vector<double> t, arc, side;
+  SupportTerms(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m) {
+    for (const EdgeCandidate& e : cands) {
+      t.push_back(m.t(e.v));
+      arc.push_back(m.arc.x ? m.arc(e.v) : 0.0);
+      side.push_back((e.left ? -0.5 : 0.5) * widths[e.v]);
+    }
+  }
+};
+
+/// How many candidates lie within `tol` pixels of the road edges the model with coefficients `p` puts
+/// at centre ∓ width/2 (each row counts a left and a right edge at most once). The same arithmetic as
+/// CentreModel::u() on the shared terms, so the same count.
+int edgeSupport(const std::vector<EdgeCandidate>& cands, const SupportTerms& terms, const Vec3& p, bool arc,
                 double tol) {
+  const EdgeCandidate* const first = cands.data();
   return rowSideSupport(
       cands, [](const EdgeCandidate& e) { return e.left; },
-      [&](const EdgeCandidate& e) { return !(std::abs(e.u - (m.u(e.v) + (e.left ? -0.5 : 0.5) * widths[e.v])) > tol); });
+      [&](const EdgeCandidate& e) {
+        const std::size_t i = static_cast<std::size_t>(&e - first);
+        const double u = p[0] + terms.t[i] * p[1] + (arc ? p[2] * terms.arc[i] : 0.0);
+        return !(std::abs(e.u - (u + terms.side[i])) > tol);
+      });
 }
 
 /// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
@@ -81,7 +101,9 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
                           const CentreModel& model, int degree, std::uint64_t seed, int iterations, double tol,
                           double max_curvature, const std::function<bool(const CentreModel&)>& allowed) {
   CentreModel best = model;
-  int best_n = edgeSupport(cands, widths, model, tol);
+  const SupportTerms terms(cands, widths, model);
+  const bool arc = model.arc.x != nullptr;
+  int best_n = edgeSupport(cands, terms, model.p, arc, tol);
   if (cands.size() < static_cast<std::size_t>(degree + 1)) return best;
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<std::size_t> pick(0, cands.size() - 1);
@@ -105,7 +127,7 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
     h.p = Vec3::Zero();
     h.p.head(m) = A.topLeftCorner(m, m).partialPivLu().solve(rhs.head(m));
     if (!h.p.allFinite() || std::abs(h.p[2]) > max_curvature || !allowed(h)) continue;
-    const int n = edgeSupport(cands, widths, h, tol);
+    const int n = edgeSupport(cands, terms, h.p, arc, tol);
     if (n > best_n) {
       best_n = n;
       best = h;

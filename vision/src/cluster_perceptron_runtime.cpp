@@ -17,6 +17,9 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -150,6 +153,88 @@ __attribute__((noinline)) void classifyRow(const std::uint8_t* __restrict p, std
   }
 }
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define MAPNAV_CP_AVX2 1
+/// The cell indices of the 8 pixels at `q` (classifyRowAvx2(); reads 32 bytes).
+__attribute__((target("avx2"), always_inline)) inline __m256i cellsAvx2(const std::uint8_t* q) {
+  // Bytes 0-11 to the low lane, 12-23 to the high one; then per lane 4 pixels to 4 dwords (R, G, B, 0).
+  const __m256i spread = _mm256_setr_epi32(0, 1, 2, 2, 3, 4, 5, 5);
+  const __m256i rgb0 = _mm256_setr_epi8(0, 1, 2, -1, 3, 4, 5, -1, 6, 7, 8, -1, 9, 10, 11, -1,  //
+                                        0, 1, 2, -1, 3, 4, 5, -1, 6, 7, 8, -1, 9, 10, 11, -1);
+  const __m256i five = _mm256_set1_epi8(0x1F);
+  const __m256i rg = _mm256_set1_epi32(0x00010120);  // bytes 32, 1, 1, 0: r5·32 + g5 and b5
+  const __m256i by32 = _mm256_set1_epi32(0x00010020);  // words 32, 1
+  const __m256i x = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(q)), spread);
+  const __m256i b5 = _mm256_and_si256(_mm256_srli_epi16(_mm256_shuffle_epi8(x, rgb0), 3), five);  // r5, g5, b5, 0
+  return _mm256_madd_epi16(_mm256_maddubs_epi16(b5, rg), by32);  // (r5·32 + g5)·32 + b5
+}
+
+/// The 16 certainties of the pixels at `p` (48 bytes; reads 56) from the table: the cells' bytes by
+/// two 8-lane gathers (4 bytes read from each cell's byte: the table has 3 bytes of padding).
+__attribute__((target("avx2"), always_inline)) inline __m128i lookup16Avx2(const std::uint8_t* p, const std::uint8_t* lut) {
+  // The gathered dwords' low bytes to dword 0 of each lane (first 8 pixels) or dword 1 (next 8), then
+  // the dwords in pixel order.
+  const __m256i first = _mm256_setr_epi8(0, 4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1,  //
+                                         0, 4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1);
+  const __m256i second = _mm256_setr_epi8(-1, -1, -1, -1, 0, 4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1,  //
+                                          -1, -1, -1, -1, 0, 4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1);
+  const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 3, 6, 7);
+  const int* const table = reinterpret_cast<const int*>(lut);
+  const __m256i q0 = _mm256_i32gather_epi32(table, cellsAvx2(p), 1);
+  const __m256i q1 = _mm256_i32gather_epi32(table, cellsAvx2(p + 24), 1);
+  return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
+      _mm256_or_si256(_mm256_shuffle_epi8(q0, first), _mm256_shuffle_epi8(q1, second)), order));
+}
+
+/// classifyRow() and blockSums() of one row in one pass, 16 pixels at a time with AVX2 (blocks of a
+/// multiple of 8 pixels): the certainties from the table (lookup16Avx2()), the ambiguous cells (255)
+/// classified one by one as classifyRow() does, then each 8 pixels' sum (sum of absolute differences)
+/// added to its block's and the road pixels (the bytes' top bits) counted. The same bytes, sums and
+/// count as classifyRow() and blockSums(). `last_row`: the frame's last (nothing to read beyond it).
+__attribute__((target("avx2"))) long long classifySumRowAvx2(const std::uint8_t* __restrict p, std::uint8_t* __restrict c,
+                                                            int width, const std::uint8_t* __restrict lut,
+                                                            const std::uint32_t* __restrict sub_offset,
+                                                            const std::uint8_t* __restrict sub, int bs,
+                                                            std::uint32_t* __restrict sums, bool last_row) {
+  const __m128i ambiguous = _mm_set1_epi8(static_cast<char>(kAmbiguous)), zero = _mm_setzero_si128();
+  const int groups = bs / 8;  // 8-pixel groups per block
+  int u = 0, block = 0, left = groups;  // the block of pixel u, and its groups from u on
+  long long road = 0;
+  const auto add = [&](std::uint32_t sum) {
+    sums[block] += sum;
+    if (--left == 0) {
+      ++block;
+      left = groups;
+    }
+  };
+  // The loads read 32 bytes from each 8 pixels' first, 8 beyond the 16 pixels: into the next row,
+  // but not past the frame's last.
+  for (const int end = last_row ? width - 3 : width; u + 16 <= end; u += 16, p += 48) {
+    __m128i q = lookup16Avx2(p, lut);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(c + u), q);
+    if (const unsigned amb = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(q, ambiguous))); amb != 0) {
+      for (unsigned m = amb; m != 0; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        const std::uint8_t* px = p + 3 * k;
+        const unsigned at = ((px[0] >> 3u) << 10) | ((px[1] >> 3u) << 5) | (px[2] >> 3u);
+        c[u + k] = sub[sub_offset[at] + (((px[0] & 7u) << 6) | ((px[1] & 7u) << 3) | (px[2] & 7u))];
+      }
+      q = _mm_loadu_si128(reinterpret_cast<const __m128i*>(c + u));
+    }
+    road += __builtin_popcount(static_cast<unsigned>(_mm_movemask_epi8(q)));
+    const __m128i s = _mm_sad_epu8(q, zero);
+    add(static_cast<std::uint32_t>(_mm_cvtsi128_si32(s)));
+    add(static_cast<std::uint32_t>(_mm_extract_epi32(s, 2)));
+  }
+  _mm256_zeroupper();
+  if (u < width) classifyRow(p, c + u, width - u, lut, sub_offset, sub);
+  for (; u < width; ++u) {
+    sums[u / bs] += c[u];
+    road += c[u] > 127;
+  }
+  return road;
+}
+#endif
 
 /// The fast path's tables (ClusterPerceptron::buildLut()): the 32³ cells' certainties, and the
 /// ambiguous cells' offsets into their exact 8³ tables.
@@ -176,6 +261,9 @@ long long classifyFrame(const ClusterPerceptron& finder, const LutView& tables, 
   const std::uint32_t* const sub_offset = tables.sub_offset;
   const std::uint8_t* const sub = tables.sub;
   const bool fast = opt.fast;
+#ifdef MAPNAV_CP_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
+#endif
   long long road_px = 0;
   const int nt = std::min(threadCount(opt.threads), rows);
 #pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static) reduction(+ : road_px)
@@ -183,6 +271,13 @@ long long classifyFrame(const ClusterPerceptron& finder, const LutView& tables, 
     for (int v = r * bs; v < std::min(height, (r + 1) * bs); ++v) {
       const std::uint8_t* p = rgb + static_cast<std::size_t>(v) * width * 3;
       std::uint8_t* c = cimg + static_cast<std::size_t>(v) * width;
+      std::uint32_t* const sums = bsum + static_cast<std::size_t>(r) * cols;
+#ifdef MAPNAV_CP_AVX2
+      if (fast && avx2 && bs % 8 == 0) {
+        road_px += classifySumRowAvx2(p, c, width, lut, sub_offset, sub, bs, sums, v == height - 1);
+        continue;
+      }
+#endif
       if (fast) {
         classifyRow(p, c, width, lut, sub_offset, sub);
       } else {
@@ -191,7 +286,7 @@ long long classifyFrame(const ClusterPerceptron& finder, const LutView& tables, 
           c[u] = certaintyOf(y);
         }
       }
-      road_px += blockSums(c, width, bs, bsum + static_cast<std::size_t>(r) * cols);
+      road_px += blockSums(c, width, bs, sums);
     }
   }
   return road_px;

@@ -423,7 +423,7 @@ void ClusterPerceptron::buildLut() {
     };
     exact = [&](int r, int g, int b) { return cert[nearest(r, g, b)]; };
   }
-  lut_.assign(32 * 32 * 32, 0);
+  lut_.assign(32 * 32 * 32 + 3, 0);  // 3 bytes beyond the last cell: the runtime reads 4 from a cell
   sub_offset_.assign(32 * 32 * 32, 0);
   sub_.clear();
   for (int cell = 0; cell < 32 * 32 * 32; ++cell) {
