@@ -62,49 +62,6 @@ int runRectify(const RectifyConfig& config, std::ostream& out, std::ostream& err
   });
 }
 
-namespace {
-
-// The photos of one size, read in the order of their file names (so that the calibration does not
-// depend on the order they are given in): those of the most common size, and those within
-// `tolerance` pixels of it cut or padded to it; the others skipped, each with its size.
-struct SameSizePhotos {
-  std::vector<std::string> files;
-  std::vector<Image> images;
-  std::vector<std::string> fitted, skipped;  // "NAME: what was done"
-};
-
-SameSizePhotos sameSizePhotos(std::vector<std::string> files, int tolerance) {
-  std::sort(files.begin(), files.end());
-  std::vector<Image> all;
-  std::vector<ImageSize> sizes;
-  for (const std::string& file : files) {
-    all.push_back(readImage(file));
-    sizes.push_back({all.back().width, all.back().height});
-  }
-  const ImageSize common = mostCommonSize(sizes);
-  auto text = [](const ImageSize& s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
-  SameSizePhotos out;
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    if (std::abs(sizes[i].width - common.width) > tolerance || std::abs(sizes[i].height - common.height) > tolerance) {
-      out.skipped.push_back(files[i] + ": " + text(sizes[i]) + ", not the common " + text(common) + " (--size-tolerance " +
-                            std::to_string(tolerance) + " px)");
-      continue;
-    }
-    if (sizes[i] != common) {
-      const bool larger = sizes[i].width >= common.width && sizes[i].height >= common.height;
-      const bool smaller = sizes[i].width <= common.width && sizes[i].height <= common.height;
-      out.fitted.push_back(files[i] + ": " + text(sizes[i]) + (larger ? " cut" : smaller ? " padded" : " cut and padded") +
-                           " at the right and bottom to " + text(common));
-      all[i] = fitToSize(all[i], common);
-    }
-    out.files.push_back(files[i]);
-    out.images.push_back(std::move(all[i]));
-  }
-  return out;
-}
-
-}  // namespace
-
 int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
     requireOutput(config.output, "--output");
@@ -112,10 +69,13 @@ int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream
     if (config.size_tolerance_px < 0) {
       throw InvalidInput("--size-tolerance " + std::to_string(config.size_tolerance_px) + ": must be >= 0");
     }
-    const SameSizePhotos photos = sameSizePhotos(config.images, config.size_tolerance_px);
-    const std::vector<Image>& images = photos.images;
-    ChessboardResult result = calibrateChessboard(images, config.cols, config.rows, config.square_m, photos.files);
-    result.rejected.insert(result.rejected.begin(), photos.skipped.begin(), photos.skipped.end());
+    // In the order of their file names, so that the result does not depend on the order given.
+    std::vector<std::string> files = config.images;
+    std::sort(files.begin(), files.end());
+    std::vector<Image> images;
+    for (const std::string& file : files) images.push_back(readImage(file));
+    const ChessboardResult result =
+        calibrateChessboard(images, config.cols, config.rows, config.square_m, files, config.size_tolerance_px);
 
     if (!config.corners_dir.empty()) {
       std::filesystem::create_directories(config.corners_dir);
@@ -125,7 +85,7 @@ int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream
             drawChessboardCorners(images[i], config.cols, config.rows, corners.value_or(std::vector<Vec2>{}), corners.has_value());
         const std::filesystem::path name =
             std::filesystem::path(config.corners_dir) /
-            (std::filesystem::path(photos.files[i]).stem().string() + "_corners.png");
+            (std::filesystem::path(files[i]).stem().string() + "_corners.png");
         writePng(drawn, name);
       }
     }
@@ -137,7 +97,7 @@ int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream
     out << std::fixed << std::setprecision(3);
     out << "calibrated from " << result.images_used << " of " << config.images.size() << " images (" << in.width << "x"
         << in.height << ", the most common size)\n";
-    for (const std::string& f : photos.fitted) out << "  fitted " << f << "\n";
+    for (const std::string& f : result.fitted) out << "  fitted " << f << "\n";
     for (const std::string& r : result.rejected) out << "  skipped " << r << "\n";
     out << "focal " << in.fx << ", " << in.fy << " px; principal point " << in.cx << ", " << in.cy << " px\n";
     out << std::setprecision(6) << "distortion k1 k2 p1 p2 k3: " << in.distortion[0] << " " << in.distortion[1] << " "

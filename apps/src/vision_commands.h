@@ -7,6 +7,7 @@
 #include "mapnav/geometry/segment2.h"
 #include <vector>
 
+#include "mapnav/vision/calibrate.h"
 #include "mapnav/vision/rectify.h"
 
 namespace mapnav::cli {
@@ -28,11 +29,9 @@ struct CalibrateChessboardConfig {
   std::string output;               ///< the mapnav-camera/1 JSON written
   std::string corners_dir;          ///< when set, every image with its detected corners drawn, as PNG
   /// Photos whose width and height are each within this many pixels of the most common size are
-  /// cut or padded at the right and bottom to it (pixel coordinates unchanged); others are skipped.
-  /// 2 takes the one-pixel-larger photos a camera or an editor sometimes writes (the shared set's
-  /// 1281×721 among 1280×720), which a user expects used; a rescaled photo or another camera differs
-  /// by far more.
-  int size_tolerance_px = 2;
+  /// cut or padded at the right and bottom to it (pixel coordinates unchanged); others are skipped
+  /// (calibrateChessboard(), whose default this is).
+  int size_tolerance_px = kChessboardSizeTolerancePx;
 };
 /// Calibrates a pin-hole camera (focal, principal point, k1 k2 p1 p2 k3) and writes it with a
 /// default mount, which the user must fill in; prints the RMS reprojection error.

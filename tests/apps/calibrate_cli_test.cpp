@@ -69,7 +69,7 @@ TEST(CalibrateChessboardCli, WithoutToleranceTheOtherSizesAreListedAndSkipped) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("calibrated from 15 of 20 images (1280x720, the most common size)"), std::string::npos) << r.out;
   for (const char* odd : {"calibration15.jpg", "calibration7.jpg"}) {
-    EXPECT_NE(r.out.find(std::string(odd) + ": 1281x721, not the common 1280x720 (--size-tolerance 0 px)"),
+    EXPECT_NE(r.out.find(std::string(odd) + ": 1281x721, not the common 1280x720 (size tolerance 0 px)"),
               std::string::npos)
         << r.out;
   }

@@ -320,5 +320,38 @@ TEST(Chessboard, RealPhotosCalibrateWithSubPixelError) {
   EXPECT_LT(bend_after, res.rms_reprojection_px);
 }
 
+// The image size is the one most photos have, whatever their order: a 1281 x 721 photo given
+// first is cut to the others' 1280 x 720 (within the default 2 px) instead of deciding the size.
+TEST(Chessboard, TheMostCommonSizeWinsInAnyOrder) {
+  ASSERT_TRUE(testing::realDataPresent("calibration"));
+  const std::filesystem::path dir = testing::realDataPath("calibration");
+  std::vector<std::string> names;
+  for (const char* n : {"calibration7.jpg", "calibration2.jpg", "calibration3.jpg", "calibration6.jpg"})
+    names.push_back((dir / n).string());
+  std::vector<Image> images;
+  for (const std::string& n : names) images.push_back(readImage(n));
+  ASSERT_EQ(images[0].width, 1281);
+  const ChessboardResult first = calibrateChessboard(images, 9, 6, 0.025, names);
+  std::reverse(images.begin(), images.end());
+  std::reverse(names.begin(), names.end());
+  const ChessboardResult last = calibrateChessboard(images, 9, 6, 0.025, names);
+  for (const ChessboardResult* r : {&first, &last}) {
+    EXPECT_EQ(r->intrinsics.width, 1280);
+    EXPECT_EQ(r->intrinsics.height, 720);
+    EXPECT_EQ(r->images_used, 4);
+    ASSERT_EQ(r->fitted.size(), 1u);
+    EXPECT_NE(r->fitted[0].find("calibration7.jpg: 1281x721 cut at the right and bottom to 1280x720"), std::string::npos)
+        << r->fitted[0];
+  }
+  EXPECT_NEAR(first.intrinsics.fx, last.intrinsics.fx, 1e-6 * first.intrinsics.fx);
+  // With no tolerance the odd photo is skipped with its size.
+  const ChessboardResult strict = calibrateChessboard(images, 9, 6, 0.025, names, 0);
+  EXPECT_EQ(strict.images_used, 3);
+  ASSERT_EQ(strict.rejected.size(), 1u);
+  EXPECT_NE(strict.rejected[0].find("calibration7.jpg: 1281x721, not the common 1280x720 (size tolerance 0 px)"),
+            std::string::npos)
+      << strict.rejected[0];
+}
+
 }  // namespace
 }  // namespace mapnav

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include <opencv2/calib3d.hpp>
@@ -166,10 +167,13 @@ Image drawChessboardCorners(const Image& image, int cols, int rows, const std::v
 }
 
 ChessboardResult calibrateChessboard(const std::vector<Image>& images, int cols, int rows, double square_m,
-                                     const std::vector<std::string>& names) {
+                                     const std::vector<std::string>& names, int size_tolerance_px) {
   requireBoard(cols, rows);
   if (!(square_m > 0) || !std::isfinite(square_m)) {
     throw InvalidInput("calibrateChessboard: square_m = " + std::to_string(square_m) + ": must be finite and > 0");
+  }
+  if (size_tolerance_px < 0) {
+    throw InvalidInput("calibrateChessboard: size_tolerance_px = " + std::to_string(size_tolerance_px) + ": must be >= 0");
   }
   if (!names.empty() && names.size() != images.size()) {
     throw InvalidInput("calibrateChessboard: " + std::to_string(names.size()) + " names for " +
@@ -184,26 +188,36 @@ ChessboardResult calibrateChessboard(const std::vector<Image>& images, int cols,
   ChessboardResult result;
   std::vector<std::vector<cv::Point3f>> object_points;
   std::vector<std::vector<cv::Point2f>> image_points;
-  cv::Size size;
+  std::vector<ImageSize> sizes;
+  for (const Image& image : images) sizes.push_back({image.width, image.height});
+  const ImageSize common = mostCommonSize(sizes);
+  const auto text = [](const ImageSize& z) { return std::to_string(z.width) + "x" + std::to_string(z.height); };
   for (std::size_t i = 0; i < images.size(); ++i) {
     const std::string name = names.empty() ? "image " + std::to_string(i) : names[i];
-    const Image& image = images[i];
-    if (size.width > 0 && (image.width != size.width || image.height != size.height)) {
-      result.rejected.push_back(name + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                                " differs from the first usable image's " + std::to_string(size.width) + "x" +
-                                std::to_string(size.height));
+    const ImageSize& z = sizes[i];
+    if (std::abs(z.width - common.width) > size_tolerance_px || std::abs(z.height - common.height) > size_tolerance_px) {
+      result.rejected.push_back(name + ": " + text(z) + ", not the common " + text(common) + " (size tolerance " +
+                                std::to_string(size_tolerance_px) + " px)");
       continue;
     }
-    const auto corners = detect(toGrey(image), cols, rows);
+    Image fitted;
+    if (z != common) {
+      const bool larger = z.width >= common.width && z.height >= common.height;
+      const bool smaller = z.width <= common.width && z.height <= common.height;
+      result.fitted.push_back(name + ": " + text(z) + (larger ? " cut" : smaller ? " padded" : " cut and padded") +
+                              " at the right and bottom to " + text(common));
+      fitted = fitToSize(images[i], common);
+    }
+    const auto corners = detect(toGrey(z != common ? fitted : images[i]), cols, rows);
     if (!corners) {
       result.rejected.push_back(name + ": no " + std::to_string(cols) + "x" + std::to_string(rows) +
                                 " chessboard found");
       continue;
     }
-    size = cv::Size(image.width, image.height);
     image_points.push_back(*corners);
     object_points.push_back(board);
   }
+  const cv::Size size(common.width, common.height);
   if (image_points.size() < 3) {
     throw InvalidInput("calibrateChessboard: the chessboard was found in " + std::to_string(image_points.size()) +
                        " image(s); at least 3 are needed");

@@ -68,7 +68,13 @@ struct ChessboardResult {
   double rms_reprojection_px = 0;   ///< RMS reprojection error over every corner of every used image
   int images_used = 0;
   std::vector<std::string> rejected;  ///< "NAME: reason" for each image not used
+  std::vector<std::string> fitted;    ///< "NAME: what was done" for each image cut or padded to the size
 };
+
+/// calibrateChessboard()'s default size tolerance, pixels: it takes the one-pixel-larger photos a
+/// camera or an editor sometimes writes (the shared set's 1281 x 721 among 1280 x 720), which a user
+/// expects used; a rescaled photo or another camera differs by far more.
+constexpr int kChessboardSizeTolerancePx = 2;
 
 /// The inner corners of a cols × rows chessboard in an image (sub-pixel, row by row as OpenCV's
 /// cv::findChessboardCorners orders them), or nothing when the board is not found. Throws
@@ -81,10 +87,14 @@ Image drawChessboardCorners(const Image& image, int cols, int rows, const std::v
 
 /// Calibrates a pin-hole camera (fx fy cx cy, k1 k2 p1 p2 k3) from images of a chessboard with
 /// cols × rows inner corners and squares of side square_m: cv::findChessboardCorners,
-/// cv::cornerSubPix, cv::calibrateCamera. Images in which the board is not found, or whose size
-/// differs from the first usable image's, are rejected (named by `names[i]` when given, else
-/// "image i"). Throws InvalidInput for bad arguments or when fewer than 3 images can be used.
+/// cv::cornerSubPix, cv::calibrateCamera. The image size is the one most images have
+/// (mostCommonSize(), whatever their order); an image within `size_tolerance_px` of it in both
+/// directions is cut or padded at its right and bottom to it (fitToSize(): its pixels keep their
+/// coordinates) and listed in `fitted`; one further off is rejected with its size. Images in which
+/// the board is not found are rejected too (each named by `names[i]` when given, else "image i").
+/// Throws InvalidInput for bad arguments or when fewer than 3 images can be used.
 ChessboardResult calibrateChessboard(const std::vector<Image>& images, int cols, int rows, double square_m,
-                                     const std::vector<std::string>& names = {});
+                                     const std::vector<std::string>& names = {},
+                                     int size_tolerance_px = kChessboardSizeTolerancePx);
 
 }  // namespace mapnav
