@@ -4,6 +4,7 @@
 // colour shift and sensor noise.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -51,6 +52,8 @@ RayTable::RayTable(const Camera& camera)
     : model_(camera.model()), intrinsics_(camera.intrinsics()), mount_(camera.mount()),
       width_(camera.width()), height_(camera.height()),
       rays_(static_cast<std::size_t>(width_) * height_) {
+  static std::atomic<std::uint64_t> next_id{1};
+  id_ = next_id.fetch_add(1, std::memory_order_relaxed);
   const Vec3 center = camera.center();
   for (int v = 0; v < height_; ++v) {
     for (int u = 0; u < width_; ++u) {
@@ -93,7 +96,7 @@ bool RayTable::matches(const Camera& camera) const {
 }
 
 void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, RowScratch& rs,
-                           NoiseCache& nc, float* rgb, std::uint8_t* mask) const {
+                           NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const {
   const auto w = static_cast<std::size_t>(rays.width());
   const auto [ch, sh, tx, ty] = pose;
   rs.ground.resize(w);
@@ -148,11 +151,28 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
       const GroundPoint& g = rs.ground[u];
       const Vec2& p = rs.points[u];
       C3 c = texture(g.surface, p, r.footprint, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
-      c = finish(p, g, c, r.footprint, r.range, &nc);
+      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, &nc);
       rgb[3 * u] = c.r;
       rgb[3 * u + 1] = c.g;
       rgb[3 * u + 2] = c.b;
     }
+}
+
+std::shared_ptr<const std::vector<float>> World::Impl::hazeTable(const RayTable& rays) const {
+  {
+    std::lock_guard lock(cache_mutex);
+    if (haze_table && haze_id == rays.id()) return haze_table;
+  }
+  auto table = std::make_shared<std::vector<float>>();
+  if (options.haze_distance_m > 0) {
+    table->resize(rays.rays().size());
+    for (std::size_t i = 0; i < table->size(); ++i)
+      if (rays.rays()[i].kind == RayTable::Kind::Ground) (*table)[i] = hazeAt(rays.rays()[i].range);
+  }
+  std::lock_guard lock(cache_mutex);
+  haze_id = rays.id();
+  haze_table = table;
+  return table;
 }
 
 Frame World::render(const Camera& camera, const Pose2& pose, double t) const {
@@ -300,6 +320,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
   Frame frame{Image(w, h, 3), Image(w, h, 1)};
   std::vector<float> buf(static_cast<std::size_t>(w) * h * 3);
   const std::array<double, 4> pose4{std::cos(pose.heading()), std::sin(pose.heading()), pose.x(), pose.y()};
+  const std::shared_ptr<const std::vector<float>> haze = im.hazeTable(rays);
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   // Each pixel's colour depends on its row alone (the edge samples on the finished mask), so the
   // bands of rows and their threads do not change the frame.
@@ -308,7 +329,8 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
     RowScratch scratch;
     for (int v = v0; v < v1; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * w;
-      im.shadeRow(rays, v, pose4, scratch, *cache, buf.data() + 3 * row, frame.mask.data.data() + row);
+      im.shadeRow(rays, v, pose4, scratch, *cache, haze->empty() ? nullptr : haze->data() + row, buf.data() + 3 * row,
+                  frame.mask.data.data() + row);
     }
   });
   forRowBands(h, threads, [&](int v0, int v1) {
