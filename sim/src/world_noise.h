@@ -129,6 +129,19 @@ struct FbmScratch {
 void fbmRow(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
             double base_freq, int octaves, float* out, FbmScratch& scratch);
 
+/// The camera's sensor noise of subpixel j (3 × pixel + channel) of a frame: the four 16-bit fields of
+/// mix64(frame_seed + j·φ) summed (a sum of four uniforms, ≈ Gaussian), scaled to [−2, 2) (sd 1/√3).
+inline float sensorNoise(std::uint64_t frame_seed, std::uint64_t j) {
+  const std::uint64_t hsh = mix64(frame_seed + j * 0x9E3779B97F4A7C15ULL);
+  const float s = static_cast<float>(hsh & 0xFFFF) + static_cast<float>((hsh >> 16) & 0xFFFF) +
+                  static_cast<float>((hsh >> 32) & 0xFFFF) + static_cast<float>(hsh >> 48);
+  return s / 65536.0f - 2.0f;
+}
+
+/// sensorNoise of subpixels j0 … j0 + n − 1 into out[0 … n − 1] (bit for bit; AVX2 where the CPU has
+/// it, world_noise_batch.cpp: the sums are whole numbers below 2^18, exact in any order).
+void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, float* out);
+
 inline float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);

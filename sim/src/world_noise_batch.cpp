@@ -102,8 +102,54 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
   for (std::size_t j = m8; j < m; ++j) out[j] = out[j] / norm;
 }
 
+/// a · b modulo 2^64 in each 64-bit lane (AVX2 multiplies 32 × 32 bits): the low halves' product
+/// plus the cross products shifted up (the high halves' product is beyond 2^64).
+__attribute__((target("avx2"))) __m256i mul64(__m256i a, std::uint64_t b) {
+  const __m256i lo = _mm256_set1_epi64x(static_cast<std::int64_t>(b & 0xFFFFFFFFULL));
+  const __m256i hi = _mm256_set1_epi64x(static_cast<std::int64_t>(b >> 32));
+  const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), lo), _mm256_mul_epu32(a, hi));
+  return _mm256_add_epi64(_mm256_mul_epu32(a, lo), _mm256_slli_epi64(cross, 32));
+}
+
+__attribute__((target("avx2"))) void sensorNoiseRowAvx2(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n,
+                                                        float* out) {
+  constexpr std::uint64_t kPhi = 0x9E3779B97F4A7C15ULL;
+  const std::size_t n4 = n & ~std::size_t{3};
+  const std::uint64_t x0 = frame_seed + j0 * kPhi;
+  __m256i x = _mm256_set_epi64x(static_cast<std::int64_t>(x0 + 3 * kPhi), static_cast<std::int64_t>(x0 + 2 * kPhi),
+                                static_cast<std::int64_t>(x0 + kPhi), static_cast<std::int64_t>(x0));
+  const __m256i step = _mm256_set1_epi64x(static_cast<std::int64_t>(4 * kPhi));
+  const __m256i field = _mm256_set1_epi64x(0xFFFF);
+  const __m256i low32 = _mm256_setr_epi32(0, 2, 4, 6, 0, 0, 0, 0);
+  const __m128 scale = _mm_set1_ps(1.0f / 65536.0f), two = _mm_set1_ps(2.0f);  // 1/65536: a power of two, exact
+  for (std::size_t j = 0; j < n4; j += 4, x = _mm256_add_epi64(x, step)) {
+    __m256i h = _mm256_xor_si256(x, _mm256_srli_epi64(x, 30));
+    h = mul64(h, 0xbf58476d1ce4e5b9ULL);
+    h = _mm256_xor_si256(h, _mm256_srli_epi64(h, 27));
+    h = mul64(h, 0x94d049bb133111ebULL);
+    h = _mm256_xor_si256(h, _mm256_srli_epi64(h, 31));
+    const __m256i s = _mm256_add_epi64(
+        _mm256_add_epi64(_mm256_and_si256(h, field), _mm256_and_si256(_mm256_srli_epi64(h, 16), field)),
+        _mm256_add_epi64(_mm256_and_si256(_mm256_srli_epi64(h, 32), field), _mm256_srli_epi64(h, 48)));
+    const __m128i s32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(s, low32));
+    _mm_storeu_ps(out + j, _mm_sub_ps(_mm_mul_ps(_mm_cvtepi32_ps(s32), scale), two));
+  }
+  for (std::size_t j = n4; j < n; ++j) out[j] = sensorNoise(frame_seed, j0 + j);
+}
+
 }  // namespace
 #endif
+
+void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, float* out) {
+#ifdef MAPNAV_WORLD_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
+  if (avx2) {
+    sensorNoiseRowAvx2(frame_seed, j0, n, out);
+    return;
+  }
+#endif
+  for (std::size_t j = 0; j < n; ++j) out[j] = sensorNoise(frame_seed, j0 + j);
+}
 
 void FbmScratch::resize(std::size_t m) {
   for (auto* v : {&fx, &fy}) v->resize(m);

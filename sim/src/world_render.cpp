@@ -298,17 +298,16 @@ void World::Impl::camera(const RayTable& rays, int v0, int v1, const Pose2& pose
   for (double v : {pose.x(), pose.y(), pose.heading(), t}) frame_seed = mix64(frame_seed ^ std::bit_cast<std::uint64_t>(v));
   const auto sigma = static_cast<float>(o.noise_sigma * 1.7320508);  // sum of 4 U(-.5,.5) has sd 1/√3
   const float lo = o.low_dynamic_range ? 37.0f : 0.0f;
-  for (std::size_t i = i0; i < i1; ++i) {
-    const bool lit = rays.rays()[i].kind != RayTable::Kind::None;
-    for (std::size_t k = 0; k < 3; ++k) {
-      float v = buf[3 * i + k];
-      if (sigma > 0 && lit) {
-        const std::uint64_t hsh = mix64(frame_seed + (3 * i + k) * 0x9E3779B97F4A7C15ULL);
-        const float s = static_cast<float>(hsh & 0xFFFF) + static_cast<float>((hsh >> 16) & 0xFFFF) +
-                        static_cast<float>((hsh >> 32) & 0xFFFF) + static_cast<float>(hsh >> 48);
-        v += sigma * (s / 65536.0f - 2.0f);
+  std::vector<float> noise(sigma > 0 ? 3 * static_cast<std::size_t>(w) : 0);
+  for (std::size_t r0 = i0; r0 < i1; r0 += static_cast<std::size_t>(w)) {  // a row at a time
+    if (sigma > 0) sensorNoiseRow(frame_seed, 3 * r0, noise.size(), noise.data());
+    for (std::size_t i = r0; i < r0 + static_cast<std::size_t>(w); ++i) {
+      const bool lit = sigma > 0 && rays.rays()[i].kind != RayTable::Kind::None;
+      for (std::size_t k = 0; k < 3; ++k) {
+        float v = buf[3 * i + k];
+        if (lit) v += sigma * noise[3 * (i - r0) + k];
+        rgb[3 * i + k] = toByte(v, lo);
       }
-      rgb[3 * i + k] = toByte(v, lo);
     }
   }
 }
