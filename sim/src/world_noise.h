@@ -151,6 +151,8 @@ inline float smoothstep(float e0, float e1, float x) {
 /// `footprint` wide (box-filtered).
 inline float lineCoverage(double d, double width, double footprint) {
   const double fp = std::max(footprint, 1e-4);
+  // Beyond the line's reach the overlap below is negative: coverage 0 (the same +0 the clamp gives).
+  if (d - fp / 2 > width / 2) return 0.0f;
   const double overlap = std::min(d + fp / 2, width / 2) - std::max(d - fp / 2, -width / 2);
   return static_cast<float>(std::clamp(overlap / fp, 0.0, 1.0));
 }
@@ -161,8 +163,13 @@ inline float crackCoverage(std::uint64_t salt, const Vec2& p, double footprint, 
   constexpr double kFreq = 0.9;
   if (footprint > 0.08) return 0.0f;
   const auto at = [memo](int i) { return memo != nullptr ? memo + i : nullptr; };
-  const double n = valueNoise(salt, p.x() * kFreq, p.y() * kFreq, at(0)) +
-                   0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5, at(1)) +
+  const float n0 = valueNoise(salt, p.x() * kFreq, p.y() * kFreq, at(0));
+  // The finer octaves move n by at most 0.3 (their values are within [−1, 1]): a coarse octave that
+  // far from 0 leaves the line out of the pixel's reach whatever they add (lineCoverage's 0, times
+  // the fade, is the same +0).
+  if ((std::abs(static_cast<double>(n0)) - 0.3000001) / (2.4 * kFreq) > (width + std::max(footprint, 1e-4)) / 2 + 1e-9)
+    return 0.0f;
+  const double n = n0 + 0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5, at(1)) +
                    0.08 * valueNoise(salt + 9, p.x() * kFreq * 23, p.y() * kFreq * 23, at(2));
   // |grad| of the noise is ~2.4 × freq per unit: distance to the zero line in metres.
   const double d = std::abs(n) / (2.4 * kFreq);
