@@ -43,6 +43,7 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
     // Lattice cells, offsets in the cell and the footprint's weight, 4 points at a time.
     const __m256d vf = _mm256_set1_pd(f), v4f = _mm256_set1_pd(4.0 * f);
     const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0);
+    int shows = 0;  // a point's weight is > 0
     for (std::size_t j = 0; j < m4; j += 4) {
       const __m256d x = _mm256_mul_pd(_mm256_loadu_pd(xs + j), vf), y = _mm256_mul_pd(_mm256_loadu_pd(ys + j), vf);
       const __m256d fx = _mm256_floor_pd(x), fy = _mm256_floor_pd(y);
@@ -52,7 +53,19 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
       _mm_storeu_ps(sc.ty.data() + j, _mm256_cvtpd_ps(_mm256_sub_pd(y, fy)));
       const __m256d fp = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j));
       const __m256d w = _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(two, _mm256_mul_pd(v4f, fp)), zero), one);
-      _mm_storeu_ps(sc.w.data() + j, _mm256_cvtpd_ps(w));
+      const __m128 wf = _mm256_cvtpd_ps(w);
+      _mm_storeu_ps(sc.w.data() + j, wf);
+      shows |= _mm_movemask_ps(_mm_cmpgt_ps(wf, _mm_setzero_ps()));
+    }
+    for (std::size_t j = m4; j < m && shows == 0; ++j) shows = filterWeight(f, footprints[j]) > 0;
+    if (shows == 0) {
+      // No point sees this octave, nor a finer one (a weight falls as f doubles): the sums stay,
+      // the normalisation counts them.
+      for (; o < octaves; ++o) {
+        norm += amp;
+        amp *= 0.5f;
+      }
+      break;
     }
     // The cells' corners (the last cell's reused), where the octave shows.
     double cx = std::numeric_limits<double>::quiet_NaN(), cy = cx;
