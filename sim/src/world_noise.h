@@ -129,6 +129,19 @@ struct FbmScratch {
 void fbmRow(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
             double base_freq, int octaves, float* out, FbmScratch& scratch);
 
+/// The camera's sensor noise of subpixel j (3 × pixel + channel) of a frame: the four 16-bit fields of
+/// mix64(frame_seed + j·φ) summed (a sum of four uniforms, ≈ Gaussian), scaled to [−2, 2) (sd 1/√3).
+inline float sensorNoise(std::uint64_t frame_seed, std::uint64_t j) {
+  const std::uint64_t hsh = mix64(frame_seed + j * 0x9E3779B97F4A7C15ULL);
+  const float s = static_cast<float>(hsh & 0xFFFF) + static_cast<float>((hsh >> 16) & 0xFFFF) +
+                  static_cast<float>((hsh >> 32) & 0xFFFF) + static_cast<float>(hsh >> 48);
+  return s / 65536.0f - 2.0f;
+}
+
+/// sensorNoise of subpixels j0 … j0 + n − 1 into out[0 … n − 1] (bit for bit; AVX2 where the CPU has
+/// it, world_noise_batch.cpp: the sums are whole numbers below 2^18, exact in any order).
+void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, float* out);
+
 inline float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
@@ -138,6 +151,8 @@ inline float smoothstep(float e0, float e1, float x) {
 /// `footprint` wide (box-filtered).
 inline float lineCoverage(double d, double width, double footprint) {
   const double fp = std::max(footprint, 1e-4);
+  // Beyond the line's reach the overlap below is negative: coverage 0 (the same +0 the clamp gives).
+  if (d - fp / 2 > width / 2) return 0.0f;
   const double overlap = std::min(d + fp / 2, width / 2) - std::max(d - fp / 2, -width / 2);
   return static_cast<float>(std::clamp(overlap / fp, 0.0, 1.0));
 }
@@ -148,8 +163,13 @@ inline float crackCoverage(std::uint64_t salt, const Vec2& p, double footprint, 
   constexpr double kFreq = 0.9;
   if (footprint > 0.08) return 0.0f;
   const auto at = [memo](int i) { return memo != nullptr ? memo + i : nullptr; };
-  const double n = valueNoise(salt, p.x() * kFreq, p.y() * kFreq, at(0)) +
-                   0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5, at(1)) +
+  const float n0 = valueNoise(salt, p.x() * kFreq, p.y() * kFreq, at(0));
+  // The finer octaves move n by at most 0.3 (their values are within [−1, 1]): a coarse octave that
+  // far from 0 leaves the line out of the pixel's reach whatever they add (lineCoverage's 0, times
+  // the fade, is the same +0).
+  if ((std::abs(static_cast<double>(n0)) - 0.3000001) / (2.4 * kFreq) > (width + std::max(footprint, 1e-4)) / 2 + 1e-9)
+    return 0.0f;
+  const double n = n0 + 0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5, at(1)) +
                    0.08 * valueNoise(salt + 9, p.x() * kFreq * 23, p.y() * kFreq * 23, at(2));
   // |grad| of the noise is ~2.4 × freq per unit: distance to the zero line in metres.
   const double d = std::abs(n) / (2.4 * kFreq);

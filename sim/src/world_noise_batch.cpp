@@ -43,6 +43,7 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
     // Lattice cells, offsets in the cell and the footprint's weight, 4 points at a time.
     const __m256d vf = _mm256_set1_pd(f), v4f = _mm256_set1_pd(4.0 * f);
     const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0);
+    int shows = 0;  // a point's weight is > 0
     for (std::size_t j = 0; j < m4; j += 4) {
       const __m256d x = _mm256_mul_pd(_mm256_loadu_pd(xs + j), vf), y = _mm256_mul_pd(_mm256_loadu_pd(ys + j), vf);
       const __m256d fx = _mm256_floor_pd(x), fy = _mm256_floor_pd(y);
@@ -52,7 +53,19 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
       _mm_storeu_ps(sc.ty.data() + j, _mm256_cvtpd_ps(_mm256_sub_pd(y, fy)));
       const __m256d fp = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j));
       const __m256d w = _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(two, _mm256_mul_pd(v4f, fp)), zero), one);
-      _mm_storeu_ps(sc.w.data() + j, _mm256_cvtpd_ps(w));
+      const __m128 wf = _mm256_cvtpd_ps(w);
+      _mm_storeu_ps(sc.w.data() + j, wf);
+      shows |= _mm_movemask_ps(_mm_cmpgt_ps(wf, _mm_setzero_ps()));
+    }
+    for (std::size_t j = m4; j < m && shows == 0; ++j) shows = filterWeight(f, footprints[j]) > 0;
+    if (shows == 0) {
+      // No point sees this octave, nor a finer one (a weight falls as f doubles): the sums stay,
+      // the normalisation counts them.
+      for (; o < octaves; ++o) {
+        norm += amp;
+        amp *= 0.5f;
+      }
+      break;
     }
     // The cells' corners (the last cell's reused), where the octave shows.
     double cx = std::numeric_limits<double>::quiet_NaN(), cy = cx;
@@ -102,8 +115,54 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
   for (std::size_t j = m8; j < m; ++j) out[j] = out[j] / norm;
 }
 
+/// a · b modulo 2^64 in each 64-bit lane (AVX2 multiplies 32 × 32 bits): the low halves' product
+/// plus the cross products shifted up (the high halves' product is beyond 2^64).
+__attribute__((target("avx2"))) __m256i mul64(__m256i a, std::uint64_t b) {
+  const __m256i lo = _mm256_set1_epi64x(static_cast<std::int64_t>(b & 0xFFFFFFFFULL));
+  const __m256i hi = _mm256_set1_epi64x(static_cast<std::int64_t>(b >> 32));
+  const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), lo), _mm256_mul_epu32(a, hi));
+  return _mm256_add_epi64(_mm256_mul_epu32(a, lo), _mm256_slli_epi64(cross, 32));
+}
+
+__attribute__((target("avx2"))) void sensorNoiseRowAvx2(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n,
+                                                        float* out) {
+  constexpr std::uint64_t kPhi = 0x9E3779B97F4A7C15ULL;
+  const std::size_t n4 = n & ~std::size_t{3};
+  const std::uint64_t x0 = frame_seed + j0 * kPhi;
+  __m256i x = _mm256_set_epi64x(static_cast<std::int64_t>(x0 + 3 * kPhi), static_cast<std::int64_t>(x0 + 2 * kPhi),
+                                static_cast<std::int64_t>(x0 + kPhi), static_cast<std::int64_t>(x0));
+  const __m256i step = _mm256_set1_epi64x(static_cast<std::int64_t>(4 * kPhi));
+  const __m256i field = _mm256_set1_epi64x(0xFFFF);
+  const __m256i low32 = _mm256_setr_epi32(0, 2, 4, 6, 0, 0, 0, 0);
+  const __m128 scale = _mm_set1_ps(1.0f / 65536.0f), two = _mm_set1_ps(2.0f);  // 1/65536: a power of two, exact
+  for (std::size_t j = 0; j < n4; j += 4, x = _mm256_add_epi64(x, step)) {
+    __m256i h = _mm256_xor_si256(x, _mm256_srli_epi64(x, 30));
+    h = mul64(h, 0xbf58476d1ce4e5b9ULL);
+    h = _mm256_xor_si256(h, _mm256_srli_epi64(h, 27));
+    h = mul64(h, 0x94d049bb133111ebULL);
+    h = _mm256_xor_si256(h, _mm256_srli_epi64(h, 31));
+    const __m256i s = _mm256_add_epi64(
+        _mm256_add_epi64(_mm256_and_si256(h, field), _mm256_and_si256(_mm256_srli_epi64(h, 16), field)),
+        _mm256_add_epi64(_mm256_and_si256(_mm256_srli_epi64(h, 32), field), _mm256_srli_epi64(h, 48)));
+    const __m128i s32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(s, low32));
+    _mm_storeu_ps(out + j, _mm_sub_ps(_mm_mul_ps(_mm_cvtepi32_ps(s32), scale), two));
+  }
+  for (std::size_t j = n4; j < n; ++j) out[j] = sensorNoise(frame_seed, j0 + j);
+}
+
 }  // namespace
 #endif
+
+void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, float* out) {
+#ifdef MAPNAV_WORLD_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
+  if (avx2) {
+    sensorNoiseRowAvx2(frame_seed, j0, n, out);
+    return;
+  }
+#endif
+  for (std::size_t j = 0; j < n; ++j) out[j] = sensorNoise(frame_seed, j0 + j);
+}
 
 void FbmScratch::resize(std::size_t m) {
   for (auto* v : {&fx, &fy}) v->resize(m);

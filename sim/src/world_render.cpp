@@ -4,6 +4,7 @@
 // colour shift and sensor noise.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -51,6 +52,8 @@ RayTable::RayTable(const Camera& camera)
     : model_(camera.model()), intrinsics_(camera.intrinsics()), mount_(camera.mount()),
       width_(camera.width()), height_(camera.height()),
       rays_(static_cast<std::size_t>(width_) * height_) {
+  static std::atomic<std::uint64_t> next_id{1};
+  id_ = next_id.fetch_add(1, std::memory_order_relaxed);
   const Vec3 center = camera.center();
   for (int v = 0; v < height_; ++v) {
     for (int u = 0; u < width_; ++u) {
@@ -93,7 +96,7 @@ bool RayTable::matches(const Camera& camera) const {
 }
 
 void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, RowScratch& rs,
-                           NoiseCache& nc, float* rgb, std::uint8_t* mask) const {
+                           NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const {
   const auto w = static_cast<std::size_t>(rays.width());
   const auto [ch, sh, tx, ty] = pose;
   rs.ground.resize(w);
@@ -148,11 +151,28 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
       const GroundPoint& g = rs.ground[u];
       const Vec2& p = rs.points[u];
       C3 c = texture(g.surface, p, r.footprint, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
-      c = finish(p, g, c, r.footprint, r.range, &nc);
+      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, &nc);
       rgb[3 * u] = c.r;
       rgb[3 * u + 1] = c.g;
       rgb[3 * u + 2] = c.b;
     }
+}
+
+std::shared_ptr<const std::vector<float>> World::Impl::hazeTable(const RayTable& rays) const {
+  {
+    std::lock_guard lock(cache_mutex);
+    if (haze_table && haze_id == rays.id()) return haze_table;
+  }
+  auto table = std::make_shared<std::vector<float>>();
+  if (options.haze_distance_m > 0) {
+    table->resize(rays.rays().size());
+    for (std::size_t i = 0; i < table->size(); ++i)
+      if (rays.rays()[i].kind == RayTable::Kind::Ground) (*table)[i] = hazeAt(rays.rays()[i].range);
+  }
+  std::lock_guard lock(cache_mutex);
+  haze_id = rays.id();
+  haze_table = table;
+  return table;
 }
 
 Frame World::render(const Camera& camera, const Pose2& pose, double t) const {
@@ -278,17 +298,16 @@ void World::Impl::camera(const RayTable& rays, int v0, int v1, const Pose2& pose
   for (double v : {pose.x(), pose.y(), pose.heading(), t}) frame_seed = mix64(frame_seed ^ std::bit_cast<std::uint64_t>(v));
   const auto sigma = static_cast<float>(o.noise_sigma * 1.7320508);  // sum of 4 U(-.5,.5) has sd 1/√3
   const float lo = o.low_dynamic_range ? 37.0f : 0.0f;
-  for (std::size_t i = i0; i < i1; ++i) {
-    const bool lit = rays.rays()[i].kind != RayTable::Kind::None;
-    for (std::size_t k = 0; k < 3; ++k) {
-      float v = buf[3 * i + k];
-      if (sigma > 0 && lit) {
-        const std::uint64_t hsh = mix64(frame_seed + (3 * i + k) * 0x9E3779B97F4A7C15ULL);
-        const float s = static_cast<float>(hsh & 0xFFFF) + static_cast<float>((hsh >> 16) & 0xFFFF) +
-                        static_cast<float>((hsh >> 32) & 0xFFFF) + static_cast<float>(hsh >> 48);
-        v += sigma * (s / 65536.0f - 2.0f);
+  std::vector<float> noise(sigma > 0 ? 3 * static_cast<std::size_t>(w) : 0);
+  for (std::size_t r0 = i0; r0 < i1; r0 += static_cast<std::size_t>(w)) {  // a row at a time
+    if (sigma > 0) sensorNoiseRow(frame_seed, 3 * r0, noise.size(), noise.data());
+    for (std::size_t i = r0; i < r0 + static_cast<std::size_t>(w); ++i) {
+      const bool lit = sigma > 0 && rays.rays()[i].kind != RayTable::Kind::None;
+      for (std::size_t k = 0; k < 3; ++k) {
+        float v = buf[3 * i + k];
+        if (lit) v += sigma * noise[3 * (i - r0) + k];
+        rgb[3 * i + k] = toByte(v, lo);
       }
-      rgb[3 * i + k] = toByte(v, lo);
     }
   }
 }
@@ -300,6 +319,7 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
   Frame frame{Image(w, h, 3), Image(w, h, 1)};
   std::vector<float> buf(static_cast<std::size_t>(w) * h * 3);
   const std::array<double, 4> pose4{std::cos(pose.heading()), std::sin(pose.heading()), pose.x(), pose.y()};
+  const std::shared_ptr<const std::vector<float>> haze = im.hazeTable(rays);
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   // Each pixel's colour depends on its row alone (the edge samples on the finished mask), so the
   // bands of rows and their threads do not change the frame.
@@ -308,7 +328,8 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
     RowScratch scratch;
     for (int v = v0; v < v1; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * w;
-      im.shadeRow(rays, v, pose4, scratch, *cache, buf.data() + 3 * row, frame.mask.data.data() + row);
+      im.shadeRow(rays, v, pose4, scratch, *cache, haze->empty() ? nullptr : haze->data() + row, buf.data() + 3 * row,
+                  frame.mask.data.data() + row);
     }
   });
   forRowBands(h, threads, [&](int v0, int v1) {

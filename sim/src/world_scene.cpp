@@ -175,6 +175,8 @@ void World::Impl::placeTrees(const Map& map) {
       for (int k = 0; k < discs_in_cluster; ++k) {
         const double a = rng.uniform(0, 2 * kPi), d = rng.uniform(0, 1.8);
         discs.push_back({centre + unitVector(a) * d, rng.uniform(1.0, 2.4)});
+        const double reach = discs.back().r + 0.45;
+        discs.back().reach2 = reach * reach * (1 + 1e-9);
       }
     }
   }
@@ -294,7 +296,10 @@ void World::Impl::canopy(const Vec2& p, int cell, double footprint, NoiseCache* 
   double wobble = std::numeric_limits<double>::quiet_NaN();
   for (std::uint32_t i = disc_start[static_cast<std::size_t>(cell)]; i < disc_start[static_cast<std::size_t>(cell) + 1]; ++i) {
     const Disc& d = discs[cell_discs[i]];
-    double dist = (p - d.c).norm();
+    // Far discs by the squared distance (no root): beyond reach2 the distance exceeds r + 0.45.
+    const double d2 = (p - d.c).squaredNorm();
+    if (d2 > d.reach2) continue;
+    double dist = std::sqrt(d2);  // (p - d.c).norm()
     if (dist > d.r + 0.45) continue;
     if (std::isnan(wobble)) {  // ragged, leafy canopy outlines
       NoiseMemo* memo = channelOf(nc, kCanopyChannel);
@@ -303,6 +308,8 @@ void World::Impl::canopy(const Vec2& p, int cell, double footprint, NoiseCache* 
     }
     dist += wobble;
     const auto inside = static_cast<float>(d.r - dist);
+    // Outside the disc both smoothsteps are 0 and s, s_bare ≥ 0 stay (s_bare = s unless wide).
+    if (!(inside > 0.0f)) continue;
     s = std::max(s, smoothstep(0.0f, edge, inside));
     s_bare = wide ? std::max(s_bare, smoothstep(0.0f, 0.25f, inside)) : s;
     if (s >= 1) break;  // then s_bare >= s is 1 too

@@ -159,6 +159,9 @@ struct Segment {
 struct Disc {
   Vec2 c;
   double r = 1;
+  /// (r + 0.45)² widened by far more than its rounding: a point whose squared distance from c
+  /// exceeds it is beyond the canopy's reach (r + 0.45, the outline's wobble included).
+  double reach2 = 0;
 };
 
 struct PolyRef {
@@ -198,6 +201,9 @@ struct [[gnu::visibility("hidden")]] World::Impl {
 
   mutable std::mutex cache_mutex;
   mutable std::vector<std::shared_ptr<const RayTable>> cache;
+  // The haze of the last ray table's pixels (hazeTable), by the table's id.
+  mutable std::uint64_t haze_id = 0;
+  mutable std::shared_ptr<const std::vector<float>> haze_table;
 
   int cellIndex(const Vec2& p) const {
     const double fx = (p.x() - origin.x()) / world_detail::kCell, fy = (p.y() - origin.y()) / world_detail::kCell;
@@ -228,8 +234,9 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   /// Shades row v of a frame seen from pose (cos, sin of the heading, x, y): its pixels' colours
   /// (3 floats each, before the camera's drift and noise) and mask. The same as `shade` per pixel,
   /// with the texture's fractal sums evaluated channel by channel over the row.
+  /// `haze`: hazeTable's row v (unread without haze).
   void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, world_detail::RowScratch& rs,
-                NoiseCache& nc, float* rgb, std::uint8_t* mask) const;
+                NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const;
   /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
   /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel).
   void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,
@@ -237,8 +244,14 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   /// Rows [v0, v1) through the camera: illumination drift, TV colour shift, sensor noise, bytes.
   void camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf, std::uint8_t* rgb) const;
   /// The texture `c` of located point p finished: the lawn's worn edge, leaves, shadow, haze.
-  C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, double range,
+  /// `haze`: hazeAt(the point's range).
+  C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, float haze,
             NoiseCache* nc) const;
+  /// Aerial perspective: how far ground at `range` m fades toward the horizon's haze (0 … 1; with
+  /// haze_distance_m > 0).
+  float hazeAt(double range) const;
+  /// hazeAt of each ground pixel's range (kept for the last table; empty without haze).
+  std::shared_ptr<const std::vector<float>> hazeTable(const RayTable& rays) const;
   C3 sky(double elevation) const;
 };
 

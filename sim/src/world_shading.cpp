@@ -159,6 +159,7 @@ void World::Impl::locate(const Vec2& p, NoiseCache* nc, GroundPoint& g) const {
   g.paved = poly >= 0;
   // Nearest centre-line segment within reach: the road a point belongs to, its side, arc length.
   double best = std::numeric_limits<double>::infinity(), along = 0, lateral = 0;
+  double best2 = best;  // best², the root taken only of a nearer square (the root is monotone)
   int best_road = -1;
   const int want_road = g.paved ? polys[static_cast<std::size_t>(poly)].road : -2;
   if (cell >= 0 && !(g.paved && want_road < 0)) {
@@ -167,9 +168,12 @@ void World::Impl::locate(const Vec2& p, NoiseCache* nc, GroundPoint& g) const {
       if (want_road >= 0 && s.road != want_road) continue;
       const Vec2 d = p - s.a;
       const double t = std::clamp(d.dot(s.dir), 0.0, s.len);
-      const double dist = (d - s.dir * t).norm();
+      const double d2 = (d - s.dir * t).squaredNorm();
+      if (!(d2 < best2)) continue;  // then its norm is not below best
+      const double dist = std::sqrt(d2);
       if (dist < best) {
         best = dist;
+        best2 = d2;
         along = s.s0 + t;
         lateral = cross2(s.dir, d);
         best_road = s.road;
@@ -201,10 +205,14 @@ C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved, Noise
   locate(p, nc, g);
   paved = g.paved;
   const C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, PointNoise{salts.data(), p, fp, nc}, nc);
-  return finish(p, g, c, fp, range, nc);
+  return finish(p, g, c, fp, options.haze_distance_m > 0 ? hazeAt(range) : 0.0f, nc);
 }
 
-C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, double range, NoiseCache* nc) const {
+float World::Impl::hazeAt(double range) const {
+  return static_cast<float>(1.0 - std::exp(-range / options.haze_distance_m));
+}
+
+C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, NoiseCache* nc) const {
   const int cell = g.cell;
   if (!g.paved && g.best_road >= 0 && surfaces[static_cast<std::size_t>(g.surface)].material == Material::Grass) {
     // Worn, dusty strip where the lawn meets the pavement.
@@ -250,7 +258,6 @@ C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, dou
   }
   // Aerial perspective: far ground fades toward the haze of the horizon.
   if (options.haze_distance_m <= 0) return c;
-  const float haze = static_cast<float>(1.0 - std::exp(-range / options.haze_distance_m));
   return lerp(c, C3{196, 206, 218}, haze);
 }
 

@@ -6,6 +6,8 @@
 // (none), and a scratch reused across rows of different lengths.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -83,6 +85,43 @@ TEST(WorldNoiseVector, FbmRowEqualsTheScalarFbmBitForBit) {
   EXPECT_EQ(differing_batch, 0u);
   EXPECT_EQ(differing_fbm, 0u);
   EXPECT_GT(nonzero, points / 2);  // the noise is there to compare: most points see some octave
+}
+
+// The camera's sensor noise a row at a time (sensorNoiseRow, AVX2 64-bit multiplies from 32-bit ones)
+// against sensorNoise subpixel by subpixel, bit for bit: row lengths the 4-lane loop splits
+// differently, offsets near 0 and where j·φ wraps past 2^64. Its spread is that of a sum of four
+// uniforms: mean 0, standard deviation 1/√3, within [−2, 2).
+TEST(WorldNoiseVector, SensorNoiseRowEqualsTheScalarNoiseBitForBit) {
+  std::mt19937_64 rng(3131);
+  std::size_t differing = 0, count = 0;
+  double sum = 0, sum2 = 0;
+  float lo = 0, hi = 0;
+  const std::vector<std::size_t> lengths = {0, 1, 2, 3, 4, 5, 7, 8, 13, 1536, 1537};
+  for (const std::size_t n : lengths) {
+    for (const std::uint64_t j0 : {std::uint64_t{0}, std::uint64_t{1}, std::uint64_t{737277}, rng(), ~std::uint64_t{2}}) {
+      const std::uint64_t seed = rng();
+      std::vector<float> row(n + 1, -7.0f);
+      sensorNoiseRow(seed, j0, n, row.data());
+      for (std::size_t j = 0; j < n; ++j) {
+        if (!sameBits(row[j], sensorNoise(seed, j0 + j)) && ++differing <= 5)
+          ADD_FAILURE() << "n " << n << ", j0 " << j0 << ", subpixel " << j << ": " << row[j] << " vs "
+                        << sensorNoise(seed, j0 + j);
+        sum += row[j];
+        sum2 += static_cast<double>(row[j]) * row[j];
+        lo = std::min(lo, row[j]);
+        hi = std::max(hi, row[j]);
+        ++count;
+      }
+      EXPECT_EQ(row[n], -7.0f) << "n " << n << ": wrote past the row";
+    }
+  }
+  EXPECT_EQ(differing, 0u);
+  const double mean = sum / static_cast<double>(count), sd = std::sqrt(sum2 / static_cast<double>(count) - mean * mean);
+  std::printf("%zu subpixels: mean %.4f, sd %.4f (1/sqrt(3) = 0.5774), range [%.3f, %.3f]\n", count, mean, sd, lo, hi);
+  EXPECT_NEAR(mean, 0.0, 0.02);  // 15 k samples: the mean's sd is 0.005
+  EXPECT_NEAR(sd, 0.5774, 0.02);
+  EXPECT_GE(lo, -2.0f);
+  EXPECT_LT(hi, 2.0f);
 }
 
 }  // namespace

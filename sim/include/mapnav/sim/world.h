@@ -126,12 +126,16 @@ class RayTable {
   const Ray& at(int u, int v) const { return rays_[static_cast<std::size_t>(v) * width_ + u]; }
   /// True when built for a camera with this model, intrinsics and mount.
   bool matches(const Camera& camera) const;
+  /// A number unique to this table among those built in the process (a copy keeps it: the same
+  /// rays), so a World can keep what it derives from the rays (the haze of each pixel's range).
+  std::uint64_t id() const { return id_; }
 
  private:
   LensModel model_;
   CameraIntrinsics intrinsics_;
   CameraMount mount_;
   int width_ = 0, height_ = 0;
+  std::uint64_t id_ = 0;
   std::vector<Ray> rays_;
 };
 
