@@ -188,6 +188,20 @@ bool contains(const Polygon2& ring, const Vec2& p) {
   return CGAL::bounded_side_2(pts.begin(), pts.end(), toCgal(p), K()) != CGAL::ON_UNBOUNDED_SIDE;
 }
 
+std::size_t countContained(const Polygon2& ring, const std::vector<Vec2>& points) {
+  std::size_t count = 0;
+  if (ring.size() < 3) {
+    for (const Vec2& p : points) count += contains(ring, p);
+    return count;
+  }
+  std::vector<Point> pts;
+  pts.reserve(ring.size());
+  for (const Vec2& v : ring) pts.push_back(toCgal(v));
+  for (const Vec2& p : points)
+    count += CGAL::bounded_side_2(pts.begin(), pts.end(), toCgal(p), K()) != CGAL::ON_UNBOUNDED_SIDE;
+  return count;
+}
+
 double boundaryDistance(const Polygon2& ring, const Vec2& p) {
   const std::size_t n = ring.size();
   if (n == 0) return std::numeric_limits<double>::infinity();

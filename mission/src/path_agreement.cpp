@@ -61,17 +61,12 @@ bool insideRoadFound(const DetectedObject& d, const Vec2& g, const Vec2& px) {
 /// PathAgreement::ground_share: the lattice points below the horizon inside `region` / all of them.
 std::optional<double> groundShare(const Polygon2& region, const Camera& camera) {
   constexpr int kLattice = 4;
-  std::size_t ground = 0, covered = 0;
-  for (int v = kLattice / 2; v < camera.height(); v += kLattice) {
-    for (int u = kLattice / 2; u < camera.width(); u += kLattice) {
-      const Vec2 px(u, v);
-      if (!camera.backproject(px)) continue;
-      ++ground;
-      covered += contains(region, px);
-    }
-  }
-  if (ground == 0) return std::nullopt;
-  return static_cast<double>(covered) / static_cast<double>(ground);
+  std::vector<Vec2> ground;
+  for (int v = kLattice / 2; v < camera.height(); v += kLattice)
+    for (int u = kLattice / 2; u < camera.width(); u += kLattice)
+      if (camera.backproject(Vec2(u, v))) ground.emplace_back(u, v);
+  if (ground.empty()) return std::nullopt;
+  return static_cast<double>(countContained(region, ground)) / static_cast<double>(ground.size());
 }
 
 }  // namespace

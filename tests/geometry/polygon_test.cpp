@@ -71,6 +71,21 @@ TEST(Polygon, ContainsCountsTheBoundaryAsInside) {
   EXPECT_FALSE(contains({}, Vec2(0, 0)));
 }
 
+// countContained agrees with contains() point by point: the L's inside, notch, edges and vertices,
+// and the degenerate rings.
+TEST(Polygon, CountContainedAgreesWithContains) {
+  std::vector<Vec2> points;
+  for (int i = -2; i <= 10; ++i)
+    for (int j = -2; j <= 10; ++j) points.emplace_back(0.25 * i, 0.25 * j);
+  for (const Polygon2& ring : {kSquare, kEll, Polygon2{}, Polygon2{Vec2(1, 1)}, Polygon2{Vec2(0, 0), Vec2(2, 2)}}) {
+    std::size_t expected = 0;
+    for (const Vec2& p : points) expected += contains(ring, p);
+    EXPECT_EQ(countContained(ring, points), expected) << ring.size() << " vertices";
+  }
+  // The 2 x 2 square holds the 9 x 9 lattice points of [0, 2]² at 0.25 spacing.
+  EXPECT_EQ(countContained(kSquare, points), 81u);
+}
+
 TEST(Polygon, BoundaryDistance) {
   EXPECT_DOUBLE_EQ(boundaryDistance(kSquare, Vec2(1, 1)), 1.0);
   EXPECT_DOUBLE_EQ(boundaryDistance(kSquare, Vec2(1, 0.25)), 0.25);

@@ -18,6 +18,8 @@ Vec2 centroid(const Polygon2& ring);
 bool isSimple(const Polygon2& ring);
 /// Exact point-in-polygon for a simple ring; points on the boundary count as inside.
 bool contains(const Polygon2& ring, const Vec2& p);
+/// How many of `points` contains(ring, p) holds for, with the ring converted once (for many points).
+std::size_t countContained(const Polygon2& ring, const std::vector<Vec2>& points);
 /// Distance from p to the ring's boundary.
 double boundaryDistance(const Polygon2& ring, const Vec2& p);
 /// Counter-clockwise convex hull (CGAL), no collinear points.
