@@ -126,6 +126,7 @@ Json commandPayload(const MotionCommand& c, std::uint64_t aborts) {
               {"same_road", c.same_road},
               {"next_turn", c.next_turn ? turn(*c.next_turn) : Json(nullptr)},
               {"path_ends_at_goal", c.path_ends_at_goal},
+              {"path_ends_at_turn", c.path_ends_at_turn},
               {"speed_mps", m4(c.speed_mps)},
               {"setpoint", {{"speed_mps", m4(c.setpoint.speed_mps)}, {"turn_rate_deg_s", deg(c.setpoint.turn_rate_rad_s)}}},
               {"lookahead", point(c.lookahead_point, m4)},
@@ -347,6 +348,8 @@ std::string sayPosition(const std::string& text) {
 std::string sayTurn(const Fields& turn) {
   const std::string direction = turn.str("direction");
   if (direction == "straight") return "go straight through " + turn.str("at");
+  // The skid-steer vehicle turns on its tracks (navigator/vehicle.h): no three-point turn.
+  if (direction == "around") return "turn around in place at " + sayPosition(turn.str("at"));
   return "turn to " + direction + " " + strprintf("%.0f", std::abs(turn.num("degrees"))) + " degrees";
 }
 
