@@ -175,7 +175,7 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
     replans_seen_ = navigator_.replans();
     if (tracing()) trace_.route(t, navigator_.route(), "replanned");
   }
-  if (tracing()) trace_.executing(t, taken, motion_.executing());
+  if (tracing()) trace_.executing(t, taken, motion_.executing(), motion_.turningInPlace());
 
   FrameRecord r;
   r.index = index;

@@ -138,12 +138,12 @@ VehicleCommand PurePursuit::command(const Pose2& pose) {
   const PathTracker::Closest c = tracker_.update(pose.translation());
   if (finished(pose)) return {};
   // Facing away from the path (a route that turns around): turn in place towards it first.
-  const double facing = normalizeAngle(tracker_.path()[c.segment].heading - pose.heading());
-  if (std::abs(facing) > degToRad(options_.turn_in_place_deg)) turning_in_place_ = true;
-  if (std::abs(facing) < degToRad(options_.turn_in_place_until_deg)) turning_in_place_ = false;
+  const double away = facing(c, pose);
+  if (std::abs(away) > degToRad(options_.turn_in_place_deg)) turning_in_place_ = true;
+  if (std::abs(away) < degToRad(options_.turn_in_place_until_deg)) turning_in_place_ = false;
   if (turning_in_place_) {
     goal_ = c.point;
-    return VehicleCommand{0.0, facing >= 0 ? limits_.max_turn_rate_rad_s : -limits_.max_turn_rate_rad_s};
+    return VehicleCommand{0.0, away >= 0 ? limits_.max_turn_rate_rad_s : -limits_.max_turn_rate_rad_s};
   }
   goal_ = tracker_.pointAt(c.s + options_.lookahead_m);
   const Vec2 g = pose.inverseTransform(goal_);
@@ -156,6 +156,15 @@ VehicleCommand PurePursuit::command(const Pose2& pose) {
 }
 
 bool PurePursuit::finished(const Pose2& pose) const { return arrived(tracker_, pose); }
+
+double PurePursuit::facing(const PathTracker::Closest& closest, const Pose2& pose) const {
+  return normalizeAngle(tracker_.path()[closest.segment].heading - pose.heading());
+}
+
+bool PurePursuit::turnsInPlaceAt(const Pose2& pose) const {
+  return turning_in_place_ ||
+         std::abs(facing(tracker_.closest(pose.translation()), pose)) > degToRad(options_.turn_in_place_deg);
+}
 
 double PurePursuit::crossTrackError(const Pose2& pose) const { return tracker_.closest(pose.translation()).lateral; }
 

@@ -139,6 +139,12 @@ TEST(OutAndBack, InClosedLoopTheVehicleTurnsAroundInPlaceAndReachesTheGoal) {
   EXPECT_NE(dialogue.find("Navigator: Drive on R1 15.0 meters and turn around in place at road R1, 25 meters from I1."),
             std::string::npos)
       << dialogue.substr(0, 600);
+  // Motion Control says the turn: "Ok. I turn in place, then drive.", from the first plan back.
+  const std::size_t turn = dialogue.find("Motion Control: Ok. I turn in place, then drive.");
+  ASSERT_NE(turn, std::string::npos);
+  const std::size_t back = dialogue.rfind("Navigator: Drive on it 25.0 meters and turn to right 90 degrees.", turn);
+  ASSERT_NE(back, std::string::npos);
+  EXPECT_LT(dialogue.rfind("turn around in place", turn), back);
 }
 
 }  // namespace

@@ -123,6 +123,9 @@ class PurePursuit {
   const PurePursuitOptions& options() const { return options_; }
   /// Turning in place (facing away from the path): until within turn_in_place_until_deg of it.
   bool turningInPlace() const { return turning_in_place_; }
+  /// Whether command(pose) would turn in place (turning already, or facing more than
+  /// turn_in_place_deg away from the path there).
+  bool turnsInPlaceAt(const Pose2& pose) const;
   /// Carries a turn in place on into a follower of a newer plan (Motion Control replaces its
   /// follower at every command; the turn must not stop at turn_in_place_deg).
   void continueTurningInPlace(bool turning) { turning_in_place_ = turning; }
@@ -133,6 +136,9 @@ class PurePursuit {
   VehicleLimits limits_;
   Vec2 goal_;
   bool turning_in_place_ = false;
+
+  // The path's heading at the closest point to `pose` (forward of the progress) − the pose's, (-pi, pi].
+  double facing(const PathTracker::Closest& closest, const Pose2& pose) const;
 };
 
 struct CenterServoOptions {
