@@ -346,7 +346,9 @@ const MotionCommand& NavigatorModule::plan(Blackboard& board, double t) {
   // The steering plan: the route's centre line around and ahead of the estimate, within the stretch
   // between turnarounds under way (the line comes back over itself at a turnaround).
   const double length = route.line.length();
-  const double end = std::min(length, status_.stretch_end_m);
+  // (A turnaround's plan ends a micrometre before it: never a hair of the way back, whose reversed
+  // heading would make the follower think it has passed the end.)
+  const double end = status_.stretch_end_m < length ? status_.stretch_end_m - 1e-6 : length;
   const double s1 = std::min(end, status_.along_m + m.options.plan_ahead_m);
   const double s0 = std::max(status_.stretch_begin_m, std::min(status_.along_m - m.options.plan_behind_m, s1 - 0.5));
   const Polyline2 piece = route.line.slice(s0, s1);

@@ -34,11 +34,28 @@ void ProgressOptions::validate() const {
 }
 
 std::vector<double> turnaroundArcs(const Route& route) {
+  // The line's vertices where it folds back, with their arc lengths: the legs' metres say which,
+  // the vertex where (a slice of the line ending a hair past it would end going back).
+  const std::vector<Vec2>& p = route.line.points();
+  std::vector<double> folds;
+  double c = 0;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    c += (p[i] - p[i - 1]).norm();
+    if ((p[i] - p[i - 1]).dot(p[i + 1] - p[i]) < 0) folds.push_back(c);
+  }
   std::vector<double> arcs;
   double s = 0;
   for (const Leg& leg : route.legs) {
     if (leg.action == LegAction::Drive) s += leg.meters;
-    if (leg.action == LegAction::Turn && turnDirection(leg.angle) == "around") arcs.push_back(s);
+    if (leg.action != LegAction::Turn || turnDirection(leg.angle) != "around") continue;
+    double at = s, nearest = 1.0;  // the fold within 1 m of it
+    for (const double f : folds) {
+      if (std::abs(f - s) < nearest) {
+        nearest = std::abs(f - s);
+        at = f;
+      }
+    }
+    arcs.push_back(at);
   }
   return arcs;
 }

@@ -123,6 +123,18 @@ TEST(RouteProgressOutAndBack, TheTwoPassesOfTheRoadAreFollowedInOrder) {
   EXPECT_EQ(st.leg, 4u);
 }
 
+// The legs' metres come from road positions, the line from centre-line slices: they may differ by a
+// hair, and a plan ending a hair past the fold would end going back (random campus seed 4 stood
+// 0.6 m before its via point: the follower took the reversed last heading for "past the end").
+// The turnaround is the fold's own arc length.
+TEST(RouteProgressOutAndBack, TheTurnaroundIsWhereTheLineFolds) {
+  Route route = outAndBack();
+  route.legs[0].meters = 15.0000004;
+  EXPECT_EQ(turnaroundArcs(route), std::vector<double>{15.0});
+  route.legs[0].meters = 13.5;  // no fold within 1 m: the legs' figure
+  EXPECT_EQ(turnaroundArcs(route), std::vector<double>{13.5});
+}
+
 TEST(RouteProgressOutAndBack, BeforeTheFirstPoseOnlyTheWayOutIsSearched) {
   RouteProgress progress(outAndBack());
   // x = 70 is 10 m out and 20 m along on the way back; the first pose takes the way out.
