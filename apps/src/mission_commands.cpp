@@ -197,8 +197,7 @@ int runDemo(const DemoConfig& config, std::ostream& out, std::ostream& err) {
     char line[200];
     std::snprintf(line, sizeof line, "  %zu frames, %.1f s, %.1f m driven through %zu intersections\n", s.frames,
                   s.duration_s, s.distance_m, s.intersections.size());
-    out << line << "replaying it with the pipeline " << (mission.vision_pipeline.empty() ? kDefaultPipelineName : mission.vision_pipeline.c_str())
-        << " ..." << std::endl;
+    out << line << "replaying it ..." << std::endl;
     const ReportedRun r = runReported(mission, run, err, [&](const MissionFile& m, const RunOptions& options) {
       return runReplay(m, log, options);
     });
@@ -231,7 +230,7 @@ void addMissionOptions(CLI::App* c, MissionRunConfig& config, bool stderr_is_tty
   c->add_option("--mission", config.mission, "Mission file (mapnav-mission/1, docs/mission-format.md)")
       ->required()
       ->check(CLI::ExistingFile);
-  c->add_option("--pipeline", config.pipeline, "Vision pipeline (default: the mission's vision.pipeline, else sidewalk)");
+  c->add_option("--pipeline", config.pipeline, "Vision pipeline (default: the mission's vision.pipeline, else the one the surfaces of its route's roads call for)");
   c->add_option("--plugin", config.plugins, "Load a vision plug-in first");
   c->add_option("--trace", config.trace, "Write the JSONL trace of every token (docs/trace-format.md)");
   c->add_option("--max-frames", config.max_frames, "Stop after this many frames (default: to the end)");

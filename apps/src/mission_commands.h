@@ -51,7 +51,7 @@ int runReplayCommand(const ReplayConfig& config, std::ostream& out, std::ostream
 /// `mapnav run`: closed loop in the simulator. Exit codes as replay.
 int runRunCommand(const RunConfig& config, std::ostream& out, std::ostream& err);
 /// `mapnav demo`: simulate the mission to DIR/log (replacing a replay log left there by an earlier
-/// demo, never anything else), replay it with the default pipeline, write the trace and the report
+/// demo, never anything else), replay it with the mission's pipeline, write the trace and the report
 /// in DIR, print the summary and the report's path. Exit codes as replay.
 int runDemo(const DemoConfig& config, std::ostream& out, std::ostream& err);
 /// `mapnav trace show`: the trace as the paper's dialogue. Exit 1 for bad lines (FILE:LINE:1: ...).

@@ -33,6 +33,14 @@ Route planThrough(RoadGraph& graph, const RoadPosition& from, const std::vector<
     const RouteResult leg = graph.route(here, stop, options);
     if (!leg.route) throw Unreachable(what + ": no route: " + leg.reason);
     const Route& r = *leg.route;
+    // Back the way it came from a via point (out and back on its road): a turn around there, not
+    // one drive leg through it.
+    bool turns_around = false;
+    if (line.size() >= 2 && r.line.size() >= 2 && r.line.length() > 1e-9) {
+      const Vec2 in = line.back() - line[line.size() - 2];
+      turns_around = std::abs(normalizeAngle(r.line.headingAt(0) - std::atan2(in.y(), in.x()))) > kPi / 2;
+    }
+    if (turns_around) joined.legs.push_back(Leg{LegAction::Turn, here.road, 0.0, toString(here), kPi});
     for (const Vec2& p : r.line.points()) {
       if (line.empty() || (line.back() - p).norm() > 1e-9) line.push_back(p);
     }

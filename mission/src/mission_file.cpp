@@ -69,7 +69,16 @@ std::optional<MissionFile> parseMission(std::string_view text, const std::filesy
     }
     if (const Json* vision = top.member("vision", false)) {
       JsonObject v(*vision, top.pointer("vision"), issues);
-      m.vision_pipeline = v.string("pipeline", false).value_or("");
+      // Required: options are one pipeline's, and a mission without `vision` gets the one its
+      // route's surfaces call for (pipeline_choice.h), never an unnamed default.
+      if (const auto pipeline = v.string("pipeline")) {
+        m.vision_pipeline = *pipeline;
+        if (pipeline->empty()) {
+          addIssue(issues, Severity::Error, "schema.range", v.pointer("pipeline"),
+                   "empty pipeline name: name one (`mapnav pipelines` lists them), or leave out \"vision\" for the "
+                   "one the surfaces of the route's roads call for");
+        }
+      }
       if (const Json* options = v.member("options", false)) m.vision_options_json = options->dump();
       v.rejectUnknownMembers();
     }

@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <string>
 
 #include "mapnav/map/camera_io.h"
+#include "mapnav/mission/pipeline_choice.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/progress.h"
 
@@ -14,18 +17,25 @@ namespace mapnav::detail {
 
 namespace {
 
-std::string pipelineName(const MissionFile& mission, const RunOptions& options) {
+// The pipeline: the caller's, else the mission's, else the one the surfaces of the route's roads
+// call for (pipeline_choice.h; an InvalidInput saying to name one when they do not decide).
+std::string pipelineName(const MissionFile& mission, const RunOptions& options, const Map& map, const Route& route) {
   if (!options.pipeline.empty()) return options.pipeline;
   if (!mission.vision_pipeline.empty()) return mission.vision_pipeline;
-  return kDefaultPipelineName;
+  return pipelineForRoads(map, route.roads, "mission \"" + mission.name + "\"");
 }
 
 // The pipeline's options: the caller's, else the mission's when the pipeline is the mission's (they
 // are that pipeline's options), else none.
-std::string pipelineOptions(const MissionFile& mission, const RunOptions& options) {
+std::string pipelineOptions(const MissionFile& mission, const RunOptions& options, const std::string& pipeline) {
   if (options.pipeline_options_json) return *options.pipeline_options_json;
-  const std::string missions = mission.vision_pipeline.empty() ? kDefaultPipelineName : mission.vision_pipeline;
-  return pipelineName(mission, options) == missions ? mission.vision_options_json : "{}";
+  return pipeline == mission.vision_pipeline ? mission.vision_options_json : "{}";
+}
+
+std::unique_ptr<VisionPipeline> missionPipeline(const MissionFile& mission, const RunOptions& options, const Map& map,
+                                                const Route& route) {
+  const std::string name = pipelineName(mission, options, map, route);
+  return createPipeline(name, pipelineOptions(mission, options, name));
 }
 
 // Where the mission starts: the route's first point, facing along it (a road position says where,
@@ -73,7 +83,7 @@ ModuleLoop::ModuleLoop(const MissionFile& mission, const Map& map, const Camera&
       board_(boardOptions(mission, options)),
       navigator_(map, mission.start, missionStops(mission), navigatorOptions(mission, options), limits),
       map_module_(map, camera, routeStart(navigator_.route()), options.map),
-      vision_(createPipeline(pipelineName(mission, options), pipelineOptions(mission, options)), mission.halt),
+      vision_(missionPipeline(mission, options, map, navigator_.route()), mission.halt),
       motion_(execute, limits, options.navigator.steering.lookahead_m),
       odometry_only_(routeStart(navigator_.route()), Mat3::Identity(), options.map.filter),
       truth_tracker_(densePath(navigator_.route().line, 0.25),
@@ -165,7 +175,7 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
     replans_seen_ = navigator_.replans();
     if (tracing()) trace_.route(t, navigator_.route(), "replanned");
   }
-  if (tracing()) trace_.executing(t, taken, motion_.executing());
+  if (tracing()) trace_.executing(t, taken, motion_.executing(), motion_.turningInPlace());
 
   FrameRecord r;
   r.index = index;

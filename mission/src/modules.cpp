@@ -343,13 +343,18 @@ const MotionCommand& NavigatorModule::plan(Blackboard& board, double t) {
   c.same_road = c.road == m.last_road;
   m.last_road = c.road;
 
-  // The steering plan: the route's centre line around and ahead of the estimate.
+  // The steering plan: the route's centre line around and ahead of the estimate, within the stretch
+  // between turnarounds under way (the line comes back over itself at a turnaround).
   const double length = route.line.length();
-  const double s1 = std::min(length, status_.along_m + m.options.plan_ahead_m);
-  const double s0 = std::max(0.0, std::min(status_.along_m - m.options.plan_behind_m, s1 - 0.5));
+  // (A turnaround's plan ends a micrometre before it: never a hair of the way back, whose reversed
+  // heading would make the follower think it has passed the end.)
+  const double end = status_.stretch_end_m < length ? status_.stretch_end_m - 1e-6 : length;
+  const double s1 = std::min(end, status_.along_m + m.options.plan_ahead_m);
+  const double s0 = std::max(status_.stretch_begin_m, std::min(status_.along_m - m.options.plan_behind_m, s1 - 0.5));
   const Polyline2 piece = route.line.slice(s0, s1);
   c.path = piece.points();
   c.path_ends_at_goal = s1 >= length - 1e-9;
+  c.path_ends_at_turn = !c.path_ends_at_goal && s1 >= end - 1e-9;
   c.speed_mps = m.options.steering.speed_mps;
   if (piece.size() >= 2 && piece.length() > 1e-6) {
     PurePursuit pursuit(densePath(piece, 0.25), m.options.steering, m.limits);
@@ -380,11 +385,13 @@ const MotionCommand* MotionControlModule::receive(Blackboard& board, double t) {
   if (!has_command_ || c->sequence != command_.sequence) {
     command_ = *c;
     has_command_ = true;
+    const bool turning = pursuit_ && pursuit_->turningInPlace();  // a turn around goes on to its end
     pursuit_.reset();
     if (command_.kind == CommandKind::Drive && command_.path.size() >= 2) {
       PurePursuitOptions o = pursuit_options_;
       o.speed_mps = std::max(1e-3, command_.speed_mps);
       pursuit_ = std::make_unique<PurePursuit>(densePath(Polyline2(command_.path), 0.25), o, limits_);
+      pursuit_->continueTurningInPlace(turning);
     }
   }
   if (const CurrentPosition* p = board.position(Module::MotionControl, t)) model_.setPose(p->pose);
@@ -401,7 +408,9 @@ VehicleCommand MotionControlModule::control(Blackboard& board, double t, double 
     receive(board, t);
   }
   if (has_command_ && command_.kind == CommandKind::Drive && pursuit_) {
-    if (command_.path_ends_at_goal && pursuit_->finished(model_.pose())) {
+    if (command_.path_ends_at_turn && pursuit_->finished(model_.pose())) {
+      // at the turnaround: stand until the next plan, back the way it came
+    } else if (command_.path_ends_at_goal && pursuit_->finished(model_.pose())) {
       arrived_ = arrived_ || model_.speed() <= 1e-9;
     } else {
       out = pursuit_->command(model_.pose());

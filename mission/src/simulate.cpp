@@ -7,6 +7,7 @@
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/navigator/path.h"
+#include "mapnav/navigator/progress.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/steering.h"
 #include "mapnav/navigator/vehicle.h"
@@ -36,13 +37,28 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   result.intersections = planned.intersections;
   const Polyline2& route = planned.line;
   result.route_length_m = route.length();
-  const std::vector<PathPoint> path = detail::wanderPath(route, mission.wander_m);
   VehicleLimits limits;
   limits.max_speed_mps = std::max(limits.max_speed_mps, mission.speed_mps);
-  SkidSteerVehicle vehicle(Pose2(path.front().position, path.front().heading), limits);
   PurePursuitOptions follow;
   follow.speed_mps = mission.speed_mps;
-  PurePursuit controller(path, follow, limits);
+  // The route stretch by stretch between its turnarounds (an out-and-back via point: the line comes
+  // back over itself there): the driver stops at the end of one, turns around in place and follows
+  // the next.
+  std::vector<PurePursuit> stretches;
+  double begin = 0;
+  std::vector<double> ends = turnaroundArcs(planned);
+  ends.push_back(route.length());
+  for (const double end : ends) {
+    stretches.emplace_back(detail::wanderPath(route.slice(begin, end), mission.wander_m), follow, limits);
+    begin = end;
+  }
+  std::size_t stretch = 0;
+  const PathPoint& first = stretches.front().tracker().path().front();
+  SkidSteerVehicle vehicle(Pose2(first.position, first.heading), limits);
+  auto finished = [&] {
+    while (stretch + 1 < stretches.size() && stretches[stretch].finished(vehicle.pose())) ++stretch;
+    return stretches[stretch].finished(vehicle.pose());
+  };
   const World world(map, settings.world);
   OdometrySensor odometry(settings.odometry);
 
@@ -71,8 +87,7 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
         writer.add(entry, frame.rgb, &frame.mask);
         return true;
       },
-      [&](double) { return controller.command(vehicle.pose()); },
-      [&] { return controller.finished(vehicle.pose()); });
+      [&](double) { return stretches[stretch].command(vehicle.pose()); }, finished);
   result.frames = driven.frames;
   result.distance_m = driven.distance_m;
   result.duration_s = driven.duration_s;

@@ -126,6 +126,7 @@ Json commandPayload(const MotionCommand& c, std::uint64_t aborts) {
               {"same_road", c.same_road},
               {"next_turn", c.next_turn ? turn(*c.next_turn) : Json(nullptr)},
               {"path_ends_at_goal", c.path_ends_at_goal},
+              {"path_ends_at_turn", c.path_ends_at_turn},
               {"speed_mps", m4(c.speed_mps)},
               {"setpoint", {{"speed_mps", m4(c.setpoint.speed_mps)}, {"turn_rate_deg_s", deg(c.setpoint.turn_rate_rad_s)}}},
               {"lookahead", point(c.lookahead_point, m4)},
@@ -245,10 +246,11 @@ void TraceWriter::drop(const Drop& d) {
   line(d.time, "Blackboard", "Dropped", payload.dump());
 }
 
-void TraceWriter::executing(double t, const MotionCommand* c, bool execute) {
+void TraceWriter::executing(double t, const MotionCommand* c, bool execute, bool turning_in_place) {
   Json payload{{"sequence", c != nullptr ? Json(c->sequence) : Json(nullptr)},
                {"executes", execute},
-               {"kind", c != nullptr ? Json(toString(c->kind)) : Json("stop")}};
+               {"kind", c != nullptr ? Json(toString(c->kind)) : Json("stop")},
+               {"turning_in_place", turning_in_place}};
   line(t, "MotionControl", "Executing", payload.dump());
 }
 
@@ -347,6 +349,8 @@ std::string sayPosition(const std::string& text) {
 std::string sayTurn(const Fields& turn) {
   const std::string direction = turn.str("direction");
   if (direction == "straight") return "go straight through " + turn.str("at");
+  // The skid-steer vehicle turns on its tracks (navigator/vehicle.h): no three-point turn.
+  if (direction == "around") return "turn around in place at " + sayPosition(turn.str("at"));
   return "turn to " + direction + " " + strprintf("%.0f", std::abs(turn.num("degrees"))) + " degrees";
 }
 
@@ -500,7 +504,10 @@ std::string say(const std::string& module, const std::string& type, const Fields
   }
   if (type == "Executing") {
     if (!p.boolean("executes")) return "Motion Control: Ok. (replay: recorded, not driven)";
-    return p.str("kind") == "drive" ? "Motion Control: Ok. I drive." : "Motion Control: Ok. I stop.";
+    if (p.str("kind") != "drive") return "Motion Control: Ok. I stop.";
+    // The skid-steer vehicle turns on its tracks (navigator/vehicle.h): back from a turnaround.
+    return p.has("turning_in_place") && p.boolean("turning_in_place") ? "Motion Control: Ok. I turn in place, then drive."
+                                                                       : "Motion Control: Ok. I drive.";
   }
   if (type == "Dropped") {
     return "Blackboard: dropped the " + p.str("token") + " of " + strprintf("%.2f", p.num("token_time")) + " s (" +

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "mapnav/core/options.h"
 
@@ -28,23 +29,65 @@ void ProgressOptions::validate() const {
                 "off_route_tolerance_m", off_route_tolerance_m, "finite and > 0");
   requireOption(std::isfinite(search_ahead_m) && search_ahead_m > 0, "ProgressOptions", "search_ahead_m", search_ahead_m,
                 "finite and > 0");
+  requireOption(std::isfinite(turnaround_reach_m) && turnaround_reach_m >= 0, "ProgressOptions", "turnaround_reach_m",
+                turnaround_reach_m, "finite and >= 0");
 }
 
-RouteProgress::RouteProgress(Route route, const ProgressOptions& options) : route_(std::move(route)), options_(options) {
+std::vector<double> turnaroundArcs(const Route& route) {
+  // The line's vertices where it folds back, with their arc lengths: the legs' metres say which,
+  // the vertex where (a slice of the line ending a hair past it would end going back).
+  const std::vector<Vec2>& p = route.line.points();
+  std::vector<double> folds;
+  double c = 0;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    c += (p[i] - p[i - 1]).norm();
+    if ((p[i] - p[i - 1]).dot(p[i + 1] - p[i]) < 0) folds.push_back(c);
+  }
+  std::vector<double> arcs;
+  double s = 0;
+  for (const Leg& leg : route.legs) {
+    if (leg.action == LegAction::Drive) s += leg.meters;
+    if (leg.action != LegAction::Turn || turnDirection(leg.angle) != "around") continue;
+    double at = s, nearest = 1.0;  // the fold within 1 m of it
+    for (const double f : folds) {
+      if (std::abs(f - s) < nearest) {
+        nearest = std::abs(f - s);
+        at = f;
+      }
+    }
+    arcs.push_back(at);
+  }
+  return arcs;
+}
+
+RouteProgress::RouteProgress(Route route, const ProgressOptions& options)
+    : route_(std::move(route)), options_(options), turnarounds_(turnaroundArcs(route_)) {
   options_.validate();
 }
 
 ProgressStatus RouteProgress::update(const Pose2& pose) {
   const Polyline2& line = route_.line;
   const double length = line.length();
-  // The first pose is looked for along the whole route; later ones from a little behind the last
+  // The stretch between the last turnaround passed and the next: the line comes back over itself
+  // there, and the way back is no place for the way out (nor the other way round).
+  const auto next = std::upper_bound(turnarounds_.begin(), turnarounds_.end(), along_);
+  double begin = next == turnarounds_.begin() ? 0.0 : *std::prev(next);
+  double end = next == turnarounds_.end() ? length : std::min(length, *next);
+  // The first pose is looked for along the whole stretch; later ones from a little behind the last
   // position to the search window ahead.
-  const double s0 = started_ ? std::max(0.0, along_ - 1.0) : 0.0;
-  const double s1 = started_ ? std::min(length, along_ + options_.search_ahead_m) : length;
+  const double s0 = started_ ? std::max(begin, along_ - 1.0) : begin;
+  const double s1 = started_ ? std::min(end, along_ + options_.search_ahead_m) : end;
   started_ = true;
   const Polyline2::Projection p = line.slice(s0, s1).project(pose.translation());
   along_ = std::max(along_, s0 + p.arc_length);
+  if (end < length && along_ >= end - options_.turnaround_reach_m) {  // reached: onto the way back
+    along_ = begin = end;
+    const auto after = std::upper_bound(turnarounds_.begin(), turnarounds_.end(), along_);
+    end = after == turnarounds_.end() ? length : std::min(length, *after);
+  }
   ProgressStatus status;
+  status.stretch_begin_m = begin;
+  status.stretch_end_m = end;
   status.along_m = along_;
   status.to_go_m = length - along_;
   status.off_route_m = p.distance;

@@ -22,6 +22,7 @@ void RouteOptions::validate() const {
 
 std::string turnDirection(double angle) {
   if (std::abs(angle) <= degToRad(15)) return "straight";
+  if (std::abs(angle) >= degToRad(165)) return "around";
   return angle > 0 ? "left" : "right";
 }
 
@@ -274,6 +275,8 @@ std::string toDialogue(const Route& route) {
       const std::string direction = turnDirection(leg.angle);
       if (direction == "straight") {
         std::snprintf(buffer, sizeof buffer, "go straight through %s onto %s.\n", leg.at.c_str(), leg.road.c_str());
+      } else if (direction == "around") {  // the skid-steer vehicle turns on its tracks
+        std::snprintf(buffer, sizeof buffer, "turn around in place at %s onto %s.\n", leg.at.c_str(), leg.road.c_str());
       } else {
         std::snprintf(buffer, sizeof buffer, "turn %s %.0f degrees at %s onto %s.\n", direction.c_str(),
                       std::abs(radToDeg(leg.angle)), leg.at.c_str(), leg.road.c_str());

@@ -121,6 +121,11 @@ void PurePursuitOptions::validate() const {
                 "finite and > 0");
   requireOption(std::isfinite(speed_mps) && speed_mps > 0, "PurePursuitOptions", "speed_mps", speed_mps,
                 "finite and > 0");
+  requireOption(std::isfinite(turn_in_place_deg) && turn_in_place_deg > 0 && turn_in_place_deg <= 180,
+                "PurePursuitOptions", "turn_in_place_deg", turn_in_place_deg, "in (0, 180]");
+  requireOption(std::isfinite(turn_in_place_until_deg) && turn_in_place_until_deg > 0 &&
+                    turn_in_place_until_deg < turn_in_place_deg,
+                "PurePursuitOptions", "turn_in_place_until_deg", turn_in_place_until_deg, "in (0, turn_in_place_deg)");
 }
 
 PurePursuit::PurePursuit(std::vector<PathPoint> path, PurePursuitOptions options, VehicleLimits limits)
@@ -132,6 +137,14 @@ PurePursuit::PurePursuit(std::vector<PathPoint> path, PurePursuitOptions options
 VehicleCommand PurePursuit::command(const Pose2& pose) {
   const PathTracker::Closest c = tracker_.update(pose.translation());
   if (finished(pose)) return {};
+  // Facing away from the path (a route that turns around): turn in place towards it first.
+  const double away = facing(c, pose);
+  if (std::abs(away) > degToRad(options_.turn_in_place_deg)) turning_in_place_ = true;
+  if (std::abs(away) < degToRad(options_.turn_in_place_until_deg)) turning_in_place_ = false;
+  if (turning_in_place_) {
+    goal_ = c.point;
+    return VehicleCommand{0.0, away >= 0 ? limits_.max_turn_rate_rad_s : -limits_.max_turn_rate_rad_s};
+  }
   goal_ = tracker_.pointAt(c.s + options_.lookahead_m);
   const Vec2 g = pose.inverseTransform(goal_);
   const double d2 = g.squaredNorm();
@@ -143,6 +156,15 @@ VehicleCommand PurePursuit::command(const Pose2& pose) {
 }
 
 bool PurePursuit::finished(const Pose2& pose) const { return arrived(tracker_, pose); }
+
+double PurePursuit::facing(const PathTracker::Closest& closest, const Pose2& pose) const {
+  return normalizeAngle(tracker_.path()[closest.segment].heading - pose.heading());
+}
+
+bool PurePursuit::turnsInPlaceAt(const Pose2& pose) const {
+  return turning_in_place_ ||
+         std::abs(facing(tracker_.closest(pose.translation()), pose)) > degToRad(options_.turn_in_place_deg);
+}
 
 double PurePursuit::crossTrackError(const Pose2& pose) const { return tracker_.closest(pose.translation()).lateral; }
 

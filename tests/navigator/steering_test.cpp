@@ -297,6 +297,34 @@ TEST(PurePursuit, ConvergesFromAHalfMetreOffsetWithinTenMetres) {
 // ---------------------------------------------------------------------------------------------
 // The paper's servo, dτ/dt = γ · x
 
+// A path that starts behind the vehicle (the way back from an out-and-back via point): it turns
+// in place at the limits' turn rate, 0.6 rad/s, from 180 deg off to within 10 deg (170 deg: 4.95 s,
+// 99 steps of 0.05 s), without moving, then follows the path.
+TEST(PurePursuit, FacingAwayFromThePathItTurnsInPlaceFirst) {
+  PurePursuit pursuit(densePath(Polyline2({Vec2(10, 0), Vec2(0, 0)}), 0.25));  // westward
+  SkidSteerVehicle vehicle(Pose2(10, 0, 0));                                    // facing east
+  const VehicleCommand first = pursuit.command(vehicle.pose());
+  EXPECT_EQ(first.speed_mps, 0.0);
+  EXPECT_DOUBLE_EQ(first.turn_rate_rad_s, 0.6);  // at exactly 180 deg: to the left
+  EXPECT_TRUE(pursuit.turningInPlace());
+  std::size_t steps = 0;
+  while (pursuit.turningInPlace()) {
+    vehicle.step(pursuit.command(vehicle.pose()), 0.05);
+    ++steps;
+    ASSERT_LT(steps, 200u);
+  }
+  // The 100th command finds it within 10 deg and pursues: its step drives off at 0.025 m/s (the
+  // 0.5 m/s^2 acceleration limit), 1.25 mm; before it, the vehicle had not moved.
+  EXPECT_EQ(steps, 100u);
+  EXPECT_NEAR((vehicle.pose().translation() - Vec2(10, 0)).norm(), 0.00125, 1e-6);
+  for (int i = 0; i < 400 && !pursuit.finished(vehicle.pose()); ++i) vehicle.step(pursuit.command(vehicle.pose()), 0.05);
+  EXPECT_TRUE(pursuit.finished(vehicle.pose()));
+  // Below turn_in_place_deg (90) it does not: 80 deg off, pure pursuit turns while driving.
+  PurePursuit gentle(densePath(Polyline2({Vec2(0, 0), Vec2(10, 0)}), 0.25));
+  EXPECT_GT(gentle.command(Pose2(0, 0, degToRad(80))).speed_mps, 0.0);
+  EXPECT_FALSE(gentle.turningInPlace());
+}
+
 TEST(CenterServo, TurnsByGammaTimesTheImageAbscissaOfTheRoadCentre) {
   const auto camera = testing::terregatorPinhole();
   const double beta = degToRad(22.0);

@@ -70,6 +70,9 @@ struct MotionCommand {
   // The steering plan.
   std::vector<Vec2> path;         ///< world frame: the route's centre line from just behind the vehicle ahead
   bool path_ends_at_goal = false; ///< the path's last point is the goal: stop there
+  /// The path's last point is where the route turns around (an out-and-back via point): stop there;
+  /// the next plan starts there, back the way it came, and the vehicle turns around in place.
+  bool path_ends_at_turn = false;
   double speed_mps = 0;           ///< cruise speed
   VehicleCommand setpoint;        ///< pure pursuit at the estimated pose it was planned from
   Vec2 lookahead_point = Vec2::Zero();  ///< that pursuit's goal point, world frame

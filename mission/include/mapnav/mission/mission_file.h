@@ -35,7 +35,9 @@ struct MissionFile {
   double frame_rate_hz = 2.0;    ///< camera frames per second
   double wander_m = 0.0;         ///< amplitude of a gentle lateral wander around the route, m
   std::string world_json = "{}";     ///< the `world` block, for the renderer's options
-  std::string vision_pipeline;       ///< `vision.pipeline` (used by the vision issues)
+  /// `vision.pipeline`; "" when the mission has no `vision` (then the route's surfaces choose:
+  /// mission/pipeline_choice.h).
+  std::string vision_pipeline;
   std::string vision_options_json = "{}";
   std::string odometry_json = "{}";  ///< the `odometry` block, for the odometry noise model
   HaltPolicy halt;                   ///< the `halt` block

@@ -225,6 +225,9 @@ class MotionControlModule {
   /// The dead-reckoned pose (the last CurrentPosition moved by the commands since).
   const Pose2& pose() const { return model_.pose(); }
   const MotionCommand* current() const { return has_command_ ? &command_ : nullptr; }
+  /// The command held is a Drive that starts by turning in place at the dead-reckoned pose (its
+  /// plan lies behind the vehicle: back from a turnaround), or is in such a turn.
+  bool turningInPlace() const { return has_command_ && pursuit_ && pursuit_->turnsInPlaceAt(model_.pose()); }
 
  private:
   bool execute_;

@@ -30,9 +30,6 @@
 
 namespace mapnav {
 
-/// The pipeline used when neither the mission nor the caller names one (vision's kDefaultPipeline).
-inline constexpr const char* kDefaultPipelineName = "sidewalk";
-
 /// Where a run is, for a progress bar.
 struct RunProgress {
   std::size_t frame = 0;  ///< frames done
@@ -62,7 +59,8 @@ struct LogFault {
 
 struct RunOptions {
   /// The vision pipeline by name (registry: createPipeline); "" keeps the mission's `vision.pipeline`,
-  /// and "" there means kDefaultPipelineName.
+  /// and a mission without one runs the pipeline the surfaces of its route's roads call for
+  /// (pipelineForRoads, mission/pipeline_choice.h; InvalidInput when they do not decide).
   std::string pipeline;
   /// The pipeline's options as a JSON object; nothing keeps the mission's `vision.options`.
   std::optional<std::string> pipeline_options_json;

@@ -66,7 +66,7 @@ class TraceWriter {
   void posting(const Posting& posting);
   void drop(const Drop& drop);
   /// Motion Control's acknowledgement of the command it holds (null: none).
-  void executing(double t, const MotionCommand* command, bool execute);
+  void executing(double t, const MotionCommand* command, bool execute, bool turning_in_place = false);
   void summary(const MissionRun& run);
 
   /// Everything written so far, one record per line.

@@ -28,6 +28,10 @@ struct ProgressOptions {
   /// How far ahead (m) of the last position the next one is looked for, so that a route passing
   /// near itself does not make progress jump.
   double search_ahead_m = 15.0;
+  /// Within this of a turnaround (turnaroundArcs), m, it is reached: progress moves onto the way
+  /// back. More than the 0.1 m within which a follower stops at its plan's end (kArrivalToleranceM),
+  /// so that a vehicle stopped there passes it.
+  double turnaround_reach_m = 0.25;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
@@ -40,19 +44,31 @@ struct ProgressStatus {
   double off_route_m = 0;   ///< distance from the route's centre line
   bool off_route = false;
   bool finished = false;    ///< within 0.5 m of the goal
+  /// The stretch of the route under way, between turnarounds (turnaroundArcs): from the last one
+  /// passed (0: the start) to the next (the route's length: none ahead), along the route, m.
+  double stretch_begin_m = 0;
+  double stretch_end_m = 0;
 };
+
+/// Where the route turns around, as arc lengths along Route::line: the end of each drive leg that a
+/// turn "around" (turnDirection: an out-and-back via point, a U-turn) follows. There the line comes
+/// back over itself, so that progress must not look past it before reaching it.
+std::vector<double> turnaroundArcs(const Route& route);
 
 class RouteProgress {
  public:
   explicit RouteProgress(Route route, const ProgressOptions& options = {});
-  /// The first pose is found anywhere along the route; after that progress only moves forward,
-  /// looked for from the last position onwards.
+  /// The first pose is found anywhere along the route up to its first turnaround; after that
+  /// progress only moves forward, looked for from the last position onwards, never past the next
+  /// turnaround before it is reached (within turnaround_reach_m), nor back before the last one: a
+  /// route that drives a road out and back follows the two passes in order.
   ProgressStatus update(const Pose2& pose);
   const Route& route() const { return route_; }
 
  private:
   Route route_;
   ProgressOptions options_;
+  std::vector<double> turnarounds_;
   double along_ = 0;
   bool started_ = false;
 };

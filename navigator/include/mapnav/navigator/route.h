@@ -38,11 +38,12 @@ struct Leg {
   LegAction action = LegAction::Drive;
   std::string road;     ///< Drive: the road; Turn: the road turned onto
   double meters = 0;    ///< Drive: distance along the road
-  std::string at;       ///< Turn: the intersection
+  std::string at;       ///< Turn: the intersection (a turn around at a via point: its road position)
   double angle = 0;     ///< Turn: radians, left positive, (-pi, pi]
 };
 
-/// "left", "right" or "straight" (within 15 degrees), as the dialogue says it.
+/// "left", "right", "straight" (within 15 degrees) or "around" (165 degrees or more: back the way it
+/// came, as at an out-and-back via point), as the dialogue says it.
 std::string turnDirection(double angle);
 
 struct Route {

@@ -83,6 +83,15 @@ struct PurePursuitOptions {
   double lookahead_m = 1.5;
   /// Cruise speed, m/s (> 0). 0.6 m/s: twice the paper's 1.08 km/h, a slow walk.
   double speed_mps = 0.6;
+  /// A vehicle facing more than this away from the path's heading at its closest point turns in
+  /// place towards it (speed 0, the limits' turn rate), deg, in (0, 180]. The skid-steer vehicle
+  /// turns on its tracks (vehicle.h); following a path that starts behind it by an arc would sweep a
+  /// circle of radius speed / turn rate (1 m at 0.6 m/s), wider than a sidewalk: a route that turns
+  /// around (an out-and-back via point) turns around in place.
+  double turn_in_place_deg = 90.0;
+  /// ... until it faces within this of the path's heading, deg, in (0, turn_in_place_deg): then pure
+  /// pursuit takes over (10 deg: a 1.5 m lookahead then cuts in by under 0.1 m).
+  double turn_in_place_until_deg = 10.0;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
@@ -93,7 +102,8 @@ struct PurePursuitOptions {
 /// d = √(x² + y²), the arc through it has curvature κ = 2 y / d², and the turn rate is speed · κ,
 /// clamped to the limits. (With d the actual distance to the goal, a vehicle on a circular path
 /// stays on it exactly.) The speed is the cruise speed, lowered near the end to
-/// √(2 · a · remaining) with a = max_accel_mps2 / 2 (never below 0.1 m/s, so it arrives).
+/// √(2 · a · remaining) with a = max_accel_mps2 / 2 (never below 0.1 m/s, so it arrives). Facing
+/// more than turn_in_place_deg away from the path, it turns in place (PurePursuitOptions).
 class PurePursuit {
  public:
   /// Throws InvalidInput for invalid options or limits, or a path of fewer than 2 points.
@@ -111,12 +121,24 @@ class PurePursuit {
   const Vec2& goal() const { return goal_; }
   const PathTracker& tracker() const { return tracker_; }
   const PurePursuitOptions& options() const { return options_; }
+  /// Turning in place (facing away from the path): until within turn_in_place_until_deg of it.
+  bool turningInPlace() const { return turning_in_place_; }
+  /// Whether command(pose) would turn in place (turning already, or facing more than
+  /// turn_in_place_deg away from the path there).
+  bool turnsInPlaceAt(const Pose2& pose) const;
+  /// Carries a turn in place on into a follower of a newer plan (Motion Control replaces its
+  /// follower at every command; the turn must not stop at turn_in_place_deg).
+  void continueTurningInPlace(bool turning) { turning_in_place_ = turning; }
 
  private:
   PathTracker tracker_;
   PurePursuitOptions options_;
   VehicleLimits limits_;
   Vec2 goal_;
+  bool turning_in_place_ = false;
+
+  // The path's heading at the closest point to `pose` (forward of the progress) − the pose's, (-pi, pi].
+  double facing(const PathTracker::Closest& closest, const Pose2& pose) const;
 };
 
 struct CenterServoOptions {

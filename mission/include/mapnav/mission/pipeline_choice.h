@@ -1,0 +1,29 @@
+#pragma once
+// Which vision pipeline a mission runs (docs/mission-format.md, "Which pipeline"): the one the
+// caller names (`--pipeline`), else the mission's `vision.pipeline`, else the one the surfaces of
+// the roads its route drives call for — or an error that says to name one, never a silent default.
+#include <string>
+#include <vector>
+
+#include "mapnav/map/map.h"
+
+namespace mapnav {
+
+/// The pipeline that each of the map format's six surfaces calls for, when a mission names none:
+///   concrete, brick        → "sidewalk"      (Wallace 1985 §2: the campus sidewalks, a colour
+///                                              classifier on paved slabs, its region's lines
+///                                              labelled against the map's edges)
+///   asphalt, dirt, gravel  → "edge-tracker"  (§3: the park path, its edges followed up the frame;
+///                                              maps/missions/park_loop.json: sidewalk fails on 1026
+///                                              frames, edge-tracker reaches the goal)
+///   grass, any other name  → none (no pipeline here is known to follow it)
+/// Returns "" for a surface that calls for none.
+std::string pipelineForSurface(const std::string& surface);
+
+/// The pipeline that the surfaces of `roads` (ids of `map`, the roads a route drives) call for, when
+/// they all call for the same one. Throws InvalidInput otherwise, saying which roads call for which
+/// pipeline (or for none) and to name the pipeline in the mission's `vision.pipeline` or with
+/// `--pipeline`; `what` (the mission) starts the message. Throws NotFound for an unknown road id.
+std::string pipelineForRoads(const Map& map, const std::vector<std::string>& roads, const std::string& what);
+
+}  // namespace mapnav

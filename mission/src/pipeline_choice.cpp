@@ -1,0 +1,44 @@
+#include "mapnav/mission/pipeline_choice.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "mapnav/core/error.h"
+
+namespace mapnav {
+
+std::string pipelineForSurface(const std::string& surface) {
+  if (surface == "concrete" || surface == "brick") return "sidewalk";
+  if (surface == "asphalt" || surface == "dirt" || surface == "gravel") return "edge-tracker";
+  return "";
+}
+
+std::string pipelineForRoads(const Map& map, const std::vector<std::string>& roads, const std::string& what) {
+  // The route's surfaces in the order it first drives on them, each with its roads.
+  std::vector<std::pair<std::string, std::vector<std::string>>> surfaces;
+  for (const std::string& id : roads) {
+    const std::string& surface = map.road(id).surface;
+    auto it = std::find_if(surfaces.begin(), surfaces.end(), [&](const auto& s) { return s.first == surface; });
+    if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), {surface, {}});
+    if (std::find(it->second.begin(), it->second.end(), id) == it->second.end()) it->second.push_back(id);
+  }
+  if (surfaces.empty()) throw InvalidInput(what + ": names no vision pipeline and drives on no road to choose one by");
+  const std::string first = pipelineForSurface(surfaces.front().first);
+  const bool decided = !first.empty() && std::all_of(surfaces.begin(), surfaces.end(), [&](const auto& s) {
+    return pipelineForSurface(s.first) == first;
+  });
+  if (decided) return first;
+  std::string said;
+  for (const auto& [surface, ids] : surfaces) {
+    std::string list;
+    for (const std::string& id : ids) list += (list.empty() ? "" : ", ") + id;
+    const std::string pipeline = pipelineForSurface(surface);
+    said += (said.empty() ? "" : "; ") + surface + " (" + list + ") " +
+            (pipeline.empty() ? "calls for no pipeline known to follow it" : "calls for " + pipeline);
+  }
+  throw InvalidInput(what + ": names no vision pipeline, and the surfaces of the roads its route drives do not decide one: " +
+                     said + ". Name the pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or with --pipeline " +
+                     "(`mapnav pipelines` lists them)");
+}
+
+}  // namespace mapnav

@@ -1,0 +1,62 @@
+// Issue 30 end to end: every shipped mission names its pipeline (park_loop runs the edge tracker as
+// shipped), and a mission without `vision` whose route's surfaces do not decide one is an error
+// before the first frame that says to name one (docs/mission-format.md, "Which pipeline").
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "mapnav/core/io.h"
+#include "mapnav/map/generate.h"
+#include "mapnav/map/map_io.h"
+#include "mapnav/testing/support.h"
+
+namespace mapnav {
+namespace {
+namespace fs = std::filesystem;
+using testing::runCli;
+
+TEST(CliMissionPipeline, TheParkLoopAsShippedRunsTheEdgeTracker) {
+  const auto run = runCli({"run", "--mission", testing::mapPath("missions/park_loop.json").string(), "--max-frames", "2",
+                           "--json"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto r = nlohmann::json::parse(run.out);
+  EXPECT_EQ(r["pipeline"], "edge-tracker");
+  EXPECT_EQ(r["vision_failures"], 0);
+}
+
+TEST(CliMissionPipeline, AMissionWithoutVisionOnAsphaltThenBrickSaysToNameOne) {
+  const fs::path dir = testing::freshTempDir();
+  GridMapOptions o;
+  o.columns = o.rows = 2;
+  MapData data = makeGridMap(o);
+  for (Road& r : data.roads) r.surface = r.id == "H0_0" ? "asphalt" : "brick";
+  saveMap(data, dir / "grid.json");
+  // From H0_0 (asphalt) right at I1_0 onto V1_0 (brick).
+  const std::string mission = R"({"format": "mapnav-mission/1", "map": "grid.json", "camera": ")" +
+                              testing::mapPath("cameras/terregator_pinhole.json").string() +
+                              R"(", "start": "H0_0@I0_0+5", "goal": "V1_0@I1_0+10")";
+  writeFileAtomic(dir / "m.json", mission + "}");
+  const auto run = runCli({"run", "--mission", (dir / "m.json").string(), "--max-frames", "2"});
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_EQ(run.out, "");
+  EXPECT_EQ(run.err,
+            "mapnav: error: mission \"m\": names no vision pipeline, and the surfaces of the roads its route drives do "
+            "not decide one: asphalt (H0_0) calls for edge-tracker; brick (V1_0) calls for sidewalk. Name the "
+            "pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or with --pipeline (`mapnav pipelines` "
+            "lists them)\n");
+  // Named, in the mission or on the command line, it runs.
+  writeFileAtomic(dir / "named.json", mission + R"(, "vision": {"pipeline": "sidewalk"}})");
+  const auto named = runCli({"run", "--mission", (dir / "named.json").string(), "--max-frames", "2", "--json"});
+  ASSERT_EQ(named.exit_code, 0) << named.err;
+  EXPECT_EQ(nlohmann::json::parse(named.out)["pipeline"], "sidewalk");
+  const auto option = runCli({"run", "--mission", (dir / "m.json").string(), "--max-frames", "2", "--json", "--pipeline",
+                              "edge-tracker"});
+  ASSERT_EQ(option.exit_code, 0) << option.err;
+  EXPECT_EQ(nlohmann::json::parse(option.out)["pipeline"], "edge-tracker");
+}
+
+}  // namespace
+}  // namespace mapnav
