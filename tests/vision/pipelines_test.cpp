@@ -218,6 +218,50 @@ TEST(Pipeline, BlueBandFindsARoadDarkInBlue) {
   EXPECT_GT(static_cast<double>(both) / static_cast<double>(either), 0.98);
 }
 
+// A city street in blue: a dark road (the sunny frame's blue inverted) with bright lawn to its left
+// and something darker than the road to its right (a car's shadow, a dark shopfront: blue 0). One
+// Otsu cut puts the dark thing on the road's side and the region takes it; the band about the
+// predicted road's blue level (band_sigma, default 4) leaves it out.
+TEST(Pipeline, BlueBandLeavesOutWhatIsDarkerThanTheRoad) {
+  WorldOptions wo;
+  wo.shadow_density = 0;
+  const Frame frame = World(campus(), wo).render(pinhole(), kOnRoad, 0.0);
+  const int w = pinhole().width(), h = pinhole().height();
+  Image street = frame.rgb;
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      std::uint8_t& blue = street.pixel(u, v)[2];
+      blue = frame.mask.pixel(u, v)[0] == 0 && u >= w / 2 ? 0 : static_cast<std::uint8_t>(255 - blue);
+    }
+  }
+  const Prediction pred = predictView(campus(), kOnRoad, pinhole());
+  const Image ground = groundMask(pinhole());
+  // The region's IoU with the true road, and the share of the dark ground it takes.
+  auto score = [&](const DetectedObject& d) {
+    EXPECT_EQ(d.status, DetectedObject::Status::Ok) << d.reason;
+    const Image region = regionMask(d, w, h);
+    std::size_t both = 0, either = 0, dark = 0, dark_taken = 0;
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        if (ground.pixel(u, v)[0] == 0) continue;
+        const bool found = region.pixel(u, v)[0] != 0, road = frame.mask.pixel(u, v)[0] != 0;
+        both += found && road;
+        either += found || road;
+        if (!road && u >= w / 2) ++dark, dark_taken += found;
+      }
+    }
+    EXPECT_GT(dark, 2000u);
+    return std::make_pair(static_cast<double>(both) / static_cast<double>(either),
+                          static_cast<double>(dark_taken) / static_cast<double>(dark));
+  };
+  const auto [band_iou, band_dark] = score(run("blue-band", street, pred.view));
+  EXPECT_GT(band_iou, 0.95);
+  EXPECT_LT(band_dark, 0.05);
+  const auto [cut_iou, cut_dark] = score(run("blue-band", street, pred.view, R"({"band_sigma": 0})"));
+  EXPECT_GT(cut_dark, 0.95);  // all of it: it touches the road
+  EXPECT_LT(cut_iou, 0.95);
+}
+
 class FailedFrames : public ::testing::TestWithParam<std::string> {};
 
 // A first frame of lawn only, the prediction for the road. Nothing in view is confidently off the

@@ -5,7 +5,9 @@
 #include "cv_view.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -549,30 +551,62 @@ class BlueBandPipeline : public BasePipeline {
 
  protected:
   // Road is on the side of the threshold where most of the predicted road is: bright in blue against
-  // grass (the Warp runs), but dark against a city's pavements, walls and sky-lit windows.
+  // grass (the Warp runs), but dark against a city's pavements, walls and sky-lit windows. With
+  // band_sigma, the far side is bounded too: road is no more than band_sigma of the predicted road's
+  // spread beyond its median (not the dark trees and cars below a grey road, nor the bright walls
+  // above it), and no nearer than the threshold on the threshold's side (a dark slab joint in a
+  // bright pavement stays road).
   std::optional<Image> classify(const GridFrame& frame, const PredictedObject&, const Image& valid,
-                                const Image& predicted, std::string&) override {
-    const int w = frame.width, h = frame.height;
-    const std::size_t n = static_cast<std::size_t>(w) * h;
-    double t = options_.threshold;
-    if (t < 0) {
-      std::vector<std::uint8_t> blue;
-      blue.reserve(n);
-      for (std::size_t i = 0; i < n; ++i)
-        if (valid.data[i] != 0) blue.push_back(frame.rgb[3 * i + 2]);
-      cv::Mat b(1, static_cast<int>(blue.size()), CV_8UC1, blue.data()), dummy;
-      t = cv::threshold(b, dummy, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+                                const Image& predicted, std::string& why) override {
+    const std::size_t n = static_cast<std::size_t>(frame.width) * frame.height;
+    std::vector<std::uint8_t> ground;  // the blue levels of the ground in view
+    ground.reserve(n);
+    std::array<std::size_t, 256> road{};  // the predicted road's histogram of them
+    for (std::size_t i = 0; i < n; ++i) {
+      if (valid.data[i] == 0) continue;
+      const std::uint8_t b = frame.rgb[3 * i + 2];
+      ground.push_back(b);
+      if (predicted.data[i] != 0) ++road[b];
     }
-    std::size_t road_bright = 0, road_dark = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (predicted.data[i] != 0 && valid.data[i] != 0) ++(frame.rgb[3 * i + 2] >= t ? road_bright : road_dark);
-    const bool bright = road_bright >= road_dark;
+    double t = options_.threshold;
+    if (t < 0 && !ground.empty()) {
+      cv::Mat levels(1, static_cast<int>(ground.size()), CV_8UC1, ground.data()), unused;
+      t = cv::threshold(levels, unused, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+    }
+    std::size_t road_px = 0, road_bright = 0;
+    for (int b = 0; b < 256; ++b) road_px += road[b], road_bright += b >= t ? road[b] : 0;
+    if (road_px == 0) {
+      why = "no predicted road on the ground in view";
+      return std::nullopt;
+    }
+    const bool bright = 2 * road_bright >= road_px;
+    // Road from lo to hi, blue levels: b >= t on the bright side, b <= t on the dark side.
+    constexpr double kOpen = std::numeric_limits<double>::infinity();
+    double lo = bright ? t - 0.5 : -kOpen, hi = bright ? kOpen : t + 0.5;
+    if (options_.band_sigma > 0) {
+      const double median = quantile(road, road_px, 0.5);
+      const double sigma = std::max(2.0, 0.5 * (quantile(road, road_px, 0.84) - quantile(road, road_px, 0.16)));
+      const double half = options_.band_sigma * sigma;
+      if (bright) hi = median + half, lo = std::min(lo, median - half);
+      else lo = median - half, hi = std::max(hi, median + half);
+    }
     std::vector<float> score(n);
-    for (std::size_t i = 0; i < n; ++i) score[i] = bright ? frame.rgb[3 * i + 2] : 255.0f - frame.rgb[3 * i + 2];
-    return threshold(score, w, h, valid, (bright ? t : 255.0 - t) - 0.5, 128.0, frame.scale);  // blue levels
+    for (std::size_t i = 0; i < n; ++i) {
+      const double b = frame.rgb[3 * i + 2];
+      score[i] = static_cast<float>(std::min(b - lo, hi - b));
+    }
+    return threshold(score, frame.width, frame.height, valid, 0.0, 128.0, frame.scale);  // blue levels
   }
 
  private:
+  // The q-quantile of a histogram of `count` samples: the first level whose cumulative count exceeds q count.
+  static double quantile(const std::array<std::size_t, 256>& hist, std::size_t count, double q) {
+    std::size_t seen = 0;
+    for (int b = 0; b < 256; ++b)
+      if (static_cast<double>(seen += hist[b]) > q * static_cast<double>(count)) return b;
+    return 255;
+  }
+
   const RegionPipelineOptions& common() const override { return options_; }
 
   BlueBandOptions options_;
@@ -585,7 +619,8 @@ void registerBuiltinPipelines() {
   std::call_once(once, [] {
     registerPipeline({"blue-band",
                       "Threshold on the blue band (Wallace 1985, 3.6.3, the Warp runs): road is on the predicted road's side of "
-                      "Otsu's threshold (bright against grass, dark against pavements); then region reproduction and line labelling",
+                      "Otsu's threshold (bright against grass, dark against pavements) and within band_sigma of the predicted "
+                      "road's blue level on the other side; then region reproduction and line labelling",
                       blueBandOptionTable().list(), [] { return std::make_unique<BlueBandPipeline>(); },
                       blueBandOptionTable().presets()});
     registerPipeline({"color-rgb",

@@ -109,6 +109,9 @@ const OptionTable<BlueBandOptions>& blueBandOptionTable() {
           .field("threshold", &O::threshold, inRange(-1, 255),
                  "the blue level between road and non-road, road on the side where most of the predicted road is; "
                  "-1 = Otsu's threshold on the ground pixels")
+          .field("band_sigma", &O::band_sigma, inRange(0, 100),
+                 "> 0: road is the band of blue levels within this many sigma of the predicted road's median "
+                 "(sigma from its 16th-84th percentiles, at least 2 levels), threshold unused; 0 = one cut")
           .include(regionPipelineOptionTable());
   return table;
 }

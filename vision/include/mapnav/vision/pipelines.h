@@ -79,6 +79,10 @@ struct BlueBandOptions : RegionPipelineOptions {
   /// The blue level between road and non-road; road is on the side where most of the predicted road
   /// is (bright against grass, dark against pavements and walls). -1 = Otsu's threshold on the ground.
   double threshold = -1;
+  /// > 0: road is instead the band of blue levels within this many sigma of the predicted road's
+  /// median (sigma: half the spread between its 16th and 84th percentiles, at least 2 levels);
+  /// `threshold` is then unused. 0 = one cut at `threshold`.
+  double band_sigma = 4;
 
   /// Throws InvalidInput "BlueBandOptions::FIELD = VALUE: must be ..." for a field out of its range.
   void validate() const;
