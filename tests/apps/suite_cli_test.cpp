@@ -53,23 +53,25 @@ TEST(CliSuite, TwoSeedsAgreeWithMapnavRunOnTheirMissionFilesAndDoNotDependOnThre
   for (const auto& r : j["runs"]) {
     EXPECT_EQ(r["error"], false) << r["outcome"];
     EXPECT_EQ(r["stopped_early"], true);
-    EXPECT_EQ(r["frames"], 6);
+    EXPECT_EQ(r["reached"], false);
+    const auto& figures = r["run"];
+    EXPECT_EQ(figures["frames"], 6);
+    EXPECT_EQ(figures["mode"], "closed-loop");
+    EXPECT_EQ(r["outcome"], figures["outcome"]);
+    EXPECT_FALSE(figures.contains("latency_ms_median"));  // wall-clock: not the same bytes twice
     const std::string seed = std::to_string(r["seed"].get<int>());
     const fs::path mission = dir / ("seed-" + seed) / "mission.json";
     ASSERT_TRUE(fs::is_regular_file(mission));
     ASSERT_TRUE(fs::is_regular_file(dir / ("seed-" + seed) / "map.json"));
+    // The ordinary runner on the mission file written: every figure the same.
     const auto run = runCli({"run", "--mission", mission.string(), "--max-frames", kFrames, "--json"});
     ASSERT_EQ(run.exit_code, 0) << run.err;
-    const auto m = nlohmann::json::parse(run.out);
-    EXPECT_EQ(r["pipeline"], m["pipeline"]) << seed;
-    EXPECT_EQ(r["outcome"], m["outcome"]) << seed;
-    for (const char* key : {"frames", "goal_distance_m", "left_path_frames", "lateral_rms_m", "along_max_m",
-                            "heading_rms_deg", "within_2sigma_along", "within_2sigma_lateral",
-                            "within_2sigma_heading", "nees_mean", "vision_failures", "replans"}) {
-      EXPECT_EQ(r[key], m[key]) << "seed " << seed << " " << key;
-    }
-    EXPECT_GT(m["within_2sigma_lateral"].get<double>(), 0.0) << seed;
-    EXPECT_GT(m["nees_mean"].get<double>(), 0.0) << seed;
+    auto m = nlohmann::json::parse(run.out);
+    for (const char* key : {"latency_ms_median", "latency_ms_p99", "latency_ms_max", "vision_ms_median"}) m.erase(key);
+    EXPECT_EQ(figures, m) << "seed " << seed;
+    EXPECT_EQ(figures["pipeline"], seed == "3" ? "sidewalk" : "edge-tracker");  // brick / asphalt
+    EXPECT_GT(figures["within_2sigma_lateral"].get<double>(), 0.0) << seed;
+    EXPECT_GT(figures["nees_mean"].get<double>(), 0.0) << seed;
   }
 
   // Two seeds at once: the same bytes.

@@ -58,6 +58,9 @@ struct SuiteRun {
   bool reached = false;          ///< the Navigator arrived and the truth is within kSuiteGoalToleranceM
   bool stopped_early = false;    ///< max_frames ended it
   MissionMetrics metrics;
+  /// runToJson of the run (what `mapnav run --json` prints) without its wall-clock figures
+  /// (latency_ms_*, vision_ms_median); "" when the run threw.
+  std::string run_json;
   double wall_s = 0;             ///< the run's wall time (the only figure that varies between runs)
 };
 
@@ -97,7 +100,8 @@ std::string suiteHeaderText(bool wall_time);
 std::string suiteRowText(const SuiteRun& run, bool wall_time);
 /// The summary, each figure beside the done-when target.
 std::string suiteSummaryText(const SuiteSummary& summary, bool wall_time);
-/// {"suite","junctions","max_frames","goal_tolerance_m","runs":[...],"summary":{...,"targets":{...}}};
+/// {"suite","junctions","max_frames","goal_tolerance_m","runs":[{"seed","junctions","via","surfaces",
+/// "error","outcome","reached","stopped_early","run":{run_json}|null},...],"summary":{...,"targets":{...}}};
 /// one line. Wall times only when `wall_time` (the rest is the same bytes for the same seeds).
 std::string suiteJson(const SuiteOptions& options, const std::vector<SuiteRun>& runs, const SuiteSummary& summary,
                       bool wall_time);
