@@ -209,7 +209,12 @@ std::vector<SuiteRun> runSuite(const SuiteOptions& options, const std::function<
     }
     runs.push_back(std::move(*results[i]));
     lock.unlock();
-    if (done) done(runs.back());
+    try {
+      if (done) done(runs.back());
+    } catch (...) {  // the workers are joined before it goes on
+      failure = std::current_exception();
+      next = n;
+    }
   }
   for (std::thread& t : threads) t.join();
   if (failure) std::rethrow_exception(failure);
