@@ -31,6 +31,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   registerVisionCommands(app, commands);
   registerEvalCommands(app, commands);
   registerBenchCommand(app, commands);
+  registerSuiteCommand(app, commands);
 
   try {
     app.parse(argc, argv);

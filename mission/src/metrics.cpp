@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Cholesky>
+
 #include "mapnav/navigator/progress.h"
 
 namespace mapnav {
@@ -17,6 +19,25 @@ PoseError poseError(const Pose2& estimate, const Pose2& truth, double road_headi
   e.heading_rad = normalizeAngle(estimate.heading() - truth.heading());
   e.distance_m = d.norm();
   return e;
+}
+
+FrameConsistency frameConsistency(const PoseError& error, const Mat3& covariance, double road_heading) {
+  const Vec2 along = unitVector(road_heading);
+  const Vec2 left = leftNormal(along);
+  const Mat2 position = covariance.topLeftCorner<2, 2>();
+  // |e| <= 2 sigma as e^2 <= 4 sigma^2: no square root, and a zero variance holds only a zero error.
+  auto within = [](double e, double variance) { return e * e <= 4.0 * variance; };
+  FrameConsistency c;
+  c.along = within(error.along_m, along.dot(position * along));
+  c.lateral = within(error.lateral_m, left.dot(position * left));
+  c.heading = within(error.heading_rad, covariance(2, 2));
+  const Eigen::LLT<Mat3> llt(covariance);  // fails unless positive definite
+  if (llt.info() == Eigen::Success) {
+    const Vec2 d = error.along_m * along + error.lateral_m * left;
+    const Vec3 e(d.x(), d.y(), error.heading_rad);
+    c.nees = e.dot(llt.solve(e));
+  }
+  return c;
 }
 
 PathOffset pathOffset(const Map& map, const Vec2& position, double vehicle_width_m) {
@@ -86,6 +107,10 @@ struct Accumulator {
 void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& route, MissionMetrics& into) {
   into.frames = frames.size();
   Accumulator estimate, odometry;
+  std::size_t along_in = 0, lateral_in = 0, heading_in = 0;
+  double nees_sum = 0;
+  FilterConsistency& consistency = into.consistency;
+  consistency = FilterConsistency{};
   // The intersections' arc lengths along the route: each turn leg sits where the drive legs before
   // it end (the route's line runs through the intersection's centre).
   std::vector<double> intersection_s;
@@ -114,6 +139,15 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
     if (f.offPath()) ++into.left_path_frames;
     estimate.add(f.error);
     odometry.add(f.odometry_error);
+    const FrameConsistency c = frameConsistency(f.error, f.covariance, f.road_heading_rad);
+    ++consistency.frames;
+    along_in += c.along;
+    lateral_in += c.lateral;
+    heading_in += c.heading;
+    if (c.nees) {
+      ++consistency.nees_frames;
+      nees_sum += *c.nees;
+    }
     for (std::size_t i = 0; i < intersection_s.size(); ++i) {
       if (f.route_s >= intersection_s[i] && f.route_s <= intersection_s[i] + 2.0) {
         checked[i] = true;
@@ -124,6 +158,13 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
   if (!into.has_truth) into.min_path_clearance_m = 0;
   into.intersections_checked = static_cast<std::size_t>(std::count(checked.begin(), checked.end(), true));
   into.estimate = estimate.finish();
+  if (consistency.frames > 0) {
+    const double n = static_cast<double>(consistency.frames);
+    consistency.within_2sigma_along = static_cast<double>(along_in) / n;
+    consistency.within_2sigma_lateral = static_cast<double>(lateral_in) / n;
+    consistency.within_2sigma_heading = static_cast<double>(heading_in) / n;
+  }
+  if (consistency.nees_frames > 0) consistency.nees_mean = nees_sum / static_cast<double>(consistency.nees_frames);
   into.odometry_only = odometry.finish();
   into.latency_ms_median = percentile(latency, 50);
   into.latency_ms_p99 = percentile(latency, 99);

@@ -233,6 +233,7 @@ void ModuleLoop::evaluate(const Pose2& truth, FrameRecord& r) {
     road = truth.heading() - p->heading_error;
   }
   r.error = poseError(r.estimate, truth, road);
+  r.road_heading_rad = road;
   r.odometry_error = poseError(r.odometry_only, truth, road);
   observeTruth(truth.translation());
   r.offset_from_centre_m = between_->offset_m;

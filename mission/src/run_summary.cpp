@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "mapnav/core/json.h"
+#include "mapnav/core/strprintf.h"
 
 namespace mapnav {
 
@@ -29,6 +30,16 @@ std::string logFaultsText(const LogFaultCounts& counts) {
     kinds += (kinds.empty() ? "" : ", ") + toString(kind) + " " + std::to_string(counts[kind]);
   }
   return std::to_string(counts.total()) + " (" + kinds + ")";
+}
+
+std::string consistencyText(const FilterConsistency& c, const std::string& indent) {
+  char line[300];
+  std::snprintf(line, sizeof line,
+                "%sfilter consistency: true error within 2 sigma of the covariance in %.1f %% of frames along, %.1f %% "
+                "lateral, %.1f %% heading (consistent: 95.4 %%); NEES mean %s (expected 3)\n",
+                indent.c_str(), 100 * c.within_2sigma_along, 100 * c.within_2sigma_lateral, 100 * c.within_2sigma_heading,
+                c.nees_frames > 0 ? strprintf("%.2f", c.nees_mean).c_str() : "-");
+  return line;
 }
 
 std::string runToJson(const MissionRun& run) {
@@ -62,6 +73,10 @@ std::string runToJson(const MissionRun& run) {
          {"odometry_only_lateral_rms_m", err(m.odometry_only.lateral_rms_m, 1e5)},
          {"odometry_only_along_rms_m", err(m.odometry_only.along_rms_m, 1e5)},
          {"odometry_only_heading_rms_deg", err(m.odometry_only.heading_rms_deg, 1e4)},
+         {"within_2sigma_along", err(m.consistency.within_2sigma_along, 1e4)},
+         {"within_2sigma_lateral", err(m.consistency.within_2sigma_lateral, 1e4)},
+         {"within_2sigma_heading", err(m.consistency.within_2sigma_heading, 1e4)},
+         {"nees_mean", m.consistency.nees_frames > 0 ? Json(round(m.consistency.nees_mean, 1e3)) : Json(nullptr)},
          {"intersections_checked", m.intersections_checked},
          {"halts", m.halts},
          {"ended_by_halt", run.ended_by_halt},
@@ -98,6 +113,7 @@ std::string summaryText(const MissionRun& run) {
   if (m.has_truth) {
     errors("estimate:", m.estimate);
     errors("odometry alone:", m.odometry_only);
+    out += consistencyText(m.consistency, "  ");
     std::snprintf(line, sizeof line,
                   "  along-road error within 2 m after each intersection: max %.3f m (%zu of %zu intersections)\n",
                   m.along_after_intersection_max_m, m.intersections_checked, run.route.intersections.size());

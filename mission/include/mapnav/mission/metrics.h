@@ -55,6 +55,8 @@ struct FrameRecord {
   // Against the truth (meaningful when `truth`).
   double route_s = 0;             ///< the truth's arc length along the planned route, m
   PoseError error;                ///< estimate − truth
+  /// The road's heading at the truth, rad: `error` is measured along it and across it.
+  double road_heading_rad = 0;
   PoseError odometry_error;       ///< odometry_only − truth
   /// "On the path" (issue 9): the largest |lateral offset| of the TRUE position from the centre line
   /// of the road nearest to it, over the frame period ending at this frame (closed loop: at every
@@ -111,6 +113,29 @@ struct LogFaultCounts {
   std::size_t total() const;
 };
 
+/// Whether the filter's covariance covers its true error (issue 30, "a consistent filter"): per axis,
+/// the fraction of frames with truth whose error lies within 2 sigma of the reported covariance
+/// (expected 0.954 for a consistent Gaussian estimate), and the mean normalised estimation error
+/// squared, NEES = e' P^-1 e over (x, y, heading) (expected 3, the state's dimension).
+struct FilterConsistency {
+  std::size_t frames = 0;           ///< frames with truth
+  double within_2sigma_along = 0;   ///< fraction of `frames` with |along error| <= 2 sqrt(a' P a)
+  double within_2sigma_lateral = 0; ///< ... across the road
+  double within_2sigma_heading = 0; ///< ... |heading error| <= 2 sqrt(P(2,2))
+  std::size_t nees_frames = 0;      ///< frames whose covariance is positive definite (NEES defined)
+  double nees_mean = 0;             ///< mean NEES over them (0 when none)
+};
+
+/// One frame's part of FilterConsistency: its error within 2 sigma on each axis, and its NEES.
+struct FrameConsistency {
+  bool along = false, lateral = false, heading = false;
+  std::optional<double> nees;  ///< nothing when `covariance` is not positive definite
+};
+
+/// `error` (estimate − truth along and across the road of heading `road_heading`, and in heading)
+/// against the world-frame `covariance` of (x, y, heading).
+FrameConsistency frameConsistency(const PoseError& error, const Mat3& covariance, double road_heading);
+
 struct MissionMetrics {
   std::size_t frames = 0;
   bool has_truth = false;         ///< the errors below mean something
@@ -118,6 +143,7 @@ struct MissionMetrics {
   double goal_distance_m = 0;     ///< at the end: truth (else estimate) to the goal
   ErrorStats estimate;            ///< the Map's CurrentPosition
   ErrorStats odometry_only;       ///< dead reckoning alone
+  FilterConsistency consistency;  ///< the estimate's covariance against its true error
   /// Issue 8: the largest |along-road error| within 2 m after each intersection of the route
   /// (truth between the intersection's centre and 2 m past it), m; 0 when no frame fell there.
   double along_after_intersection_max_m = 0;

@@ -150,6 +150,10 @@ std::string runToJson(const MissionRun& run);
 /// "3 (missing_image 1, time_order 2)": the total and the kinds that happened, for people.
 std::string logFaultsText(const LogFaultCounts& counts);
 
+/// "filter consistency: true error within 2 sigma ... in 97.1 % of frames along, ...; NEES mean 2.84
+/// (expected 3)", one line after `indent`.
+std::string consistencyText(const FilterConsistency& consistency, const std::string& indent);
+
 /// The summary a person reads at the end: outcome, errors of the estimate and of odometry alone,
 /// path agreement (pathAgreementText), failures, replans, latency.
 std::string summaryText(const MissionRun& run);

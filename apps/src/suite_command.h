@@ -1,0 +1,25 @@
+#pragma once
+// `mapnav suite random-campus`: the suite of unseen maps (issue 30, mission/suite.h) — random
+// campuses and their missions run closed loop at the defaults, a row per seed as it finishes, then
+// the summary beside the issue's done-when targets.
+#include <cstddef>
+#include <iosfwd>
+#include <string>
+
+namespace mapnav::cli {
+
+struct SuiteConfig {
+  std::string seeds = "1-30";  ///< --seeds, parsed by parseSeedList
+  int junctions = 3;
+  std::size_t max_frames = 0;
+  std::string output;          ///< -o: keep each seed's map and mission there ("": a temporary folder, removed)
+  int threads = 1;
+  bool json = false;
+  bool wall_time = true;       ///< false (--no-wall-time): the same bytes for the same seeds
+};
+
+/// Exit codes: 0 every run reached its goal within 0.3 m (or --max-frames cut it), 1 some did not,
+/// 2 usage or I/O error.
+int runSuiteCommand(const SuiteConfig& config, std::ostream& out, std::ostream& err);
+
+}  // namespace mapnav::cli
