@@ -76,6 +76,14 @@ double visiblePixels(const PredictedObject& view, const Camera& camera) {
   return total;
 }
 
+// A world-frame pose covariance (x, y, heading) in the frame of a vehicle with that heading.
+Mat3 vehicleFrameCovariance(const Mat3& world, double heading) {
+  Mat3 r = Mat3::Identity();
+  const double c = std::cos(heading), s = std::sin(heading);
+  r.topLeftCorner<2, 2>() << c, s, -s, c;  // R(-heading): world axes onto (forward, left)
+  return r * world * r.transpose();
+}
+
 // The 1-sigma of a position along its heading, m.
 double alongSigma(const CurrentPosition& p) {
   const Vec2 f = unitVector(p.pose.heading());
@@ -110,6 +118,7 @@ void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odom
     prediction_ = std::move(nothing);
   }
   prediction_.view.timestamp = t;
+  prediction_.view.pose_covariance = vehicleFrameCovariance(predicted.covariance(), predicted.pose().heading());
   board.post(Module::Map, PredictionToken{prediction_.view, predicted.pose()});
 }
 

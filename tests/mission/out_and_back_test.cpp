@@ -86,12 +86,12 @@ TEST(OutAndBack, TheCommandsFollowThePlannedLegsInOrder) {
   EXPECT_EQ(navigator.replans(), 0u);
 }
 
-// The mission file: the campus missions' settings, sidewalk.
+// The mission file: the campus missions' settings, sidewalk at its defaults.
 fs::path outAndBackMission(const fs::path& dir) {
   writeFileAtomic(dir / "m.json", R"({"format": "mapnav-mission/1", "map": ")" + testing::mapPath("cmu_campus.json").string() +
                                       R"(", "camera": ")" + testing::mapPath("cameras/terregator_pinhole.json").string() +
                                       R"(", "start": "R1@I1+10", "via": ["R1@I1+25"], "goal": "R2@I1+10",
-      "speed_mps": 0.6, "frame_rate_hz": 2.0, "vision": {"pipeline": "sidewalk", "options": {"max_distance_m": 1.0}},
+      "speed_mps": 0.6, "frame_rate_hz": 2.0, "vision": {"pipeline": "sidewalk"},
       "world": {"seed": 5, "shadow_density": 0.05, "noise_sigma": 2.0},
       "odometry": {"seed": 6, "scale_error": 0.01, "gyro_bias_deg_s": 0.05, "distance_sigma_m": 0.005, "heading_sigma_deg": 0.1}})");
   return dir / "m.json";

@@ -19,6 +19,7 @@ void LineOptions::validate() const {
   requireOption(frame_edge_px >= 0, "LineOptions", "frame_edge_px", frame_edge_px, ">= 0");
   requireOption(max_angle_deg > 0, "LineOptions", "max_angle_deg", max_angle_deg, "> 0");
   requireOption(max_distance_m > 0, "LineOptions", "max_distance_m", max_distance_m, "> 0");
+  requireOption(gate_sigma >= 0, "LineOptions", "gate_sigma", gate_sigma, ">= 0");
   requireOption(min_overlap >= 0 && min_overlap <= 1, "LineOptions", "min_overlap", min_overlap, "in [0, 1]");
   requireOption(relation_tolerance_m > 0, "LineOptions", "relation_tolerance_m", relation_tolerance_m, "> 0");
 }
@@ -100,6 +101,18 @@ std::vector<DetectedLine> polygonLines(const std::vector<Vec2>& poly, const Came
   return lines;
 }
 
+namespace {
+
+// The sigma, m, of where the predicted line through `point` (vehicle frame) with unit normal `normal`
+// lies across itself, under the pose covariance `cov` (x, y, heading in the vehicle frame): a pose
+// error (dx, dy, dtheta) moves a point p of the world by -(dx - dtheta p.y, dy + dtheta p.x).
+double acrossSigma(const Mat3& cov, const Vec2& point, const Vec2& normal) {
+  const Vec3 j(normal.x(), normal.y(), normal.y() * point.x() - normal.x() * point.y());
+  return std::sqrt(std::max(0.0, j.dot(cov * j)));
+}
+
+}  // namespace
+
 void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& prediction, const LineOptions& options) {
   options.validate();
   const double max_angle = options.max_angle_deg * std::numbers::pi / 180.0;
@@ -113,9 +126,15 @@ void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& predict
       if (s.vehicle.length() < 1e-6) continue;
       const double angle = angleBetweenLines(line.vehicle, s.vehicle);
       if (angle > max_angle) continue;
-      const double da = std::abs(s.vehicle.signedDistance(line.vehicle.a));
-      const double db = std::abs(s.vehicle.signedDistance(line.vehicle.b));
-      const double d = std::max(da, db);
+      // Each end point against the gate at that point: the larger of max_distance_m and gate_sigma
+      // times the predicted line's sigma there; d is the worse end's share of its gate, times the floor.
+      const Vec2 normal(-s.vehicle.direction().y(), s.vehicle.direction().x());
+      auto share = [&](const Vec2& p) {
+        const double gate = std::max(options.max_distance_m,
+                                     options.gate_sigma * acrossSigma(prediction.pose_covariance, p, normal));
+        return std::abs(s.vehicle.signedDistance(p)) / gate;
+      };
+      const double d = options.max_distance_m * std::max(share(line.vehicle.a), share(line.vehicle.b));
       if (d > options.max_distance_m) continue;
       // Overlap of the line's projection onto the segment.
       const Vec2 dir = s.vehicle.direction();

@@ -233,6 +233,7 @@ class BasePipeline : public VisionPipeline {
     lo.frame_edge_px = common().frame_edge_px;
     lo.max_angle_deg = common().max_angle_deg;
     lo.max_distance_m = common().max_distance_m;
+    lo.gate_sigma = common().gate_sigma;
     lo.min_overlap = common().min_overlap;
     lo.relation_tolerance_m = common().relation_tolerance_m;
     lo.reference = common().reference;

@@ -45,7 +45,10 @@ const OptionTable<RegionPipelineOptions>& regionPipelineOptionTable() {
                  "lines within this of the image border or ground edge are frame edges")
           .field("max_angle_deg", &O::max_angle_deg, inRange(1e-6, 90), "label match: angle on the ground within this")
           .field("max_distance_m", &O::max_distance_m, inRange(1e-6, 100),
-                 "label match: both end points within this of the predicted line")
+                 "label match: both end points within this of the predicted line (the gate's floor)")
+          .field("gate_sigma", &O::gate_sigma, inRange(0, 100),
+                 "label match: ... or within this many sigma of it, the predicted line's sigma across itself from the "
+                 "prediction's pose covariance (the Map's estimate), where that is wider; 0 = max_distance_m alone")
           .field("min_overlap", &O::min_overlap, inRange(0, 1),
                  "label match: this fraction of the line overlaps the predicted segment")
           .field("relation_tolerance_m", &O::relation_tolerance_m, inRange(1e-6, 100),

@@ -48,6 +48,10 @@ struct PredictedObject {
   std::vector<PredictedRegion> regions;
   std::vector<InterestSegment> segments;
   std::vector<SegmentRelation> relations;
+  /// How uncertain the pose this view was predicted from is, in the vehicle frame: the covariance of
+  /// (x forward m, y left m, heading rad). Zero when unknown (a bootstrap, an eval). Line labelling
+  /// widens its gate with it: a predicted line's place in the vehicle frame is that uncertain.
+  Mat3 pose_covariance = Mat3::Zero();
 
   bool empty() const { return regions.empty() && segments.empty(); }
 };

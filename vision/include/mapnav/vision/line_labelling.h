@@ -19,6 +19,10 @@ struct LineOptions {
   double frame_edge_px = 4.0;          ///< within this of the image border / ground edge = frame edge. ≥ 0
   double max_angle_deg = 10.0;         ///< a match is within this angle on the ground. > 0
   double max_distance_m = 0.4;         ///< ... and both end points within this of the predicted line. > 0
+  /// ... or within this many sigma of it, where the prediction's pose covariance puts the predicted
+  /// line's sigma across itself at that point higher (max_distance_m is then the gate's floor, for
+  /// pixel noise and the map's own error). 0 = the fixed max_distance_m alone. >= 0
+  double gate_sigma = 3.0;
   double min_overlap = 0.5;            ///< ... and this fraction of the line overlaps the segment. [0, 1]
   double relation_tolerance_m = 0.5;   ///< parallel pairs: separation within this of the predicted. > 0
   /// The reference implementations (CGAL's simplification; a distance transform of `valid` for the

@@ -9,6 +9,7 @@
 // "cluster-perceptron" and "edge-tracker" pipelines' options are in cluster_perceptron.h and
 // edge_tracker.h.
 #include "mapnav/core/option_table.h"
+#include "mapnav/vision/line_labelling.h"
 
 namespace mapnav {
 
@@ -41,6 +42,7 @@ struct RegionPipelineOptions {
   double frame_edge_px = 4;           ///< lines this near the image border or the ground's edge are frame edges
   double max_angle_deg = 10;          ///< label match: angle on the ground
   double max_distance_m = 0.4;        ///< label match: both end points this near the predicted line
+  double gate_sigma = LineOptions{}.gate_sigma;  ///< ... or this many sigma of the prediction's pose uncertainty
   double min_overlap = 0.5;           ///< label match: this fraction of the line overlaps the predicted segment
   double relation_tolerance_m = 0.5;  ///< a labelled parallel pair within this of the predicted separation
   /// Classify and reproduce the region on cells of grid_px x grid_px pixels (the frame averaged over

@@ -1,0 +1,85 @@
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapnav/core/error.h"
+#include "mapnav/vision/line_labelling.h"
+
+namespace mapnav {
+namespace {
+
+// A crossing line 8 m ahead (the far side of an intersection) and a road edge 1 m to the left, and
+// two detected lines: one 0.8 m beyond the crossing line (an estimate 0.8 m behind along the road),
+// one 0.6 m left of the road edge. The gate at an end point p is max(max_distance_m 0.4,
+// gate_sigma 3 x the predicted line's sigma across itself at p), that sigma from the pose covariance
+// (x forward, y left, heading): sqrt(j' C j) with j = (n.x, n.y, n.y p.x - n.x p.y), n its normal.
+PredictedObject prediction(const Mat3& covariance) {
+  PredictedObject p;
+  InterestSegment crossing;
+  crossing.id = "I1.corner.0";
+  crossing.vehicle = {Vec2(8, -2), Vec2(8, 2)};
+  InterestSegment edge;
+  edge.id = "R1.left.0";
+  edge.vehicle = {Vec2(3, 1), Vec2(10, 1)};
+  p.segments = {crossing, edge};
+  p.pose_covariance = covariance;
+  return p;
+}
+
+std::vector<DetectedLine> detected() {
+  DetectedLine beyond;
+  beyond.vehicle = {Vec2(8.8, -1.5), Vec2(8.8, 1.5)};
+  DetectedLine left;
+  left.vehicle = {Vec2(4, 1.6), Vec2(9, 1.6)};
+  return {beyond, left};
+}
+
+std::vector<std::optional<std::string>> labels(const Mat3& covariance, const LineOptions& options = {}) {
+  std::vector<DetectedLine> lines = detected();
+  labelLines(lines, prediction(covariance), options);
+  return {lines[0].label, lines[1].label};
+}
+
+TEST(LineLabelling, WithoutCovarianceTheGateIsMaxDistance) {
+  const auto l = labels(Mat3::Zero());
+  EXPECT_FALSE(l[0].has_value());  // 0.8 m > 0.4 m
+  EXPECT_FALSE(l[1].has_value());  // 0.6 m > 0.4 m
+}
+
+TEST(LineLabelling, AlongRoadUncertaintyWidensTheGateOfCrossingLinesOnly) {
+  // sigma along 0.3 m: the crossing line's normal is (-1, 0), its sigma 0.3 m, gate 0.9 m >= 0.8 m;
+  // the road edge's normal (0, 1) sees the lateral sigma 0.01 m only: gate 0.4 m < 0.6 m.
+  const Mat3 along = Vec3(0.09, 1e-4, 0).asDiagonal();
+  const auto l = labels(along);
+  EXPECT_EQ(l[0], "I1.corner.0");
+  EXPECT_FALSE(l[1].has_value());
+  // sigma along 0.25 m: gate 0.75 m < 0.8 m.
+  EXPECT_FALSE(labels(Vec3(0.0625, 1e-4, 0).asDiagonal())[0].has_value());
+  // gate_sigma 0: the fixed gate alone.
+  LineOptions fixed;
+  fixed.gate_sigma = 0;
+  EXPECT_FALSE(labels(along, fixed)[0].has_value());
+}
+
+TEST(LineLabelling, HeadingUncertaintyWidensTheGateWithRange) {
+  // sigma heading 0.06 rad: the road edge's sigma at (4, 1.6) is 0.06 x 4 = 0.24 m, gate 0.72 m,
+  // and at (9, 1.6) 0.54 m, gate 1.62 m: both ends within. The crossing line's ends at y = +-1.5 m:
+  // 0.09 m, gate 0.4 m < 0.8 m.
+  const auto l = labels(Vec3(0, 0, 0.0036).asDiagonal());
+  EXPECT_FALSE(l[0].has_value());
+  EXPECT_EQ(l[1], "R1.left.0");
+  // sigma heading 0.04 rad: 0.16 m at x = 4, gate 0.48 m < 0.6 m.
+  EXPECT_FALSE(labels(Vec3(0, 0, 0.0016).asDiagonal())[1].has_value());
+}
+
+TEST(LineLabelling, GateSigmaMustNotBeNegative) {
+  LineOptions o;
+  o.gate_sigma = -1;
+  EXPECT_THROW(o.validate(), InvalidInput);
+  EXPECT_NO_THROW(LineOptions{}.validate());
+}
+
+}  // namespace
+}  // namespace mapnav
