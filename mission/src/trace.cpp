@@ -30,6 +30,11 @@ double sig(double x) {  // six significant digits
   return std::strtod(text, nullptr) + 0.0;
 }
 
+// A symmetric 3 x 3 matrix as its upper triangle [00, 01, 02, 11, 12, 22], six significant digits.
+Json upperTriangle(const Mat3& c) {
+  return Json::array({sig(c(0, 0)), sig(c(0, 1)), sig(c(0, 2)), sig(c(1, 1)), sig(c(1, 2)), sig(c(2, 2))});
+}
+
 Json pose(const Pose2& p) { return Json{{"x", m4(p.x())}, {"y", m4(p.y())}, {"heading_deg", deg(p.heading())}}; }
 Json point(const Vec2& p, double (*round)(double)) { return Json::array({round(p.x()), round(p.y())}); }
 Json segment(const Segment2& s, double (*round)(double)) { return Json::array({point(s.a, round), point(s.b, round)}); }
@@ -72,7 +77,10 @@ Json predictionPayload(const PredictionToken& p) {
     }
     relations.push_back(std::move(j));
   }
+  const Mat3& c = p.view.pose_covariance;
   return Json{{"made_for", pose(p.made_for)},
+              {"pose_covariance",
+               upperTriangle(c)},
               {"footprint", points(p.view.footprint, m4)},
               {"regions", std::move(regions)},
               {"segments", std::move(segments)},
@@ -103,7 +111,7 @@ Json positionPayload(const CurrentPosition& p) {
   const Mat2 local = r.transpose() * c.topLeftCorner<2, 2>() * r;
   return Json{{"pose", pose(p.pose)},
               {"covariance",
-               Json::array({sig(c(0, 0)), sig(c(0, 1)), sig(c(0, 2)), sig(c(1, 1)), sig(c(1, 2)), sig(c(2, 2))})},
+               upperTriangle(c)},
               {"sigma",
                {{"lateral_m", sig(std::sqrt(std::max(0.0, local(1, 1))))},
                 {"along_m", sig(std::sqrt(std::max(0.0, local(0, 0))))},
