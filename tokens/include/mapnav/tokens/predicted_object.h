@@ -2,7 +2,7 @@
 // PredictedObject: Map → Vision, "what the camera should see" (Wallace 1985, 2.1.2). Information
 // hiding: it carries only vehicle- and image-frame geometry and appearance. No world coordinates,
 // no pose, no route, nothing of the map beyond what is in view: Vision "does not know where the
-// vehicle is" (2.1.1).
+// vehicle is" (2.1.1). It knows how sure the Map is, in its own frame: the pose covariance.
 #include <string>
 #include <vector>
 
