@@ -484,6 +484,13 @@ std::string metricsTable(const MissionRun& run) {
     row("heading RMS", rmsMax(m.estimate.heading_rms_deg, m.estimate.heading_max_deg, "deg"),
         rmsMax(m.odometry_only.heading_rms_deg, m.odometry_only.heading_max_deg, "deg"));
     row("max position error", strprintf("%.3f m", m.estimate.max_error_m), strprintf("%.3f m", m.odometry_only.max_error_m));
+    if (m.consistency.frames > 0) {
+      const FilterConsistency& c = m.consistency;
+      row("true error within 2 sigma", strprintf("along %.1f %%, lateral %.1f %%, heading %.1f %%", 100 * c.within_2sigma_along,
+                                                 100 * c.within_2sigma_lateral, 100 * c.within_2sigma_heading),
+          c.nees_frames > 0 ? strprintf("mean NEES %.2f (consistent: 95.4 %% and 3)", c.nees_mean)
+                            : std::string("consistent: 95.4 %"));
+    }
     row("along error 2 m past intersections", strprintf("max %.3f m", m.along_after_intersection_max_m) + " (" +
                                                   std::to_string(m.intersections_checked) + " checked)");
   } else {

@@ -262,6 +262,20 @@ void TraceWriter::executing(double t, const MotionCommand* c, bool execute, bool
   line(t, "MotionControl", "Executing", payload.dump());
 }
 
+namespace {
+
+// The filter's consistency over the run (null without truth; nees_mean null without a defined NEES).
+Json consistencyPayload(const MissionMetrics& m) {
+  const FilterConsistency& c = m.consistency;
+  if (!m.has_truth || c.frames == 0) return nullptr;
+  return Json{{"within_2sigma_along", fixed(c.within_2sigma_along, 1e4)},
+              {"within_2sigma_lateral", fixed(c.within_2sigma_lateral, 1e4)},
+              {"within_2sigma_heading", fixed(c.within_2sigma_heading, 1e4)},
+              {"nees_mean", c.nees_frames > 0 ? Json(fixed(c.nees_mean, 1e2)) : Json(nullptr)}};
+}
+
+}  // namespace
+
 void TraceWriter::summary(const MissionRun& run) {
   const MissionMetrics& m = run.metrics;
   auto stats = [&](const ErrorStats& s) -> Json {
@@ -282,6 +296,7 @@ void TraceWriter::summary(const MissionRun& run) {
                {"along_after_intersection_max_m", m.has_truth ? Json(m4(m.along_after_intersection_max_m)) : Json(nullptr)},
                {"intersections_checked", m.intersections_checked},
                {"max_offset_from_centre_m", m.has_truth ? Json(m4(m.max_offset_from_centre_m)) : Json(nullptr)},
+               {"consistency", consistencyPayload(m)},
                {"left_path_frames", m.left_path_frames},
                {"vision_failures", m.vision_failures},
                {"halts", m.halts},

@@ -193,6 +193,24 @@ TEST(ReportHtml, TheSummaryHasThePathAgreement) {
             std::string::npos);
 }
 
+TEST(ReportHtml, TheSummaryHasTheFilterConsistency) {
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  MissionRun run = handMadeRun();
+  run.metrics.has_truth = true;
+  run.metrics.consistency.frames = 8;
+  run.metrics.consistency.within_2sigma_along = 0.875;
+  run.metrics.consistency.within_2sigma_lateral = 1.0;
+  run.metrics.consistency.within_2sigma_heading = 0.5;
+  run.metrics.consistency.nees_frames = 8;
+  run.metrics.consistency.nees_mean = 4.25;
+  EXPECT_NE(reportHtml(run, map, {}, "")
+                .find("<tr><th>true error within 2 sigma</th><td>along 87.5 %, lateral 100.0 %, heading 50.0 %</td>"
+                      "<td>mean NEES 4.25 (consistent: 95.4 % and 3)</td></tr>"),
+            std::string::npos);
+  run.metrics.consistency = FilterConsistency{};  // no frame with truth: no row
+  EXPECT_EQ(reportHtml(run, map, {}, "").find("true error within 2 sigma"), std::string::npos);
+}
+
 TEST(ReportGeoJson, TheTrajectoriesReadBackToThePosesThroughTheMapsOrigin) {
   const Map map = loadMap(testing::mapPath("cmu_campus.json"));
   const MissionRun run = handMadeRun();

@@ -115,6 +115,23 @@ TEST_F(ReplayShortCrossing, ReplayingTheSameLogTwiceGivesByteIdenticalTraces) {
   EXPECT_EQ(count(a, "\"latency"), 0u);  // wall-clock figures stay out of the trace
 }
 
+TEST_F(ReplayShortCrossing, TheTracesSummaryHasTheRunsFilterConsistency) {
+  RunOptions options;
+  options.trace = dir() / "c.jsonl";
+  options.max_frames = 20;
+  const MissionRun run = runReplay(shortCrossing(), log(), options);
+  const std::string text = readFile(options.trace);
+  const auto last = nlohmann::json::parse(text.substr(text.rfind("\n{") + 1));
+  ASSERT_EQ(last["type"], "Summary");
+  const FilterConsistency& c = run.metrics.consistency;
+  ASSERT_EQ(c.frames, 20u);
+  const auto& j = last["payload"]["consistency"];
+  EXPECT_NEAR(j["within_2sigma_along"].get<double>(), c.within_2sigma_along, 1e-4);
+  EXPECT_NEAR(j["within_2sigma_lateral"].get<double>(), c.within_2sigma_lateral, 1e-4);
+  EXPECT_NEAR(j["within_2sigma_heading"].get<double>(), c.within_2sigma_heading, 1e-4);
+  EXPECT_NEAR(j["nees_mean"].get<double>(), c.nees_mean, 0.01);
+}
+
 TEST_F(ReplayShortCrossing, TheTraceReadsBackAsThePapersDialogue) {
   RunOptions options;
   options.trace = dir() / "dialogue.jsonl";
