@@ -487,9 +487,9 @@ std::string metricsTable(const MissionRun& run) {
     if (m.consistency.frames > 0) {
       const FilterConsistency& c = m.consistency;
       row("true error within 2 sigma", strprintf("along %.1f %%, lateral %.1f %%, heading %.1f %%", 100 * c.within_2sigma_along,
-                                                 100 * c.within_2sigma_lateral, 100 * c.within_2sigma_heading),
-          c.nees_frames > 0 ? strprintf("mean NEES %.2f (consistent: 95.4 %% and 3)", c.nees_mean)
-                            : std::string("consistent: 95.4 %"));
+                                                 100 * c.within_2sigma_lateral, 100 * c.within_2sigma_heading) +
+                                           (c.nees_frames > 0 ? strprintf("; mean NEES %.2f", c.nees_mean) : std::string()) +
+                                           " (a consistent filter: 95.4 %, NEES 3)");
     }
     row("along error 2 m past intersections", strprintf("max %.3f m", m.along_after_intersection_max_m) + " (" +
                                                   std::to_string(m.intersections_checked) + " checked)");

@@ -204,8 +204,8 @@ TEST(ReportHtml, TheSummaryHasTheFilterConsistency) {
   run.metrics.consistency.nees_frames = 8;
   run.metrics.consistency.nees_mean = 4.25;
   EXPECT_NE(reportHtml(run, map, {}, "")
-                .find("<tr><th>true error within 2 sigma</th><td>along 87.5 %, lateral 100.0 %, heading 50.0 %</td>"
-                      "<td>mean NEES 4.25 (consistent: 95.4 % and 3)</td></tr>"),
+                .find("<tr><th>true error within 2 sigma</th><td>along 87.5 %, lateral 100.0 %, heading 50.0 %; mean "
+                      "NEES 4.25 (a consistent filter: 95.4 %, NEES 3)</td><td></td></tr>"),
             std::string::npos);
   run.metrics.consistency = FilterConsistency{};  // no frame with truth: no row
   EXPECT_EQ(reportHtml(run, map, {}, "").find("true error within 2 sigma"), std::string::npos);
