@@ -1,12 +1,13 @@
 #pragma once
 // The pose filter (Wallace 1985, 2.2.3: "the location along the road is calculated using the
-// vehicle motion"): an extended Kalman filter over (x, y, heading) — odometry prediction with a
-// noise model, line-measurement updates (an iterated EKF) with a Mahalanobis gate — so that
-// unobserved directions (along a straight road) are carried by odometry and corrected when crossing
-// lines come into view. Its output is the CurrentPosition token.
+// vehicle motion"): an extended Kalman filter over (x, y, heading) and the odometry's scale error
+// and gyro bias — odometry prediction with its error model, line-measurement updates (an iterated
+// EKF, a frame's lines sharing an error) with a Mahalanobis gate — so that unobserved directions
+// (along a straight road) are carried by odometry and corrected when crossing lines come into view,
+// with a covariance that covers the error (issue 30). Its output is the CurrentPosition token.
 //
-// State and covariance are in world coordinates (x, y in m, heading in rad), the pose's heading
-// wrapped into (-pi, pi]; differences of headings are wrapped before use.
+// State and covariance are in world coordinates (x, y in m, heading in rad; then e, relative, and
+// b, rad/s), the pose's heading wrapped into (-pi, pi]; differences of headings are wrapped before use.
 #include <string>
 #include <vector>
 
