@@ -42,9 +42,9 @@ std::optional<double> groundMetresPerPixel(const Camera& camera, const Segment2&
 
 CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, const Prediction& prediction,
                          const DetectedObject& detected, const LocalizeOptions& options, const Map* map,
-                         const Camera* camera) {
+                         const Camera* camera, double dt_s) {
   options.validate();
-  filter.predict(motion);
+  filter.predict(motion, dt_s);
   const double t = detected.timestamp;
   if (detected.status != DetectedObject::Status::Ok) {
     return filter.current(t, "vision failed (" + detected.reason + "): odometry only");

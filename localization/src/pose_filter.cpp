@@ -7,6 +7,7 @@
 #include <utility>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <Eigen/Eigenvalues>
 #include <boost/math/distributions/chi_squared.hpp>
 
@@ -23,6 +24,9 @@ void MotionNoiseOptions::validate() const {
   auto require = [](double value, const char* field) {
     requireOption(std::isfinite(value) && value >= 0, "MotionNoiseOptions", field, value, "finite and >= 0");
   };
+  require(scale_sigma, "scale_sigma");
+  require(gyro_bias_sigma_deg_s, "gyro_bias_sigma_deg_s");
+  require(gyro_noise_deg_per_sqrt_s, "gyro_noise_deg_per_sqrt_s");
   require(distance_sigma_per_m, "distance_sigma_per_m");
   require(heading_sigma_per_rad, "heading_sigma_per_rad");
   require(heading_sigma_per_m, "heading_sigma_per_m");
@@ -35,36 +39,70 @@ void FilterOptions::validate() const {
   motion.validate();
   requireOption(gate_probability > 0 && gate_probability < 1, "FilterOptions", "gate_probability", gate_probability,
                 "in (0, 1)");
+  requireOption(std::isfinite(frame_sigma_m) && frame_sigma_m >= 0, "FilterOptions", "frame_sigma_m", frame_sigma_m,
+                "finite and >= 0");
+  requireOption(std::isfinite(frame_heading_sigma_deg) && frame_heading_sigma_deg >= 0, "FilterOptions",
+                "frame_heading_sigma_deg", frame_heading_sigma_deg, "finite and >= 0");
   requireOption(update_iterations >= 1, "FilterOptions", "update_iterations", update_iterations, ">= 1");
 }
 
-PoseFilter::PoseFilter(const Pose2& pose, const Mat3& covariance, const FilterOptions& options)
-    : pose_(pose), covariance_(covariance), options_(options) {
-  options_.validate();
+namespace {
+
+void requireCovariance(const Mat3& covariance) {
   const bool symmetric = (covariance - covariance.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * (1 + covariance.norm());
   if (!covariance.allFinite() || !symmetric || covariance.llt().info() != Eigen::Success) {
     throw InvalidInput("PoseFilter: the covariance must be finite, symmetric and positive definite");
   }
 }
 
-void PoseFilter::predict(const MotionIncrement& motion) {
-  const double d = motion.distance_m, dh = motion.dheading_rad;
+}  // namespace
+
+PoseFilter::PoseFilter(const Pose2& pose, const Mat3& covariance, const FilterOptions& options)
+    : pose_(pose), covariance_(covariance), options_(options) {
+  options_.validate();
+  requireCovariance(covariance);
+  full_ = Mat5::Zero();
+  full_.topLeftCorner<3, 3>() = covariance;
+  full_(3, 3) = std::pow(options_.motion.scale_sigma, 2);
+  full_(4, 4) = std::pow(degToRad(options_.motion.gyro_bias_sigma_deg_s), 2);
+}
+
+void PoseFilter::resetPoseCovariance(const Mat3& covariance) {
+  requireCovariance(covariance);
+  full_.topLeftCorner<3, 2>().setZero();
+  full_.topRightCorner<3, 2>().setZero();
+  full_.bottomLeftCorner<2, 3>().setZero();
+  full_.topLeftCorner<3, 3>() = covariance;
+  covariance_ = covariance;
+}
+
+void PoseFilter::predict(const MotionIncrement& motion, double dt_s) {
+  if (!(std::isfinite(dt_s) && dt_s >= 0)) throw InvalidInput(strprintf("PoseFilter::predict: dt_s = %g must be finite and >= 0", dt_s));
+  // The reading corrected by the estimated systematic errors.
+  const double d = (1 + scale_error_) * motion.distance_m, dh = motion.dheading_rad - gyro_bias_ * dt_s;
   const double hm = pose_.heading() + 0.5 * dh;  // the mid-step heading
   const double c = std::cos(hm), s = std::sin(hm);
-  Mat3 f = Mat3::Identity();  // d(new state) / d(state)
+  Mat5 f = Mat5::Identity();  // d(new state) / d(state)
   f(0, 2) = -d * s;
   f(1, 2) = d * c;
-  Eigen::Matrix<double, 3, 2> g;  // d(new state) / d(distance, heading change)
-  g << c, -0.5 * d * s, s, 0.5 * d * c, 0, 1;
+  f(0, 3) = motion.distance_m * c;  // d / de
+  f(1, 3) = motion.distance_m * s;
+  f(0, 4) = 0.5 * d * s * dt_s;     // d / db, through the mid-step heading
+  f(1, 4) = -0.5 * d * c * dt_s;
+  f(2, 4) = -dt_s;
+  Eigen::Matrix<double, 5, 2> g = Eigen::Matrix<double, 5, 2>::Zero();  // d(new state) / d(distance, heading change)
+  g.topRows<3>() << c, -0.5 * d * s, s, 0.5 * d * c, 0, 1;
   const MotionNoiseOptions& m = options_.motion;
   const double var_d = std::pow(m.distance_sigma_per_m * d, 2);
-  const double var_h = std::pow(m.heading_sigma_per_rad * dh, 2) + std::pow(m.heading_sigma_per_m * d, 2);
+  const double var_h = std::pow(m.heading_sigma_per_rad * dh, 2) + std::pow(m.heading_sigma_per_m * d, 2) +
+                       std::pow(degToRad(m.gyro_noise_deg_per_sqrt_s), 2) * dt_s;
   const Mat2 q = Eigen::Vector2d(var_d, var_h).asDiagonal();
-  const Mat3 base = Vec3(m.base_sigma_m * m.base_sigma_m, m.base_sigma_m * m.base_sigma_m,
-                         m.base_heading_sigma_rad * m.base_heading_sigma_rad)
-                        .asDiagonal();
-  covariance_ = f * covariance_ * f.transpose() + g * q * g.transpose() + base;
-  covariance_ = 0.5 * (covariance_ + covariance_.transpose());
+  Mat5 base = Mat5::Zero();
+  base.diagonal().head<3>() << m.base_sigma_m * m.base_sigma_m, m.base_sigma_m * m.base_sigma_m,
+      m.base_heading_sigma_rad * m.base_heading_sigma_rad;
+  full_ = f * full_ * f.transpose() + g * q * g.transpose() + base;
+  full_ = 0.5 * (full_ + full_.transpose());
+  covariance_ = full_.topLeftCorner<3, 3>();
   pose_ = Pose2(pose_.x() + d * c, pose_.y() + d * s, pose_.heading() + dh);
 }
 
@@ -113,7 +151,10 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
     fit_variance(i) = 1.0 / eig.eigenvalues()(kept[static_cast<std::size_t>(i)]);
   }
   const Eigen::VectorXd e = u.transpose() * difference(toVec(fit->pose), prior);
-  const Eigen::MatrixXd s = u.transpose() * covariance_ * u + Eigen::MatrixXd(fit_variance.asDiagonal());
+  const double fs = options_.frame_sigma_m, fh = degToRad(options_.frame_heading_sigma_deg);
+  const Mat3 frame_error = Vec3(fs * fs, fs * fs, fh * fh).asDiagonal();  // shared by the frame's lines
+  const Eigen::MatrixXd s =
+      u.transpose() * (covariance_ + frame_error) * u + Eigen::MatrixXd(fit_variance.asDiagonal());
   const double d2 = e.dot(s.ldlt().solve(e));
   const boost::math::chi_squared_distribution<double> chi2(dof);
   const double limit = boost::math::quantile(chi2, options_.gate_probability);
@@ -145,31 +186,79 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
   Problem problem(inliers, mo.reassociate_max_angle_deg);
   const std::vector<PointObs>& pts = problem.pts;
   const std::vector<char> all(inliers.size(), 1);
-  const Mat3 prior_information = covariance_.inverse();
+  //    Over the full state (the scale and bias move through their correlation with the pose), in
+  //    the form that needs no inverse of the prior covariance P (a state not estimated has variance
+  //    0): with A = J^T W J and g = J^T W r (projected, zero for e and b) the step solves
+  //    (P^-1 + A) step = -P^-1 (x - prior) - g, i.e. (I + P A) step = -(x - prior) - P g, and the
+  //    posterior is (P^-1 + A)^-1 = (I + P A)^-1 P.
   const Mat3 project = u * u.transpose();
-  Vec3 x = prior;
+  Eigen::Matrix<double, 5, 1> prior5, x;
+  prior5 << prior, scale_error_, gyro_bias_;
+  x = prior5;
+  auto difference5 = [](const Eigen::Matrix<double, 5, 1>& a, const Eigen::Matrix<double, 5, 1>& b) {
+    Eigen::Matrix<double, 5, 1> d = a - b;
+    d(2) = normalizeAngle(d(2));
+    return d;
+  };
+  //    The scale and the bias are estimated from frames whose lines observe the position along the
+  //    road (crossing lines); from the others (road edges or a centre line alone: park mode) they are
+  //    considered, not updated (Schmidt): on a curve an along-road error the lines do not see turns
+  //    into lateral and heading corrections, which through the correlations would be taken for a
+  //    scale or bias error (on park_loop's bends these corrections pull 1-2 m per bend whatever the
+  //    scale). The update then uses the pose block P_pp, and the pose's correlation with them
+  //    shrinks as the pose's covariance does.
+  const bool systematic =
+      observability(project * informationOf(pts, all, prior) * project, pose_.heading(), mo.min_information).along;
+  Mat5 p_used = full_;
+  if (!systematic) {
+    p_used.topRightCorner<3, 2>().setZero();
+    p_used.bottomLeftCorner<2, 3>().setZero();
+  }
   for (int it = 0; it < options_.update_iterations; ++it) {
-    if (it > 0) problem.reassociate(x);  // the first iterate is the prior: keep the fit's association
+    const Vec3 pose_x = x.head<3>();
+    if (it > 0) problem.reassociate(pose_x);  // the first iterate is the prior: keep the fit's association
     Mat3 a = Mat3::Zero();
     Vec3 g = Vec3::Zero();
     for (const PointObs& p : pts) {
-      const Vec3 j = jacobian(p, x);
+      const Vec3 j = jacobian(p, pose_x);
       a += j * j.transpose() / (p.sigma * p.sigma);
-      g += j * residual(p, x) / (p.sigma * p.sigma);
+      g += j * residual(p, pose_x) / (p.sigma * p.sigma);
     }
-    const Vec3 step = (prior_information + project * a * project)
-                          .ldlt()
-                          .solve(-prior_information * difference(x, prior) - project * g);
+    //    The frame's shared error R: with r = J dx + J c + noise, c ~ N(0, R), the information and
+    //    gradient become M A and M g with M = (I + A R)^-1 (Woodbury: (A^-1 + R)^-1 = M A).
+    const Mat3 a3 = project * a * project;
+    const Mat3 shared = (Mat3::Identity() + a3 * frame_error).inverse();
+    Mat5 a5 = Mat5::Zero();
+    a5.topLeftCorner<3, 3>() = shared * a3;
+    a5 = 0.5 * (a5 + a5.transpose()).eval();
+    Eigen::Matrix<double, 5, 1> g5 = Eigen::Matrix<double, 5, 1>::Zero();
+    g5.head<3>() = shared * project * g;
+    const Eigen::Matrix<double, 5, 1> step =
+        (Mat5::Identity() + p_used * a5).partialPivLu().solve(-difference5(x, prior5) - p_used * g5);
     x += step;
-    x.z() = normalizeAngle(x.z());
-    if (step.norm() < mo.step_tolerance) break;
+    x(2) = normalizeAngle(x(2));
+    if (step.head<3>().norm() < mo.step_tolerance) break;
   }
-  const Mat3 information = project * informationOf(pts, all, x) * project;
-  Mat3 posterior = (prior_information + information).inverse();
+  const Mat3 information = project * informationOf(pts, all, x.head<3>()) * project;
+  Mat5 a5 = Mat5::Zero();
+  a5.topLeftCorner<3, 3>() = (Mat3::Identity() + information * frame_error).inverse() * information;
+  a5 = 0.5 * (a5 + a5.transpose()).eval();
+  Mat5 posterior = full_;
+  if (systematic) {
+    posterior = (Mat5::Identity() + full_ * a5).partialPivLu().solve(full_);
+  } else {  // (I - K H) applied to the pose's rows: (I + P_pp A)^-1, the considered states' block kept
+    const Mat3 shrink = (Mat3::Identity() + full_.topLeftCorner<3, 3>() * a5.topLeftCorner<3, 3>()).inverse();
+    posterior.topLeftCorner<3, 3>() = shrink * full_.topLeftCorner<3, 3>();
+    posterior.topRightCorner<3, 2>() = shrink * full_.topRightCorner<3, 2>();
+    posterior.bottomLeftCorner<2, 3>() = posterior.topRightCorner<3, 2>().transpose();
+  }
   posterior = 0.5 * (posterior + posterior.transpose());
 
-  pose_ = toPose(x);
-  covariance_ = posterior;
+  pose_ = toPose(x.head<3>());
+  scale_error_ = x(3);
+  gyro_bias_ = x(4);
+  full_ = posterior;
+  covariance_ = full_.topLeftCorner<3, 3>();
   CurrentPosition out = current(timestamp, "");
   out.status = PositionStatus::Corrected;
   out.information = information;

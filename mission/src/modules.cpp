@@ -26,9 +26,6 @@ const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
                  "1-sigma of the start heading, degrees")
           .field("min_visible_px", &O::min_visible_px, atLeast(0),
                  "a prediction whose paved area covers fewer image pixels is \"no road in view\"")
-          .field("scale_prior_sigma", &O::scale_prior_sigma, inRange(0, 0.5),
-                 "odometry scale calibration: a priori sigma of the encoders' relative scale error; 0 = none")
-          .field("scale_limit", &O::scale_limit, inRange(0, 0.5), "odometry scale calibration: the scale within 1 +- this")
           .field("park_reset_after_rejections", &O::park_reset_after_rejections, atLeast(0),
                  "park mode: widen the covariance after this many consecutive frames the gate rejected (0: never)")
           .field("park_reset_sigma_m", &O::park_reset_sigma_m, above(0), "park mode's widened position sigma, m")
@@ -84,12 +81,6 @@ Mat3 vehicleFrameCovariance(const Mat3& world, double heading) {
   return r * world * r.transpose();
 }
 
-// The 1-sigma of a position along its heading, m.
-double alongSigma(const CurrentPosition& p) {
-  const Vec2 f = unitVector(p.pose.heading());
-  return std::sqrt(std::max(0.0, f.dot(p.covariance.topLeftCorner<2, 2>() * f)));
-}
-
 }  // namespace
 
 MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, const MapModuleOptions& options)
@@ -99,16 +90,13 @@ MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, c
       predictor_(map, options.predict),
       filter_(start, initialCovariance(options), options.filter) {
   position_ = filter_.current(0.0, "start");
-  start_along_sigma_m_ = alongSigma(position_);
 }
 
 void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odometry) {
   pending_ = odometry;
-  read_m_ += odometry.distance_m;
-  pending_.distance_m *= scale_;
+  pending_dt_s_ = std::max(0.0, t - last_t_);
   PoseFilter predicted = filter_;
-  predicted.predict(pending_);
-  predicted_ = predicted.pose();
+  predicted.predict(pending_, pending_dt_s_);
   prediction_ = predictor_.predict(predicted.pose(), camera_);
   if (!prediction_.empty() && visiblePixels(prediction_.view, camera_) < options_.min_visible_px) {
     Prediction nothing;  // "Vision will see no road from here"
@@ -130,7 +118,8 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     none.timestamp = t;
     detected = &none;
   }
-  position_ = mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_, &camera_);
+  position_ =
+      mapnav::localize(filter_, pending_, prediction_, *detected, options_.localize, &map_, &camera_, pending_dt_s_);
   // Park mode: a centre line and no labelled line, or road edges with no crossing line in view. Either
   // way nothing observes the position along the road but its curvature, and on a tight curve an
   // along-road error the filter does not know of turns into a heading error (see the options).
@@ -146,33 +135,17 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     // The gate has refused the centre line or the road edges too often: the filter is surer than it
     // should be.
     const double s = options_.park_reset_sigma_m, h = degToRad(options_.park_reset_heading_sigma_deg);
-    filter_ = PoseFilter(filter_.pose(), Vec3(s * s, s * s, h * h).asDiagonal(), filter_.options());
+    filter_.resetPoseCovariance(Vec3(s * s, s * s, h * h).asDiagonal());
     position_ = mapnav::localize(filter_, MotionIncrement{}, prediction_, *detected, options_.localize, &map_, &camera_);
     position_.reason += " (after " + std::to_string(park_rejections_) + " rejected frames, the covariance widened)";
     park_rejections_ = 0;
   }
   position_.timestamp = t;
-  calibrate();
   pending_ = MotionIncrement{};
+  pending_dt_s_ = 0;
+  last_t_ = t;
   board.post(Module::Map, position_);
   return position_;
-}
-
-void MapModule::calibrate() {
-  // This frame's progress along the heading: the scaled odometry and the update's correction.
-  moved_m_ += pending_.distance_m + (position_.pose.translation() - predicted_.translation()).dot(unitVector(predicted_.heading()));
-  // Measured only where this frame's lines observed the along direction (crossing lines): in
-  // between, and on curves in park mode, the along-road error now is not known to be small. (On
-  // park_loop, measured at every frame, the centre line's corrections on curves pulled the estimate
-  // back by 1-2 m per bend whatever the scale, the ratio fell to 0.968 against the true 0.981, and
-  // the vehicle left the path.)
-  const double prior = options_.scale_prior_sigma;
-  const bool fix = position_.status == PositionStatus::Corrected && position_.observed_along;
-  if (!fix || prior <= 0 || std::abs(read_m_) < 1e-9) return;
-  const double measured = moved_m_ / read_m_;
-  const double sigma = std::hypot(start_along_sigma_m_, alongSigma(position_)) / std::abs(read_m_);
-  const double posterior = 1 + (measured - 1) * prior * prior / (prior * prior + sigma * sigma);
-  scale_ = std::clamp(posterior, 1 - options_.scale_limit, 1 + options_.scale_limit);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -4,8 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "line_scene.h"
 #include "mapnav/core/error.h"
@@ -42,6 +47,36 @@ TEST(MatchingOptions, ValidateNamesTheBadField) {
   f = {};
   f.motion.distance_sigma_per_m = -1;
   EXPECT_THROW(f.validate(), InvalidInput);
+  // The odometry error model's fields, each named with its value.
+  const std::vector<std::pair<double MotionNoiseOptions::*, std::string>> fields = {
+      {&MotionNoiseOptions::scale_sigma, "MotionNoiseOptions::scale_sigma = -1"},
+      {&MotionNoiseOptions::gyro_bias_sigma_deg_s, "MotionNoiseOptions::gyro_bias_sigma_deg_s = -1"},
+      {&MotionNoiseOptions::gyro_noise_deg_per_sqrt_s, "MotionNoiseOptions::gyro_noise_deg_per_sqrt_s = -1"}};
+  for (const auto& [field, message] : fields) {
+    f = {};
+    f.motion.*field = -1;
+    try {
+      f.validate();
+      FAIL() << message;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  f = {};
+  f.frame_sigma_m = -0.1;
+  try {
+    f.validate();
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("FilterOptions::frame_sigma_m = -0.1"), std::string::npos) << e.what();
+  }
+  f = {};
+  f.frame_heading_sigma_deg = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(f.validate(), InvalidInput);
+  // A negative or non-finite time step.
+  PoseFilter filter(Pose2(), Mat3::Identity());
+  EXPECT_THROW(filter.predict({}, -1.0), InvalidInput);
+  EXPECT_THROW(filter.predict({}, std::nan("")), InvalidInput);
   LocalizeOptions l;
   l.edge_sigma_m = 0;
   EXPECT_THROW(l.validate(), InvalidInput);

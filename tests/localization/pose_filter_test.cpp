@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <utility>
 
 #include <boost/math/distributions/chi_squared.hpp>
 
@@ -30,8 +31,10 @@ TEST(MatchingFilter, OdometryOnlyDriftGrowsTheCovariance) {
     trace = filter.covariance().trace();
   }
   EXPECT_POSE_NEAR(filter.pose(), Pose2(10, 0, 0), 1e-12);
-  // Straight along x: the along variance adds (sigma per metre * step)^2 and the base every step.
-  const double along = 1e-4 + 20 * std::pow(m.distance_sigma_per_m * 0.5, 2) + 20 * std::pow(m.base_sigma_m, 2);
+  // Straight along x: the along variance adds (sigma per metre * step)^2 and the base every step,
+  // and the scale error's sigma_e^2 (10 m)^2 (a systematic error grows with the distance).
+  const double along = 1e-4 + 20 * std::pow(m.distance_sigma_per_m * 0.5, 2) + 20 * std::pow(m.base_sigma_m, 2) +
+                       std::pow(m.scale_sigma * 10, 2);
   EXPECT_NEAR(filter.covariance()(0, 0), along, 1e-12);
   // The heading adds (sigma per metre * step)^2 + base^2 every step ...
   const double heading = std::pow(degToRad(0.5), 2) + 20 * std::pow(m.heading_sigma_per_m * 0.5, 2) +
@@ -42,6 +45,82 @@ TEST(MatchingFilter, OdometryOnlyDriftGrowsTheCovariance) {
   std::printf("after 10 m of odometry: sigma along %.4f m, lateral %.4f m, heading %.3f deg\n",
               std::sqrt(filter.covariance()(0, 0)), std::sqrt(filter.covariance()(1, 1)),
               radToDeg(std::sqrt(filter.covariance()(2, 2))));
+}
+
+// Standing still for T = 100 s in 1 s steps, from a pose covariance with no correlation to the gyro
+// bias: the heading is h - b t, so its variance grows by sigma_b^2 T^2 (the bias, systematic) plus
+// q T (the angle random walk, q = gyro_noise^2) plus the per-step base; x and y get only the base.
+// The bias' variance stays sigma_b^2 and its covariance with the heading is -sigma_b^2 T.
+TEST(MatchingFilter, StandingStillGrowsTheHeadingVarianceWithTime) {
+  FilterOptions o;
+  o.motion.gyro_bias_sigma_deg_s = 0.1;
+  o.motion.gyro_noise_deg_per_sqrt_s = 0.1;
+  PoseFilter filter(Pose2(3, 4, 0.5), diagonalCovariance(0.05, 1.0), o);
+  for (int i = 0; i < 100; ++i) filter.predict({0.0, 0.0}, 1.0);
+  const double sb = degToRad(0.1), q = std::pow(degToRad(0.1), 2), base_h = std::pow(o.motion.base_heading_sigma_rad, 2);
+  const double heading = std::pow(degToRad(1.0), 2) + sb * sb * 100 * 100 + q * 100 + 100 * base_h;
+  EXPECT_NEAR(filter.covariance()(2, 2), heading, 1e-12);
+  // sqrt(1 + 100 + 1 deg^2 + base): 1 deg at the start, 10.1 deg after 100 s (the bias' 10 deg dominates).
+  EXPECT_NEAR(radToDeg(std::sqrt(filter.covariance()(2, 2))), 10.1002, 1e-3);
+  EXPECT_NEAR(filter.fullCovariance()(2, 4), -sb * sb * 100, 1e-15);
+  EXPECT_NEAR(filter.fullCovariance()(4, 4), sb * sb, 1e-18);
+  EXPECT_NEAR(filter.covariance()(0, 0), 0.05 * 0.05 + 100 * std::pow(o.motion.base_sigma_m, 2), 1e-15);
+  EXPECT_NEAR(filter.covariance()(0, 2), 0.0, 1e-15);
+  EXPECT_POSE_NEAR(filter.pose(), Pose2(3, 4, 0.5), 1e-15);  // no bias estimated yet: no motion
+}
+
+// Driving D = 40 m straight along x in 0.5 m steps with no time elapsing: the along variance grows by
+// sigma_e^2 D^2 (the scale error: one e for the whole distance) plus the random per-step terms;
+// its covariance with e is sigma_e^2 D. A known scale error is applied to the reading.
+TEST(MatchingFilter, DrivingGrowsTheAlongVarianceWithTheScaleUncertainty) {
+  FilterOptions o;
+  o.motion.scale_sigma = 0.02;
+  o.motion.distance_sigma_per_m = 0.02;
+  PoseFilter filter(Pose2(0, 0, 0), diagonalCovariance(0.1, 1.0), o);
+  for (int i = 0; i < 80; ++i) filter.predict({0.5, 0.0});
+  const double along = 0.01 + 0.02 * 0.02 * 40 * 40 + 80 * std::pow(0.02 * 0.5, 2) + 80 * std::pow(o.motion.base_sigma_m, 2);
+  EXPECT_NEAR(filter.covariance()(0, 0), along, 1e-12);
+  EXPECT_NEAR(std::sqrt(filter.covariance()(0, 0)), 0.81122, 1e-4);  // sqrt(0.01 + 0.64 + 0.008 + 8e-5): 0.80 m the scale's
+  EXPECT_NEAR(filter.fullCovariance()(0, 3), 0.02 * 0.02 * 40, 1e-15);
+  EXPECT_NEAR(filter.fullCovariance()(1, 3), 0.0, 1e-15);  // the scale moves nothing across the road
+  EXPECT_POSE_NEAR(filter.pose(), Pose2(40, 0, 0), 1e-12);
+  // With the scale off, the random terms alone: sqrt(0.01 + 0.008 + 8e-5) = 0.1345 m.
+  o.motion.scale_sigma = 0;
+  PoseFilter unscaled(Pose2(0, 0, 0), diagonalCovariance(0.1, 1.0), o);
+  for (int i = 0; i < 80; ++i) unscaled.predict({0.5, 0.0});
+  EXPECT_NEAR(std::sqrt(unscaled.covariance()(0, 0)), 0.13446, 1e-4);
+}
+
+// The scale and the bias are learnt from the lines: after 20 m read as 20.4 m (2 % long) and a fix
+// that puts the vehicle at the true 20 m, the along correction goes mostly into e (its share of the
+// along variance: 0.166 of about 0.18), and its variance falls to a fraction of the prior's.
+TEST(MatchingFilter, AnAlongFixCorrectsTheScaleEstimate) {
+  FilterOptions o;
+  o.motion.scale_sigma = 0.02;
+  PoseFilter filter(Pose2(0, 0, 0), diagonalCovariance(0.1, 0.5), o);
+  for (int i = 0; i < 40; ++i) filter.predict({0.51, 0.0});
+  const Mat5 p = filter.fullCovariance();
+  // Lines across and along the road seen from the true pose (20, 0, 0).
+  const Pose2 truth(20, 0, 0);
+  std::vector<LineCorrespondence> lines;
+  auto add = [&](Vec2 a, Vec2 b) {
+    LineCorrespondence c;
+    c.id = std::to_string(lines.size());
+    c.map_world = {a, b};
+    c.detected_vehicle = {truth.inverseTransform(a), truth.inverseTransform(b)};
+    c.sigma_m = 0.02;
+    lines.push_back(c);
+  };
+  add({25, -2}, {25, 2});   // across the road, 5 m ahead
+  add({21, 1.5}, {30, 1.5});  // the road's left edge
+  add({21, -1.5}, {30, -1.5});
+  const CurrentPosition out = filter.update(lines, 1.0);
+  ASSERT_EQ(out.status, PositionStatus::Corrected) << out.reason;
+  EXPECT_NEAR(filter.pose().x(), 20.0, 0.02);
+  // The linear update's gain for e: cov(x, e) / (var(x) + the lines' along variance) applied to -0.4 m.
+  EXPECT_NEAR(filter.scaleError(), -0.4 * p(0, 3) / p(0, 0), 0.0015);
+  EXPECT_LT(filter.scaleError(), -0.017);
+  EXPECT_LT(filter.fullCovariance()(3, 3), 0.25 * p(3, 3));
 }
 
 TEST(MatchingFilter, AGatedOutlierMeasurementIsRejectedAndReported) {
@@ -66,11 +145,17 @@ TEST(MatchingFilter, AGatedOutlierMeasurementIsRejectedAndReported) {
   EXPECT_LT(ok.covariance.trace(), diagonalCovariance(0.05, 1.0).trace());
 }
 
-TEST(MatchingFilter, UpdatedErrorsAreWithinTheReportedCovariance) {
-  // Truth drawn from the prior (20 cm, 3 degrees), lines with 5 cm noise: the posterior's NEES.
+// Truth drawn from the prior (20 cm, 3 degrees), lines with 5 cm noise each and, when `shared_error`,
+// all lines of the trial seen from a pose off the truth by c ~ N(0, R) (R the frame error of the
+// default FilterOptions: 1 cm, 0.3 degrees): the posterior's mean NEES over 500 trials, and the
+// trials the gate refused.
+std::pair<double, int> meanNees(const FilterOptions& options, bool shared_error) {
   constexpr int kTrials = 500;
   const Mat3 p0 = diagonalCovariance(0.2, 3.0);
   const Eigen::LLT<Mat3> chol(p0);
+  const FilterOptions defaults;
+  const Mat3 r = diagonalCovariance(defaults.frame_sigma_m, defaults.frame_heading_sigma_deg);
+  const Eigen::LLT<Mat3> chol_r(r);
   std::mt19937_64 rng(99);
   std::normal_distribution<double> unit(0.0, 1.0);
   double nees = 0;
@@ -78,19 +163,39 @@ TEST(MatchingFilter, UpdatedErrorsAreWithinTheReportedCovariance) {
   for (int t = 0; t < kTrials; ++t) {
     const Vec3 offset = chol.matrixL() * Vec3(unit(rng), unit(rng), unit(rng));
     const Pose2 truth(kTruth.x() + offset.x(), kTruth.y() + offset.y(), kTruth.heading() + offset.z());
-    PoseFilter filter(kTruth, p0);
-    const CurrentPosition out = filter.update(allEdges(truth, 0.05, &rng));
+    const Vec3 c = chol_r.matrixL() * Vec3(unit(rng), unit(rng), unit(rng));
+    const Pose2 seen_from = shared_error ? Pose2(truth.x() + c.x(), truth.y() + c.y(), truth.heading() + c.z()) : truth;
+    PoseFilter filter(kTruth, p0, options);
+    const CurrentPosition out = filter.update(allEdges(seen_from, 0.05, &rng));
     if (out.status == PositionStatus::Rejected) ++rejected;
     const Vec3 e = poseError(out.pose, truth);
     nees += e.dot(out.covariance.inverse() * e);
   }
-  nees /= kTrials;
-  const auto [lo, hi] = meanChiSquareInterval(3, kTrials, 0.99);
-  std::printf("EKF update: mean NEES %.3f over %d trials (99%% interval [%.3f, %.3f]), %d gated out\n", nees, kTrials,
-              lo, hi, rejected);
+  return {nees / kTrials, rejected};
+}
+
+TEST(MatchingFilter, UpdatedErrorsAreWithinTheReportedCovariance) {
+  const auto [lo, hi] = meanChiSquareInterval(3, 500, 0.99);
+  FilterOptions independent;  // the lines' errors independent, and modelled so
+  independent.frame_sigma_m = 0;
+  independent.frame_heading_sigma_deg = 0;
+  const auto [nees, rejected] = meanNees(independent, false);
+  std::printf("EKF update, independent lines: mean NEES %.3f (99%% interval [%.3f, %.3f]), %d gated out\n", nees, lo,
+              hi, rejected);
   EXPECT_GT(nees, lo);
   EXPECT_LT(nees, hi);
   EXPECT_LE(rejected, 5);  // 0.5 expected at the 0.999 gate
+  // A frame's lines sharing a pose error: with it modelled (the defaults) the NEES is 3 ...
+  const auto [shared, shared_rejected] = meanNees(FilterOptions{}, true);
+  std::printf("EKF update, a shared frame error, modelled: mean NEES %.3f, %d gated out\n", shared, shared_rejected);
+  EXPECT_GT(shared, lo);
+  EXPECT_LT(shared, hi);
+  EXPECT_LE(shared_rejected, 5);
+  // ... and with the lines taken as independent the filter is overconfident.
+  const auto [ignored, ignored_rejected] = meanNees(independent, true);
+  std::printf("EKF update, a shared frame error, not modelled: mean NEES %.3f, %d gated out\n", ignored,
+              ignored_rejected);
+  EXPECT_GT(ignored, 1.5 * hi);  // measured 5.8
 }
 
 TEST(MatchingFilter, ALineAFewDegreesOffTheRoadDoesNotMoveTheAlongRoadPosition) {
@@ -125,7 +230,10 @@ TEST(MatchingFilter, ALineAFewDegreesOffTheRoadDoesNotMoveTheAlongRoadPosition) 
 
 TEST(LineMatchingReassociation, TheFilterUpdateReassociatesToo) {
   const Mat3 p = diagonalCovariance(1.0, 2.0);
-  PoseFilter filter(kNotchPrior, p);
+  FilterOptions independent;  // noise-free lines: no frame error either
+  independent.frame_sigma_m = 0;
+  independent.frame_heading_sigma_deg = 0;
+  PoseFilter filter(kNotchPrior, p, independent);
   const CurrentPosition out = filter.update(notchScene(kNotchTruth, kNotchPrior));
   ASSERT_EQ(out.status, PositionStatus::Corrected) << out.reason;
   EXPECT_EQ(out.lines_used, 7);
@@ -138,7 +246,7 @@ TEST(LineMatchingReassociation, TheFilterUpdateReassociatesToo) {
   std::vector<LineCorrespondence> right = notchScene(kNotchTruth, kNotchPrior);
   right[1].map_world = Segment2{{10, 1.3}, {12, 1.3}};
   for (LineCorrespondence& c : right) c.candidates.clear();
-  PoseFilter reference(kNotchPrior, p);
+  PoseFilter reference(kNotchPrior, p, independent);
   ASSERT_EQ(reference.update(right).status, PositionStatus::Corrected);
   EXPECT_LT(poseError(filter.pose(), reference.pose()).norm(), 1e-9);
   EXPECT_LT((filter.covariance() - reference.covariance()).cwiseAbs().maxCoeff(), 1e-12);

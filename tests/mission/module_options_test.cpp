@@ -45,8 +45,10 @@ TEST(MissionOptions, BadValuesAreNamedInTheSameWords) {
             "RunOptions::vehicle_width_m = inf: must be finite and >= 0");
   EXPECT_EQ(rejectionOf<RunOptions>([](RunOptions& o) { o.navigator.plan_ahead_m = 0; }),
             "NavigatorOptions::plan_ahead_m = 0: must be finite and > 0");
-  EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.scale_limit = -0.5; }),
-            "MapModuleOptions::scale_limit = -0.5: must be in [0, 0.5]");
+  EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.filter.motion.scale_sigma = -0.5; }),
+            "MotionNoiseOptions::scale_sigma = -0.5: must be finite and >= 0");
+  EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.filter.motion.gyro_bias_sigma_deg_s = NAN; }),
+            "MotionNoiseOptions::gyro_bias_sigma_deg_s = nan: must be finite and >= 0");
   EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.park_reset_after_rejections = -1; }),
             "MapModuleOptions::park_reset_after_rejections = -1: must be >= 0");
   EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.initial_heading_sigma_deg = 0; }),

@@ -287,7 +287,7 @@ TEST(RunnerOptions, DefaultsAreValidAndBadOnesAreNamed) {
   bad.control_dt_s = 0;
   EXPECT_THROW(bad.validate(), InvalidInput);
   bad = RunOptions{};
-  bad.map.scale_prior_sigma = 0.6;
+  bad.map.filter.motion.scale_sigma = -0.01;
   EXPECT_THROW(bad.validate(), InvalidInput);
   bad = RunOptions{};
   bad.map.initial_sigma_m = -1;
@@ -328,7 +328,7 @@ TEST(RunnerCampusDialogue, ReplayAndClosedLoopReachTheGoalWithinTheTargets) {
     EXPECT_EQ(m.intersections_checked, 4u);
     EXPECT_GT(m.odometry_only.max_error_m, 1.0);  // odometry alone drifts past 1 m
     EXPECT_EQ(m.replans, 0u);
-    // The encoders read 1 % long: the Map's calibration has scaled them down toward 1 / 1.01.
+    // The encoders read 1 % long: the filter's scale estimate has moved toward 1 / 1.01.
     EXPECT_LT(run.odometry_scale, 0.998);
     EXPECT_GT(run.odometry_scale, 0.985);
   }

@@ -48,10 +48,11 @@ struct LocalizeOptions {
 /// `prediction`'s interest segments and update. Park mode: when no labelled line is usable and
 /// `detected` has a centre line and `map` is given, that centre line against the nearest road's.
 /// A failed DetectedObject, or nothing to match, leaves the pose to odometry and says so. `camera`:
-/// the one the frame was taken with, for LocalizeOptions::edge_sigma_px.
+/// the one the frame was taken with, for LocalizeOptions::edge_sigma_px. `dt_s`: the time `motion`
+/// covers (PoseFilter::predict).
 CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, const Prediction& prediction,
                          const DetectedObject& detected, const LocalizeOptions& options = {},
-                         const Map* map = nullptr, const Camera* camera = nullptr);
+                         const Map* map = nullptr, const Camera* camera = nullptr, double dt_s = 0);
 
 /// Metres on the ground across `line` (vehicle frame) per pixel across its image in `camera`, at
 /// the line's midpoint; nullopt when the camera does not see it.

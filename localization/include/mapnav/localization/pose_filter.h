@@ -1,12 +1,13 @@
 #pragma once
 // The pose filter (Wallace 1985, 2.2.3: "the location along the road is calculated using the
-// vehicle motion"): an extended Kalman filter over (x, y, heading) — odometry prediction with a
-// noise model, line-measurement updates (an iterated EKF) with a Mahalanobis gate — so that
-// unobserved directions (along a straight road) are carried by odometry and corrected when crossing
-// lines come into view. Its output is the CurrentPosition token.
+// vehicle motion"): an extended Kalman filter over (x, y, heading) and the odometry's scale error
+// and gyro bias — odometry prediction with its error model, line-measurement updates (an iterated
+// EKF, a frame's lines sharing an error) with a Mahalanobis gate — so that unobserved directions
+// (along a straight road) are carried by odometry and corrected when crossing lines come into view,
+// with a covariance that covers the error (issue 30). Its output is the CurrentPosition token.
 //
-// State and covariance are in world coordinates (x, y in m, heading in rad), the pose's heading
-// wrapped into (-pi, pi]; differences of headings are wrapped before use.
+// State and covariance are in world coordinates (x, y in m, heading in rad; then e, relative, and
+// b, rad/s), the pose's heading wrapped into (-pi, pi]; differences of headings are wrapped before use.
 #include <string>
 #include <vector>
 
@@ -19,16 +20,32 @@
 
 namespace mapnav {
 
-/// Odometry noise (as AMCL's alphas): each step's standard deviations grow with the motion.
+/// The odometry's error model. Two errors are systematic and are states of the filter, estimated
+/// online in every mode from the corrections the lines make: the encoders' scale (the true distance
+/// is (1 + e) times the reading; a wheel radius error) and the gyro's bias (the true heading change
+/// is the reading minus b dt). Their a priori sigmas make the along-road variance grow with the
+/// square of the distance driven (sigma_e^2 d^2, the growth of a systematic error) and the heading
+/// variance with the square of the elapsed time (sigma_b^2 t^2), standing or driving, until the
+/// lines observe them. The rest is random: per step it grows with the motion (as AMCL's alphas)
+/// and with the elapsed time (the gyro's angle random walk).
 struct MotionNoiseOptions {
-  /// Distance sigma per metre driven, m/m. 5 %, more than the encoders' random error: the
-  /// filter's random-walk model must cover an encoder scale error of 1-1.5 % (systematic) over the
-  /// 40-60 m between intersections, or the crossing lines of the next intersection fail the
-  /// Mahalanobis gate and the estimate is lost (measured on campus_dialogue at I2: d^2 = 27-45
-  /// with 2 %).
-  double distance_sigma_per_m = 0.05;
+  /// A priori 1-sigma of the encoders' relative scale error, the state e (0: not estimated).
+  /// 0.02: a pneumatic or rubber tyre's rolling radius changes 1-2 % with pressure, load and wear,
+  /// and a factory wheel-radius calibration is no better.
+  double scale_sigma = 0.02;
+  /// A priori 1-sigma of the gyro's bias, the state b, deg/s (0: not estimated). 0.1 deg/s: a
+  /// consumer MEMS gyro's in-run bias after its start-up zeroing, over temperature and time
+  /// (datasheets: +-0.5-3 deg/s uncalibrated, 0.05-0.2 deg/s after zeroing).
+  double gyro_bias_sigma_deg_s = 0.1;
+  /// Angle random walk, deg per sqrt(s): the heading variance grows by this^2 per second, also
+  /// when standing. 0.1: the rate noise of a consumer MEMS gyro (0.005-0.015 deg/s/sqrt(Hz)) with
+  /// the vibration of a small vehicle on paving and the encoders' heading quantisation on top.
+  double gyro_noise_deg_per_sqrt_s = 0.1;
+  /// Random distance error per metre driven, m/m (wheel slip, uneven paving; the scale error is
+  /// the state e, not this). 0.02: AMCL's default translational alpha order.
+  double distance_sigma_per_m = 0.02;
   double heading_sigma_per_rad = 0.02;    ///< heading sigma per radian turned, rad/rad
-  double heading_sigma_per_m = 0.002;     ///< heading sigma per metre driven (slip, gyro drift), rad/m
+  double heading_sigma_per_m = 0.002;     ///< heading sigma per metre driven (wheel slip), rad/m
   double base_sigma_m = 0.001;            ///< added to x and y every step, m
   double base_heading_sigma_rad = 0.0002; ///< added to the heading every step, rad
 
@@ -42,6 +59,16 @@ struct FilterOptions {
   /// Measurements whose innovation has a Mahalanobis distance beyond the chi-square quantile of
   /// this probability (degrees of freedom: the directions observed) are rejected.
   double gate_probability = 0.999;
+  /// The error all lines of one frame share, as a pose error: the camera's attitude and height as
+  /// the vehicle rocks and the map's survey error move every line of a frame together, so that a
+  /// frame's many lines are not independent measurements. Each update's information I is reduced to
+  /// (I^-1 + R)^-1, R = diag(frame_sigma_m^2, frame_sigma_m^2, frame_heading_sigma^2), and the gate
+  /// adds R to the fit's covariance. 1 cm: a surveyed map's edges (a total-station or RTK survey,
+  /// 1-3 cm; 2 cm made the park_loop stretch with the cluster perceptron leave the path, which is
+  /// chaotic in every filter setting: see docs/suite.md); 0.3 deg: the camera's yaw mounting
+  /// calibration and the roll of a small vehicle on paving. 0: lines independent (the previous model).
+  double frame_sigma_m = 0.01;
+  double frame_heading_sigma_deg = 0.3;
   /// Iterated EKF: relinearisations of the update at most (1: a plain EKF update).
   int update_iterations = 5;
 
@@ -49,18 +76,35 @@ struct FilterOptions {
   void validate() const;
 };
 
-/// An extended Kalman filter over the pose (x, y, heading) in the world.
+/// The filter's full state: x, y (m), heading (rad), the odometry scale error e (relative) and the
+/// gyro bias b (rad/s).
+using Mat5 = Eigen::Matrix<double, 5, 5>;
+
+/// An extended Kalman filter over the pose (x, y, heading) in the world, with the odometry's scale
+/// error and gyro bias as two more states (MotionNoiseOptions).
 class PoseFilter {
  public:
   /// Throws InvalidInput for bad options or a covariance that is not symmetric positive definite.
   PoseFilter(const Pose2& pose, const Mat3& covariance, const FilterOptions& options = {});
 
   const Pose2& pose() const { return pose_; }
+  /// The pose's covariance (x, y, heading): the top-left block of fullCovariance().
   const Mat3& covariance() const { return covariance_; }
+  /// The covariance of (x, y, heading, e, b).
+  const Mat5& fullCovariance() const { return full_; }
+  /// The estimated odometry scale error e: the true distance is (1 + e) times the reading.
+  double scaleError() const { return scale_error_; }
+  /// The estimated gyro bias b, rad/s: the true heading change is the reading minus b dt.
+  double gyroBias() const { return gyro_bias_; }
   const FilterOptions& options() const { return options_; }
 
-  /// Dead reckoning: move by `motion` (along the mid-step heading) and grow the covariance.
-  void predict(const MotionIncrement& motion);
+  /// Dead reckoning: correct `motion` (the odometry's reading over `dt_s` seconds) by the estimated
+  /// scale and bias, move by it (along the mid-step heading) and grow the covariance.
+  void predict(const MotionIncrement& motion, double dt_s = 0);
+
+  /// Replaces the pose's covariance (a widened search); the scale and bias keep their estimates and
+  /// variances, their correlation with the pose is dropped. Throws InvalidInput as the constructor.
+  void resetPoseCovariance(const Mat3& covariance);
 
   /// Fuses line correspondences: a robust fit finds the inliers, the gate compares the fitted pose
   /// with the prior in the observed directions, and an iterated EKF update uses the inliers' stacked
@@ -74,7 +118,10 @@ class PoseFilter {
 
  private:
   Pose2 pose_;
-  Mat3 covariance_;
+  Mat3 covariance_;  // full_'s top-left block
+  Mat5 full_;
+  double scale_error_ = 0;
+  double gyro_bias_ = 0;
   FilterOptions options_;
 };
 

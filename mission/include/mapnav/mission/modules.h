@@ -53,21 +53,6 @@ struct MapModuleOptions {
   /// "no road in view": Vision is not asked to find what the camera can hardly see (looking over the
   /// corner in a 90 degree turn) and the Map dead-reckons. 2000 px is 0.8 % of 512 x 480.
   double min_visible_px = 2000.0;
-  /// Odometry scale calibration against the map. Model: the encoders read (1 + e) times the distance
-  /// driven, e constant (a wheel-radius error), a priori N(0, scale_prior_sigma^2). Every frame's
-  /// along-road progress of the estimate (the scaled odometry plus the update's correction along
-  /// the heading) summed since the start, over the encoders' distance summed since the start, is
-  /// the true distance over the encoders' up to the estimate's along-road error now less that at
-  /// the start. At a frame whose lines observe the along direction (crossing lines at an
-  /// intersection) that error is small and known: the ratio is then a measurement of the scale
-  /// 1 / (1 + e) with sigma hypot(start along-road sigma, the filter's along-road sigma now) / the
-  /// encoders' distance, and the scale applied to later odometry is the posterior mean of the two
-  /// (Gaussian), within 1 +- `scale_limit`. The filter's random-walk model cannot represent a
-  /// systematic scale error; this removes most of it after the first intersections, so that the
-  /// along-road error at the next ones stays small. Park mode (no crossing lines) has no such frame
-  /// and keeps the scale at 1. 0: no calibration (the odometry as read).
-  double scale_prior_sigma = 0.02;  ///< relative, in [0, 0.5]
-  double scale_limit = 0.05;       ///< relative, in [0, 0.5]
   /// Park mode (a centre line and no labelled line, or no crossing line predicted in view): after
   /// this many consecutive frames whose lines the gate rejected, the filter's covariance is widened
   /// to park_reset_sigma_m and park_reset_heading_sigma_deg and the frame matched again (0: never).
@@ -102,25 +87,20 @@ class MapModule {
   const Prediction& prediction() const { return prediction_; }
   const PoseFilter& filter() const { return filter_; }
   const CurrentPosition& position() const { return position_; }
-  /// The scale applied to odometry distances (1: as measured; see MapModuleOptions::scale_prior_sigma).
-  double odometryScale() const { return scale_; }
+  /// The filter's estimate of the odometry scale, 1 + e (1: as measured; MotionNoiseOptions::scale_sigma).
+  double odometryScale() const { return 1 + filter_.scaleError(); }
 
  private:
-  void calibrate();
-
   const Map& map_;
   const Camera& camera_;
   MapModuleOptions options_;
   ViewPredictor predictor_;  // of map_ with options_.predict
   PoseFilter filter_;
-  MotionIncrement pending_;  // odometry of the frame being processed (scaled)
-  Pose2 predicted_;         // the filter's pose after the prediction, before the update
+  MotionIncrement pending_;  // odometry of the frame being processed, as read
+  double pending_dt_s_ = 0;  // ... and the time it covers, s
+  double last_t_ = 0;        // the previous frame's time (the start: 0), s
   Prediction prediction_;
   CurrentPosition position_;
-  double scale_ = 1.0;
-  double read_m_ = 0;       // the encoders' distance since the start
-  double moved_m_ = 0;      // the estimate's along-road progress since the start
-  double start_along_sigma_m_ = 0;
   int park_rejections_ = 0; // consecutive park-mode frames the gate rejected
 };
 

@@ -123,7 +123,7 @@ struct MissionRun {
   bool ended_by_halt = false; ///< a halt with no resume ended the mission
   bool stopped_early = false; ///< max_frames ended it
   double vehicle_width_m = 0; ///< RunOptions::vehicle_width_m, for "stays on the path"
-  double odometry_scale = 1;  ///< the Map's odometry scale calibration at the end (MapModuleOptions::scale_prior_sigma)
+  double odometry_scale = 1;  ///< the pose filter's odometry scale estimate at the end, 1 + e (MotionNoiseOptions::scale_sigma)
   std::vector<LogFault> faults;  ///< replay: the log's faults met, in file order (counted in metrics.log_faults)
   /// Each frame's path agreement, in the order of `frames`, when the run has truth (else empty);
   /// summed up in metrics.path_agreement.
