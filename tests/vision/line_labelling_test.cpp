@@ -13,7 +13,8 @@ namespace {
 // A crossing line 8 m ahead (the far side of an intersection) and a road edge 1 m to the left, and
 // two detected lines: one 0.8 m beyond the crossing line (an estimate 0.8 m behind along the road),
 // one 0.6 m left of the road edge. The gate at an end point p is max(max_distance_m 0.4,
-// gate_sigma 3 x the predicted line's sigma across itself at p), that sigma from the pose covariance
+// gate_sigma 3 x the predicted line's sigma across itself at p; the default 0 leaves the fixed gate),
+// that sigma from the pose covariance
 // (x forward, y left, heading): sqrt(j' C j) with j = (n.x, n.y, n.y p.x - n.x p.y), n its normal.
 PredictedObject prediction(const Mat3& covariance) {
   PredictedObject p;
@@ -36,7 +37,13 @@ std::vector<DetectedLine> detected() {
   return {beyond, left};
 }
 
-std::vector<std::optional<std::string>> labels(const Mat3& covariance, const LineOptions& options = {}) {
+LineOptions widened() {
+  LineOptions o;
+  o.gate_sigma = 3;
+  return o;
+}
+
+std::vector<std::optional<std::string>> labels(const Mat3& covariance, const LineOptions& options = widened()) {
   std::vector<DetectedLine> lines = detected();
   labelLines(lines, prediction(covariance), options);
   return {lines[0].label, lines[1].label};
@@ -57,10 +64,8 @@ TEST(LineLabelling, AlongRoadUncertaintyWidensTheGateOfCrossingLinesOnly) {
   EXPECT_FALSE(l[1].has_value());
   // sigma along 0.25 m: gate 0.75 m < 0.8 m.
   EXPECT_FALSE(labels(Vec3(0.0625, 1e-4, 0).asDiagonal())[0].has_value());
-  // gate_sigma 0: the fixed gate alone.
-  LineOptions fixed;
-  fixed.gate_sigma = 0;
-  EXPECT_FALSE(labels(along, fixed)[0].has_value());
+  // gate_sigma 0, the default: the fixed gate alone.
+  EXPECT_FALSE(labels(along, LineOptions{})[0].has_value());
 }
 
 TEST(LineLabelling, HeadingUncertaintyWidensTheGateWithRange) {
