@@ -127,15 +127,17 @@ void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& predict
       const double angle = angleBetweenLines(line.vehicle, s.vehicle);
       if (angle > max_angle) continue;
       // Each end point against the gate at that point: the larger of max_distance_m and gate_sigma
-      // times the predicted line's sigma there; d is the worse end's share of its gate, times the floor.
+      // times the predicted line's sigma there. d, for the score: the worse end's distance in units
+      // of its gate, times the floor (exactly the distance where the gate is the floor).
       const Vec2 normal(-s.vehicle.direction().y(), s.vehicle.direction().x());
-      auto share = [&](const Vec2& p) {
-        const double gate = std::max(options.max_distance_m,
-                                     options.gate_sigma * acrossSigma(prediction.pose_covariance, p, normal));
-        return std::abs(s.vehicle.signedDistance(p)) / gate;
+      auto gate = [&](const Vec2& p) {
+        return std::max(options.max_distance_m, options.gate_sigma * acrossSigma(prediction.pose_covariance, p, normal));
       };
-      const double d = options.max_distance_m * std::max(share(line.vehicle.a), share(line.vehicle.b));
-      if (d > options.max_distance_m) continue;
+      const double ga = gate(line.vehicle.a), gb = gate(line.vehicle.b);
+      const double da = std::abs(s.vehicle.signedDistance(line.vehicle.a));
+      const double db = std::abs(s.vehicle.signedDistance(line.vehicle.b));
+      if (da > ga || db > gb) continue;
+      const double d = std::max(da * (options.max_distance_m / ga), db * (options.max_distance_m / gb));
       // Overlap of the line's projection onto the segment.
       const Vec2 dir = s.vehicle.direction();
       const double L = s.vehicle.length();
