@@ -7,11 +7,12 @@
 
 #include "mapnav/core/json.h"
 #include "mapnav/core/strprintf.h"
+#include "rounding.h"
 
 namespace mapnav {
 
 namespace {
-double round(double x, double scale) { return std::round(x * scale) / scale + 0.0; }
+using detail::roundTo;
 
 // {"missing_image":N, ..., "total":N}: every kind, also the ones that did not happen.
 Json logFaultsJson(const LogFaultCounts& counts) {
@@ -44,7 +45,7 @@ std::string consistencyText(const FilterConsistency& c, const std::string& inden
 
 std::string runToJson(const MissionRun& run) {
   const MissionMetrics& m = run.metrics;
-  auto err = [&](double v, double scale) { return m.has_truth ? Json(round(v, scale)) : Json(nullptr); };
+  auto err = [&](double v, double scale) { return m.has_truth ? Json(roundTo(v, scale)) : Json(nullptr); };
   Json j{{"frames", m.frames},
          {"reached_goal", m.reached_goal},
          {"lateral_rms_m", err(m.estimate.lateral_rms_m, 1e5)},
@@ -54,8 +55,8 @@ std::string runToJson(const MissionRun& run) {
          {"odometry_only_max_error_m", err(m.odometry_only.max_error_m, 1e5)},
          {"vision_failures", m.vision_failures},
          {"replans", m.replans},
-         {"latency_ms_median", round(m.latency_ms_median, 1e3)},
-         {"latency_ms_p99", round(m.latency_ms_p99, 1e3)},
+         {"latency_ms_median", roundTo(m.latency_ms_median, 1e3)},
+         {"latency_ms_p99", roundTo(m.latency_ms_p99, 1e3)},
          {"along_after_intersection_max_m", err(m.along_after_intersection_max_m, 1e5)},
          {"max_offset_from_centre_m", err(m.max_offset_from_centre_m, 1e5)},
          {"min_path_clearance_m", err(m.min_path_clearance_m, 1e5)},
@@ -66,7 +67,7 @@ std::string runToJson(const MissionRun& run) {
          {"mission", run.mission},
          {"pipeline", run.pipeline},
          {"outcome", run.outcome},
-         {"goal_distance_m", round(m.goal_distance_m, 1e4)},
+         {"goal_distance_m", roundTo(m.goal_distance_m, 1e4)},
          {"lateral_max_m", err(m.estimate.lateral_max_m, 1e5)},
          {"along_max_m", err(m.estimate.along_max_m, 1e5)},
          {"heading_max_deg", err(m.estimate.heading_max_deg, 1e4)},
@@ -76,16 +77,16 @@ std::string runToJson(const MissionRun& run) {
          {"within_2sigma_along", err(m.consistency.within_2sigma_along, 1e4)},
          {"within_2sigma_lateral", err(m.consistency.within_2sigma_lateral, 1e4)},
          {"within_2sigma_heading", err(m.consistency.within_2sigma_heading, 1e4)},
-         {"nees_mean", m.consistency.nees_frames > 0 ? Json(round(m.consistency.nees_mean, 1e3)) : Json(nullptr)},
+         {"nees_mean", m.consistency.nees_frames > 0 ? Json(roundTo(m.consistency.nees_mean, 1e3)) : Json(nullptr)},
          {"intersections_checked", m.intersections_checked},
          {"halts", m.halts},
          {"ended_by_halt", run.ended_by_halt},
-         {"latency_ms_max", round(m.latency_ms_max, 1e3)},
-         {"vision_ms_median", round(m.vision_ms_median, 1e3)},
-         {"odometry_scale", round(run.odometry_scale, 1e6)},
+         {"latency_ms_max", roundTo(m.latency_ms_max, 1e3)},
+         {"vision_ms_median", roundTo(m.vision_ms_median, 1e3)},
+         {"odometry_scale", roundTo(run.odometry_scale, 1e6)},
          {"image_size", std::to_string(run.image_width) + "x" + std::to_string(run.image_height)},
-         {"duration_s", round(run.duration_s, 1e3)},
-         {"distance_m", round(run.distance_m, 1e3)},
+         {"duration_s", roundTo(run.duration_s, 1e3)},
+         {"distance_m", roundTo(run.distance_m, 1e3)},
          {"log_faults", logFaultsJson(m.log_faults)},
          {"path_agreement", m.path_agreement ? Json::parse(pathAgreementJson(*m.path_agreement, run.path_options))
                                              : Json(nullptr)}};

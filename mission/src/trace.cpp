@@ -10,6 +10,7 @@
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/strprintf.h"
+#include "rounding.h"
 
 namespace mapnav {
 
@@ -19,8 +20,8 @@ namespace mapnav {
 namespace {
 
 // Fixed rounding keeps the trace short and its bytes independent of the last bits of a computation
-// that is itself deterministic; + 0.0 turns -0 into 0.
-double fixed(double x, double scale) { return std::round(x * scale) / scale + 0.0; }
+// that is itself deterministic (rounding.h).
+double fixed(double x, double scale) { return detail::roundTo(x, scale); }
 double m4(double x) { return fixed(x, 1e4); }   // metres: 0.1 mm
 double px(double x) { return fixed(x, 1e2); }   // pixels: 0.01 px
 double deg(double rad) { return fixed(radToDeg(rad), 1e4); }
@@ -77,10 +78,8 @@ Json predictionPayload(const PredictionToken& p) {
     }
     relations.push_back(std::move(j));
   }
-  const Mat3& c = p.view.pose_covariance;
   return Json{{"made_for", pose(p.made_for)},
-              {"pose_covariance",
-               upperTriangle(c)},
+              {"pose_covariance", upperTriangle(p.view.pose_covariance)},
               {"footprint", points(p.view.footprint, m4)},
               {"regions", std::move(regions)},
               {"segments", std::move(segments)},
@@ -110,8 +109,7 @@ Json positionPayload(const CurrentPosition& p) {
   const Mat2 r = p.pose.rotation();
   const Mat2 local = r.transpose() * c.topLeftCorner<2, 2>() * r;
   return Json{{"pose", pose(p.pose)},
-              {"covariance",
-               upperTriangle(c)},
+              {"covariance", upperTriangle(c)},
               {"sigma",
                {{"lateral_m", sig(std::sqrt(std::max(0.0, local(1, 1))))},
                 {"along_m", sig(std::sqrt(std::max(0.0, local(0, 0))))},
