@@ -73,11 +73,10 @@ double visiblePixels(const PredictedObject& view, const Camera& camera) {
   return total;
 }
 
-// A world-frame pose covariance (x, y, heading) in the frame of a vehicle with that heading.
-Mat3 vehicleFrameCovariance(const Mat3& world, double heading) {
+// A world-frame pose covariance (x, y, heading) in the frame of the vehicle at `pose`.
+Mat3 vehicleFrameCovariance(const Mat3& world, const Pose2& pose) {
   Mat3 r = Mat3::Identity();
-  const double c = std::cos(heading), s = std::sin(heading);
-  r.topLeftCorner<2, 2>() << c, s, -s, c;  // R(-heading): world axes onto (forward, left)
+  r.topLeftCorner<2, 2>() = pose.rotation().transpose();  // world axes onto (forward, left)
   return r * world * r.transpose();
 }
 
@@ -106,7 +105,7 @@ void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odom
     prediction_ = std::move(nothing);
   }
   prediction_.view.timestamp = t;
-  prediction_.view.pose_covariance = vehicleFrameCovariance(predicted.covariance(), predicted.pose().heading());
+  prediction_.view.pose_covariance = vehicleFrameCovariance(predicted.covariance(), predicted.pose());
   board.post(Module::Map, PredictionToken{prediction_.view, predicted.pose()});
 }
 
