@@ -560,17 +560,18 @@ class BlueBandPipeline : public BasePipeline {
   std::optional<Image> classify(const GridFrame& frame, const PredictedObject&, const Image& valid,
                                 const Image& predicted, std::string& why) override {
     const std::size_t n = static_cast<std::size_t>(frame.width) * frame.height;
-    std::vector<std::uint8_t> ground;  // the blue levels of the ground in view
-    ground.reserve(n);
+    double t = options_.threshold;
+    const bool otsu = t < 0;
+    std::vector<std::uint8_t> ground;  // the blue levels of the ground in view, for Otsu's threshold
+    if (otsu) ground.reserve(n);
     std::array<std::size_t, 256> road{};  // the predicted road's histogram of them
     for (std::size_t i = 0; i < n; ++i) {
       if (valid.data[i] == 0) continue;
       const std::uint8_t b = frame.rgb[3 * i + 2];
-      ground.push_back(b);
+      if (otsu) ground.push_back(b);
       if (predicted.data[i] != 0) ++road[b];
     }
-    double t = options_.threshold;
-    if (t < 0 && !ground.empty()) {
+    if (otsu && !ground.empty()) {
       cv::Mat levels(1, static_cast<int>(ground.size()), CV_8UC1, ground.data()), unused;
       t = cv::threshold(levels, unused, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
     }
