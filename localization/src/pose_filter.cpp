@@ -48,6 +48,17 @@ void FilterOptions::validate() const {
 
 namespace {
 
+// The frame's shared error R: with r = J dx + J c + noise, c ~ N(0, R), the lines' information A and
+// gradient g become M A and M g with M = (I + A R)^-1 (Woodbury: (A^-1 + R)^-1 = M A). Returns M.
+Mat3 sharedErrorFactor(const Mat3& a, const Mat3& frame_error) { return (Mat3::Identity() + a * frame_error).inverse(); }
+
+// M A, symmetrised, as the information on the full state (x, y, heading, e, b).
+Mat5 fullInformation(const Mat3& m, const Mat3& a) {
+  Mat5 a5 = Mat5::Zero();
+  a5.topLeftCorner<3, 3>() = m * a;
+  return 0.5 * (a5 + a5.transpose());
+}
+
 void requireCovariance(const Mat3& covariance) {
   const bool symmetric = (covariance - covariance.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * (1 + covariance.norm());
   if (!covariance.allFinite() || !symmetric || covariance.llt().info() != Eigen::Success) {
@@ -192,6 +203,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
   //    (P^-1 + A) step = -P^-1 (x - prior) - g, i.e. (I + P A) step = -(x - prior) - P g, and the
   //    posterior is (P^-1 + A)^-1 = (I + P A)^-1 P.
   const Mat3 project = u * u.transpose();
+  //    The frame's shared error R (sharedErrorFactor, fullInformation).
   Eigen::Matrix<double, 5, 1> prior5, x;
   prior5 << prior, scale_error_, gyro_bias_;
   x = prior5;
@@ -224,15 +236,11 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
       a += j * j.transpose() / (p.sigma * p.sigma);
       g += j * residual(p, pose_x) / (p.sigma * p.sigma);
     }
-    //    The frame's shared error R: with r = J dx + J c + noise, c ~ N(0, R), the information and
-    //    gradient become M A and M g with M = (I + A R)^-1 (Woodbury: (A^-1 + R)^-1 = M A).
     const Mat3 a3 = project * a * project;
-    const Mat3 shared = (Mat3::Identity() + a3 * frame_error).inverse();
-    Mat5 a5 = Mat5::Zero();
-    a5.topLeftCorner<3, 3>() = shared * a3;
-    a5 = 0.5 * (a5 + a5.transpose()).eval();
+    const Mat3 m = sharedErrorFactor(a3, frame_error);
+    const Mat5 a5 = fullInformation(m, a3);
     Eigen::Matrix<double, 5, 1> g5 = Eigen::Matrix<double, 5, 1>::Zero();
-    g5.head<3>() = shared * project * g;
+    g5.head<3>() = m * project * g;
     const Eigen::Matrix<double, 5, 1> step =
         (Mat5::Identity() + p_used * a5).partialPivLu().solve(-difference5(x, prior5) - p_used * g5);
     x += step;
@@ -240,9 +248,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
     if (step.head<3>().norm() < mo.step_tolerance) break;
   }
   const Mat3 information = project * informationOf(pts, all, x.head<3>()) * project;
-  Mat5 a5 = Mat5::Zero();
-  a5.topLeftCorner<3, 3>() = (Mat3::Identity() + information * frame_error).inverse() * information;
-  a5 = 0.5 * (a5 + a5.transpose()).eval();
+  const Mat5 a5 = fullInformation(sharedErrorFactor(information, frame_error), information);
   Mat5 posterior = full_;
   if (systematic) {
     posterior = (Mat5::Identity() + full_ * a5).partialPivLu().solve(full_);
