@@ -9,7 +9,8 @@ namespace mapnav {
 
 std::string pipelineForSurface(const std::string& surface) {
   if (surface == "concrete" || surface == "brick") return "sidewalk";
-  if (surface == "asphalt" || surface == "dirt" || surface == "gravel") return "edge-tracker";
+  if (surface == "asphalt" || surface == "gravel") return "color-rgb";
+  if (surface == "dirt") return "edge-tracker";
   return "";
 }
 

