@@ -2,9 +2,12 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <sstream>
+#include <stdexcept>
 #include <ostream>
 #include <system_error>
 #include <unistd.h>
@@ -68,12 +71,41 @@ struct ReportedRun {
   std::optional<ReportFiles> report;
 };
 
+// --displace "FRAME,FORWARD,LEFT": a frame index and two finite distances, m.
+EstimateDisplacement parseDisplacement(const std::string& text) {
+  const auto bad = [&](const std::string& why) {
+    return InvalidInput("--displace '" + text + "': " + why + " (expected FRAME,FORWARD,LEFT: a frame index and metres "
+                        "along and to the left of the estimated heading, e.g. 120,1.5,-0.8)");
+  };
+  EstimateDisplacement d;
+  std::istringstream in(text);
+  std::string frame, forward, left, rest;
+  if (!std::getline(in, frame, ',') || !std::getline(in, forward, ',') || !std::getline(in, left, ',') ||
+      std::getline(in, rest))
+    throw bad("three comma-separated values are needed");
+  try {
+    std::size_t used = 0;
+    const long long f = std::stoll(frame, &used);
+    if (used != frame.size() || f < 0) throw bad("the frame is not an index");
+    d.frame = static_cast<std::size_t>(f);
+    d.forward_m = std::stod(forward, &used);
+    if (used != forward.size()) throw bad("FORWARD is not a number");
+    d.left_m = std::stod(left, &used);
+    if (used != left.size()) throw bad("LEFT is not a number");
+  } catch (const std::logic_error&) {  // stoll / stod: not a number, out of range
+    throw bad("not numbers");
+  }
+  if (!std::isfinite(d.forward_m) || !std::isfinite(d.left_m)) throw bad("the distances must be finite");
+  return d;
+}
+
 template <typename Runner>
 ReportedRun runReported(const MissionFile& mission, const MissionRunConfig& config, std::ostream& err, Runner&& runner) {
   ReportedRun r;
   RunOptions options;
   options.pipeline = config.pipeline;
   options.max_frames = config.max_frames;
+  if (!config.displace.empty()) options.displace = parseDisplacement(config.displace);
   r.trace = config.trace;
   std::optional<ReportFrames> frames;
   bool created_report_dir = false;
@@ -238,6 +270,9 @@ void addMissionOptions(CLI::App* c, MissionRunConfig& config, bool stderr_is_tty
   c->add_option("--report", config.report_dir,
                 "Write the HTML report (report.html), trajectories.geojson and, without --trace, trace.jsonl "
                 "to this folder (docs/report.md)");
+  c->add_option("--displace", config.displace,
+                "Fault injection FRAME,FORWARD,LEFT: at the start of that frame the Map's estimate jumps FORWARD m "
+                "along its heading and LEFT m to its left without the filter knowing (to see recovery)");
   config.progress = stderr_is_tty;
 }
 

@@ -21,6 +21,8 @@ struct MissionRunConfig {
   /// The HTML report folder (docs/report.md): report.html and trajectories.geojson, and the trace
   /// (trace.jsonl) when `trace` is not set; "" = none.
   std::string report_dir;
+  /// Fault injection, "FRAME,FORWARD,LEFT" ("": none): RunOptions::displace.
+  std::string displace;
 };
 
 struct ReplayConfig : MissionRunConfig {

@@ -144,6 +144,8 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
     board_.post(Module::User, Resume{t, index - halt_start_});
     vision_.reset();  // a new scene: what the pipeline learnt may no longer hold
   }
+  if (options_.displace && options_.displace->frame == index)
+    map_module_.displaceEstimate(options_.displace->forward_m, options_.displace->left_m);
   const bool halted_before = board_.halt(Module::User) != nullptr;
   odometry_only_.predict(frame.odometry);
 
@@ -151,9 +153,9 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   const auto start = std::chrono::steady_clock::now();
   map_module_.predict(board_, t, frame.odometry);
   const auto vision_start = std::chrono::steady_clock::now();
-  // The road region is outlined for the trace and for path agreement (a frame with truth).
-  const DetectedObject& detected = vision_.see(
-      board_, VisionFrame{rgb.width, rgb.height, rgb.data.data(), &camera_, t, tracing() || frame.truth.has_value()});
+  // The road region is outlined on every frame: the Map compares it with its prediction (recovery).
+  const DetectedObject& detected =
+      vision_.see(board_, VisionFrame{rgb.width, rgb.height, rgb.data.data(), &camera_, t, true});
   const auto vision_stop = std::chrono::steady_clock::now();
   const CurrentPosition& position = map_module_.localize(board_, t);
   const MotionCommand& command = navigator_.plan(board_, t);
@@ -250,6 +252,7 @@ void ModuleLoop::fault(const LogFault& f) {
 void ModuleLoop::finish(const TruthPoses& truth) {
   flush();
   run_.metrics.replans = navigator_.replans();
+  run_.metrics.relocalisations = map_module_.relocalisations();
   run_.odometry_scale = map_module_.odometryScale();
   accumulateMetrics(run_.frames, run_.route, run_.metrics);
   run_.path_options = options_.path_agreement;

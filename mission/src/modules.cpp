@@ -109,6 +109,11 @@ void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odom
   board.post(Module::Map, PredictionToken{prediction_.view, predicted.pose()});
 }
 
+void MapModule::displaceEstimate(double forward_m, double left_m) {
+  const Pose2& p = filter_.pose();
+  filter_.moveTo(Pose2(p.translation() + p.rotation() * Vec2(forward_m, left_m), p.heading()));
+}
+
 const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
   const DetectedObject* detected = board.detection(Module::Map, t);
   DetectedObject none;
@@ -139,12 +144,61 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     position_.reason += " (after " + std::to_string(park_rejections_) + " rejected frames, the covariance widened)";
     park_rejections_ = 0;
   }
+  recover(*detected, t);
   position_.timestamp = t;
   pending_ = MotionIncrement{};
   pending_dt_s_ = 0;
   last_t_ = t;
   board.post(Module::Map, position_);
   return position_;
+}
+
+void MapModule::recover(const DetectedObject& detected, double t) {
+  const RelocalizeOptions& o = options_.relocalize;
+  const bool region = detected.status == DetectedObject::Status::Ok && detected.region_vehicle.size() >= 3 &&
+                      !prediction_.empty();
+  if (!region) {  // nothing to compare: a search under way waits for the next region
+    if (candidate_) position_.status = PositionStatus::Lost, position_.reason = "position lost: waiting for a road region";
+    return;
+  }
+  const RegionAgreement agreement = regionAgreement(prediction_.view, detected.region_vehicle, o.cell_m);
+  position_.region_agreement = agreement.iou;
+  // Lines the gate accepted say the estimate holds, whatever the region's shape (a dead end's, a
+  // plaza's); a search is for an estimate that nothing corrects.
+  if (o.search_below <= 0 || position_.status == PositionStatus::Corrected ||
+      (!candidate_ && (agreement.iou >= o.search_below || agreement.area_ratio > o.max_area_ratio ||
+                       agreement.area_ratio * o.max_area_ratio < 1))) {
+    candidate_.reset();
+    return;
+  }
+  const Pose2 estimate = filter_.pose();
+  const RelocalizeResult r = relocalize(predictor_, camera_, estimate, detected.region_vehicle, o);
+  if (!r.clear) {
+    // Lost only while a pose explains the region well and clearly better than the estimate, but is
+    // not clear yet (across the road, in heading); else the region is Vision's problem.
+    if (r.best >= o.min_agreement && r.best - r.estimate.iou >= o.min_gain) {
+      position_.status = PositionStatus::Lost;
+      position_.reason = "position lost: " + r.reason;
+    }
+    candidate_.reset();
+    return;
+  }
+  const Pose2 offset = estimate.inverse() * r.pose;
+  const bool confirmed = candidate_ && std::abs(offset.translation().y() - candidate_->translation().y()) <= o.step_m &&
+                         std::abs(normalizeAngle(offset.heading() - candidate_->heading())) <= degToRad(o.heading_step_deg);
+  if (!confirmed) {  // stop and look again
+    candidate_ = offset;
+    position_.status = PositionStatus::Lost;
+    position_.reason = "position lost, a winner to confirm on the next frame: " + r.reason;
+    return;
+  }
+  filter_.moveTo(r.pose);
+  filter_.resetPoseCovariance(r.covariance);
+  candidate_.reset();
+  ++relocalisations_;
+  position_ = filter_.current(t, "re-localised: " + r.reason);
+  position_.status = PositionStatus::Corrected;
+  position_.region_agreement = agreement.iou;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -295,6 +349,7 @@ const MotionCommand& NavigatorModule::plan(Blackboard& board, double t) {
   }
   const CurrentPosition* position = board.position(Module::Navigator, t);
   if (position == nullptr) return stop("no current position");
+  if (position->status == PositionStatus::Lost) return stop(position->reason);
   const Pose2& pose = position->pose;
 
   status_ = m.progress->update(pose);

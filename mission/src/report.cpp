@@ -503,6 +503,7 @@ std::string metricsTable(const MissionRun& run) {
   row("vision failures", std::to_string(m.vision_failures), std::to_string(m.halts) + " halts");
   pathAgreementRow(run, row);
   row("replans", std::to_string(m.replans));
+  row("position lost / re-localised", std::to_string(m.lost_frames) + " frames", std::to_string(m.relocalisations) + " times");
   if (run.mode == "replay") {
     row("log faults", std::to_string(m.log_faults.total()),
         m.log_faults.total() == 0 ? std::string("none") : escape(logFaultsText(m.log_faults)) + ", skipped or repaired");

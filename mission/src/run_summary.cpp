@@ -55,6 +55,8 @@ std::string runToJson(const MissionRun& run) {
          {"odometry_only_max_error_m", err(m.odometry_only.max_error_m, 1e5)},
          {"vision_failures", m.vision_failures},
          {"replans", m.replans},
+         {"lost_frames", m.lost_frames},
+         {"relocalisations", m.relocalisations},
          {"latency_ms_median", roundTo(m.latency_ms_median, 1e3)},
          {"latency_ms_p99", roundTo(m.latency_ms_p99, 1e3)},
          {"along_after_intersection_max_m", err(m.along_after_intersection_max_m, 1e5)},
@@ -132,7 +134,8 @@ std::string summaryText(const MissionRun& run) {
     const bool log = run.mode == "replay";
     out += pathAgreementText(*m.path_agreement, run.path_options, log ? "the log's truth" : "the simulator's truth", "  ");
   }
-  std::snprintf(line, sizeof line, "  vision failures %zu, halts %zu, replans %zu\n", m.vision_failures, m.halts, m.replans);
+  std::snprintf(line, sizeof line, "  vision failures %zu, halts %zu, replans %zu, position lost in %zu frames, re-localised %zu times\n",
+                m.vision_failures, m.halts, m.replans, m.lost_frames, m.relocalisations);
   out += line;
   if (m.log_faults.total() > 0) {
     out += "  log faults skipped or repaired: " + logFaultsText(m.log_faults) + "\n";

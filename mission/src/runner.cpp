@@ -44,6 +44,8 @@ const OptionTable<RunOptions>& runOptionTable() {
 
 void RunOptions::validate() const {
   runOptionTable().validate(*this);
+  if (displace && !(std::isfinite(displace->forward_m) && std::isfinite(displace->left_m)))
+    throw InvalidInput("RunOptions::displace: forward_m and left_m must be finite");
   path_agreement.validate();
   map.validate();
   navigator.validate();

@@ -119,7 +119,8 @@ Json positionPayload(const CurrentPosition& p) {
               {"reason", p.reason},
               {"lines_used", p.lines_used},
               {"outliers", p.outliers},
-              {"mahalanobis_d2", sig(p.mahalanobis_d2)}};
+              {"mahalanobis_d2", sig(p.mahalanobis_d2)},
+              {"region_agreement", p.region_agreement ? Json(sig(*p.region_agreement)) : Json()}};
 }
 
 Json commandPayload(const MotionCommand& c, std::uint64_t aborts) {

@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -56,6 +58,32 @@ TEST(CliMissionPipeline, AMissionWithoutVisionOnAsphaltThenBrickSaysToNameOne) {
                               "edge-tracker"});
   ASSERT_EQ(option.exit_code, 0) << option.err;
   EXPECT_EQ(nlohmann::json::parse(option.out)["pipeline"], "edge-tracker");
+}
+
+// --displace: fault injection for recovery, its text checked before the first frame.
+TEST(CliMissionDisplace, BadTextIsAnErrorNamingTheOptionAndAGoodOneIsRecovered) {
+  const std::string mission = testing::fixturePath("missions/short_crossing.json").string();
+  for (const auto& [text, why] : std::vector<std::pair<std::string, std::string>>{
+           {"6,1.5", "three comma-separated values are needed"},
+           {"6,1.5,-0.8,2", "three comma-separated values are needed"},
+           {"x,1.5,-0.8", "not numbers"},
+           {"-1,1.5,-0.8", "the frame is not an index"},
+           {"6,1.5m,-0.8", "FORWARD is not a number"},
+           {"6,1.5,nan", "the distances must be finite"}}) {
+    const auto run = runCli({"run", "--mission", mission, "--max-frames", "2", "--displace", text});
+    EXPECT_EQ(run.exit_code, 1) << text;
+    EXPECT_EQ(run.out, "") << text;
+    EXPECT_EQ(run.err, "mapnav: error: --displace '" + text + "': " + why +
+                           " (expected FRAME,FORWARD,LEFT: a frame index and metres along and to the left of the "
+                           "estimated heading, e.g. 120,1.5,-0.8)\n")
+        << text;
+  }
+  const auto run = runCli({"run", "--mission", mission, "--displace", "6,1.5,-0.8", "--json"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto r = nlohmann::json::parse(run.out);
+  EXPECT_EQ(r["relocalisations"], 1);
+  EXPECT_GE(r["lost_frames"].get<int>(), 1);
+  EXPECT_EQ(r["left_path_frames"], 0);
 }
 
 }  // namespace

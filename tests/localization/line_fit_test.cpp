@@ -91,7 +91,8 @@ TEST(MatchingOptions, EnumsRoundTripThroughStrings) {
   for (RobustLoss l : {RobustLoss::None, RobustLoss::Huber, RobustLoss::Cauchy}) {
     EXPECT_EQ(robustLossFromString(toString(l)), l);
   }
-  for (PositionStatus s : {PositionStatus::Corrected, PositionStatus::OdometryOnly, PositionStatus::Rejected}) {
+  for (PositionStatus s :
+       {PositionStatus::Corrected, PositionStatus::OdometryOnly, PositionStatus::Rejected, PositionStatus::Lost}) {
     EXPECT_EQ(positionStatusFromString(toString(s)), s);
   }
   EXPECT_FALSE(robustLossFromString("tukey"));

@@ -3,6 +3,7 @@
 // loop reaches the goal, and the trace reads back as the paper's dialogue.
 #include "mapnav/mission/runner.h"
 
+#include <cmath>
 #include <cstdlib>
 
 #include <gtest/gtest.h>
@@ -279,6 +280,46 @@ TEST(RunnerClosedLoop, TheShortCrossingReachesTheGoalSteeringOnTheEstimate) {
   again.trace = dir / "run2.jsonl";
   runClosedLoop(shortCrossing(), again);
   EXPECT_EQ(readFile(again.trace), trace);
+}
+
+// Issue 30's recovery: mid-mission the estimate jumps 1.5 m ahead and 0.8 m right of the truth
+// (RunOptions::displace: the filter does not know). The Map sees Vision's road disagree with the map
+// seen from the estimate, says the position is lost (the Navigator stops), finds the pose that
+// explains the road on the frame after, the vehicle standing, and the mission goes on to its goal
+// without leaving the path.
+TEST(RunnerRecovery, ADisplacedEstimateStopsReLocalisesAndFinishes) {
+  registerBuiltinPipelines();
+  RunOptions options;
+  options.displace = EstimateDisplacement{6, 1.5, -0.8};
+  const MissionRun run = runClosedLoop(shortCrossing(), options);
+  ASSERT_GT(run.frames.size(), 8u);
+  const FrameRecord& jumped = run.frames[6];
+  ASSERT_TRUE(jumped.truth);
+  EXPECT_NEAR(jumped.error.distance_m, std::hypot(1.5, 0.8), 0.1);  // the fault as injected
+  std::size_t lost = 0, first_lost = run.frames.size();
+  for (const FrameRecord& f : run.frames) {
+    if (f.status != PositionStatus::Lost) continue;
+    ++lost;
+    first_lost = std::min(first_lost, f.index);
+    EXPECT_EQ(f.command, CommandKind::Stop) << "frame " << f.index;
+  }
+  EXPECT_EQ(first_lost, 6u);  // seen on the frame of the jump
+  EXPECT_GE(lost, 1u);
+  EXPECT_EQ(run.metrics.lost_frames, lost);
+  EXPECT_EQ(run.metrics.relocalisations, 1u);
+  // Re-localised: the frame after the last lost one is within a grid step of the truth.
+  const FrameRecord& after = run.frames[first_lost + lost];
+  EXPECT_LT(after.error.distance_m, 0.25) << "frame " << after.index;
+  EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
+  EXPECT_EQ(run.metrics.left_path_frames, 0u);
+  EXPECT_EQ(run.metrics.vision_failures, 0u);
+  // Without the search the same fault is not found: no line is labelled through the 0.4 m gate, the
+  // vehicle steers on the wrong estimate, leaves the path and stops short of the goal.
+  options.map.relocalize.search_below = 0;
+  const MissionRun blind = runClosedLoop(shortCrossing(), options);
+  EXPECT_EQ(blind.metrics.relocalisations, 0u);
+  EXPECT_FALSE(blind.metrics.reached_goal);
+  EXPECT_GT(blind.metrics.left_path_frames, 0u);
 }
 
 TEST(RunnerOptions, DefaultsAreValidAndBadOnesAreNamed) {

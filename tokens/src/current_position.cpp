@@ -8,12 +8,14 @@ std::string_view toString(PositionStatus status) {
     case PositionStatus::Corrected: return "corrected";
     case PositionStatus::OdometryOnly: return "odometry-only";
     case PositionStatus::Rejected: return "rejected";
+    case PositionStatus::Lost: return "lost";
   }
   return "odometry-only";
 }
 
 std::optional<PositionStatus> positionStatusFromString(std::string_view text) {
-  for (PositionStatus s : {PositionStatus::Corrected, PositionStatus::OdometryOnly, PositionStatus::Rejected}) {
+  for (PositionStatus s : {PositionStatus::Corrected, PositionStatus::OdometryOnly, PositionStatus::Rejected,
+                           PositionStatus::Lost}) {
     if (toString(s) == text) return s;
   }
   return std::nullopt;

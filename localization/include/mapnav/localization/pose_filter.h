@@ -106,6 +106,10 @@ class PoseFilter {
   /// variances, their correlation with the pose is dropped. Throws InvalidInput as the constructor.
   void resetPoseCovariance(const Mat3& covariance);
 
+  /// Moves the estimate to `pose`; the covariances and the scale and bias estimates stay (a
+  /// re-localisation sets the covariance after with resetPoseCovariance; a fault injection keeps it).
+  void moveTo(const Pose2& pose) { pose_ = pose; }
+
   /// Fuses line correspondences: a robust fit finds the inliers, the gate compares the fitted pose
   /// with the prior in the observed directions, and an iterated EKF update uses the inliers' stacked
   /// point-to-line distances as the measurement, so that unobserved directions get no correction.

@@ -160,6 +160,10 @@ struct MissionMetrics {
   std::size_t vision_failures = 0;
   std::size_t halts = 0;          ///< halt periods (consecutive failures count once)
   std::size_t replans = 0;
+  /// Recovery (RelocalizeOptions): frames whose position was Lost (the vehicle stopped) and the
+  /// times the estimate was re-localised.
+  std::size_t lost_frames = 0;
+  std::size_t relocalisations = 0;
   LogFaultCounts log_faults;      ///< replay: the log's faults met, by kind (MissionRun::faults)
   double latency_ms_median = 0, latency_ms_p99 = 0, latency_ms_max = 0;
   double vision_ms_median = 0;    ///< the Vision module's part (the pipeline)
@@ -172,8 +176,8 @@ struct MissionMetrics {
 /// The error of `estimate` against `truth` with the road heading `road_heading` at the truth.
 PoseError poseError(const Pose2& estimate, const Pose2& truth, double road_heading);
 
-/// Totals over `frames` (errors already filled in); reached_goal, goal distance, replans and halts
-/// are the runner's and are left as they are in `into`.
+/// Totals over `frames` (errors already filled in); reached_goal, goal distance, replans, halts and
+/// relocalisations are the runner's and are left as they are in `into`.
 void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& route, MissionMetrics& into);
 
 /// Nearest-rank percentile (0..100) of `values`; 0 when empty.

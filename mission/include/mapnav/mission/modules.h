@@ -22,6 +22,7 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/localization/localize.h"
 #include "mapnav/localization/pose_filter.h"
+#include "mapnav/localization/relocalize.h"
 #include "mapnav/map/map.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/mission/blackboard.h"
@@ -64,6 +65,12 @@ struct MapModuleOptions {
   int park_reset_after_rejections = 3;
   double park_reset_sigma_m = 0.5;            ///< m (> 0)
   double park_reset_heading_sigma_deg = 10.0; ///< degrees (> 0)
+  /// Recovery: when Vision's road region disagrees with the map seen from the estimate, pose
+  /// hypotheses around it are tried against the region (relocalize.h). The first frame with a clear
+  /// winner makes the position Lost (the Navigator stops); the next frame's search, the vehicle
+  /// standing, must find the same winner (across the road and in heading within a step of it) before
+  /// the estimate moves there, with the ties' spread as its covariance.
+  RelocalizeOptions relocalize;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
@@ -83,12 +90,18 @@ class MapModule {
   /// jumps") and post the CurrentPosition.
   const CurrentPosition& localize(Blackboard& board, double t);
 
+  /// Fault injection: moves the estimate `forward_m` along its heading and `left_m` to its left,
+  /// the covariance kept (the filter does not know).
+  void displaceEstimate(double forward_m, double left_m);
+
   /// The last prediction with what only the Map knows (the pose, world coordinates).
   const Prediction& prediction() const { return prediction_; }
   const PoseFilter& filter() const { return filter_; }
   const CurrentPosition& position() const { return position_; }
   /// The filter's estimate of the odometry scale, 1 + e (1: as measured; MotionNoiseOptions::scale_sigma).
   double odometryScale() const { return 1 + filter_.scaleError(); }
+  /// Times the estimate was re-localised (RelocalizeOptions).
+  std::size_t relocalisations() const { return relocalisations_; }
 
  private:
   const Map& map_;
@@ -102,6 +115,12 @@ class MapModule {
   Prediction prediction_;
   CurrentPosition position_;
   int park_rejections_ = 0; // consecutive park-mode frames the gate rejected
+  /// Recovery: the last search's clear winner, as an offset from the estimate it was searched
+  /// around (the vehicle's own frame: it moves with the odometry as the estimate does).
+  std::optional<Pose2> candidate_;
+  std::size_t relocalisations_ = 0;
+  /// Recovery after this frame's localisation: the region's agreement, the search, Lost or re-localised.
+  void recover(const DetectedObject& detected, double t);
 };
 
 // ---------------------------------------------------------------------------------------------

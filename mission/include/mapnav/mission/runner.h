@@ -57,6 +57,15 @@ struct LogFault {
   std::string message;       ///< what is wrong, as the strict mode's error says it
 };
 
+/// A fault injected into a run (tests of recovery): at the start of frame `frame` the Map's estimate
+/// jumps by `forward_m` along its own heading and `left_m` to the left of it, its covariance as it
+/// was: the filter does not know (a wheel slipping on a kerb, a wrong start told by the user).
+struct EstimateDisplacement {
+  std::size_t frame = 0;
+  double forward_m = 0;
+  double left_m = 0;
+};
+
 struct RunOptions {
   /// The vision pipeline by name (registry: createPipeline); "" keeps the mission's `vision.pipeline`,
   /// and a mission without one runs the pipeline the surfaces of its route's roads call for
@@ -89,6 +98,8 @@ struct RunOptions {
   /// so the true position may be at most (road width − vehicle_width_m) / 2 from the centre line
   /// (MissionMetrics::left_path_frames). 0.6 m: a small sidewalk robot.
   double vehicle_width_m = 0.6;
+  /// Fault injection: the estimate displaced once (none: never).
+  std::optional<EstimateDisplacement> displace;
   MapModuleOptions map;
   /// Where each frame's future path is sampled and the goals of path agreement (path_agreement.h),
   /// measured when the run has truth: Vision's detection of each frame against the truth poses of

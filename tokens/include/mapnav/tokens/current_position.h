@@ -20,6 +20,9 @@ enum class PositionStatus {
   Corrected,     ///< lines were matched and fused
   OdometryOnly,  ///< no usable lines: the pose comes from odometry alone
   Rejected,      ///< the lines disagreed with the prior beyond the gate: odometry alone
+  /// The road Vision found disagrees with the map seen from the estimate and no pose explains it
+  /// clearly yet (RelocalizeOptions): the estimate is odometry's, and the vehicle stops.
+  Lost,
 };
 std::string_view toString(PositionStatus status);
 std::optional<PositionStatus> positionStatusFromString(std::string_view text);
@@ -40,6 +43,9 @@ struct CurrentPosition {
   int lines_used = 0;                   ///< correspondences fused
   std::vector<std::string> outliers;    ///< correspondences the robust fit rejected
   double mahalanobis_d2 = 0;            ///< the gate's statistic (0 when there was no measurement)
+  /// IoU on the ground of Vision's road region and the predicted paved area (regionAgreement);
+  /// nothing when there was no region to compare.
+  std::optional<double> region_agreement;
 };
 
 }  // namespace mapnav
