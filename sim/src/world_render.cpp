@@ -95,8 +95,8 @@ bool RayTable::matches(const Camera& camera) const {
   return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
 }
 
-void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, RowScratch& rs,
-                           NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const {
+void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
+                           RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const {
   const auto w = static_cast<std::size_t>(rays.width());
   const auto [ch, sh, tx, ty] = pose;
   rs.ground.resize(w);
@@ -110,7 +110,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     if (r.kind == RayTable::Kind::Ground) {
       const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
       rs.points[u] = p;
-      locate(p, &nc, rs.ground[u]);
+      locate(p, tileLists(tiles, static_cast<int>(u) / kTileW, cellIndex(p)), &nc, rs.ground[u]);
       mask[u] = rs.ground[u].paved ? 255 : 0;
       const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
       rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
@@ -158,20 +158,33 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     }
 }
 
-std::shared_ptr<const std::vector<float>> World::Impl::hazeTable(const RayTable& rays) const {
+std::shared_ptr<const RayExtras> World::Impl::rayExtras(const RayTable& rays) const {
   {
     std::lock_guard lock(cache_mutex);
-    if (haze_table && haze_id == rays.id()) return haze_table;
+    if (extras && extras_id == rays.id()) return extras;
   }
-  auto table = std::make_shared<std::vector<float>>();
+  auto table = std::make_shared<RayExtras>();
+  const std::vector<RayTable::Ray>& all = rays.rays();
   if (options.haze_distance_m > 0) {
-    table->resize(rays.rays().size());
-    for (std::size_t i = 0; i < table->size(); ++i)
-      if (rays.rays()[i].kind == RayTable::Kind::Ground) (*table)[i] = hazeAt(rays.rays()[i].range);
+    table->haze.resize(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (all[i].kind == RayTable::Kind::Ground) table->haze[i] = hazeAt(all[i].range);
   }
+  const int w = rays.width(), h = rays.height();
+  table->tiles_x = (w + kTileW - 1) / kTileW;
+  table->tiles.resize(static_cast<std::size_t>(table->tiles_x) * ((h + kTileH - 1) / kTileH));
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const RayTable::Ray& r = rays.at(u, v);
+      if (r.kind != RayTable::Kind::Ground) continue;
+      RayExtras::TileBox& b = table->tiles[static_cast<std::size_t>(v / kTileH) * table->tiles_x + u / kTileW];
+      if (!b.ground) b = {r.x, r.y, r.x, r.y, true};
+      b.x0 = std::min<double>(b.x0, r.x), b.y0 = std::min<double>(b.y0, r.y);
+      b.x1 = std::max<double>(b.x1, r.x), b.y1 = std::max<double>(b.y1, r.y);
+    }
   std::lock_guard lock(cache_mutex);
-  haze_id = rays.id();
-  haze_table = table;
+  extras_id = rays.id();
+  extras = table;
   return table;
 }
 
@@ -319,16 +332,19 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
   Frame frame{Image(w, h, 3), Image(w, h, 1)};
   std::vector<float> buf(static_cast<std::size_t>(w) * h * 3);
   const std::array<double, 4> pose4{std::cos(pose.heading()), std::sin(pose.heading()), pose.x(), pose.y()};
-  const std::shared_ptr<const std::vector<float>> haze = im.hazeTable(rays);
+  const std::shared_ptr<const RayExtras> extras = im.rayExtras(rays);
+  const float* haze = extras->haze.empty() ? nullptr : extras->haze.data();
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   // Each pixel's colour depends on its row alone (the edge samples on the finished mask), so the
   // bands of rows and their threads do not change the frame.
   forRowBands(h, threads, [&](int v0, int v1) {
     const auto cache = std::make_unique<NoiseCache>();  // the noise lattice's last cells
     RowScratch scratch;
+    RenderTiles tiles;
     for (int v = v0; v < v1; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * w;
-      im.shadeRow(rays, v, pose4, scratch, *cache, haze->empty() ? nullptr : haze->data() + row, buf.data() + 3 * row,
+      if (tiles.band != v / kTileH) im.tileRow(*extras, v / kTileH, pose4, tiles);
+      im.shadeRow(rays, v, pose4, tiles, scratch, *cache, haze != nullptr ? haze + row : nullptr, buf.data() + 3 * row,
                   frame.mask.data.data() + row);
     }
   });

@@ -15,8 +15,6 @@ using namespace world_detail;
 
 namespace {
 
-constexpr double kBand = 1.0;   // y-band of a polygon's edge index, m
-
 Material materialOf(const std::string& name) {
   if (name == "concrete") return Material::Concrete;
   if (name == "asphalt") return Material::Asphalt;
@@ -27,10 +25,23 @@ Material materialOf(const std::string& name) {
   return Material::Other;
 }
 
-bool crossingContains(const PavedPolygon& poly, const Vec2& p) {
+/// A splitmix64 stream for placement (portable, unlike std distributions).
+class Stream {
+ public:
+  explicit Stream(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() { return mix64(state_ += 0x9E3779B97F4A7C15ULL); }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
+
+ private:
+  std::uint64_t state_;
+};
+
+}  // namespace
+
+bool world_detail::crossingContains(const PavedPolygon& poly, const Vec2& p) {
   if (!poly.box.contains(p)) return false;
   const auto band = static_cast<std::size_t>(
-      std::clamp((p.y() - poly.band_y0) / kBand, 0.0, static_cast<double>(poly.band_start.size() - 2)));
+      std::clamp((p.y() - poly.band_y0) / kEdgeBand, 0.0, static_cast<double>(poly.band_start.size() - 2)));
   bool inside = false;
   for (std::uint32_t i = poly.band_start[band]; i < poly.band_start[band + 1]; ++i) {
     const Vec2& a = poly.band_edges[i].a;
@@ -48,19 +59,6 @@ bool crossingContains(const PavedPolygon& poly, const Vec2& p) {
   }
   return inside;
 }
-
-/// A splitmix64 stream for placement (portable, unlike std distributions).
-class Stream {
- public:
-  explicit Stream(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() { return mix64(state_ += 0x9E3779B97F4A7C15ULL); }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
-
- private:
-  std::uint64_t state_;
-};
-
-}  // namespace
 
 int World::Impl::surfaceIndex(const Map& map, const std::string& name) {
   const Appearance* a = map.findSurface(name);
@@ -126,7 +124,7 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
     poly.box = Box2();
     for (const Vec2& v : poly.ring) poly.box.extend(v);
     poly.band_y0 = poly.box.min().y();
-    const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kBand)) + 1;
+    const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kEdgeBand)) + 1;
     std::vector<std::vector<Edge>> bands(nb);
     const std::size_t n = poly.ring.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -136,8 +134,8 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
       e.x_lo = lo - margin;
       e.x_hi = hi + margin;
       const double y0 = std::min(e.a.y(), e.b.y()), y1 = std::max(e.a.y(), e.b.y());
-      const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
-      const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
+      const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kEdgeBand, 0.0, double(nb - 1)));
+      const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kEdgeBand, 0.0, double(nb - 1)));
       for (std::size_t b = b0; b <= b1; ++b) bands[b].push_back(e);
     }
     poly.band_start.assign(1, 0);
@@ -272,11 +270,10 @@ void World::Impl::buildGrid(const Box2& box) {
   disc_start[cells] = static_cast<std::uint32_t>(cell_discs.size());
 }
 
-int World::Impl::pavedAt(const Vec2& p, int cell) const {
-  if (cell < 0) return -1;
+int World::Impl::pavedAt(const Vec2& p, const CellLists& lists) const {
   int found = -1;
-  for (std::uint32_t i = poly_start[static_cast<std::size_t>(cell)]; i < poly_start[static_cast<std::size_t>(cell) + 1]; ++i) {
-    const PolyRef ref = cell_polys[i];
+  for (std::uint32_t i = 0; i < lists.n_polys; ++i) {
+    const PolyRef ref = lists.polys[i];
     const PavedPolygon& poly = polys[ref.poly];
     if (ref.whole || crossingContains(poly, p)) {
       if (poly.road >= 0) return static_cast<int>(ref.poly);
@@ -286,16 +283,17 @@ int World::Impl::pavedAt(const Vec2& p, int cell) const {
   return found;
 }
 
-void World::Impl::canopy(const Vec2& p, int cell, double footprint, NoiseCache* nc, float& bare, float& flecked) const {
+void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint, NoiseCache* nc, float& bare,
+                         float& flecked) const {
   bare = flecked = shadow_everywhere ? 1.0f : 0.0f;
-  if (shadow_everywhere || cell < 0) return;
+  if (shadow_everywhere || lists.n_discs == 0) return;
   // The disc edges are smoothed over max(0.25 m, footprint): the same for both unless wide.
   const auto edge = static_cast<float>(std::max(0.25, footprint));
   const bool wide = footprint > 0.25;
   float s = 0, s_bare = 0;
   double wobble = std::numeric_limits<double>::quiet_NaN();
-  for (std::uint32_t i = disc_start[static_cast<std::size_t>(cell)]; i < disc_start[static_cast<std::size_t>(cell) + 1]; ++i) {
-    const Disc& d = discs[cell_discs[i]];
+  for (std::uint32_t i = 0; i < lists.n_discs; ++i) {
+    const Disc& d = discs[lists.discs[i]];
     // Far discs by the squared distance (no root): beyond reach2 the distance exceeds r + 0.45.
     const double d2 = (p - d.c).squaredNorm();
     if (d2 > d.reach2) continue;

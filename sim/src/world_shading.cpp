@@ -152,19 +152,18 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
   return c;
 }
 
-void World::Impl::locate(const Vec2& p, NoiseCache* nc, GroundPoint& g) const {
-  const int cell = cellIndex(p);
-  const int poly = pavedAt(p, cell);
-  g.cell = cell;
+void World::Impl::locate(const Vec2& p, const CellLists& lists, NoiseCache* nc, GroundPoint& g) const {
+  const int poly = pavedAt(p, lists);
+  g.lists = lists;
   g.paved = poly >= 0;
   // Nearest centre-line segment within reach: the road a point belongs to, its side, arc length.
   double best = std::numeric_limits<double>::infinity(), along = 0, lateral = 0;
   double best2 = best;  // best², the root taken only of a nearer square (the root is monotone)
   int best_road = -1;
   const int want_road = g.paved ? polys[static_cast<std::size_t>(poly)].road : -2;
-  if (cell >= 0 && !(g.paved && want_road < 0)) {
-    for (std::uint32_t i = seg_start[static_cast<std::size_t>(cell)]; i < seg_start[static_cast<std::size_t>(cell) + 1]; ++i) {
-      const Segment& s = segments[cell_segs[i]];
+  if (!(g.paved && want_road < 0)) {
+    for (std::uint32_t i = 0; i < lists.n_segs; ++i) {
+      const Segment& s = segments[lists.segs[i]];
       if (want_road >= 0 && s.road != want_road) continue;
       const Vec2 d = p - s.a;
       const double t = std::clamp(d.dot(s.dir), 0.0, s.len);
@@ -202,7 +201,7 @@ void World::Impl::locate(const Vec2& p, NoiseCache* nc, GroundPoint& g) const {
 
 C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved, NoiseCache* nc) const {
   GroundPoint g;
-  locate(p, nc, g);
+  locate(p, cellLists(cellIndex(p)), nc, g);
   paved = g.paved;
   const C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, PointNoise{salts.data(), p, fp, nc}, nc);
   return finish(p, g, c, fp, options.haze_distance_m > 0 ? hazeAt(range) : 0.0f, nc);
@@ -213,7 +212,6 @@ float World::Impl::hazeAt(double range) const {
 }
 
 C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, NoiseCache* nc) const {
-  const int cell = g.cell;
   if (!g.paved && g.best_road >= 0 && surfaces[static_cast<std::size_t>(g.surface)].material == Material::Grass) {
     // Worn, dusty strip where the lawn meets the pavement.
     const double edge = g.best - roads[static_cast<std::size_t>(g.best_road)].width / 2;
@@ -223,7 +221,7 @@ C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, flo
   }
   // Fallen leaves: jittered cells of 0.12 m, more of them under the trees.
   float tree = 0, flecked = 0;  // tree shadow: at the point (leaves fall there), and as seen
-  canopy(p, cell, fp, nc, tree, flecked);
+  canopy(p, g.lists, fp, nc, tree, flecked);
   if (options.leaf_density > 0) {
     constexpr double kLeafCell = 0.12;
     const double density = std::min(1.0, options.leaf_density * (0.5 + 2.5 * (shadow_everywhere ? 0.2 : tree)));
