@@ -119,8 +119,11 @@ inline void fbmBatch(std::uint64_t salt, const double* xs, const double* ys, con
 
 /// Scratch of fbmRow, kept between calls.
 struct FbmScratch {
-  std::vector<double> fx, fy;
-  std::vector<float> tx, ty, w, a, b, c, d;
+  std::vector<double> fx, fy;        // each point's lattice cell, from index 1 (fbmRow)
+  std::vector<float> tx, ty, w;
+  std::vector<float> a, b, c, d;     // corners of each run of points in one lattice cell
+  std::vector<std::int32_t> run;     // each point's run
+  std::vector<std::uint32_t> start;  // each run's first point
   void resize(std::size_t m);
 };
 
