@@ -121,6 +121,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     rgb[3 * u + 1] = c.g;
     rgb[3 * u + 2] = c.b;
   }
+  canopyRow(rays, v, rs);
   // The fractal sums of each group's texture, channel by channel.
   for (int m = 0; m < kMaterials; ++m) {
     const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
@@ -151,7 +152,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
       const GroundPoint& g = rs.ground[u];
       const Vec2& p = rs.points[u];
       C3 c = texture(g.surface, p, r.footprint, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
-      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, &nc);
+      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, rs.tree[u], rs.flecked[u], &nc);
       rgb[3 * u] = c.r;
       rgb[3 * u + 1] = c.g;
       rgb[3 * u + 2] = c.b;

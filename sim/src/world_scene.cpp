@@ -283,14 +283,13 @@ int World::Impl::pavedAt(const Vec2& p, const CellLists& lists) const {
   return found;
 }
 
-void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint, NoiseCache* nc, float& bare,
-                         float& flecked) const {
-  bare = flecked = shadow_everywhere ? 1.0f : 0.0f;
-  if (shadow_everywhere || lists.n_discs == 0) return;
+template <class Wobble>
+void World::Impl::discShadow(const Vec2& p, const CellLists& lists, double footprint, const Wobble& wobbleAt, float& s,
+                             float& s_bare) const {
   // The disc edges are smoothed over max(0.25 m, footprint): the same for both unless wide.
   const auto edge = static_cast<float>(std::max(0.25, footprint));
   const bool wide = footprint > 0.25;
-  float s = 0, s_bare = 0;
+  s = s_bare = 0;
   double wobble = std::numeric_limits<double>::quiet_NaN();
   for (std::uint32_t i = 0; i < lists.n_discs; ++i) {
     const Disc& d = discs[lists.discs[i]];
@@ -299,11 +298,7 @@ void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint
     if (d2 > d.reach2) continue;
     double dist = std::sqrt(d2);  // (p - d.c).norm()
     if (dist > d.r + 0.45) continue;
-    if (std::isnan(wobble)) {  // ragged, leafy canopy outlines
-      NoiseMemo* memo = channelOf(nc, kCanopyChannel);
-      wobble = 0.3 * valueNoise(options.seed ^ 0xC4A0ULL, p.x() * 1.3, p.y() * 1.3, memo) +
-               0.15 * valueNoise(options.seed ^ 0xC4A1ULL, p.x() * 4.0, p.y() * 4.0, memo != nullptr ? memo + 1 : nullptr);
-    }
+    if (std::isnan(wobble)) wobble = wobbleAt();  // ragged, leafy canopy outlines
     dist += wobble;
     const auto inside = static_cast<float>(d.r - dist);
     // Outside the disc both smoothsteps are 0 and s, s_bare ≥ 0 stay (s_bare = s unless wide).
@@ -312,15 +307,87 @@ void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint
     s_bare = wide ? std::max(s_bare, smoothstep(0.0f, 0.25f, inside)) : s;
     if (s >= 1) break;  // then s_bare >= s is 1 too
   }
-  bare = s_bare;
-  if (s > 0) {
-    // Sun flecks through gaps in the canopy.
-    NoiseMemo* memo = channelOf(nc, kFleckChannel);
-    const float n = valueNoise(options.seed ^ 0xF1ECULL, p.x() * 1.7, p.y() * 1.7, memo) +
-                    0.5f * valueNoise(options.seed ^ 0xF1EDULL, p.x() * 4.1, p.y() * 4.1, memo != nullptr ? memo + 1 : nullptr);
-    s *= 1.0f - 0.9f * smoothstep(0.55f, 0.75f, n) * filterWeight(2.0, footprint);
+}
+
+namespace {
+
+/// The canopy outline's wobble from its two octaves' value noise.
+double canopyWobble(float n0, float n1) { return 0.3 * n0 + 0.15 * n1; }
+
+/// Shadow s with the sun flecks of noise n (their two octaves' sum) through a pixel `footprint` wide.
+float flecked(float s, float n, double footprint) {
+  return s * (1.0f - 0.9f * smoothstep(0.55f, 0.75f, n) * filterWeight(2.0, footprint));
+}
+
+// The salts and frequencies of the outline's and the flecks' value noise.
+constexpr std::uint64_t kOutlineSalt[2] = {0xC4A0ULL, 0xC4A1ULL}, kFleckSalt[2] = {0xF1ECULL, 0xF1EDULL};
+constexpr double kOutlineFreq[2] = {1.3, 4.0}, kFleckFreq[2] = {1.7, 4.1};
+
+}  // namespace
+
+void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint, NoiseCache* nc, float& bare,
+                         float& flecked_out) const {
+  bare = flecked_out = shadow_everywhere ? 1.0f : 0.0f;
+  if (shadow_everywhere || lists.n_discs == 0) return;
+  const auto noise = [&](std::uint64_t salt, double f, int channel, int octave) {
+    NoiseMemo* memo = channelOf(nc, channel);
+    return valueNoise(options.seed ^ salt, p.x() * f, p.y() * f, memo != nullptr ? memo + octave : nullptr);
+  };
+  float s = 0;
+  discShadow(p, lists, footprint, [&] {
+    return canopyWobble(noise(kOutlineSalt[0], kOutlineFreq[0], kCanopyChannel, 0),
+                        noise(kOutlineSalt[1], kOutlineFreq[1], kCanopyChannel, 1));
+  }, s, bare);
+  // Sun flecks through gaps in the canopy.
+  if (s > 0)
+    s = flecked(s, noise(kFleckSalt[0], kFleckFreq[0], kFleckChannel, 0) +
+                       0.5f * noise(kFleckSalt[1], kFleckFreq[1], kFleckChannel, 1), footprint);
+  flecked_out = s;
+}
+
+void World::Impl::canopyRow(const RayTable& rays, int v, RowScratch& rs) const {
+  const auto w = static_cast<std::size_t>(rays.width());
+  rs.tree.assign(w, shadow_everywhere ? 1.0f : 0.0f);
+  rs.flecked.assign(w, shadow_everywhere ? 1.0f : 0.0f);
+  if (shadow_everywhere) return;
+  // The ground pixels with a disc in reach of their tile; their outlines' noise, a row at a time
+  // (fbmRow of one octave at footprint 0 is the value noise itself, bit for bit).
+  const auto gather = [&](const auto& keep) {
+    rs.cand.clear();
+    rs.cx.clear();
+    rs.cy.clear();
+    for (std::size_t u = 0; u < w; ++u)
+      if (rays.at(static_cast<int>(u), v).kind == RayTable::Kind::Ground && keep(u)) {
+        rs.cand.push_back(static_cast<std::uint32_t>(u));
+        rs.cx.push_back(rs.points[u].x());
+        rs.cy.push_back(rs.points[u].y());
+      }
+    rs.zeros.assign(rs.cand.size(), 0.0f);
+    rs.n0.resize(rs.cand.size());
+    rs.n1.resize(rs.cand.size());
+  };
+  const auto noiseRow = [&](const std::uint64_t (&salt)[2], const double (&f)[2]) {
+    for (int k = 0; k < 2; ++k)
+      fbmRow(options.seed ^ salt[k], rs.cx.data(), rs.cy.data(), rs.zeros.data(), rs.cand.size(), f[k], 1,
+             (k == 0 ? rs.n0 : rs.n1).data(), rs.fbm);
+  };
+  gather([&](std::size_t u) { return rs.ground[u].lists.n_discs > 0; });
+  if (rs.cand.empty()) return;
+  noiseRow(kOutlineSalt, kOutlineFreq);
+  for (std::size_t j = 0; j < rs.cand.size(); ++j) {
+    const std::uint32_t u = rs.cand[j];
+    const double fp = rays.at(static_cast<int>(u), v).footprint;
+    discShadow(rs.points[u], rs.ground[u].lists, fp, [&] { return canopyWobble(rs.n0[j], rs.n1[j]); },
+               rs.flecked[u], rs.tree[u]);
   }
-  flecked = s;
+  // Sun flecks through gaps in the canopy, where there is shadow.
+  gather([&](std::size_t u) { return rs.flecked[u] > 0; });
+  if (rs.cand.empty()) return;
+  noiseRow(kFleckSalt, kFleckFreq);
+  for (std::size_t j = 0; j < rs.cand.size(); ++j) {
+    const std::uint32_t u = rs.cand[j];
+    rs.flecked[u] = flecked(rs.flecked[u], rs.n0[j] + 0.5f * rs.n1[j], rays.at(static_cast<int>(u), v).footprint);
+  }
 }
 
 }  // namespace mapnav

@@ -139,6 +139,10 @@ struct RowScratch {
   std::vector<double> xs, ys;                   // one group's points, gathered
   std::vector<float> footprints, sums;
   FbmScratch fbm;
+  std::vector<float> tree, flecked;             // each pixel's canopy shadow (World::Impl::canopyRow)
+  std::vector<std::uint32_t> cand;              // canopyRow's pixels, their points and noise
+  std::vector<double> cx, cy;
+  std::vector<float> zeros, n0, n1;
 };
 
 struct Surface {
@@ -274,6 +278,15 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   /// leaves fall), `flecked` over a pixel `footprint` wide with the flecks. `nc` may be nullptr.
   void canopy(const Vec2& p, const world_detail::CellLists& lists, double footprint, NoiseCache* nc, float& bare,
               float& flecked) const;
+  /// The canopy's shadow at p, s (as seen over `footprint`, before the flecks) and s_bare (at
+  /// the point), from the discs in `lists`; wobble() gives the outline's wobble at p (asked once,
+  /// and only when a disc is within reach).
+  template <class Wobble>
+  void discShadow(const Vec2& p, const world_detail::CellLists& lists, double footprint, const Wobble& wobble, float& s,
+                  float& s_bare) const;
+  /// canopy of row v's located ground pixels (rs.points, rs.ground) into rs.tree (bare) and
+  /// rs.flecked, the outlines' and the flecks' noise evaluated a row at a time.
+  void canopyRow(const RayTable& rays, int v, world_detail::RowScratch& rs) const;
   /// The colour of ground point p seen by a pixel `footprint` wide at `range`; `paved` its class.
   /// `nc` (may be nullptr) memoizes the noise lattice between calls (the same colour either way).
   /// It is locate, texture and finish in turn.
@@ -299,8 +312,9 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   void camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf, std::uint8_t* rgb) const;
   /// The texture `c` of located point p finished: the lawn's worn edge, leaves, shadow, haze.
   /// `haze`: hazeAt(the point's range).
-  C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, float haze,
-            NoiseCache* nc) const;
+  /// `tree`, `flecked`: canopy's shadow at p.
+  C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, float haze, float tree,
+            float flecked, NoiseCache* nc) const;
   /// Aerial perspective: how far ground at `range` m fades toward the horizon's haze (0 … 1; with
   /// haze_distance_m > 0).
   float hazeAt(double range) const;

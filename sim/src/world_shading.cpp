@@ -204,14 +204,17 @@ C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved, Noise
   locate(p, cellLists(cellIndex(p)), nc, g);
   paved = g.paved;
   const C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, PointNoise{salts.data(), p, fp, nc}, nc);
-  return finish(p, g, c, fp, options.haze_distance_m > 0 ? hazeAt(range) : 0.0f, nc);
+  float tree = 0, flecked = 0;  // tree shadow: at the point (leaves fall there), and as seen
+  canopy(p, g.lists, fp, nc, tree, flecked);
+  return finish(p, g, c, fp, options.haze_distance_m > 0 ? hazeAt(range) : 0.0f, tree, flecked, nc);
 }
 
 float World::Impl::hazeAt(double range) const {
   return static_cast<float>(1.0 - std::exp(-range / options.haze_distance_m));
 }
 
-C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, NoiseCache* nc) const {
+C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, float tree, float flecked,
+                       NoiseCache* nc) const {
   if (!g.paved && g.best_road >= 0 && surfaces[static_cast<std::size_t>(g.surface)].material == Material::Grass) {
     // Worn, dusty strip where the lawn meets the pavement.
     const double edge = g.best - roads[static_cast<std::size_t>(g.best_road)].width / 2;
@@ -220,8 +223,6 @@ C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, flo
     c = lerp(c, C3{112, 108, 78}, 0.5f * worn);
   }
   // Fallen leaves: jittered cells of 0.12 m, more of them under the trees.
-  float tree = 0, flecked = 0;  // tree shadow: at the point (leaves fall there), and as seen
-  canopy(p, g.lists, fp, nc, tree, flecked);
   if (options.leaf_density > 0) {
     constexpr double kLeafCell = 0.12;
     const double density = std::min(1.0, options.leaf_density * (0.5 + 2.5 * (shadow_everywhere ? 0.2 : tree)));
