@@ -194,8 +194,14 @@ void World::Impl::locate(const Vec2& p, const CellLists& lists, NoiseCache* nc, 
   if (best_road >= 0) {
     const RoadInfo& r = roads[static_cast<std::size_t>(best_road)];
     const double edge = best - r.width / 2;
-    const double wobble = 0.4 * valueNoise(options.seed ^ 0x5B0ULL, p.x() * 0.8, p.y() * 0.8, channelOf(nc, kWobbleChannel));
-    if (edge < options.shoulder_width_m + wobble) g.surface = lateral > 0 ? r.left : r.right;
+    // The ragged edge moves the shoulder's end by 0.4 m at most: its noise only where that decides.
+    const double reach = options.shoulder_width_m;
+    bool shoulder = edge < reach - 0.4 - 1e-6;
+    if (!shoulder && edge < reach + 0.4 + 1e-6) {
+      const double wobble = 0.4 * valueNoise(options.seed ^ 0x5B0ULL, p.x() * 0.8, p.y() * 0.8, channelOf(nc, kWobbleChannel));
+      shoulder = edge < reach + wobble;
+    }
+    if (shoulder) g.surface = lateral > 0 ? r.left : r.right;
   }
 }
 
@@ -217,10 +223,13 @@ C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, flo
                        NoiseCache* nc) const {
   if (!g.paved && g.best_road >= 0 && surfaces[static_cast<std::size_t>(g.surface)].material == Material::Grass) {
     // Worn, dusty strip where the lawn meets the pavement.
-    const double edge = g.best - roads[static_cast<std::size_t>(g.best_road)].width / 2;
-    const float worn = smoothstep(0.25f, 0.0f, static_cast<float>(edge)) *
-                       (0.5f + 0.5f * valueNoise(options.seed ^ 0xED6EULL, p.x() * 3, p.y() * 3, channelOf(nc, kWornChannel)));
-    c = lerp(c, C3{112, 108, 78}, 0.5f * worn);
+    // (Beyond 0.25 m the smoothstep is 0 and the colour stays: no noise there.)
+    const auto edge = static_cast<float>(g.best - roads[static_cast<std::size_t>(g.best_road)].width / 2);
+    if (edge < 0.25f) {
+      const float worn = smoothstep(0.25f, 0.0f, edge) *
+                         (0.5f + 0.5f * valueNoise(options.seed ^ 0xED6EULL, p.x() * 3, p.y() * 3, channelOf(nc, kWornChannel)));
+      c = lerp(c, C3{112, 108, 78}, 0.5f * worn);
+    }
   }
   // Fallen leaves: jittered cells of 0.12 m, more of them under the trees.
   if (options.leaf_density > 0) {
