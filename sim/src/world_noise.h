@@ -145,6 +145,19 @@ inline float sensorNoise(std::uint64_t frame_seed, std::uint64_t j) {
 /// it, world_noise_batch.cpp: the sums are whole numbers below 2^18, exact in any order).
 void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, float* out);
 
+/// std::round(std::clamp(v, lo, 255)) as a byte (lo ≥ 0 whole; clamping first is the same, the bounds
+/// being whole), inline rather than the library call and without a branch on the fraction (the
+/// sensor noise makes its side a coin toss).
+inline std::uint8_t toByte(float v, float lo) {
+  const float c = std::clamp(v, lo, 255.0f);
+  const auto t = static_cast<std::int32_t>(c);
+  return static_cast<std::uint8_t>(t + static_cast<std::int32_t>(c - static_cast<float>(t) >= 0.5f));  // exact
+}
+
+/// out[j] = toByte(v[j] + sigma · noise[j], lo) for j < n (bit for bit; AVX2 where the CPU has it,
+/// world_noise_batch.cpp).
+void bytesRow(const float* v, const float* noise, float sigma, std::size_t n, float lo, std::uint8_t* out);
+
 inline float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);

@@ -199,8 +199,38 @@ __attribute__((target("avx2"))) void sensorNoiseRowAvx2(std::uint64_t frame_seed
   for (std::size_t j = n4; j < n; ++j) out[j] = sensorNoise(frame_seed, j0 + j);
 }
 
+__attribute__((target("avx2"))) void bytesRowAvx2(const float* v, const float* noise, float sigma, std::size_t n,
+                                                  float lo, std::uint8_t* out) {
+  const std::size_t n8 = n & ~std::size_t{7};
+  const __m256 vs = _mm256_set1_ps(sigma), vlo = _mm256_set1_ps(lo), hi = _mm256_set1_ps(255.0f);
+  const __m256 half = _mm256_set1_ps(0.5f);
+  const __m256i one = _mm256_set1_epi32(1);
+  for (std::size_t j = 0; j < n8; j += 8) {
+    const __m256 x = _mm256_add_ps(_mm256_loadu_ps(v + j), _mm256_mul_ps(vs, _mm256_loadu_ps(noise + j)));
+    const __m256 c = _mm256_min_ps(_mm256_max_ps(x, vlo), hi);  // finite x: std::clamp's value
+    const __m256i t = _mm256_cvttps_epi32(c);
+    const __m256 frac = _mm256_sub_ps(c, _mm256_cvtepi32_ps(t));
+    const __m256i up = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(frac, half, _CMP_GE_OQ)), one);
+    const __m256i b = _mm256_add_epi32(t, up);  // 0 … 255
+    const __m128i w16 = _mm_packus_epi32(_mm256_castsi256_si128(b), _mm256_extracti128_si256(b, 1));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + j), _mm_packus_epi16(w16, w16));
+  }
+  for (std::size_t j = n8; j < n; ++j) out[j] = toByte(v[j] + sigma * noise[j], lo);
+}
+
 }  // namespace
 #endif
+
+void bytesRow(const float* v, const float* noise, float sigma, std::size_t n, float lo, std::uint8_t* out) {
+#ifdef MAPNAV_WORLD_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
+  if (avx2) {
+    bytesRowAvx2(v, noise, sigma, n, lo, out);
+    return;
+  }
+#endif
+  for (std::size_t j = 0; j < n; ++j) out[j] = toByte(v[j] + sigma * noise[j], lo);
+}
 
 void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, float* out) {
 #ifdef MAPNAV_WORLD_AVX2

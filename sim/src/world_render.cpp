@@ -22,15 +22,6 @@ using namespace world_detail;
 
 namespace {
 
-/// std::round(std::clamp(v, lo, 255)) as a byte (lo ≥ 0 whole; clamping first is the same, the bounds
-/// being whole), inline rather than the library call and without a branch on the fraction (the
-/// sensor noise makes its side a coin toss).
-std::uint8_t toByte(float v, float lo) {
-  const float c = std::clamp(v, lo, 255.0f);
-  const auto t = static_cast<std::int32_t>(c);
-  return static_cast<std::uint8_t>(t + static_cast<std::int32_t>(c - static_cast<float>(t) >= 0.5f));  // exact
-}
-
 /// Runs body(v0, v1) on bands of the rows [0, h), one band per thread (this one included).
 template <class Body>
 void forRowBands(int h, int threads, const Body& body) {
@@ -312,17 +303,15 @@ void World::Impl::camera(const RayTable& rays, int v0, int v1, const Pose2& pose
   for (double v : {pose.x(), pose.y(), pose.heading(), t}) frame_seed = mix64(frame_seed ^ std::bit_cast<std::uint64_t>(v));
   const auto sigma = static_cast<float>(o.noise_sigma * 1.7320508);  // sum of 4 U(-.5,.5) has sd 1/√3
   const float lo = o.low_dynamic_range ? 37.0f : 0.0f;
-  std::vector<float> noise(sigma > 0 ? 3 * static_cast<std::size_t>(w) : 0);
+  // A pixel outside the lens' field gets no noise: a 0 added leaves its byte (toByte(v + 0) = toByte(v)).
+  std::vector<float> noise(3 * static_cast<std::size_t>(w), 0.0f);
   for (std::size_t r0 = i0; r0 < i1; r0 += static_cast<std::size_t>(w)) {  // a row at a time
-    if (sigma > 0) sensorNoiseRow(frame_seed, 3 * r0, noise.size(), noise.data());
-    for (std::size_t i = r0; i < r0 + static_cast<std::size_t>(w); ++i) {
-      const bool lit = sigma > 0 && rays.rays()[i].kind != RayTable::Kind::None;
-      for (std::size_t k = 0; k < 3; ++k) {
-        float v = buf[3 * i + k];
-        if (lit) v += sigma * noise[3 * (i - r0) + k];
-        rgb[3 * i + k] = toByte(v, lo);
-      }
+    if (sigma > 0) {
+      sensorNoiseRow(frame_seed, 3 * r0, noise.size(), noise.data());
+      for (std::size_t i = r0; i < r0 + static_cast<std::size_t>(w); ++i)
+        if (rays.rays()[i].kind == RayTable::Kind::None) std::fill_n(noise.data() + 3 * (i - r0), 3, 0.0f);
     }
+    bytesRow(buf + 3 * r0, noise.data(), sigma, noise.size(), lo, rgb + 3 * r0);
   }
 }
 

@@ -124,5 +124,42 @@ TEST(WorldNoiseVector, SensorNoiseRowEqualsTheScalarNoiseBitForBit) {
   EXPECT_LT(hi, 2.0f);
 }
 
+// The camera's last step (bytesRow, AVX2 where the CPU has it) gives toByte's bytes: values below,
+// within and above the range, every half-way fraction (rounded up), at both black levels, rows of
+// every length the vector loop splits differently.
+TEST(WorldNoiseVector, BytesRowEqualsToByte) {
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<float> value(-40.0f, 300.0f), noise(-2.0f, 2.0f);
+  std::size_t differing = 0;
+  for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{7}, std::size_t{8}, std::size_t{9}, std::size_t{1536}}) {
+    for (const float lo : {0.0f, 37.0f}) {
+      for (const float sigma : {0.0f, 3.4641016f}) {
+        std::vector<float> v(n), nz(n);
+        for (std::size_t j = 0; j < n; ++j) {
+          // A third exact halves (x.5 rounds up), a third whole, a third anywhere.
+          v[j] = j % 3 == 0 ? std::floor(value(rng)) + 0.5f : j % 3 == 1 ? std::floor(value(rng)) : value(rng);
+          nz[j] = j % 3 == 2 ? noise(rng) : 0.0f;
+        }
+        std::vector<std::uint8_t> out(n + 1, 7);
+        bytesRow(v.data(), nz.data(), sigma, n, lo, out.data());
+        for (std::size_t j = 0; j < n; ++j)
+          if (out[j] != toByte(v[j] + sigma * nz[j], lo) && ++differing <= 5)
+            ADD_FAILURE() << "n " << n << ", value " << v[j] << ": " << int(out[j]) << " vs "
+                          << int(toByte(v[j] + sigma * nz[j], lo));
+        EXPECT_EQ(out[n], 7) << "n " << n << ": wrote past the row";
+      }
+    }
+  }
+  EXPECT_EQ(differing, 0u);
+  // The rounding itself: half-way up, the clamps at the black level and 255.
+  const std::vector<float> v{2.5f, 2.49f, -3.0f, 254.5f, 300.0f, 36.4f, 37.6f, 0.0f, 100.0f};
+  const std::vector<float> zero(v.size(), 0.0f);
+  std::vector<std::uint8_t> out(v.size());
+  bytesRow(v.data(), zero.data(), 1.0f, v.size(), 37.0f, out.data());
+  EXPECT_EQ(out, (std::vector<std::uint8_t>{37, 37, 37, 255, 255, 37, 38, 37, 100}));
+  bytesRow(v.data(), zero.data(), 1.0f, v.size(), 0.0f, out.data());
+  EXPECT_EQ(out, (std::vector<std::uint8_t>{3, 2, 0, 255, 255, 36, 38, 0, 100}));
+}
+
 }  // namespace
 }  // namespace mapnav::world_detail
