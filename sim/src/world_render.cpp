@@ -101,7 +101,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     if (r.kind == RayTable::Kind::Ground) {
       const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
       rs.points[u] = p;
-      locate(p, tileLists(tiles, static_cast<int>(u) / kTileW, cellIndex(p)), &nc, rs.ground[u]);
+      locate(p, tileLists(tiles, static_cast<int>(u) / kTileW, p), &nc, rs.ground[u]);
       mask[u] = rs.ground[u].paved ? 255 : 0;
       const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
       rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));

@@ -193,6 +193,7 @@ struct RenderTiles {
   int band = -1;
   std::vector<Cell> cells;
   std::vector<std::uint32_t> first;  // tile t's cells: [first[t], first[t + 1])
+  std::vector<int> sure;             // per tile, its one cell's entry when every pixel is in it, else -1
   std::vector<PolyRef> polys;
   std::vector<std::uint32_t> segs, discs;
   std::vector<double> road_bound;    // per road, scratch of addTileCell (infinite between calls)
@@ -327,8 +328,8 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   void addTileCell(int cell, const Box2& tile, world_detail::RenderTiles& rt) const;
   /// Whether every point of the box is inside the polygon as crossingContains sees it (false when unsure).
   bool polygonHoldsBox(const PavedPolygon& poly, const Box2& box) const;
-  /// Tile `tile`'s lists of cell `cell` in rt (the cell's own when the tile has none for it).
-  world_detail::CellLists tileLists(const world_detail::RenderTiles& rt, int tile, int cell) const;
+  /// The lists of point p of tile `tile` in rt (its cell's own when the tile has none for it).
+  world_detail::CellLists tileLists(const world_detail::RenderTiles& rt, int tile, const Vec2& p) const;
   C3 sky(double elevation) const;
 };
 

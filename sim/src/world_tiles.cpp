@@ -141,6 +141,7 @@ void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<do
   rt.discs.clear();
   rt.road_bound.assign(roads.size(), std::numeric_limits<double>::infinity());
   rt.first.assign(1, 0);
+  rt.sure.clear();
   for (int t = 0; t < extras.tiles_x; ++t) {
     const RayExtras::TileBox& vb = extras.tiles[static_cast<std::size_t>(band) * extras.tiles_x + t];
     if (vb.ground) {
@@ -149,20 +150,28 @@ void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<do
       for (const Vec2& c : corners(Box2(Vec2(vb.x0, vb.y0), Vec2(vb.x1, vb.y1))))
         tile.extend(Vec2(ch * c.x() - sh * c.y() + tx, sh * c.x() + ch * c.y() + ty));
       tile = Box2(tile.min() - Vec2(kSlack, kSlack), tile.max() + Vec2(kSlack, kSlack));
-      const auto cellOf = [&](double v, double o, int n) {
-        return std::clamp(static_cast<int>(std::floor((v - o) / kCell)), 0, n - 1);
-      };
-      const int x0 = cellOf(tile.min().x(), origin.x(), nx), x1 = cellOf(tile.max().x(), origin.x(), nx);
-      const int y0 = cellOf(tile.min().y(), origin.y(), ny), y1 = cellOf(tile.max().y(), origin.y(), ny);
+      // cellIndex's quotients are monotone in the point: the box's bound every pixel's.
+      const double fx0 = (tile.min().x() - origin.x()) / kCell, fx1 = (tile.max().x() - origin.x()) / kCell;
+      const double fy0 = (tile.min().y() - origin.y()) / kCell, fy1 = (tile.max().y() - origin.y()) / kCell;
+      const auto cellOf = [](double f, int n) { return std::clamp(static_cast<int>(std::floor(f)), 0, n - 1); };
+      const int x0 = cellOf(fx0, nx), x1 = cellOf(fx1, nx), y0 = cellOf(fy0, ny), y1 = cellOf(fy1, ny);
       for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1; ++x) addTileCell(y * nx + x, tile, rt);
+      // Within one cell of the grid, every pixel's cellIndex is that cell.
+      const bool one = fx0 >= 0 && fy0 >= 0 && fx1 < nx && fy1 < ny && x0 == x1 && y0 == y1;
+      rt.sure.push_back(one && rt.cells.size() == rt.first.back() + 1 ? static_cast<int>(rt.first.back()) : -1);
+    } else {
+      rt.sure.push_back(-1);
     }
     rt.first.push_back(static_cast<std::uint32_t>(rt.cells.size()));
   }
 }
 
-CellLists World::Impl::tileLists(const RenderTiles& rt, int tile, int cell) const {
-  for (std::uint32_t i = rt.first[static_cast<std::size_t>(tile)]; i < rt.first[static_cast<std::size_t>(tile) + 1]; ++i) {
+CellLists World::Impl::tileLists(const RenderTiles& rt, int tile, const Vec2& p) const {
+  const auto t = static_cast<std::size_t>(tile);
+  const int sure = rt.sure[t];
+  const int cell = sure >= 0 ? rt.cells[static_cast<std::size_t>(sure)].cell : cellIndex(p);
+  for (std::uint32_t i = rt.first[t]; i < rt.first[t + 1]; ++i) {
     const RenderTiles::Cell& c = rt.cells[i];
     if (c.cell == cell)
       return {rt.polys.data() + c.polys, rt.segs.data() + c.segs, rt.discs.data() + c.discs,
