@@ -117,20 +117,10 @@ inline void fbmBatch(std::uint64_t salt, const double* xs, const double* ys, con
   for (std::size_t j = 0; j < m; ++j) out[j] = out[j] / norm;
 }
 
-/// Scratch of fbmRow, kept between calls.
-struct FbmScratch {
-  std::vector<double> fx, fy;        // each point's lattice cell, from index 1 (fbmRow)
-  std::vector<float> tx, ty, w;
-  std::vector<float> a, b, c, d;     // corners of each run of points in one lattice cell
-  std::vector<std::int32_t> run;     // each point's run
-  std::vector<std::uint32_t> start;  // each run's first point
-  void resize(std::size_t m);
-};
-
 /// fbmBatch's values (bit for bit), with the CPU's vector units where it has AVX2
 /// (world_noise_batch.cpp).
 void fbmRow(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
-            double base_freq, int octaves, float* out, FbmScratch& scratch);
+            double base_freq, int octaves, float* out);
 
 /// The camera's sensor noise of subpixel j (3 × pixel + channel) of a frame: the four 16-bit fields of
 /// mix64(frame_seed + j·φ) summed (a sum of four uniforms, ≈ Gaussian), scaled to [−2, 2) (sd 1/√3).

@@ -131,7 +131,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
       if (k == 0) break;
       const FbmSpec spec = fbmSpec(k);
       fbmRow(salts[static_cast<std::size_t>(k)], rs.xs.data(), rs.ys.data(), rs.footprints.data(), n, spec.base_freq,
-             spec.octaves, rs.sums.data(), rs.fbm);
+             spec.octaves, rs.sums.data());
       float* values = rs.values.data() + static_cast<std::size_t>(k) * w;
       for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
     }

@@ -369,7 +369,7 @@ void World::Impl::canopyRow(const RayTable& rays, int v, RowScratch& rs) const {
   const auto noiseRow = [&](const std::uint64_t (&salt)[2], const double (&f)[2]) {
     for (int k = 0; k < 2; ++k)
       fbmRow(options.seed ^ salt[k], rs.cx.data(), rs.cy.data(), rs.zeros.data(), rs.cand.size(), f[k], 1,
-             (k == 0 ? rs.n0 : rs.n1).data(), rs.fbm);
+             (k == 0 ? rs.n0 : rs.n1).data());
   };
   gather([&](std::size_t u) { return rs.ground[u].lists.n_discs > 0; });
   if (rs.cand.empty()) return;

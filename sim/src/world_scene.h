@@ -138,7 +138,6 @@ struct RowScratch {
   std::vector<std::uint32_t> group[kMaterials];  // the row's ground pixels by their texture's material
   std::vector<double> xs, ys;                   // one group's points, gathered
   std::vector<float> footprints, sums;
-  FbmScratch fbm;
   std::vector<float> tree, flecked;             // each pixel's canopy shadow (World::Impl::canopyRow)
   std::vector<std::uint32_t> cand;              // canopyRow's pixels, their points and noise
   std::vector<double> cx, cy;

@@ -3,7 +3,7 @@
 // performs fbm's own IEEE operations in fbm's order, without fused multiply-adds. Rows of every
 // length the vector loops split differently (multiples of 4 and 8 and the tails), points on and off
 // the lattice lines, negative and far coordinates, footprints from sharp (every octave) to wide
-// (none), and a scratch reused across rows of different lengths.
+// (none), rows of different lengths one after another.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -57,7 +57,6 @@ TEST(WorldNoiseVector, FbmRowEqualsTheScalarFbmBitForBit) {
   std::printf("fbmRow's vector path: %s\n", avx2 ? "AVX2 (compared with the scalar fbmBatch and fbm)"
                                                   : "none on this CPU (fbmRow is fbmBatch)");
   std::mt19937_64 rng(31);
-  FbmScratch scratch;  // reused from row to row, as the renderer keeps it
   std::size_t points = 0, differing_batch = 0, differing_fbm = 0, nonzero = 0;
   const std::vector<std::size_t> lengths = {0, 1, 2, 3, 4, 5, 7, 8, 9, 11, 12, 15, 16, 17, 31, 33, 100, 512, 1001};
   for (const std::size_t m : lengths) {
@@ -67,7 +66,7 @@ TEST(WorldNoiseVector, FbmRowEqualsTheScalarFbmBitForBit) {
       const double base_freq = std::vector<double>{0.05, 0.37, 1.0, 3.3}[trial % 4];
       const int octaves = 1 + trial % NoiseCache::kOctaves + trial / 4;
       std::vector<float> row(m + 1, -7.0f), batch(m + 1, -7.0f);  // one past the end: left alone
-      fbmRow(salt, r.xs.data(), r.ys.data(), r.footprints.data(), m, base_freq, octaves, row.data(), scratch);
+      fbmRow(salt, r.xs.data(), r.ys.data(), r.footprints.data(), m, base_freq, octaves, row.data());
       fbmBatch(salt, r.xs.data(), r.ys.data(), r.footprints.data(), m, base_freq, octaves, batch.data());
       for (std::size_t j = 0; j < m; ++j) {
         const float one = fbm(salt, Vec2(r.xs[j], r.ys[j]), base_freq, octaves, r.footprints[j]);
