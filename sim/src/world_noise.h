@@ -23,7 +23,7 @@ inline std::uint64_t mix64(std::uint64_t x) {
   x ^= x >> 31;
   return x;
 }
-inline std::uint64_t hash2(std::uint64_t salt, std::int64_t a, std::int64_t b) {
+[[gnu::always_inline]] inline std::uint64_t hash2(std::uint64_t salt, std::int64_t a, std::int64_t b) {
   return mix64(salt ^ (static_cast<std::uint64_t>(a) * 0x9E3779B97F4A7C15ULL) ^
                (static_cast<std::uint64_t>(b) * 0xC2B2AE3D27D4EB4FULL));
 }
@@ -42,15 +42,31 @@ struct NoiseMemo {
   float a = 0, b = 0, c = 0, d = 0;
 };
 
+/// The last cell of a hash2 lattice (a concrete slab, a leaf's cell) and its hash: neighbouring
+/// pixels mostly share it.
+struct HashMemo {
+  std::uint64_t salt = 0;
+  std::int64_t a = INT64_MIN, b = INT64_MIN;  // no finite point's cell
+  std::uint64_t hash = 0;
+};
+
 /// One memo per noise channel (a texture's fractal sum, the shoulder's wobble, ...) and octave.
 /// One per thread that renders; a lookup without one (nullptr) hashes the corners each time.
 struct NoiseCache {
   static constexpr int kOctaves = 8;
   static constexpr int kChannels = 64;
   NoiseMemo memo[kChannels * kOctaves];
+  HashMemo slab, leaf;
   /// The memos of channel k (< kChannels), one per octave.
   NoiseMemo* channel(int k) { return memo + k * kOctaves; }
 };
+/// hash2(salt, a, b), kept in `memo` (may be nullptr) for the next call with the same cell.
+inline std::uint64_t hash2(std::uint64_t salt, std::int64_t a, std::int64_t b, HashMemo* memo) {
+  if (memo == nullptr) return hash2(salt, a, b);
+  if (memo->a != a || memo->b != b || memo->salt != salt) *memo = {salt, a, b, hash2(salt, a, b)};
+  return memo->hash;
+}
+
 /// A channel's memos, or nullptr without a cache.
 inline NoiseMemo* channelOf(NoiseCache* cache, int k) { return cache != nullptr ? cache->channel(k) : nullptr; }
 
@@ -155,7 +171,7 @@ inline float smoothstep(float e0, float e1, float x) {
 
 /// Coverage (0..1) of a dark line of `width` at distance `d` from the pixel centre, for a pixel
 /// `footprint` wide (box-filtered).
-inline float lineCoverage(double d, double width, double footprint) {
+[[gnu::always_inline]] inline float lineCoverage(double d, double width, double footprint) {
   const double fp = std::max(footprint, 1e-4);
   // Beyond the line's reach the overlap below is negative: coverage 0 (the same +0 the clamp gives).
   if (d - fp / 2 > width / 2) return 0.0f;

@@ -79,6 +79,7 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
   options.validate();
   for (std::size_t k = 0; k < salts.size(); ++k) salts[k] = mix64(options.seed * 0x100000001B3ULL + k);
   shadow_everywhere = options.shadow_density >= 0.999;
+  leaf_salt = mix64(options.seed ^ 0x1EAFULL);
   lawn = surfaceIndex(map, map.findSurface("grass") ? "grass" : "");
   if (!map.findSurface("grass")) surfaces[static_cast<std::size_t>(lawn)] = {Material::Grass, {70, 120, 50}, {14, 18, 12}};
 

@@ -239,6 +239,7 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   std::vector<Segment> segments;
   std::vector<Disc> discs;
   bool shadow_everywhere = false;
+  std::uint64_t leaf_salt = 0;  // the fallen leaves' cells' (finish)
 
   // Grid.
   Vec2 origin = Vec2::Zero();

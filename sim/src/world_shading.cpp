@@ -50,7 +50,8 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
           gap = std::max(gap, lineCoverage(dv, options.slab_gap_width_m, fp));
         }
       }
-      const std::uint64_t slab_hash = hash2(salt(1) + static_cast<std::uint64_t>(road + 1), slab_i, slab_j);
+      const std::uint64_t slab_hash =
+          hash2(salt(1) + static_cast<std::uint64_t>(road + 1), slab_i, slab_j, nc != nullptr ? &nc->slab : nullptr);
       const float tone = 1.0f + 0.035f * unitSigned(slab_hash) * pn;  // each slab poured apart
       c = c * tone;
       const float mottle = noise(2);
@@ -243,7 +244,7 @@ C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, flo
     } else {
       const auto ix = static_cast<std::int64_t>(std::floor(p.x() / kLeafCell));
       const auto iy = static_cast<std::int64_t>(std::floor(p.y() / kLeafCell));
-      const std::uint64_t h = hash2(mix64(options.seed ^ 0x1EAFULL), ix, iy);
+      const std::uint64_t h = hash2(leaf_salt, ix, iy, nc != nullptr ? &nc->leaf : nullptr);
       if (unit01(h) < density) {
         const std::uint64_t h2 = mix64(h);
         const Vec2 centre((ix + 0.3 + 0.4 * unit01(h2)) * kLeafCell, (iy + 0.3 + 0.4 * unit01(mix64(h2))) * kLeafCell);
