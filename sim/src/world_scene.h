@@ -8,7 +8,9 @@
 // cell, (2) the centre-line segments near enough to decide a point's shoulder side and its
 // position along a road, (3) the tree-canopy discs whose shadow touches it. A ground point's
 // paved test is then a lookup plus, in boundary cells only, an exact crossing-number test against
-// the polygon's edges in a 1 m band of y.
+// the polygon's edges in a 1 m band of y. The renderer narrows the lists further per frame: each
+// kTileW × kTileH tile of the image keeps, per cell its ground points meet, only what a point of
+// the tile can meet (RenderTiles, world_tiles.cpp), with the same answers for every pixel.
 #include <array>
 #include <cstddef>
 #include <cstdint>
