@@ -1,8 +1,9 @@
 // The fractal sums of a row of points (fbmRow): fbmBatch's values, with AVX2 where the CPU has it.
 // Octave by octave, 8 points at a time in registers: the blend weights and lattice coordinates (two
 // halves of 4 in doubles), the cells' corner values (broadcast when the 8 share a cell, as in the
-// coarse octaves; else lane by lane, the last cell's reused), the blend (floats). Every lane performs fbm's own operations in its own order, in IEEE single and double
-// precision, and no operation is fused (no FMA), so the sums are bit for bit fbm's.
+// coarse octaves; else lane by lane, the last cell's reused), the blend (floats). Every lane
+// performs fbm's own operations in its own order, in IEEE single and double precision, and no
+// operation is fused (no FMA), so the sums are bit for bit fbm's.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -52,7 +53,8 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
     bool shows = false;  // a point's weight is > 0
     for (std::size_t j = 0; j < m8; j += 8) {
       // The footprint's weight, 4 points at a time in doubles (filterWeight's operations).
-      const __m256d fp0 = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j)), fp1 = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j + 4));
+      const __m256d fp0 = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j));
+      const __m256d fp1 = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j + 4));
       const __m256d w0 = _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(two, _mm256_mul_pd(v4f, fp0)), zero), one);
       const __m256d w1 = _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(two, _mm256_mul_pd(v4f, fp1)), zero), one);
       const __m256 w = _mm256_set_m128(_mm256_cvtpd_ps(w1), _mm256_cvtpd_ps(w0));
@@ -60,21 +62,27 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
       if (_mm256_testz_ps(seen, seen)) continue;  // no point of the 8 sees the octave: their sums stay
       shows = true;
       // Lattice cells and the offsets in them.
-      const __m256d x0 = _mm256_mul_pd(_mm256_loadu_pd(xs + j), vf), x1 = _mm256_mul_pd(_mm256_loadu_pd(xs + j + 4), vf);
-      const __m256d y0 = _mm256_mul_pd(_mm256_loadu_pd(ys + j), vf), y1 = _mm256_mul_pd(_mm256_loadu_pd(ys + j + 4), vf);
+      const __m256d x0 = _mm256_mul_pd(_mm256_loadu_pd(xs + j), vf);
+      const __m256d x1 = _mm256_mul_pd(_mm256_loadu_pd(xs + j + 4), vf);
+      const __m256d y0 = _mm256_mul_pd(_mm256_loadu_pd(ys + j), vf);
+      const __m256d y1 = _mm256_mul_pd(_mm256_loadu_pd(ys + j + 4), vf);
       const __m256d fx0 = _mm256_floor_pd(x0), fx1 = _mm256_floor_pd(x1);
       const __m256d fy0 = _mm256_floor_pd(y0), fy1 = _mm256_floor_pd(y1);
-      const __m256 tx = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(x1, fx1)), _mm256_cvtpd_ps(_mm256_sub_pd(x0, fx0)));
-      const __m256 ty = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(y1, fy1)), _mm256_cvtpd_ps(_mm256_sub_pd(y0, fy0)));
+      const __m256 tx =
+          _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(x1, fx1)), _mm256_cvtpd_ps(_mm256_sub_pd(x0, fx0)));
+      const __m256 ty =
+          _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(y1, fy1)), _mm256_cvtpd_ps(_mm256_sub_pd(y0, fy0)));
       // The corners: all 8 in one cell (the coarse octaves: broadcast), else lane by lane.
       const double cx = _mm256_cvtsd_f64(fx0), cy = _mm256_cvtsd_f64(fy0);
       const __m256d bx = _mm256_set1_pd(cx), by = _mm256_set1_pd(cy);
-      const __m256d same = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(fx0, bx, _CMP_EQ_OQ), _mm256_cmp_pd(fx1, bx, _CMP_EQ_OQ)),
-                                         _mm256_and_pd(_mm256_cmp_pd(fy0, by, _CMP_EQ_OQ), _mm256_cmp_pd(fy1, by, _CMP_EQ_OQ)));
+      const __m256d same_x = _mm256_and_pd(_mm256_cmp_pd(fx0, bx, _CMP_EQ_OQ), _mm256_cmp_pd(fx1, bx, _CMP_EQ_OQ));
+      const __m256d same_y = _mm256_and_pd(_mm256_cmp_pd(fy0, by, _CMP_EQ_OQ), _mm256_cmp_pd(fy1, by, _CMP_EQ_OQ));
+      const __m256d same = _mm256_and_pd(same_x, same_y);
       __m256 va, vb, vc, vd;
       if (_mm256_movemask_pd(same) == 0xF) {
         last.at(s, cx, cy);
-        va = _mm256_set1_ps(last.a), vb = _mm256_set1_ps(last.b), vc = _mm256_set1_ps(last.c), vd = _mm256_set1_ps(last.d);
+        va = _mm256_set1_ps(last.a), vb = _mm256_set1_ps(last.b);
+        vc = _mm256_set1_ps(last.c), vd = _mm256_set1_ps(last.d);
       } else {
         alignas(32) double lx[8], ly[8];
         alignas(32) float lw[8], ca[8], cb[8], cc[8], cd[8];
@@ -93,7 +101,8 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
       const __m256 cd = _mm256_add_ps(vc, _mm256_mul_ps(_mm256_sub_ps(vd, vc), ux));
       const __m256 v = _mm256_add_ps(ab, _mm256_mul_ps(_mm256_sub_ps(cd, ab), uy));
       const __m256 sum = _mm256_loadu_ps(out + j);
-      _mm256_storeu_ps(out + j, _mm256_blendv_ps(sum, _mm256_add_ps(sum, _mm256_mul_ps(_mm256_mul_ps(vamp, w), v)), seen));
+      const __m256 added = _mm256_add_ps(sum, _mm256_mul_ps(_mm256_mul_ps(vamp, w), v));
+      _mm256_storeu_ps(out + j, _mm256_blendv_ps(sum, added, seen));
     }
     for (std::size_t j = m8; j < m; ++j) {  // the rest one at a time, the same operations
       const float w = filterWeight(f, footprints[j]);

@@ -117,7 +117,8 @@ void World::Impl::addTileCell(int cell, const Box2& tile, RenderTiles& rt) const
   }
   for (std::uint32_t i = 0; i < all.n_segs; ++i) {
     const Segment& s = segments[all.segs[i]];
-    if (boxSegLowerBound(box, s) <= rt.road_bound[static_cast<std::size_t>(s.road)] + kSlack) rt.segs.push_back(all.segs[i]);
+    if (boxSegLowerBound(box, s) <= rt.road_bound[static_cast<std::size_t>(s.road)] + kSlack)
+      rt.segs.push_back(all.segs[i]);
   }
   for (std::uint32_t i = 0; i < all.n_segs; ++i)
     rt.road_bound[static_cast<std::size_t>(segments[all.segs[i]].road)] = std::numeric_limits<double>::infinity();
