@@ -53,11 +53,11 @@ World& World::operator=(World&&) noexcept = default;
 
 const WorldOptions& World::options() const { return impl_->options; }
 
-bool World::isPaved(const Vec2& p) const { return impl_->pavedAt(p, impl_->cellIndex(p)) >= 0; }
+bool World::isPaved(const Vec2& p) const { return impl_->pavedAt(p, impl_->cellLists(impl_->cellIndex(p))) >= 0; }
 
 double World::shadowAt(const Vec2& p) const {
   float bare = 0, flecked = 0;
-  impl_->canopy(p, impl_->cellIndex(p), 0.0, nullptr, bare, flecked);
+  impl_->canopy(p, impl_->cellLists(impl_->cellIndex(p)), 0.0, nullptr, bare, flecked);
   return flecked;
 }
 

@@ -23,7 +23,7 @@ inline std::uint64_t mix64(std::uint64_t x) {
   x ^= x >> 31;
   return x;
 }
-inline std::uint64_t hash2(std::uint64_t salt, std::int64_t a, std::int64_t b) {
+[[gnu::always_inline]] inline std::uint64_t hash2(std::uint64_t salt, std::int64_t a, std::int64_t b) {
   return mix64(salt ^ (static_cast<std::uint64_t>(a) * 0x9E3779B97F4A7C15ULL) ^
                (static_cast<std::uint64_t>(b) * 0xC2B2AE3D27D4EB4FULL));
 }
@@ -42,15 +42,31 @@ struct NoiseMemo {
   float a = 0, b = 0, c = 0, d = 0;
 };
 
+/// The last cell of a hash2 lattice (a concrete slab, a leaf's cell) and its hash: neighbouring
+/// pixels mostly share it.
+struct HashMemo {
+  std::uint64_t salt = 0;
+  std::int64_t a = INT64_MIN, b = INT64_MIN;  // no finite point's cell
+  std::uint64_t hash = 0;
+};
+
 /// One memo per noise channel (a texture's fractal sum, the shoulder's wobble, ...) and octave.
 /// One per thread that renders; a lookup without one (nullptr) hashes the corners each time.
 struct NoiseCache {
   static constexpr int kOctaves = 8;
   static constexpr int kChannels = 64;
   NoiseMemo memo[kChannels * kOctaves];
+  HashMemo slab, leaf;
   /// The memos of channel k (< kChannels), one per octave.
   NoiseMemo* channel(int k) { return memo + k * kOctaves; }
 };
+/// hash2(salt, a, b), kept in `memo` (may be nullptr) for the next call with the same cell.
+inline std::uint64_t hash2(std::uint64_t salt, std::int64_t a, std::int64_t b, HashMemo* memo) {
+  if (memo == nullptr) return hash2(salt, a, b);
+  if (memo->a != a || memo->b != b || memo->salt != salt) *memo = {salt, a, b, hash2(salt, a, b)};
+  return memo->hash;
+}
+
 /// A channel's memos, or nullptr without a cache.
 inline NoiseMemo* channelOf(NoiseCache* cache, int k) { return cache != nullptr ? cache->channel(k) : nullptr; }
 
@@ -117,17 +133,10 @@ inline void fbmBatch(std::uint64_t salt, const double* xs, const double* ys, con
   for (std::size_t j = 0; j < m; ++j) out[j] = out[j] / norm;
 }
 
-/// Scratch of fbmRow, kept between calls.
-struct FbmScratch {
-  std::vector<double> fx, fy;
-  std::vector<float> tx, ty, w, a, b, c, d;
-  void resize(std::size_t m);
-};
-
 /// fbmBatch's values (bit for bit), with the CPU's vector units where it has AVX2
 /// (world_noise_batch.cpp).
 void fbmRow(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
-            double base_freq, int octaves, float* out, FbmScratch& scratch);
+            double base_freq, int octaves, float* out);
 
 /// The camera's sensor noise of subpixel j (3 × pixel + channel) of a frame: the four 16-bit fields of
 /// mix64(frame_seed + j·φ) summed (a sum of four uniforms, ≈ Gaussian), scaled to [−2, 2) (sd 1/√3).
@@ -142,6 +151,19 @@ inline float sensorNoise(std::uint64_t frame_seed, std::uint64_t j) {
 /// it, world_noise_batch.cpp: the sums are whole numbers below 2^18, exact in any order).
 void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, float* out);
 
+/// std::round(std::clamp(v, lo, 255)) as a byte (lo ≥ 0 whole; clamping first is the same, the bounds
+/// being whole), inline rather than the library call and without a branch on the fraction (the
+/// sensor noise makes its side a coin toss).
+inline std::uint8_t toByte(float v, float lo) {
+  const float c = std::clamp(v, lo, 255.0f);
+  const auto t = static_cast<std::int32_t>(c);
+  return static_cast<std::uint8_t>(t + static_cast<std::int32_t>(c - static_cast<float>(t) >= 0.5f));  // exact
+}
+
+/// out[j] = toByte(v[j] + sigma · noise[j], lo) for j < n (bit for bit; AVX2 where the CPU has it,
+/// world_noise_batch.cpp).
+void bytesRow(const float* v, const float* noise, float sigma, std::size_t n, float lo, std::uint8_t* out);
+
 inline float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
@@ -149,7 +171,7 @@ inline float smoothstep(float e0, float e1, float x) {
 
 /// Coverage (0..1) of a dark line of `width` at distance `d` from the pixel centre, for a pixel
 /// `footprint` wide (box-filtered).
-inline float lineCoverage(double d, double width, double footprint) {
+[[gnu::always_inline]] inline float lineCoverage(double d, double width, double footprint) {
   const double fp = std::max(footprint, 1e-4);
   // Beyond the line's reach the overlap below is negative: coverage 0 (the same +0 the clamp gives).
   if (d - fp / 2 > width / 2) return 0.0f;

@@ -1,9 +1,11 @@
 // The fractal sums of a row of points (fbmRow): fbmBatch's values, with AVX2 where the CPU has it.
-// Octave by octave: the lattice coordinates and blend weights of 4 points at a time (doubles), the
-// cells' corner values (scalar, the last cell reused), then the blend of 8 points at a time
-// (floats). Every lane performs fbm's own operations in its own order, in IEEE single and double
-// precision, and no operation is fused (no FMA), so the sums are bit for bit fbm's.
+// Octave by octave, 8 points at a time in registers: the blend weights and lattice coordinates (two
+// halves of 4 in doubles), the cells' corner values (broadcast when the 8 share a cell, as in the
+// coarse octaves; else lane by lane, the last cell's reused), the blend (floats). Every lane
+// performs fbm's own operations in its own order, in IEEE single and double precision, and no
+// operation is fused (no FMA), so the sums are bit for bit fbm's.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -20,45 +22,101 @@ namespace mapnav::world_detail {
 #ifdef MAPNAV_WORLD_AVX2
 namespace {
 
-/// Octave `o` of fbm at points [j0, m) one at a time (the tails of the vector loops).
-void octaveTail(std::uint64_t s, const double* xs, const double* ys, const float* footprints, std::size_t j0,
-                std::size_t m, double f, float amp, float* out) {
-  NoiseMemo memo;
-  for (std::size_t j = j0; j < m; ++j) {
-    const float w = filterWeight(f, footprints[j]);
-    if (w > 0) out[j] += amp * w * valueNoise(s, xs[j] * f, ys[j] * f, &memo);
+/// The corners of the lattice cell fbmRowAvx2 last hashed (cx, cy: the cell; NaN before any).
+struct CellCorners {
+  double cx = std::numeric_limits<double>::quiet_NaN(), cy = cx;
+  float a = 0, b = 0, c = 0, d = 0;
+  /// The corners of cell (fx, fy) of salt s: hashed when it is not the last one.
+  void at(std::uint64_t s, double fx, double fy) {
+    if (fx == cx && fy == cy) return;
+    cx = fx, cy = fy;
+    const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+    a = unitSigned(hash2(s, ix, iy)), b = unitSigned(hash2(s, ix + 1, iy));
+    c = unitSigned(hash2(s, ix, iy + 1)), d = unitSigned(hash2(s, ix + 1, iy + 1));
   }
-}
+};
 
 __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double* xs, const double* ys,
-                                                const float* footprints, std::size_t m, double base_freq, int octaves,
-                                                float* out, FbmScratch& sc) {
+                                                 const float* footprints, std::size_t m, double base_freq, int octaves,
+                                                 float* out) {
   std::fill(out, out + m, 0.0f);
-  sc.resize(m);
-  const std::size_t m4 = m & ~std::size_t{3}, m8 = m & ~std::size_t{7};
+  const std::size_t m8 = m & ~std::size_t{7};
   float norm = 0, amp = 1;
   double f = base_freq;
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0);
+  const __m256 three = _mm256_set1_ps(3.0f), twof = _mm256_set1_ps(2.0f), zerof = _mm256_setzero_ps();
   for (int o = 0; o < octaves; ++o) {
     const std::uint64_t s = salt + static_cast<std::uint64_t>(o) * 0x51ED27ULL;
-    // Lattice cells, offsets in the cell and the footprint's weight, 4 points at a time.
     const __m256d vf = _mm256_set1_pd(f), v4f = _mm256_set1_pd(4.0 * f);
-    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0);
-    int shows = 0;  // a point's weight is > 0
-    for (std::size_t j = 0; j < m4; j += 4) {
-      const __m256d x = _mm256_mul_pd(_mm256_loadu_pd(xs + j), vf), y = _mm256_mul_pd(_mm256_loadu_pd(ys + j), vf);
-      const __m256d fx = _mm256_floor_pd(x), fy = _mm256_floor_pd(y);
-      _mm256_storeu_pd(sc.fx.data() + j, fx);
-      _mm256_storeu_pd(sc.fy.data() + j, fy);
-      _mm_storeu_ps(sc.tx.data() + j, _mm256_cvtpd_ps(_mm256_sub_pd(x, fx)));
-      _mm_storeu_ps(sc.ty.data() + j, _mm256_cvtpd_ps(_mm256_sub_pd(y, fy)));
-      const __m256d fp = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j));
-      const __m256d w = _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(two, _mm256_mul_pd(v4f, fp)), zero), one);
-      const __m128 wf = _mm256_cvtpd_ps(w);
-      _mm_storeu_ps(sc.w.data() + j, wf);
-      shows |= _mm_movemask_ps(_mm_cmpgt_ps(wf, _mm_setzero_ps()));
+    const __m256 vamp = _mm256_set1_ps(amp);
+    CellCorners last;
+    bool shows = false;  // a point's weight is > 0
+    for (std::size_t j = 0; j < m8; j += 8) {
+      // The footprint's weight, 4 points at a time in doubles (filterWeight's operations).
+      const __m256d fp0 = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j));
+      const __m256d fp1 = _mm256_cvtps_pd(_mm_loadu_ps(footprints + j + 4));
+      const __m256d w0 = _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(two, _mm256_mul_pd(v4f, fp0)), zero), one);
+      const __m256d w1 = _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(two, _mm256_mul_pd(v4f, fp1)), zero), one);
+      const __m256 w = _mm256_set_m128(_mm256_cvtpd_ps(w1), _mm256_cvtpd_ps(w0));
+      const __m256 seen = _mm256_cmp_ps(w, zerof, _CMP_GT_OQ);
+      if (_mm256_testz_ps(seen, seen)) continue;  // no point of the 8 sees the octave: their sums stay
+      shows = true;
+      // Lattice cells and the offsets in them.
+      const __m256d x0 = _mm256_mul_pd(_mm256_loadu_pd(xs + j), vf);
+      const __m256d x1 = _mm256_mul_pd(_mm256_loadu_pd(xs + j + 4), vf);
+      const __m256d y0 = _mm256_mul_pd(_mm256_loadu_pd(ys + j), vf);
+      const __m256d y1 = _mm256_mul_pd(_mm256_loadu_pd(ys + j + 4), vf);
+      const __m256d fx0 = _mm256_floor_pd(x0), fx1 = _mm256_floor_pd(x1);
+      const __m256d fy0 = _mm256_floor_pd(y0), fy1 = _mm256_floor_pd(y1);
+      const __m256 tx =
+          _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(x1, fx1)), _mm256_cvtpd_ps(_mm256_sub_pd(x0, fx0)));
+      const __m256 ty =
+          _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(y1, fy1)), _mm256_cvtpd_ps(_mm256_sub_pd(y0, fy0)));
+      // The corners: all 8 in one cell (the coarse octaves: broadcast), else lane by lane.
+      const double cx = _mm256_cvtsd_f64(fx0), cy = _mm256_cvtsd_f64(fy0);
+      const __m256d bx = _mm256_set1_pd(cx), by = _mm256_set1_pd(cy);
+      const __m256d same_x = _mm256_and_pd(_mm256_cmp_pd(fx0, bx, _CMP_EQ_OQ), _mm256_cmp_pd(fx1, bx, _CMP_EQ_OQ));
+      const __m256d same_y = _mm256_and_pd(_mm256_cmp_pd(fy0, by, _CMP_EQ_OQ), _mm256_cmp_pd(fy1, by, _CMP_EQ_OQ));
+      const __m256d same = _mm256_and_pd(same_x, same_y);
+      __m256 va, vb, vc, vd;
+      if (_mm256_movemask_pd(same) == 0xF) {
+        last.at(s, cx, cy);
+        va = _mm256_set1_ps(last.a), vb = _mm256_set1_ps(last.b);
+        vc = _mm256_set1_ps(last.c), vd = _mm256_set1_ps(last.d);
+      } else {
+        alignas(32) double lx[8], ly[8];
+        alignas(32) float lw[8], ca[8], cb[8], cc[8], cd[8];
+        _mm256_store_pd(lx, fx0), _mm256_store_pd(lx + 4, fx1), _mm256_store_pd(ly, fy0), _mm256_store_pd(ly + 4, fy1);
+        _mm256_store_ps(lw, w);
+        for (int l = 0; l < 8; ++l) {
+          if (lw[l] > 0) last.at(s, lx[l], ly[l]);  // a hidden point's cell is never hashed (it may not fit 64 bits)
+          ca[l] = last.a, cb[l] = last.b, cc[l] = last.c, cd[l] = last.d;
+        }
+        va = _mm256_load_ps(ca), vb = _mm256_load_ps(cb), vc = _mm256_load_ps(cc), vd = _mm256_load_ps(cd);
+      }
+      // The blend and the weighted sum (where the weight is 0, the sum stays).
+      const __m256 ux = _mm256_mul_ps(_mm256_mul_ps(tx, tx), _mm256_sub_ps(three, _mm256_mul_ps(twof, tx)));
+      const __m256 uy = _mm256_mul_ps(_mm256_mul_ps(ty, ty), _mm256_sub_ps(three, _mm256_mul_ps(twof, ty)));
+      const __m256 ab = _mm256_add_ps(va, _mm256_mul_ps(_mm256_sub_ps(vb, va), ux));
+      const __m256 cd = _mm256_add_ps(vc, _mm256_mul_ps(_mm256_sub_ps(vd, vc), ux));
+      const __m256 v = _mm256_add_ps(ab, _mm256_mul_ps(_mm256_sub_ps(cd, ab), uy));
+      const __m256 sum = _mm256_loadu_ps(out + j);
+      const __m256 added = _mm256_add_ps(sum, _mm256_mul_ps(_mm256_mul_ps(vamp, w), v));
+      _mm256_storeu_ps(out + j, _mm256_blendv_ps(sum, added, seen));
     }
-    for (std::size_t j = m4; j < m && shows == 0; ++j) shows = filterWeight(f, footprints[j]) > 0;
-    if (shows == 0) {
+    for (std::size_t j = m8; j < m; ++j) {  // the rest one at a time, the same operations
+      const float w = filterWeight(f, footprints[j]);
+      if (!(w > 0)) continue;
+      shows = true;
+      const double x = xs[j] * f, y = ys[j] * f;
+      const double fx = std::floor(x), fy = std::floor(y);
+      const auto tx = static_cast<float>(x - fx), ty = static_cast<float>(y - fy);
+      last.at(s, fx, fy);
+      const float ux = tx * tx * (3.0f - 2.0f * tx), uy = ty * ty * (3.0f - 2.0f * ty);
+      const float ab = last.a + (last.b - last.a) * ux, cd = last.c + (last.d - last.c) * ux;
+      out[j] += amp * w * (ab + (cd - ab) * uy);
+    }
+    if (!shows) {
       // No point sees this octave, nor a finer one (a weight falls as f doubles): the sums stay,
       // the normalisation counts them.
       for (; o < octaves; ++o) {
@@ -67,45 +125,6 @@ __attribute__((target("avx2"))) void fbmRowAvx2(std::uint64_t salt, const double
       }
       break;
     }
-    // The cells' corners (the last cell's reused), where the octave shows.
-    double cx = std::numeric_limits<double>::quiet_NaN(), cy = cx;
-    float a = 0, b = 0, c = 0, d = 0;
-    for (std::size_t j = 0; j < m4; ++j) {
-      if (sc.w[j] > 0 && (sc.fx[j] != cx || sc.fy[j] != cy)) {
-        cx = sc.fx[j];
-        cy = sc.fy[j];
-        const auto ix = static_cast<std::int64_t>(cx), iy = static_cast<std::int64_t>(cy);
-        a = unitSigned(hash2(s, ix, iy)), b = unitSigned(hash2(s, ix + 1, iy));
-        c = unitSigned(hash2(s, ix, iy + 1)), d = unitSigned(hash2(s, ix + 1, iy + 1));
-      }
-      sc.a[j] = a, sc.b[j] = b, sc.c[j] = c, sc.d[j] = d;
-    }
-    // The blend and the weighted sum, 8 points at a time (where the weight is 0, the sum stays).
-    const __m256 three = _mm256_set1_ps(3.0f), twof = _mm256_set1_ps(2.0f), vamp = _mm256_set1_ps(amp);
-    const __m256 zerof = _mm256_setzero_ps();
-    for (std::size_t j = 0; j < m8; j += 8) {
-      const __m256 tx = _mm256_loadu_ps(sc.tx.data() + j), ty = _mm256_loadu_ps(sc.ty.data() + j);
-      const __m256 ux = _mm256_mul_ps(_mm256_mul_ps(tx, tx), _mm256_sub_ps(three, _mm256_mul_ps(twof, tx)));
-      const __m256 uy = _mm256_mul_ps(_mm256_mul_ps(ty, ty), _mm256_sub_ps(three, _mm256_mul_ps(twof, ty)));
-      const __m256 va = _mm256_loadu_ps(sc.a.data() + j), vb = _mm256_loadu_ps(sc.b.data() + j);
-      const __m256 vc = _mm256_loadu_ps(sc.c.data() + j), vd = _mm256_loadu_ps(sc.d.data() + j);
-      const __m256 ab = _mm256_add_ps(va, _mm256_mul_ps(_mm256_sub_ps(vb, va), ux));
-      const __m256 cd = _mm256_add_ps(vc, _mm256_mul_ps(_mm256_sub_ps(vd, vc), ux));
-      const __m256 v = _mm256_add_ps(ab, _mm256_mul_ps(_mm256_sub_ps(cd, ab), uy));
-      const __m256 w = _mm256_loadu_ps(sc.w.data() + j);
-      const __m256 sum = _mm256_loadu_ps(out + j);
-      const __m256 added = _mm256_add_ps(sum, _mm256_mul_ps(_mm256_mul_ps(vamp, w), v));
-      _mm256_storeu_ps(out + j, _mm256_blendv_ps(sum, added, _mm256_cmp_ps(w, zerof, _CMP_GT_OQ)));
-    }
-    // Points [m8, m4) have their corners: blend them one at a time; [m4, m) entirely so.
-    for (std::size_t j = m8; j < m4; ++j) {
-      if (!(sc.w[j] > 0)) continue;
-      const float tx = sc.tx[j], ty = sc.ty[j];
-      const float ux = tx * tx * (3.0f - 2.0f * tx), uy = ty * ty * (3.0f - 2.0f * ty);
-      const float ab = sc.a[j] + (sc.b[j] - sc.a[j]) * ux, cd = sc.c[j] + (sc.d[j] - sc.c[j]) * ux;
-      out[j] += amp * sc.w[j] * (ab + (cd - ab) * uy);
-    }
-    octaveTail(s, xs, ys, footprints, m4, m, f, amp, out);
     norm += amp;
     amp *= 0.5f;
     f *= 2.0;
@@ -150,8 +169,38 @@ __attribute__((target("avx2"))) void sensorNoiseRowAvx2(std::uint64_t frame_seed
   for (std::size_t j = n4; j < n; ++j) out[j] = sensorNoise(frame_seed, j0 + j);
 }
 
+__attribute__((target("avx2"))) void bytesRowAvx2(const float* v, const float* noise, float sigma, std::size_t n,
+                                                  float lo, std::uint8_t* out) {
+  const std::size_t n8 = n & ~std::size_t{7};
+  const __m256 vs = _mm256_set1_ps(sigma), vlo = _mm256_set1_ps(lo), hi = _mm256_set1_ps(255.0f);
+  const __m256 half = _mm256_set1_ps(0.5f);
+  const __m256i one = _mm256_set1_epi32(1);
+  for (std::size_t j = 0; j < n8; j += 8) {
+    const __m256 x = _mm256_add_ps(_mm256_loadu_ps(v + j), _mm256_mul_ps(vs, _mm256_loadu_ps(noise + j)));
+    const __m256 c = _mm256_min_ps(_mm256_max_ps(x, vlo), hi);  // finite x: std::clamp's value
+    const __m256i t = _mm256_cvttps_epi32(c);
+    const __m256 frac = _mm256_sub_ps(c, _mm256_cvtepi32_ps(t));
+    const __m256i up = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(frac, half, _CMP_GE_OQ)), one);
+    const __m256i b = _mm256_add_epi32(t, up);  // 0 … 255
+    const __m128i w16 = _mm_packus_epi32(_mm256_castsi256_si128(b), _mm256_extracti128_si256(b, 1));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + j), _mm_packus_epi16(w16, w16));
+  }
+  for (std::size_t j = n8; j < n; ++j) out[j] = toByte(v[j] + sigma * noise[j], lo);
+}
+
 }  // namespace
 #endif
+
+void bytesRow(const float* v, const float* noise, float sigma, std::size_t n, float lo, std::uint8_t* out) {
+#ifdef MAPNAV_WORLD_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
+  if (avx2) {
+    bytesRowAvx2(v, noise, sigma, n, lo, out);
+    return;
+  }
+#endif
+  for (std::size_t j = 0; j < n; ++j) out[j] = toByte(v[j] + sigma * noise[j], lo);
+}
 
 void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, float* out) {
 #ifdef MAPNAV_WORLD_AVX2
@@ -164,21 +213,15 @@ void sensorNoiseRow(std::uint64_t frame_seed, std::uint64_t j0, std::size_t n, f
   for (std::size_t j = 0; j < n; ++j) out[j] = sensorNoise(frame_seed, j0 + j);
 }
 
-void FbmScratch::resize(std::size_t m) {
-  for (auto* v : {&fx, &fy}) v->resize(m);
-  for (auto* v : {&tx, &ty, &w, &a, &b, &c, &d}) v->resize(m);
-}
-
 void fbmRow(std::uint64_t salt, const double* xs, const double* ys, const float* footprints, std::size_t m,
-            double base_freq, int octaves, float* out, FbmScratch& scratch) {
+            double base_freq, int octaves, float* out) {
 #ifdef MAPNAV_WORLD_AVX2
   static const bool avx2 = __builtin_cpu_supports("avx2") != 0;
   if (avx2) {
-    fbmRowAvx2(salt, xs, ys, footprints, m, base_freq, octaves, out, scratch);
+    fbmRowAvx2(salt, xs, ys, footprints, m, base_freq, octaves, out);
     return;
   }
 #endif
-  (void)scratch;
   fbmBatch(salt, xs, ys, footprints, m, base_freq, octaves, out);
 }
 

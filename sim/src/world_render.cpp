@@ -22,15 +22,6 @@ using namespace world_detail;
 
 namespace {
 
-/// std::round(std::clamp(v, lo, 255)) as a byte (lo ≥ 0 whole; clamping first is the same, the bounds
-/// being whole), inline rather than the library call and without a branch on the fraction (the
-/// sensor noise makes its side a coin toss).
-std::uint8_t toByte(float v, float lo) {
-  const float c = std::clamp(v, lo, 255.0f);
-  const auto t = static_cast<std::int32_t>(c);
-  return static_cast<std::uint8_t>(t + static_cast<std::int32_t>(c - static_cast<float>(t) >= 0.5f));  // exact
-}
-
 /// Runs body(v0, v1) on bands of the rows [0, h), one band per thread (this one included).
 template <class Body>
 void forRowBands(int h, int threads, const Body& body) {
@@ -95,8 +86,8 @@ bool RayTable::matches(const Camera& camera) const {
   return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
 }
 
-void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, RowScratch& rs,
-                           NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const {
+void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
+                           RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const {
   const auto w = static_cast<std::size_t>(rays.width());
   const auto [ch, sh, tx, ty] = pose;
   rs.ground.resize(w);
@@ -110,7 +101,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     if (r.kind == RayTable::Kind::Ground) {
       const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
       rs.points[u] = p;
-      locate(p, &nc, rs.ground[u]);
+      locate(p, tileLists(tiles, static_cast<int>(u) / kTileW, p), &nc, rs.ground[u]);
       mask[u] = rs.ground[u].paved ? 255 : 0;
       const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
       rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
@@ -121,6 +112,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     rgb[3 * u + 1] = c.g;
     rgb[3 * u + 2] = c.b;
   }
+  canopyRow(rays, v, rs);
   // The fractal sums of each group's texture, channel by channel.
   for (int m = 0; m < kMaterials; ++m) {
     const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
@@ -139,7 +131,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
       if (k == 0) break;
       const FbmSpec spec = fbmSpec(k);
       fbmRow(salts[static_cast<std::size_t>(k)], rs.xs.data(), rs.ys.data(), rs.footprints.data(), n, spec.base_freq,
-             spec.octaves, rs.sums.data(), rs.fbm);
+             spec.octaves, rs.sums.data());
       float* values = rs.values.data() + static_cast<std::size_t>(k) * w;
       for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
     }
@@ -151,27 +143,40 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
       const GroundPoint& g = rs.ground[u];
       const Vec2& p = rs.points[u];
       C3 c = texture(g.surface, p, r.footprint, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
-      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, &nc);
+      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, rs.tree[u], rs.flecked[u], &nc);
       rgb[3 * u] = c.r;
       rgb[3 * u + 1] = c.g;
       rgb[3 * u + 2] = c.b;
     }
 }
 
-std::shared_ptr<const std::vector<float>> World::Impl::hazeTable(const RayTable& rays) const {
+std::shared_ptr<const RayExtras> World::Impl::rayExtras(const RayTable& rays) const {
   {
     std::lock_guard lock(cache_mutex);
-    if (haze_table && haze_id == rays.id()) return haze_table;
+    if (extras && extras_id == rays.id()) return extras;
   }
-  auto table = std::make_shared<std::vector<float>>();
+  auto table = std::make_shared<RayExtras>();
+  const std::vector<RayTable::Ray>& all = rays.rays();
   if (options.haze_distance_m > 0) {
-    table->resize(rays.rays().size());
-    for (std::size_t i = 0; i < table->size(); ++i)
-      if (rays.rays()[i].kind == RayTable::Kind::Ground) (*table)[i] = hazeAt(rays.rays()[i].range);
+    table->haze.resize(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (all[i].kind == RayTable::Kind::Ground) table->haze[i] = hazeAt(all[i].range);
   }
+  const int w = rays.width(), h = rays.height();
+  table->tiles_x = (w + kTileW - 1) / kTileW;
+  table->tiles.resize(static_cast<std::size_t>(table->tiles_x) * ((h + kTileH - 1) / kTileH));
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const RayTable::Ray& r = rays.at(u, v);
+      if (r.kind != RayTable::Kind::Ground) continue;
+      RayExtras::TileBox& b = table->tiles[static_cast<std::size_t>(v / kTileH) * table->tiles_x + u / kTileW];
+      if (!b.ground) b = {r.x, r.y, r.x, r.y, true};
+      b.x0 = std::min<double>(b.x0, r.x), b.y0 = std::min<double>(b.y0, r.y);
+      b.x1 = std::max<double>(b.x1, r.x), b.y1 = std::max<double>(b.y1, r.y);
+    }
   std::lock_guard lock(cache_mutex);
-  haze_id = rays.id();
-  haze_table = table;
+  extras_id = rays.id();
+  extras = table;
   return table;
 }
 
@@ -298,17 +303,15 @@ void World::Impl::camera(const RayTable& rays, int v0, int v1, const Pose2& pose
   for (double v : {pose.x(), pose.y(), pose.heading(), t}) frame_seed = mix64(frame_seed ^ std::bit_cast<std::uint64_t>(v));
   const auto sigma = static_cast<float>(o.noise_sigma * 1.7320508);  // sum of 4 U(-.5,.5) has sd 1/√3
   const float lo = o.low_dynamic_range ? 37.0f : 0.0f;
-  std::vector<float> noise(sigma > 0 ? 3 * static_cast<std::size_t>(w) : 0);
+  // A pixel outside the lens' field gets no noise: a 0 added leaves its byte (toByte(v + 0) = toByte(v)).
+  std::vector<float> noise(3 * static_cast<std::size_t>(w), 0.0f);
   for (std::size_t r0 = i0; r0 < i1; r0 += static_cast<std::size_t>(w)) {  // a row at a time
-    if (sigma > 0) sensorNoiseRow(frame_seed, 3 * r0, noise.size(), noise.data());
-    for (std::size_t i = r0; i < r0 + static_cast<std::size_t>(w); ++i) {
-      const bool lit = sigma > 0 && rays.rays()[i].kind != RayTable::Kind::None;
-      for (std::size_t k = 0; k < 3; ++k) {
-        float v = buf[3 * i + k];
-        if (lit) v += sigma * noise[3 * (i - r0) + k];
-        rgb[3 * i + k] = toByte(v, lo);
-      }
+    if (sigma > 0) {
+      sensorNoiseRow(frame_seed, 3 * r0, noise.size(), noise.data());
+      for (std::size_t i = r0; i < r0 + static_cast<std::size_t>(w); ++i)
+        if (rays.rays()[i].kind == RayTable::Kind::None) std::fill_n(noise.data() + 3 * (i - r0), 3, 0.0f);
     }
+    bytesRow(buf + 3 * r0, noise.data(), sigma, noise.size(), lo, rgb + 3 * r0);
   }
 }
 
@@ -319,16 +322,19 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
   Frame frame{Image(w, h, 3), Image(w, h, 1)};
   std::vector<float> buf(static_cast<std::size_t>(w) * h * 3);
   const std::array<double, 4> pose4{std::cos(pose.heading()), std::sin(pose.heading()), pose.x(), pose.y()};
-  const std::shared_ptr<const std::vector<float>> haze = im.hazeTable(rays);
+  const std::shared_ptr<const RayExtras> extras = im.rayExtras(rays);
+  const float* haze = extras->haze.empty() ? nullptr : extras->haze.data();
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   // Each pixel's colour depends on its row alone (the edge samples on the finished mask), so the
   // bands of rows and their threads do not change the frame.
   forRowBands(h, threads, [&](int v0, int v1) {
     const auto cache = std::make_unique<NoiseCache>();  // the noise lattice's last cells
     RowScratch scratch;
+    RenderTiles tiles;
     for (int v = v0; v < v1; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * w;
-      im.shadeRow(rays, v, pose4, scratch, *cache, haze->empty() ? nullptr : haze->data() + row, buf.data() + 3 * row,
+      if (tiles.band != v / kTileH) im.tileRow(*extras, v / kTileH, pose4, tiles);
+      im.shadeRow(rays, v, pose4, tiles, scratch, *cache, haze != nullptr ? haze + row : nullptr, buf.data() + 3 * row,
                   frame.mask.data.data() + row);
     }
   });

@@ -15,8 +15,6 @@ using namespace world_detail;
 
 namespace {
 
-constexpr double kBand = 1.0;   // y-band of a polygon's edge index, m
-
 Material materialOf(const std::string& name) {
   if (name == "concrete") return Material::Concrete;
   if (name == "asphalt") return Material::Asphalt;
@@ -27,10 +25,23 @@ Material materialOf(const std::string& name) {
   return Material::Other;
 }
 
-bool crossingContains(const PavedPolygon& poly, const Vec2& p) {
+/// A splitmix64 stream for placement (portable, unlike std distributions).
+class Stream {
+ public:
+  explicit Stream(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() { return mix64(state_ += 0x9E3779B97F4A7C15ULL); }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
+
+ private:
+  std::uint64_t state_;
+};
+
+}  // namespace
+
+bool world_detail::crossingContains(const PavedPolygon& poly, const Vec2& p) {
   if (!poly.box.contains(p)) return false;
   const auto band = static_cast<std::size_t>(
-      std::clamp((p.y() - poly.band_y0) / kBand, 0.0, static_cast<double>(poly.band_start.size() - 2)));
+      std::clamp((p.y() - poly.band_y0) / kEdgeBand, 0.0, static_cast<double>(poly.band_start.size() - 2)));
   bool inside = false;
   for (std::uint32_t i = poly.band_start[band]; i < poly.band_start[band + 1]; ++i) {
     const Vec2& a = poly.band_edges[i].a;
@@ -48,19 +59,6 @@ bool crossingContains(const PavedPolygon& poly, const Vec2& p) {
   }
   return inside;
 }
-
-/// A splitmix64 stream for placement (portable, unlike std distributions).
-class Stream {
- public:
-  explicit Stream(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() { return mix64(state_ += 0x9E3779B97F4A7C15ULL); }
-  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53; }
-
- private:
-  std::uint64_t state_;
-};
-
-}  // namespace
 
 int World::Impl::surfaceIndex(const Map& map, const std::string& name) {
   const Appearance* a = map.findSurface(name);
@@ -81,6 +79,7 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
   options.validate();
   for (std::size_t k = 0; k < salts.size(); ++k) salts[k] = mix64(options.seed * 0x100000001B3ULL + k);
   shadow_everywhere = options.shadow_density >= 0.999;
+  leaf_salt = mix64(options.seed ^ 0x1EAFULL);
   lawn = surfaceIndex(map, map.findSurface("grass") ? "grass" : "");
   if (!map.findSurface("grass")) surfaces[static_cast<std::size_t>(lawn)] = {Material::Grass, {70, 120, 50}, {14, 18, 12}};
 
@@ -126,7 +125,7 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
     poly.box = Box2();
     for (const Vec2& v : poly.ring) poly.box.extend(v);
     poly.band_y0 = poly.box.min().y();
-    const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kBand)) + 1;
+    const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kEdgeBand)) + 1;
     std::vector<std::vector<Edge>> bands(nb);
     const std::size_t n = poly.ring.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -136,8 +135,8 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
       e.x_lo = lo - margin;
       e.x_hi = hi + margin;
       const double y0 = std::min(e.a.y(), e.b.y()), y1 = std::max(e.a.y(), e.b.y());
-      const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
-      const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kBand, 0.0, double(nb - 1)));
+      const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kEdgeBand, 0.0, double(nb - 1)));
+      const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kEdgeBand, 0.0, double(nb - 1)));
       for (std::size_t b = b0; b <= b1; ++b) bands[b].push_back(e);
     }
     poly.band_start.assign(1, 0);
@@ -272,11 +271,10 @@ void World::Impl::buildGrid(const Box2& box) {
   disc_start[cells] = static_cast<std::uint32_t>(cell_discs.size());
 }
 
-int World::Impl::pavedAt(const Vec2& p, int cell) const {
-  if (cell < 0) return -1;
+int World::Impl::pavedAt(const Vec2& p, const CellLists& lists) const {
   int found = -1;
-  for (std::uint32_t i = poly_start[static_cast<std::size_t>(cell)]; i < poly_start[static_cast<std::size_t>(cell) + 1]; ++i) {
-    const PolyRef ref = cell_polys[i];
+  for (std::uint32_t i = 0; i < lists.n_polys; ++i) {
+    const PolyRef ref = lists.polys[i];
     const PavedPolygon& poly = polys[ref.poly];
     if (ref.whole || crossingContains(poly, p)) {
       if (poly.road >= 0) return static_cast<int>(ref.poly);
@@ -286,26 +284,22 @@ int World::Impl::pavedAt(const Vec2& p, int cell) const {
   return found;
 }
 
-void World::Impl::canopy(const Vec2& p, int cell, double footprint, NoiseCache* nc, float& bare, float& flecked) const {
-  bare = flecked = shadow_everywhere ? 1.0f : 0.0f;
-  if (shadow_everywhere || cell < 0) return;
+template <class Wobble>
+void World::Impl::discShadow(const Vec2& p, const CellLists& lists, double footprint, const Wobble& wobbleAt, float& s,
+                             float& s_bare) const {
   // The disc edges are smoothed over max(0.25 m, footprint): the same for both unless wide.
   const auto edge = static_cast<float>(std::max(0.25, footprint));
   const bool wide = footprint > 0.25;
-  float s = 0, s_bare = 0;
+  s = s_bare = 0;
   double wobble = std::numeric_limits<double>::quiet_NaN();
-  for (std::uint32_t i = disc_start[static_cast<std::size_t>(cell)]; i < disc_start[static_cast<std::size_t>(cell) + 1]; ++i) {
-    const Disc& d = discs[cell_discs[i]];
+  for (std::uint32_t i = 0; i < lists.n_discs; ++i) {
+    const Disc& d = discs[lists.discs[i]];
     // Far discs by the squared distance (no root): beyond reach2 the distance exceeds r + 0.45.
     const double d2 = (p - d.c).squaredNorm();
     if (d2 > d.reach2) continue;
     double dist = std::sqrt(d2);  // (p - d.c).norm()
     if (dist > d.r + 0.45) continue;
-    if (std::isnan(wobble)) {  // ragged, leafy canopy outlines
-      NoiseMemo* memo = channelOf(nc, kCanopyChannel);
-      wobble = 0.3 * valueNoise(options.seed ^ 0xC4A0ULL, p.x() * 1.3, p.y() * 1.3, memo) +
-               0.15 * valueNoise(options.seed ^ 0xC4A1ULL, p.x() * 4.0, p.y() * 4.0, memo != nullptr ? memo + 1 : nullptr);
-    }
+    if (std::isnan(wobble)) wobble = wobbleAt();  // ragged, leafy canopy outlines
     dist += wobble;
     const auto inside = static_cast<float>(d.r - dist);
     // Outside the disc both smoothsteps are 0 and s, s_bare ≥ 0 stay (s_bare = s unless wide).
@@ -314,15 +308,87 @@ void World::Impl::canopy(const Vec2& p, int cell, double footprint, NoiseCache* 
     s_bare = wide ? std::max(s_bare, smoothstep(0.0f, 0.25f, inside)) : s;
     if (s >= 1) break;  // then s_bare >= s is 1 too
   }
-  bare = s_bare;
-  if (s > 0) {
-    // Sun flecks through gaps in the canopy.
-    NoiseMemo* memo = channelOf(nc, kFleckChannel);
-    const float n = valueNoise(options.seed ^ 0xF1ECULL, p.x() * 1.7, p.y() * 1.7, memo) +
-                    0.5f * valueNoise(options.seed ^ 0xF1EDULL, p.x() * 4.1, p.y() * 4.1, memo != nullptr ? memo + 1 : nullptr);
-    s *= 1.0f - 0.9f * smoothstep(0.55f, 0.75f, n) * filterWeight(2.0, footprint);
+}
+
+namespace {
+
+/// The canopy outline's wobble from its two octaves' value noise.
+double canopyWobble(float n0, float n1) { return 0.3 * n0 + 0.15 * n1; }
+
+/// Shadow s with the sun flecks of noise n (their two octaves' sum) through a pixel `footprint` wide.
+float flecked(float s, float n, double footprint) {
+  return s * (1.0f - 0.9f * smoothstep(0.55f, 0.75f, n) * filterWeight(2.0, footprint));
+}
+
+// The salts and frequencies of the outline's and the flecks' value noise.
+constexpr std::uint64_t kOutlineSalt[2] = {0xC4A0ULL, 0xC4A1ULL}, kFleckSalt[2] = {0xF1ECULL, 0xF1EDULL};
+constexpr double kOutlineFreq[2] = {1.3, 4.0}, kFleckFreq[2] = {1.7, 4.1};
+
+}  // namespace
+
+void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint, NoiseCache* nc, float& bare,
+                         float& flecked_out) const {
+  bare = flecked_out = shadow_everywhere ? 1.0f : 0.0f;
+  if (shadow_everywhere || lists.n_discs == 0) return;
+  const auto noise = [&](std::uint64_t salt, double f, int channel, int octave) {
+    NoiseMemo* memo = channelOf(nc, channel);
+    return valueNoise(options.seed ^ salt, p.x() * f, p.y() * f, memo != nullptr ? memo + octave : nullptr);
+  };
+  float s = 0;
+  discShadow(p, lists, footprint, [&] {
+    return canopyWobble(noise(kOutlineSalt[0], kOutlineFreq[0], kCanopyChannel, 0),
+                        noise(kOutlineSalt[1], kOutlineFreq[1], kCanopyChannel, 1));
+  }, s, bare);
+  // Sun flecks through gaps in the canopy.
+  if (s > 0)
+    s = flecked(s, noise(kFleckSalt[0], kFleckFreq[0], kFleckChannel, 0) +
+                       0.5f * noise(kFleckSalt[1], kFleckFreq[1], kFleckChannel, 1), footprint);
+  flecked_out = s;
+}
+
+void World::Impl::canopyRow(const RayTable& rays, int v, RowScratch& rs) const {
+  const auto w = static_cast<std::size_t>(rays.width());
+  rs.tree.assign(w, shadow_everywhere ? 1.0f : 0.0f);
+  rs.flecked.assign(w, shadow_everywhere ? 1.0f : 0.0f);
+  if (shadow_everywhere) return;
+  // The ground pixels with a disc in reach of their tile; their outlines' noise, a row at a time
+  // (fbmRow of one octave at footprint 0 is the value noise itself, bit for bit).
+  const auto gather = [&](const auto& keep) {
+    rs.cand.clear();
+    rs.cx.clear();
+    rs.cy.clear();
+    for (std::size_t u = 0; u < w; ++u)
+      if (rays.at(static_cast<int>(u), v).kind == RayTable::Kind::Ground && keep(u)) {
+        rs.cand.push_back(static_cast<std::uint32_t>(u));
+        rs.cx.push_back(rs.points[u].x());
+        rs.cy.push_back(rs.points[u].y());
+      }
+    rs.zeros.assign(rs.cand.size(), 0.0f);
+    rs.n0.resize(rs.cand.size());
+    rs.n1.resize(rs.cand.size());
+  };
+  const auto noiseRow = [&](const std::uint64_t (&salt)[2], const double (&f)[2]) {
+    for (int k = 0; k < 2; ++k)
+      fbmRow(options.seed ^ salt[k], rs.cx.data(), rs.cy.data(), rs.zeros.data(), rs.cand.size(), f[k], 1,
+             (k == 0 ? rs.n0 : rs.n1).data());
+  };
+  gather([&](std::size_t u) { return rs.ground[u].lists.n_discs > 0; });
+  if (rs.cand.empty()) return;
+  noiseRow(kOutlineSalt, kOutlineFreq);
+  for (std::size_t j = 0; j < rs.cand.size(); ++j) {
+    const std::uint32_t u = rs.cand[j];
+    const double fp = rays.at(static_cast<int>(u), v).footprint;
+    discShadow(rs.points[u], rs.ground[u].lists, fp, [&] { return canopyWobble(rs.n0[j], rs.n1[j]); },
+               rs.flecked[u], rs.tree[u]);
   }
-  flecked = s;
+  // Sun flecks through gaps in the canopy, where there is shadow.
+  gather([&](std::size_t u) { return rs.flecked[u] > 0; });
+  if (rs.cand.empty()) return;
+  noiseRow(kFleckSalt, kFleckFreq);
+  for (std::size_t j = 0; j < rs.cand.size(); ++j) {
+    const std::uint32_t u = rs.cand[j];
+    rs.flecked[u] = flecked(rs.flecked[u], rs.n0[j] + 0.5f * rs.n1[j], rays.at(static_cast<int>(u), v).footprint);
+  }
 }
 
 }  // namespace mapnav

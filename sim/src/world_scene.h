@@ -8,7 +8,9 @@
 // cell, (2) the centre-line segments near enough to decide a point's shoulder side and its
 // position along a road, (3) the tree-canopy discs whose shadow touches it. A ground point's
 // paved test is then a lookup plus, in boundary cells only, an exact crossing-number test against
-// the polygon's edges in a 1 m band of y.
+// the polygon's edges in a 1 m band of y. The renderer narrows the lists further per frame: each
+// kTileW × kTileH tile of the image keeps, per cell its ground points meet, only what a point of
+// the tile can meet (RenderTiles, world_tiles.cpp), with the same answers for every pixel.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -24,7 +26,9 @@
 namespace mapnav {
 namespace world_detail {
 
-constexpr double kCell = 3.0;   // grid cell, m
+constexpr double kCell = 3.0;      // grid cell, m
+constexpr double kEdgeBand = 1.0;  // y-band of a polygon's edge index, m
+constexpr int kTileW = 32, kTileH = 8;  // the renderer's tiles (RenderTiles), pixels
 
 // NoiseCache channels of the noise that is not a texture's (a texture's fractal sum k uses
 // channel k, its salt's key in World::Impl::texture).
@@ -102,9 +106,24 @@ struct RowNoise {
   float operator()(int k) const { return values[static_cast<std::size_t>(k) * stride + i]; }
 };
 
+struct PolyRef {
+  std::uint32_t poly;
+  bool whole;
+};
+
+/// What a ground point's lookups consult: its grid cell's lists of paved polygons, centre-line
+/// segments and canopy discs, or a tile's copy of them without the entries that no point of the
+/// tile can meet (RenderTiles), in the cell's order. Empty for a point off the grid.
+struct CellLists {
+  const PolyRef* polys = nullptr;
+  const std::uint32_t* segs = nullptr;
+  const std::uint32_t* discs = nullptr;
+  std::uint32_t n_polys = 0, n_segs = 0, n_discs = 0;
+};
+
 /// Where a ground point lies: its paved area or shoulder, the road it belongs to.
 struct GroundPoint {
-  int cell = -1;
+  CellLists lists;       // the lookups' lists (the canopy's discs for finish)
   bool paved = false;
   int surface = 0;       // the surface whose texture it shows
   int texture_road = -1; // the road whose slabs it follows (-1: the world grid)
@@ -121,7 +140,10 @@ struct RowScratch {
   std::vector<std::uint32_t> group[kMaterials];  // the row's ground pixels by their texture's material
   std::vector<double> xs, ys;                   // one group's points, gathered
   std::vector<float> footprints, sums;
-  FbmScratch fbm;
+  std::vector<float> tree, flecked;             // each pixel's canopy shadow (World::Impl::canopyRow)
+  std::vector<std::uint32_t> cand;              // canopyRow's pixels, their points and noise
+  std::vector<double> cx, cy;
+  std::vector<float> zeros, n0, n1;
 };
 
 struct Surface {
@@ -145,6 +167,39 @@ struct PavedPolygon {
   int road = -1;  // index into roads; -1 for an intersection
 };
 
+/// Whether p is inside the polygon (crossing number over the edges of p's y-band).
+bool crossingContains(const PavedPolygon& poly, const Vec2& p);
+
+/// What a World derives from a ray table alone (World::Impl::rayExtras), kept for the last table.
+struct RayExtras {
+  /// The box of a tile's ground points (vehicle frame); `ground` false when it has none.
+  struct TileBox {
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool ground = false;
+  };
+  std::vector<float> haze;      // hazeAt of each ground pixel's range (empty without haze)
+  std::vector<TileBox> tiles;   // kTileW × kTileH pixels each, tiles_x per band of kTileH rows
+  int tiles_x = 0;
+};
+
+/// One band of tiles of a frame (World::Impl::tileRow): for each tile, the grid cells its box
+/// meets, each with the cell's lists less what no point of the tile meets (in `polys`, `segs`,
+/// `discs`; a polygon that holds the whole tile marked whole). A renderer's thread keeps one.
+struct RenderTiles {
+  struct Cell {
+    int cell = -1;
+    std::uint32_t polys = 0, segs = 0, discs = 0;  // offsets of its lists
+    std::uint32_t n_polys = 0, n_segs = 0, n_discs = 0;
+  };
+  int band = -1;
+  std::vector<Cell> cells;
+  std::vector<std::uint32_t> first;  // tile t's cells: [first[t], first[t + 1])
+  std::vector<int> sure;             // per tile, its one cell's entry when every pixel is in it, else -1
+  std::vector<PolyRef> polys;
+  std::vector<std::uint32_t> segs, discs;
+  std::vector<double> road_bound;    // per road, scratch of addTileCell (infinite between calls)
+};
+
 struct RoadInfo {
   double width = 2;
   int surface = 0, left = 0, right = 0;
@@ -162,11 +217,6 @@ struct Disc {
   /// (r + 0.45)² widened by far more than its rounding: a point whose squared distance from c
   /// exceeds it is beyond the canopy's reach (r + 0.45, the outline's wobble included).
   double reach2 = 0;
-};
-
-struct PolyRef {
-  std::uint32_t poly;
-  bool whole;
 };
 
 }  // namespace world_detail
@@ -191,6 +241,7 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   std::vector<Segment> segments;
   std::vector<Disc> discs;
   bool shadow_everywhere = false;
+  std::uint64_t leaf_salt = 0;  // the fallen leaves' cells' (finish)
 
   // Grid.
   Vec2 origin = Vec2::Zero();
@@ -201,9 +252,17 @@ struct [[gnu::visibility("hidden")]] World::Impl {
 
   mutable std::mutex cache_mutex;
   mutable std::vector<std::shared_ptr<const RayTable>> cache;
-  // The haze of the last ray table's pixels (hazeTable), by the table's id.
-  mutable std::uint64_t haze_id = 0;
-  mutable std::shared_ptr<const std::vector<float>> haze_table;
+  // What the last ray table gave (rayExtras), by the table's id.
+  mutable std::uint64_t extras_id = 0;
+  mutable std::shared_ptr<const world_detail::RayExtras> extras;
+
+  /// The grid's lists of a cell (cellIndex; empty for -1).
+  world_detail::CellLists cellLists(int cell) const {
+    if (cell < 0) return {};
+    const auto c = static_cast<std::size_t>(cell);
+    return {cell_polys.data() + poly_start[c], cell_segs.data() + seg_start[c], cell_discs.data() + disc_start[c],
+            poly_start[c + 1] - poly_start[c], seg_start[c + 1] - seg_start[c], disc_start[c + 1] - disc_start[c]};
+  }
 
   int cellIndex(const Vec2& p) const {
     const double fx = (p.x() - origin.x()) / world_detail::kCell, fy = (p.y() - origin.y()) / world_detail::kCell;
@@ -217,16 +276,27 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   void placeTrees(const Map& map);
 
   /// Index of the paved polygon holding p (roads before intersections), or -1.
-  int pavedAt(const Vec2& p, int cell) const;
+  int pavedAt(const Vec2& p, const world_detail::CellLists& lists) const;
   /// Tree shadow at p, 0 sunlit … 1 full: `bare` at the point without the sun flecks (where the
   /// leaves fall), `flecked` over a pixel `footprint` wide with the flecks. `nc` may be nullptr.
-  void canopy(const Vec2& p, int cell, double footprint, NoiseCache* nc, float& bare, float& flecked) const;
+  void canopy(const Vec2& p, const world_detail::CellLists& lists, double footprint, NoiseCache* nc, float& bare,
+              float& flecked) const;
+  /// The canopy's shadow at p, s (as seen over `footprint`, before the flecks) and s_bare (at
+  /// the point), from the discs in `lists`; wobble() gives the outline's wobble at p (asked once,
+  /// and only when a disc is within reach).
+  template <class Wobble>
+  void discShadow(const Vec2& p, const world_detail::CellLists& lists, double footprint, const Wobble& wobble, float& s,
+                  float& s_bare) const;
+  /// canopy of row v's located ground pixels (rs.points, rs.ground) into rs.tree (bare) and
+  /// rs.flecked, the outlines' and the flecks' noise evaluated a row at a time.
+  void canopyRow(const RayTable& rays, int v, world_detail::RowScratch& rs) const;
   /// The colour of ground point p seen by a pixel `footprint` wide at `range`; `paved` its class.
   /// `nc` (may be nullptr) memoizes the noise lattice between calls (the same colour either way).
   /// It is locate, texture and finish in turn.
   C3 shade(const Vec2& p, double footprint, double range, bool& paved, NoiseCache* nc) const;
-  /// Where p lies (the shoulder's ragged edge from `nc`'s wobble channel).
-  void locate(const Vec2& p, NoiseCache* nc, world_detail::GroundPoint& g) const;
+  /// Where p lies (the shoulder's ragged edge from `nc`'s wobble channel), looked up in `lists`
+  /// (p's cell's, or a tile's holding p).
+  void locate(const Vec2& p, const world_detail::CellLists& lists, NoiseCache* nc, world_detail::GroundPoint& g) const;
   /// A surface's texture at p; `noise(k)` gives its fractal sum k (PointNoise or RowNoise).
   template <class Noise>
   C3 texture(int surface, const Vec2& p, double footprint, double along, double lateral, int road,
@@ -234,9 +304,9 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   /// Shades row v of a frame seen from pose (cos, sin of the heading, x, y): its pixels' colours
   /// (3 floats each, before the camera's drift and noise) and mask. The same as `shade` per pixel,
   /// with the texture's fractal sums evaluated channel by channel over the row.
-  /// `haze`: hazeTable's row v (unread without haze).
-  void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, world_detail::RowScratch& rs,
-                NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const;
+  /// `haze`: rayExtras' row v (unread without haze); `tiles`: row v's band (tileRow).
+  void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
+                world_detail::RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const;
   /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
   /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel).
   void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,
@@ -245,13 +315,23 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   void camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf, std::uint8_t* rgb) const;
   /// The texture `c` of located point p finished: the lawn's worn edge, leaves, shadow, haze.
   /// `haze`: hazeAt(the point's range).
-  C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, float haze,
-            NoiseCache* nc) const;
+  /// `tree`, `flecked`: canopy's shadow at p.
+  C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, float haze, float tree,
+            float flecked, NoiseCache* nc) const;
   /// Aerial perspective: how far ground at `range` m fades toward the horizon's haze (0 … 1; with
   /// haze_distance_m > 0).
   float hazeAt(double range) const;
-  /// hazeAt of each ground pixel's range (kept for the last table; empty without haze).
-  std::shared_ptr<const std::vector<float>> hazeTable(const RayTable& rays) const;
+  /// The haze of each ground pixel and the boxes of the tiles' ground points (kept for the last table).
+  std::shared_ptr<const world_detail::RayExtras> rayExtras(const RayTable& rays) const;
+  /// Band `band` of the frame's tiles seen from pose (cos, sin of the heading, x, y) into rt.
+  void tileRow(const world_detail::RayExtras& extras, int band, const std::array<double, 4>& pose,
+               world_detail::RenderTiles& rt) const;
+  /// The lists of grid cell `cell` for the points of a tile (a world box) into rt.
+  void addTileCell(int cell, const Box2& tile, world_detail::RenderTiles& rt) const;
+  /// Whether every point of the box is inside the polygon as crossingContains sees it (false when unsure).
+  bool polygonHoldsBox(const PavedPolygon& poly, const Box2& box) const;
+  /// The lists of point p of tile `tile` in rt (its cell's own when the tile has none for it).
+  world_detail::CellLists tileLists(const world_detail::RenderTiles& rt, int tile, const Vec2& p) const;
   C3 sky(double elevation) const;
 };
 

@@ -50,7 +50,8 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
           gap = std::max(gap, lineCoverage(dv, options.slab_gap_width_m, fp));
         }
       }
-      const std::uint64_t slab_hash = hash2(salt(1) + static_cast<std::uint64_t>(road + 1), slab_i, slab_j);
+      const std::uint64_t slab_hash =
+          hash2(salt(1) + static_cast<std::uint64_t>(road + 1), slab_i, slab_j, nc != nullptr ? &nc->slab : nullptr);
       const float tone = 1.0f + 0.035f * unitSigned(slab_hash) * pn;  // each slab poured apart
       c = c * tone;
       const float mottle = noise(2);
@@ -152,19 +153,18 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
   return c;
 }
 
-void World::Impl::locate(const Vec2& p, NoiseCache* nc, GroundPoint& g) const {
-  const int cell = cellIndex(p);
-  const int poly = pavedAt(p, cell);
-  g.cell = cell;
+void World::Impl::locate(const Vec2& p, const CellLists& lists, NoiseCache* nc, GroundPoint& g) const {
+  const int poly = pavedAt(p, lists);
+  g.lists = lists;
   g.paved = poly >= 0;
   // Nearest centre-line segment within reach: the road a point belongs to, its side, arc length.
   double best = std::numeric_limits<double>::infinity(), along = 0, lateral = 0;
   double best2 = best;  // best², the root taken only of a nearer square (the root is monotone)
   int best_road = -1;
   const int want_road = g.paved ? polys[static_cast<std::size_t>(poly)].road : -2;
-  if (cell >= 0 && !(g.paved && want_road < 0)) {
-    for (std::uint32_t i = seg_start[static_cast<std::size_t>(cell)]; i < seg_start[static_cast<std::size_t>(cell) + 1]; ++i) {
-      const Segment& s = segments[cell_segs[i]];
+  if (!(g.paved && want_road < 0)) {
+    for (std::uint32_t i = 0; i < lists.n_segs; ++i) {
+      const Segment& s = segments[lists.segs[i]];
       if (want_road >= 0 && s.road != want_road) continue;
       const Vec2 d = p - s.a;
       const double t = std::clamp(d.dot(s.dir), 0.0, s.len);
@@ -195,35 +195,44 @@ void World::Impl::locate(const Vec2& p, NoiseCache* nc, GroundPoint& g) const {
   if (best_road >= 0) {
     const RoadInfo& r = roads[static_cast<std::size_t>(best_road)];
     const double edge = best - r.width / 2;
-    const double wobble = 0.4 * valueNoise(options.seed ^ 0x5B0ULL, p.x() * 0.8, p.y() * 0.8, channelOf(nc, kWobbleChannel));
-    if (edge < options.shoulder_width_m + wobble) g.surface = lateral > 0 ? r.left : r.right;
+    // The ragged edge moves the shoulder's end by 0.4 m at most: its noise only where that decides.
+    const double reach = options.shoulder_width_m;
+    bool shoulder = edge < reach - 0.4 - 1e-6;
+    if (!shoulder && edge < reach + 0.4 + 1e-6) {
+      const double wobble = 0.4 * valueNoise(options.seed ^ 0x5B0ULL, p.x() * 0.8, p.y() * 0.8, channelOf(nc, kWobbleChannel));
+      shoulder = edge < reach + wobble;
+    }
+    if (shoulder) g.surface = lateral > 0 ? r.left : r.right;
   }
 }
 
 C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved, NoiseCache* nc) const {
   GroundPoint g;
-  locate(p, nc, g);
+  locate(p, cellLists(cellIndex(p)), nc, g);
   paved = g.paved;
   const C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, PointNoise{salts.data(), p, fp, nc}, nc);
-  return finish(p, g, c, fp, options.haze_distance_m > 0 ? hazeAt(range) : 0.0f, nc);
+  float tree = 0, flecked = 0;  // tree shadow: at the point (leaves fall there), and as seen
+  canopy(p, g.lists, fp, nc, tree, flecked);
+  return finish(p, g, c, fp, options.haze_distance_m > 0 ? hazeAt(range) : 0.0f, tree, flecked, nc);
 }
 
 float World::Impl::hazeAt(double range) const {
   return static_cast<float>(1.0 - std::exp(-range / options.haze_distance_m));
 }
 
-C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, NoiseCache* nc) const {
-  const int cell = g.cell;
+C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, float tree, float flecked,
+                       NoiseCache* nc) const {
   if (!g.paved && g.best_road >= 0 && surfaces[static_cast<std::size_t>(g.surface)].material == Material::Grass) {
     // Worn, dusty strip where the lawn meets the pavement.
-    const double edge = g.best - roads[static_cast<std::size_t>(g.best_road)].width / 2;
-    const float worn = smoothstep(0.25f, 0.0f, static_cast<float>(edge)) *
-                       (0.5f + 0.5f * valueNoise(options.seed ^ 0xED6EULL, p.x() * 3, p.y() * 3, channelOf(nc, kWornChannel)));
-    c = lerp(c, C3{112, 108, 78}, 0.5f * worn);
+    // (Beyond 0.25 m the smoothstep is 0 and the colour stays: no noise there.)
+    const auto edge = static_cast<float>(g.best - roads[static_cast<std::size_t>(g.best_road)].width / 2);
+    if (edge < 0.25f) {
+      const float worn = smoothstep(0.25f, 0.0f, edge) *
+                         (0.5f + 0.5f * valueNoise(options.seed ^ 0xED6EULL, p.x() * 3, p.y() * 3, channelOf(nc, kWornChannel)));
+      c = lerp(c, C3{112, 108, 78}, 0.5f * worn);
+    }
   }
   // Fallen leaves: jittered cells of 0.12 m, more of them under the trees.
-  float tree = 0, flecked = 0;  // tree shadow: at the point (leaves fall there), and as seen
-  canopy(p, cell, fp, nc, tree, flecked);
   if (options.leaf_density > 0) {
     constexpr double kLeafCell = 0.12;
     const double density = std::min(1.0, options.leaf_density * (0.5 + 2.5 * (shadow_everywhere ? 0.2 : tree)));
@@ -235,7 +244,7 @@ C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, flo
     } else {
       const auto ix = static_cast<std::int64_t>(std::floor(p.x() / kLeafCell));
       const auto iy = static_cast<std::int64_t>(std::floor(p.y() / kLeafCell));
-      const std::uint64_t h = hash2(mix64(options.seed ^ 0x1EAFULL), ix, iy);
+      const std::uint64_t h = hash2(leaf_salt, ix, iy, nc != nullptr ? &nc->leaf : nullptr);
       if (unit01(h) < density) {
         const std::uint64_t h2 = mix64(h);
         const Vec2 centre((ix + 0.3 + 0.4 * unit01(h2)) * kLeafCell, (iy + 0.3 + 0.4 * unit01(mix64(h2))) * kLeafCell);

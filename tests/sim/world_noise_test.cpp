@@ -3,7 +3,7 @@
 // performs fbm's own IEEE operations in fbm's order, without fused multiply-adds. Rows of every
 // length the vector loops split differently (multiples of 4 and 8 and the tails), points on and off
 // the lattice lines, negative and far coordinates, footprints from sharp (every octave) to wide
-// (none), and a scratch reused across rows of different lengths.
+// (none), rows of different lengths one after another.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -57,7 +57,6 @@ TEST(WorldNoiseVector, FbmRowEqualsTheScalarFbmBitForBit) {
   std::printf("fbmRow's vector path: %s\n", avx2 ? "AVX2 (compared with the scalar fbmBatch and fbm)"
                                                   : "none on this CPU (fbmRow is fbmBatch)");
   std::mt19937_64 rng(31);
-  FbmScratch scratch;  // reused from row to row, as the renderer keeps it
   std::size_t points = 0, differing_batch = 0, differing_fbm = 0, nonzero = 0;
   const std::vector<std::size_t> lengths = {0, 1, 2, 3, 4, 5, 7, 8, 9, 11, 12, 15, 16, 17, 31, 33, 100, 512, 1001};
   for (const std::size_t m : lengths) {
@@ -67,7 +66,7 @@ TEST(WorldNoiseVector, FbmRowEqualsTheScalarFbmBitForBit) {
       const double base_freq = std::vector<double>{0.05, 0.37, 1.0, 3.3}[trial % 4];
       const int octaves = 1 + trial % NoiseCache::kOctaves + trial / 4;
       std::vector<float> row(m + 1, -7.0f), batch(m + 1, -7.0f);  // one past the end: left alone
-      fbmRow(salt, r.xs.data(), r.ys.data(), r.footprints.data(), m, base_freq, octaves, row.data(), scratch);
+      fbmRow(salt, r.xs.data(), r.ys.data(), r.footprints.data(), m, base_freq, octaves, row.data());
       fbmBatch(salt, r.xs.data(), r.ys.data(), r.footprints.data(), m, base_freq, octaves, batch.data());
       for (std::size_t j = 0; j < m; ++j) {
         const float one = fbm(salt, Vec2(r.xs[j], r.ys[j]), base_freq, octaves, r.footprints[j]);
@@ -122,6 +121,43 @@ TEST(WorldNoiseVector, SensorNoiseRowEqualsTheScalarNoiseBitForBit) {
   EXPECT_NEAR(sd, 0.5774, 0.02);
   EXPECT_GE(lo, -2.0f);
   EXPECT_LT(hi, 2.0f);
+}
+
+// The camera's last step (bytesRow, AVX2 where the CPU has it) gives toByte's bytes: values below,
+// within and above the range, every half-way fraction (rounded up), at both black levels, rows of
+// every length the vector loop splits differently.
+TEST(WorldNoiseVector, BytesRowEqualsToByte) {
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<float> value(-40.0f, 300.0f), noise(-2.0f, 2.0f);
+  std::size_t differing = 0;
+  for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{7}, std::size_t{8}, std::size_t{9}, std::size_t{1536}}) {
+    for (const float lo : {0.0f, 37.0f}) {
+      for (const float sigma : {0.0f, 3.4641016f}) {
+        std::vector<float> v(n), nz(n);
+        for (std::size_t j = 0; j < n; ++j) {
+          // A third exact halves (x.5 rounds up), a third whole, a third anywhere.
+          v[j] = j % 3 == 0 ? std::floor(value(rng)) + 0.5f : j % 3 == 1 ? std::floor(value(rng)) : value(rng);
+          nz[j] = j % 3 == 2 ? noise(rng) : 0.0f;
+        }
+        std::vector<std::uint8_t> out(n + 1, 7);
+        bytesRow(v.data(), nz.data(), sigma, n, lo, out.data());
+        for (std::size_t j = 0; j < n; ++j)
+          if (out[j] != toByte(v[j] + sigma * nz[j], lo) && ++differing <= 5)
+            ADD_FAILURE() << "n " << n << ", value " << v[j] << ": " << int(out[j]) << " vs "
+                          << int(toByte(v[j] + sigma * nz[j], lo));
+        EXPECT_EQ(out[n], 7) << "n " << n << ": wrote past the row";
+      }
+    }
+  }
+  EXPECT_EQ(differing, 0u);
+  // The rounding itself: half-way up, the clamps at the black level and 255.
+  const std::vector<float> v{2.5f, 2.49f, -3.0f, 254.5f, 300.0f, 36.4f, 37.6f, 0.0f, 100.0f};
+  const std::vector<float> zero(v.size(), 0.0f);
+  std::vector<std::uint8_t> out(v.size());
+  bytesRow(v.data(), zero.data(), 1.0f, v.size(), 37.0f, out.data());
+  EXPECT_EQ(out, (std::vector<std::uint8_t>{37, 37, 37, 255, 255, 37, 38, 37, 100}));
+  bytesRow(v.data(), zero.data(), 1.0f, v.size(), 0.0f, out.data());
+  EXPECT_EQ(out, (std::vector<std::uint8_t>{3, 2, 0, 255, 255, 36, 38, 0, 100}));
 }
 
 }  // namespace
