@@ -32,6 +32,8 @@ const OptionTable<RelocalizeOptions>& relocalizeOptionTable() {
                  "the ties spread across the road by at most this (1-sigma, m) for a clear winner")
           .field("max_heading_sigma_deg", &O::max_heading_sigma_deg, above(0),
                  "... and in heading by at most this (1-sigma, degrees)")
+          .field("max_lost_frames", &O::max_lost_frames, atLeast(1),
+                 "the Map stands at most this many frames for a winner to be confirmed, then gives up")
           .field("cell_m", &O::cell_m, above(0), "the ground grid's cell, m");
   return table;
 }

@@ -40,6 +40,7 @@ void MapModuleOptions::validate() const {
   predict.validate();
   filter.validate();
   localize.validate();
+  relocalize.validate();
   mapModuleOptionTable().validate(*this);
 }
 
@@ -155,32 +156,41 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
 
 void MapModule::recover(const DetectedObject& detected, double t) {
   const RelocalizeOptions& o = options_.relocalize;
+  const auto lost = [&](const std::string& why) {
+    if (++lost_frames_ > o.max_lost_frames) {  // no winner confirmed in time: Vision's region, not the pose
+      candidate_.reset();
+      search_suspended_ = true;
+      position_.reason += "; the search gave up after " + std::to_string(o.max_lost_frames) + " frames (" + why + ")";
+      return;
+    }
+    position_.status = PositionStatus::Lost;
+    position_.reason = "position lost: " + why;
+  };
   const bool region = detected.status == DetectedObject::Status::Ok && detected.region_vehicle.size() >= 3 &&
                       !prediction_.empty();
   if (!region) {  // nothing to compare: a search under way waits for the next region
-    if (candidate_) position_.status = PositionStatus::Lost, position_.reason = "position lost: waiting for a road region";
+    if (candidate_) lost("waiting for a road region to confirm the winner");
     return;
   }
   const RegionAgreement agreement = regionAgreement(prediction_.view, detected.region_vehicle, o.cell_m);
   position_.region_agreement = agreement.iou;
   // Lines the gate accepted say the estimate holds, whatever the region's shape (a dead end's, a
-  // plaza's); a search is for an estimate that nothing corrects.
-  if (o.search_below <= 0 || position_.status == PositionStatus::Corrected ||
-      (!candidate_ && (agreement.iou >= o.search_below || agreement.area_ratio > o.max_area_ratio ||
-                       agreement.area_ratio * o.max_area_ratio < 1))) {
+  // plaza's); a search is for an estimate that nothing corrects, and one that gave up waits for that.
+  // No reason to search: the region agrees, or it is not the road's size (Vision's error).
+  const bool quiet = agreement.iou >= o.search_below || agreement.area_ratio > o.max_area_ratio ||
+                     agreement.area_ratio * o.max_area_ratio < 1;
+  if (position_.status == PositionStatus::Corrected || (quiet && !candidate_)) search_suspended_ = false;
+  if (o.search_below <= 0 || search_suspended_ || position_.status == PositionStatus::Corrected ||
+      (quiet && !candidate_)) {
     candidate_.reset();
+    lost_frames_ = 0;
     return;
   }
   const Pose2 estimate = filter_.pose();
   const RelocalizeResult r = relocalize(predictor_, camera_, estimate, detected.region_vehicle, o);
-  if (!r.clear) {
-    // Lost only while a pose explains the region well and clearly better than the estimate, but is
-    // not clear yet (across the road, in heading); else the region is Vision's problem.
-    if (r.best >= o.min_agreement && r.best - r.estimate.iou >= o.min_gain) {
-      position_.status = PositionStatus::Lost;
-      position_.reason = "position lost: " + r.reason;
-    }
+  if (!r.clear) {  // no pose explains the region clearly: drive on (Vision's region, most likely)
     candidate_.reset();
+    lost_frames_ = 0;
     return;
   }
   const Pose2 offset = estimate.inverse() * r.pose;
@@ -188,13 +198,13 @@ void MapModule::recover(const DetectedObject& detected, double t) {
                          std::abs(normalizeAngle(offset.heading() - candidate_->heading())) <= degToRad(o.heading_step_deg);
   if (!confirmed) {  // stop and look again
     candidate_ = offset;
-    position_.status = PositionStatus::Lost;
-    position_.reason = "position lost, a winner to confirm on the next frame: " + r.reason;
+    lost("a winner to confirm on the next frame: " + r.reason);
     return;
   }
   filter_.moveTo(r.pose);
   filter_.resetPoseCovariance(r.covariance);
   candidate_.reset();
+  lost_frames_ = 0;
   ++relocalisations_;
   position_ = filter_.current(t, "re-localised: " + r.reason);
   position_.status = PositionStatus::Corrected;

@@ -69,7 +69,7 @@ TEST(CliSuite, TwoSeedsAgreeWithMapnavRunOnTheirMissionFilesAndDoNotDependOnThre
     auto m = nlohmann::json::parse(run.out);
     for (const char* key : {"latency_ms_median", "latency_ms_p99", "latency_ms_max", "vision_ms_median"}) m.erase(key);
     EXPECT_EQ(figures, m) << "seed " << seed;
-    EXPECT_EQ(figures["pipeline"], seed == "3" ? "sidewalk" : "edge-tracker");  // brick / asphalt
+    EXPECT_EQ(figures["pipeline"], seed == "3" ? "sidewalk" : "color-rgb");  // brick / asphalt
     EXPECT_GT(figures["within_2sigma_lateral"].get<double>(), 0.0) << seed;
     EXPECT_GT(figures["nees_mean"].get<double>(), 0.0) << seed;
   }

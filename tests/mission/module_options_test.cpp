@@ -53,6 +53,8 @@ TEST(MissionOptions, BadValuesAreNamedInTheSameWords) {
             "MapModuleOptions::park_reset_after_rejections = -1: must be >= 0");
   EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.initial_heading_sigma_deg = 0; }),
             "MapModuleOptions::initial_heading_sigma_deg = 0: must be finite and > 0");
+  EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.relocalize.max_lost_frames = 0; }),
+            "RelocalizeOptions::max_lost_frames = 0: must be >= 1");
 }
 
 }  // namespace

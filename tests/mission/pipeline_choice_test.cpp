@@ -133,7 +133,7 @@ TEST(MissionPipeline, WithoutVisionTheRouteSurfacesChooseAndTheCallerOverrides) 
   const fs::path dir = testing::freshTempDir();
   RunOptions one;
   one.max_frames = 1;
-  EXPECT_EQ(runClosedLoop(gridMission(dir, "asphalt", "gravel"), one).pipeline, "edge-tracker");
+  EXPECT_EQ(runClosedLoop(gridMission(dir, "asphalt", "gravel"), one).pipeline, "color-rgb");
   EXPECT_EQ(runClosedLoop(gridMission(dir, "concrete", "brick"), one).pipeline, "sidewalk");
   const MissionFile mixed = gridMission(dir, "asphalt", "brick");
   EXPECT_THROW(runClosedLoop(mixed, one), InvalidInput);

@@ -48,6 +48,9 @@ struct RelocalizeOptions {
   double max_across_sigma_m = 0.4;
   /// ... and in heading by at most this (1-sigma, degrees); along the road they may spread.
   double max_heading_sigma_deg = 5.0;
+  /// The Map module (MapModule::recover): the vehicle stands at most this many frames (>= 1) for a
+  /// winner to be confirmed; then the search gives up until a frame fuses lines or the region agrees.
+  int max_lost_frames = 4;
   /// The ground grid the regions are compared on, m (> 0).
   double cell_m = 0.1;
 

@@ -69,7 +69,8 @@ struct MapModuleOptions {
   /// hypotheses around it are tried against the region (relocalize.h). The first frame with a clear
   /// winner makes the position Lost (the Navigator stops); the next frame's search, the vehicle
   /// standing, must find the same winner (across the road and in heading within a step of it) before
-  /// the estimate moves there, with the ties' spread as its covariance.
+  /// the estimate moves there, with the ties' spread as its covariance. After max_lost_frames Lost
+  /// frames without that, the search gives up until lines are fused or the region agrees again.
   RelocalizeOptions relocalize;
 
   /// Throws InvalidInput naming the first bad field and its value.
@@ -119,6 +120,8 @@ class MapModule {
   /// around (the vehicle's own frame: it moves with the odometry as the estimate does).
   std::optional<Pose2> candidate_;
   std::size_t relocalisations_ = 0;
+  int lost_frames_ = 0;             ///< consecutive Lost frames
+  bool search_suspended_ = false;   ///< the search gave up: until lines are fused or the region agrees
   /// Recovery after this frame's localisation: the region's agreement, the search, Lost or re-localised.
   void recover(const DetectedObject& detected, double t);
 };
