@@ -492,7 +492,12 @@ std::string say(const std::string& module, const std::string& type, const Fields
                        strprintf("%.3f", sigma.num("lateral_m")) + " m across, ±" + strprintf("%.3f", sigma.num("along_m")) +
                        " m along";
     const std::string status = p.str("status");
-    if (status == "corrected") {
+    const std::string reason = p.str("reason");
+    if (status == "lost") {
+      text += "; I am lost (" + reason + ").";
+    } else if (reason.rfind("re-localised", 0) == 0) {
+      text += "; " + reason + ".";
+    } else if (status == "corrected") {
       const Fields observed = p.obj("observed");
       std::vector<std::string> what;
       if (observed.boolean("lateral")) what.push_back("across");
@@ -501,7 +506,7 @@ std::string say(const std::string& module, const std::string& type, const Fields
       text += "; " + std::to_string(static_cast<long long>(p.num("lines_used"))) + " lines matched, " +
               (what.empty() ? std::string("nothing") : joinList(what)) + " corrected.";
     } else {
-      text += "; by odometry alone (" + p.str("reason") + ").";
+      text += "; by odometry alone (" + reason + ").";
     }
     return text;
   }

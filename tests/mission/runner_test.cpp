@@ -291,6 +291,7 @@ TEST(RunnerRecovery, ADisplacedEstimateStopsReLocalisesAndFinishes) {
   registerBuiltinPipelines();
   RunOptions options;
   options.displace = EstimateDisplacement{6, 1.5, -0.8};
+  options.trace = testing::freshTempDir() / "run.jsonl";
   const MissionRun run = runClosedLoop(shortCrossing(), options);
   ASSERT_GT(run.frames.size(), 8u);
   const FrameRecord& jumped = run.frames[6];
@@ -313,9 +314,16 @@ TEST(RunnerRecovery, ADisplacedEstimateStopsReLocalisesAndFinishes) {
   EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
   EXPECT_EQ(run.metrics.left_path_frames, 0u);
   EXPECT_EQ(run.metrics.vision_failures, 0u);
+  // The dialogue says it: lost, the Navigator's stop, the re-localisation.
+  const std::string dialogue = traceDialogue(readFile(options.trace), "run.jsonl");
+  EXPECT_NE(dialogue.find("I am lost (position lost: a winner to confirm on the next frame: best IoU"), std::string::npos)
+      << dialogue;
+  EXPECT_NE(dialogue.find("Navigator: Stop. (position lost"), std::string::npos);
+  EXPECT_NE(dialogue.find("; re-localised: best IoU"), std::string::npos);
   // Without the search the same fault is not found: no line is labelled through the 0.4 m gate, the
   // vehicle steers on the wrong estimate, leaves the path and stops short of the goal.
   options.map.relocalize.search_below = 0;
+  options.trace.clear();
   const MissionRun blind = runClosedLoop(shortCrossing(), options);
   EXPECT_EQ(blind.metrics.relocalisations, 0u);
   EXPECT_FALSE(blind.metrics.reached_goal);
