@@ -26,7 +26,7 @@ struct RelocalizeOptions {
   /// ... and whose area within the footprint is within this ratio (>= 1) of the predicted paved
   /// area's, either way: a shifted or turned road keeps its area, a region that swallowed the verge
   /// or lost half the road is Vision's error, not the pose's.
-  double max_area_ratio = 1.5;
+  double max_area_ratio = 1.25;
   /// The hypotheses: the estimate moved along its heading by up to +-along_m ...
   double along_m = 3.0;
   /// ... and across it by up to +-across_m ...
