@@ -67,9 +67,12 @@ class GroundGrid {
       std::sort(xs.begin(), xs.end());
       std::uint8_t* row = cells.data() + static_cast<std::size_t>(r) * cols_;
       for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
-        // Cells whose centre x0 + (c + 0.5) cell lies in [xs[k], xs[k + 1]).
-        const int c0 = std::max(0, static_cast<int>(std::ceil((xs[k] - origin_.x()) / cell_ - 0.5)));
-        const int c1 = std::min(cols_, static_cast<int>(std::ceil((xs[k + 1] - origin_.x()) / cell_ - 0.5)));
+        // Cells whose centre x0 + (c + 0.5) cell lies in [xs[k], xs[k + 1]), clamped to the grid
+        // before the conversion (a region's far vertices back-projected near the horizon lie km away).
+        const auto column = [&](double x) {
+          return static_cast<int>(std::clamp(std::ceil((x - origin_.x()) / cell_ - 0.5), 0.0, double(cols_)));
+        };
+        const int c0 = column(xs[k]), c1 = column(xs[k + 1]);
         for (int c = c0; c < c1; ++c) row[c] ^= 1;
       }
     }
@@ -81,7 +84,7 @@ class GroundGrid {
   int cols_ = 0, rows_ = 0;
 };
 
-/// The cells of the view's footprint and of its paved area (every region's rings, OR-ed).
+/// The cells of the view's paved area (every region's rings, OR-ed).
 std::vector<std::uint8_t> pavedCells(const GroundGrid& grid, const PredictedObject& view) {
   std::vector<std::uint8_t> paved = grid.empty();
   std::vector<std::uint8_t> ring = grid.empty();

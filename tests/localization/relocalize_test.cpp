@@ -39,6 +39,7 @@ TEST(RegionAgreement, IsTheIoUOfTheRegionAndThePavedAreaOnTheGrid) {
   EXPECT_NEAR(half.iou, 0.5, 1e-12);
   EXPECT_NEAR(half.area_ratio, 0.5, 1e-12);
   EXPECT_NEAR(regionAgreement(view, rectangle(-50, 50, -1, 1), 0.1).iou, 1.0, 1e-12);
+  EXPECT_NEAR(regionAgreement(view, rectangle(-1e12, 1e12, -1, 1), 0.1).iou, 1.0, 1e-12);  // near the horizon
   // Nothing detected, or nothing to compare with.
   EXPECT_EQ(regionAgreement(view, Polygon2{}, 0.1).iou, 0.0);
   EXPECT_EQ(regionAgreement(view, rectangle(0, 10, 3, 4), 0.1).iou, 0.0);
