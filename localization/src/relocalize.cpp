@@ -7,6 +7,7 @@
 
 #include "mapnav/core/option_table.h"
 #include "mapnav/core/strprintf.h"
+#include "mapnav/localization/pose_filter.h"
 
 namespace mapnav {
 
@@ -184,9 +185,7 @@ RelocalizeResult relocalize(ViewPredictor& predictor, const Camera& camera, cons
   const double s = options.step_m, r = degToRad(options.heading_step_deg);
   cov += Vec3(s * s / 12, s * s / 12, r * r / 12).asDiagonal();  // a uniform cell's variance
   out.spread = cov.diagonal().cwiseSqrt();
-  Mat3 rot = Mat3::Identity();
-  rot.topLeftCorner<2, 2>() = axes;  // the estimate's axes onto the world's
-  out.covariance = rot * cov * rot.transpose();
+  out.covariance = rotatePoseCovariance(cov, axes);  // the estimate's axes onto the world's
   out.pose = Pose2(estimate.translation() + axes * mean.head<2>(), estimate.heading() + mean.z());
   std::string found = strprintf(
       "best IoU %.2f against the estimate's %.2f over %zu hypotheses; %zu tie, their mean %+.2f m along, %+.2f m "
@@ -194,7 +193,7 @@ RelocalizeResult relocalize(ViewPredictor& predictor, const Camera& camera, cons
       out.best, out.estimate.iou, out.hypotheses, out.ties, mean.x(), mean.y(), radToDeg(mean.z()), out.spread.x(),
       out.spread.y(), radToDeg(out.spread.z()));
   found += strprintf(" (the region's area %.2f times the predicted paved area's)", out.estimate.area_ratio);
-  if (out.estimate.area_ratio > options.max_area_ratio || out.estimate.area_ratio * options.max_area_ratio < 1) {
+  if (!out.estimate.roadSized(options.max_area_ratio)) {
     out.reason = found + ": the region is not the road's size, Vision's error (max_area_ratio " +
                  strprintf("%g", options.max_area_ratio) + ")";
   } else if (out.best < options.min_agreement) {

@@ -74,13 +74,6 @@ double visiblePixels(const PredictedObject& view, const Camera& camera) {
   return total;
 }
 
-// A world-frame pose covariance (x, y, heading) in the frame of the vehicle at `pose`.
-Mat3 vehicleFrameCovariance(const Mat3& world, const Pose2& pose) {
-  Mat3 r = Mat3::Identity();
-  r.topLeftCorner<2, 2>() = pose.rotation().transpose();  // world axes onto (forward, left)
-  return r * world * r.transpose();
-}
-
 }  // namespace
 
 MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, const MapModuleOptions& options)
@@ -106,7 +99,8 @@ void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odom
     prediction_ = std::move(nothing);
   }
   prediction_.view.timestamp = t;
-  prediction_.view.pose_covariance = vehicleFrameCovariance(predicted.covariance(), predicted.pose());
+  // In the vehicle's frame (forward, left).
+  prediction_.view.pose_covariance = rotatePoseCovariance(predicted.covariance(), predicted.pose().rotation().transpose());
   board.post(Module::Map, PredictionToken{prediction_.view, predicted.pose()});
 }
 
@@ -174,14 +168,13 @@ void MapModule::recover(const DetectedObject& detected, double t) {
   }
   const RegionAgreement agreement = regionAgreement(prediction_.view, detected.region_vehicle, o.cell_m);
   position_.region_agreement = agreement.iou;
-  // Lines the gate accepted say the estimate holds, whatever the region's shape (a dead end's, a
-  // plaza's); a search is for an estimate that nothing corrects, and one that gave up waits for that.
-  // No reason to search: the region agrees, or it is not the road's size (Vision's error).
-  const bool quiet = agreement.iou >= o.search_below || agreement.area_ratio > o.max_area_ratio ||
-                     agreement.area_ratio * o.max_area_ratio < 1;
-  if (position_.status == PositionStatus::Corrected || (quiet && !candidate_)) search_suspended_ = false;
-  if (o.search_below <= 0 || search_suspended_ || position_.status == PositionStatus::Corrected ||
-      (quiet && !candidate_)) {
+  // The estimate holds when lines the gate accepted say so, whatever the region's shape (a dead
+  // end's, a plaza's), or when the region gives no reason to search: it agrees, or it is not the
+  // road's size (Vision's error). A search that gave up waits for that.
+  const bool quiet = agreement.iou >= o.search_below || !agreement.roadSized(o.max_area_ratio);
+  const bool holds = position_.status == PositionStatus::Corrected || (quiet && !candidate_);
+  if (holds) search_suspended_ = false;
+  if (o.search_below <= 0 || search_suspended_ || holds) {
     candidate_.reset();
     lost_frames_ = 0;
     return;

@@ -10,6 +10,7 @@
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/strprintf.h"
+#include "mapnav/localization/pose_filter.h"
 #include "rounding.h"
 
 namespace mapnav {
@@ -106,8 +107,7 @@ Json detectionPayload(const DetectedObject& d) {
 Json positionPayload(const CurrentPosition& p) {
   const Mat3& c = p.covariance;
   // Standard deviations across and along the vehicle's heading.
-  const Mat2 r = p.pose.rotation();
-  const Mat2 local = r.transpose() * c.topLeftCorner<2, 2>() * r;
+  const Mat3 local = rotatePoseCovariance(c, p.pose.rotation().transpose());
   return Json{{"pose", pose(p.pose)},
               {"covariance", upperTriangle(c)},
               {"sigma",

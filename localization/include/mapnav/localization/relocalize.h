@@ -63,6 +63,8 @@ struct RelocalizeOptions {
 struct RegionAgreement {
   double iou = 0;         ///< 0 when either is empty
   double area_ratio = 0;  ///< the region's area over the paved area's (0 when the paved area is empty)
+  /// The region is the road's size: its area within `max_ratio` (>= 1) of the paved area's, either way.
+  bool roadSized(double max_ratio) const { return area_ratio <= max_ratio && area_ratio * max_ratio >= 1; }
 };
 RegionAgreement regionAgreement(const PredictedObject& view, const Polygon2& detected, double cell_m);
 
