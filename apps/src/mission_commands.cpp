@@ -1,15 +1,14 @@
 #include "mission_commands.h"
 
 #include <chrono>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
-#include <sstream>
-#include <stdexcept>
 #include <ostream>
 #include <system_error>
+#include <vector>
 #include <unistd.h>
 
 #include "cli.h"
@@ -73,30 +72,12 @@ struct ReportedRun {
 
 // --displace "FRAME,FORWARD,LEFT": a frame index and two finite distances, m.
 EstimateDisplacement parseDisplacement(const std::string& text) {
-  const auto bad = [&](const std::string& why) {
-    return InvalidInput("--displace '" + text + "': " + why + " (expected FRAME,FORWARD,LEFT: a frame index and metres "
-                        "along and to the left of the estimated heading, e.g. 120,1.5,-0.8)");
-  };
-  EstimateDisplacement d;
-  std::istringstream in(text);
-  std::string frame, forward, left, rest;
-  if (!std::getline(in, frame, ',') || !std::getline(in, forward, ',') || !std::getline(in, left, ',') ||
-      std::getline(in, rest))
-    throw bad("three comma-separated values are needed");
-  try {
-    std::size_t used = 0;
-    const long long f = std::stoll(frame, &used);
-    if (used != frame.size() || f < 0) throw bad("the frame is not an index");
-    d.frame = static_cast<std::size_t>(f);
-    d.forward_m = std::stod(forward, &used);
-    if (used != forward.size()) throw bad("FORWARD is not a number");
-    d.left_m = std::stod(left, &used);
-    if (used != left.size()) throw bad("LEFT is not a number");
-  } catch (const std::logic_error&) {  // stoll / stod: not a number, out of range
-    throw bad("not numbers");
-  }
-  if (!std::isfinite(d.forward_m) || !std::isfinite(d.left_m)) throw bad("the distances must be finite");
-  return d;
+  const std::string expected =
+      "FRAME,FORWARD,LEFT: a frame index and metres along and to the left of the estimated heading, e.g. 120,1.5,-0.8";
+  const std::vector<double> v = parseNumbers("--displace", text, 3, 3, expected);
+  if (v[0] < 0 || v[0] != std::floor(v[0]) || v[0] > 1e15)
+    throw InvalidInput("--displace \"" + text + "\": the frame is not an index; expected " + expected);
+  return EstimateDisplacement{static_cast<std::size_t>(v[0]), v[1], v[2]};
 }
 
 template <typename Runner>
