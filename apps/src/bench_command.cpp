@@ -16,6 +16,7 @@
 #include "cli.h"
 #include "command_line.h"
 #include "command_support.h"
+#include "pipelines_command.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/strprintf.h"
@@ -101,7 +102,7 @@ struct SidewalkTimes {
 };
 
 SidewalkTimes timeSidewalk(const SidewalkScene& scene, double min_time_s) {
-  registerBuiltinPipelines();
+  registerPipelines();
   SidewalkTimes t;
   t.width = scene.camera->width();
   t.height = scene.camera->height();

@@ -30,6 +30,9 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   registerDetectCommands(app, commands);
   registerVisionCommands(app, commands);
   registerEvalCommands(app, commands);
+#ifdef MAPNAV_HAVE_LEARNED
+  registerTrainCommand(app, commands);
+#endif
   registerBenchCommand(app, commands);
   registerSuiteCommand(app, commands);
 

@@ -58,6 +58,7 @@ void registerDetectCommands(CLI::App& app, Commands& commands);   // detect, seg
 void registerVisionCommands(CLI::App& app, Commands& commands);   // rectify, calibrate chessboard|tilt
 void registerEvalCommands(CLI::App& app, Commands& commands);     // eval segmentation
 void registerBenchCommand(CLI::App& app, Commands& commands);     // bench
+void registerTrainCommand(CLI::App& app, Commands& commands);     // train segmentation (MAPNAV_LEARNED builds)
 void registerSuiteCommand(CLI::App& app, Commands& commands);     // suite random-campus
 
 }  // namespace mapnav::cli

@@ -13,6 +13,7 @@
 #include "command_line.h"
 #include "command_support.h"
 #include "json_numbers.h"
+#include "labelled_photos.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/interrupt.h"
 #include "mapnav/core/json.h"
@@ -30,47 +31,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Sample {
-  fs::path image_file, label_file;
-  Image image, label;
-};
+using Sample = LabelledPhoto;
 
-// Every image with its label, read and checked before anything runs or is written.
 std::vector<Sample> readSet(const EvalSegmentationConfig& config) {
-  for (const auto& [option, dir] : {std::pair{"--images", config.images}, std::pair{"--labels", config.labels}}) {
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw IoError(std::string(option) + " " + dir + ": no such folder");
-  }
-  std::vector<fs::path> files;
-  std::error_code ec;
-  for (fs::directory_iterator it(config.images, ec), end; !ec && it != end; it.increment(ec)) {
-    std::error_code type_ec;
-    if (it->is_regular_file(type_ec) && it->path().extension() == ".png") files.push_back(it->path());
-  }
-  if (ec) throw IoError(config.images + ": cannot list the folder: " + ec.message());
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw InvalidInput(config.images + ": no .png images in the folder");
-  std::vector<Sample> set;
-  for (const fs::path& f : files) {
-    Sample s;
-    s.image_file = f;
-    s.label_file = fs::path(config.labels) / (f.stem().string() + ".png");
-    if (std::error_code label_ec; !fs::is_regular_file(s.label_file, label_ec))
-      throw InvalidInput(f.string() + ": no label " + s.label_file.string() + " (labels are matched by file stem)");
-    s.image = readPng(f);
-    s.label = readPng(s.label_file);
-    if (s.image.channels != 3) throw InvalidInput(f.string() + ": expected an RGB photo");
-    if (s.label.channels != 1) throw InvalidInput(s.label_file.string() + ": expected a 1-channel PNG of class indices");
-    if (s.label.width != s.image.width || s.label.height != s.image.height)
-      throw InvalidInput(s.label_file.string() + ": the label is " + std::to_string(s.label.width) + "x" +
-                         std::to_string(s.label.height) + " but its image is " + std::to_string(s.image.width) + "x" +
-                         std::to_string(s.image.height));
-    if (!set.empty() && (s.image.width != set.front().image.width || s.image.height != set.front().image.height))
-      throw InvalidInput(f.string() + ": every image must have the size of the first (" +
-                         std::to_string(set.front().image.width) + "x" + std::to_string(set.front().image.height) + ")");
-    set.push_back(std::move(s));
-  }
-  return set;
+  return readLabelledPhotos(config.images, config.labels, true);
 }
 
 /// A score in the JSON and in the text: 4 decimals, null when undefined.
@@ -227,19 +191,6 @@ void printText(const EvalSegmentationConfig& config, const std::vector<Sample>& 
 
 }  // namespace
 
-std::unique_ptr<Camera> assumedPhotoCamera(int width, int height) {
-  CameraIntrinsics in;
-  in.width = width;
-  in.height = height;
-  in.fx = in.fy = 0.9 * width;
-  in.cx = (width - 1) / 2.0;
-  in.cy = (height - 1) / 2.0;
-  CameraMount mount;
-  mount.height_m = 1.3;
-  mount.tilt_rad = 0.0;
-  return createCamera(LensModel::Pinhole, in, mount);
-}
-
 int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out, std::ostream& err) {
   if (config.bev && config.camera.empty()) {
     err << "mapnav: error: eval segmentation: --bev needs --camera FILE (the camera that took the photos: the "
@@ -295,21 +246,6 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
 }
 
 // ---- the command line: `mapnav eval segmentation` -----------------------------------------------
-
-namespace {
-
-/// "3,4": label values, whole numbers in [0, 255]. Throws InvalidInput naming the option.
-std::vector<int> parseLabelValues(const std::string& option, const std::string& text) {
-  std::vector<int> out;
-  if (text.empty()) return out;
-  for (double v : parseNumbers(option, text, 1, 256, "label values V[,V...] (0-255)")) {
-    if (v != std::floor(v)) throw InvalidInput(option + " \"" + text + "\": label values are whole numbers");
-    out.push_back(static_cast<int>(v));
-  }
-  return out;
-}
-
-}  // namespace
 
 void registerEvalCommands(CLI::App& app, Commands& commands) {
   auto* eval = commands.hold<EvalSegmentationConfig>();

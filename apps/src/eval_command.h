@@ -27,10 +27,6 @@ struct EvalSegmentationConfig {
   bool json = false;
 };
 
-/// The pin-hole assumed for photos without a camera file: fx = fy = 0.9 × width (a 58° horizontal
-/// field), principal point at the centre, 1.3 m above the ground, level (horizon at mid-height).
-std::unique_ptr<Camera> assumedPhotoCamera(int width, int height);
-
 int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out, std::ostream& err);
 
 }  // namespace mapnav::cli

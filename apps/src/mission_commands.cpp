@@ -139,7 +139,7 @@ int finish(const ReportedRun& r, bool json, bool cut_short, std::ostream& out) {
 template <typename Runner>
 int runMissionCommand(const MissionRunConfig& config, std::ostream& out, std::ostream& err, Runner&& runner) {
   return guarded(err, [&] {
-    registerBuiltinPipelines();
+    registerPipelines();
     loadPlugins(config.plugins);
     const MissionFile mission = loadMission(config.mission);
     return finish(runReported(mission, config, err, runner), config.json, false, out);
@@ -188,7 +188,7 @@ int runRunCommand(const RunConfig& config, std::ostream& out, std::ostream& err)
 
 int runDemo(const DemoConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
-    registerBuiltinPipelines();
+    registerPipelines();
     MissionRunConfig run;
     run.mission = config.mission.empty() ? dataPath("maps/missions/campus_dialogue.json") : config.mission;
     run.report_dir = config.output;

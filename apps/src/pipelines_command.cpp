@@ -7,11 +7,21 @@
 #include "command_support.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
+#ifdef MAPNAV_HAVE_LEARNED
+#include "mapnav/learned/learned_pipeline.h"
+#endif
 
 namespace mapnav::cli {
 
-void loadPlugins(const std::vector<std::string>& plugins) {
+void registerPipelines() {
   registerBuiltinPipelines();
+#ifdef MAPNAV_HAVE_LEARNED
+  registerLearnedPipeline();
+#endif
+}
+
+void loadPlugins(const std::vector<std::string>& plugins) {
+  registerPipelines();
   for (const std::string& plugin : plugins) loadPlugin(plugin);
 }
 

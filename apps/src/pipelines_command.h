@@ -10,7 +10,11 @@ struct PipelinesConfig {
   std::vector<std::string> plugins;    ///< shared libraries to load first
 };
 
-/// Loads the plug-ins given with --plugin (every command that takes a pipeline accepts them).
+/// Registers the built-in pipelines and, where this build has it (MAPNAV_LEARNED), "learned".
+void registerPipelines();
+
+/// registerPipelines(), then the plug-ins given with --plugin (every command that takes a pipeline
+/// accepts them).
 void loadPlugins(const std::vector<std::string>& plugins);
 
 /// `mapnav pipelines`: the vision pipelines available, with their options and defaults.

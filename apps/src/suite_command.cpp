@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "command_line.h"
 #include "command_support.h"
+#include "pipelines_command.h"
 #include "mapnav/core/error.h"
 #include "mapnav/mission/suite.h"
 #include "mapnav/vision/pipelines.h"
@@ -56,7 +57,7 @@ int runSuiteCommand(const SuiteConfig& config, std::ostream& out, std::ostream& 
   options.threads = config.threads;
   options.camera = dataPath("maps/cameras/terregator_pinhole.json");
   return guarded(err, [&] {
-    registerBuiltinPipelines();
+    registerPipelines();
     std::optional<TemporaryFolder> temporary;
     if (config.output.empty()) {
       temporary.emplace();

@@ -616,6 +616,38 @@ class BlueBandPipeline : public BasePipeline {
 
 }  // namespace
 
+// --- ScorePipeline: the region steps around a subclass's probability --------------------------------
+
+class ScorePipeline::Impl : public BasePipeline {
+ public:
+  Impl(std::string name, ScorePipeline& owner) : BasePipeline(std::move(name)), owner_(owner) {}
+  void configure(const std::string&) override {}
+  void reset() override {}
+
+ protected:
+  std::optional<Image> classify(const GridFrame& frame, const PredictedObject&, const Image& valid, const Image&,
+                                std::string& why) override {
+    std::vector<float> p = owner_.roadProbability(frame.rgb, frame.width, frame.height, valid.data.data());
+    if (p.size() != static_cast<std::size_t>(frame.width) * frame.height) {
+      why = strprintf("the road probability has %zu values for %dx%d cells", p.size(), frame.width, frame.height);
+      return std::nullopt;
+    }
+    // The confidence maps threshold +- 0.5 onto 0..255: the probability itself where the threshold is 0.5.
+    return threshold(p, frame.width, frame.height, valid, common().threshold, 0.5, frame.scale);
+  }
+  const ScorePipelineOptions& common() const override { return owner_.scoreOptions(); }
+
+ private:
+  ScorePipeline& owner_;
+};
+
+ScorePipeline::ScorePipeline(std::string name) : impl_(std::make_unique<Impl>(std::move(name), *this)) {}
+ScorePipeline::~ScorePipeline() = default;
+std::string ScorePipeline::name() const { return impl_->name(); }
+DetectedObject ScorePipeline::detect(const VisionFrame& frame, const PredictedObject& prediction) {
+  return impl_->detect(frame, prediction);
+}
+
 void registerBuiltinPipelines() {
   static std::once_flag once;
   std::call_once(once, [] {

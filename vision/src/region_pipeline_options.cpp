@@ -105,6 +105,16 @@ const OptionTable<ColorPipelineOptions>& colorPipelineOptionTable() {
   return table;
 }
 
+const OptionTable<ScorePipelineOptions>& scorePipelineOptionTable() {
+  using O = ScorePipelineOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("ScorePipelineOptions")
+          .field("threshold", &O::threshold, inRange(1e-6, 1 - 1e-6),
+                 "road where the road probability, averaged over the (2 smooth_px + 1)^2 box, exceeds this")
+          .include(regionPipelineOptionTable());
+  return table;
+}
+
 const OptionTable<BlueBandOptions>& blueBandOptionTable() {
   using O = BlueBandOptions;
   static const OptionTable<O> table =
@@ -122,5 +132,6 @@ const OptionTable<BlueBandOptions>& blueBandOptionTable() {
 void RegionPipelineOptions::validate() const { regionPipelineOptionTable().validate(*this); }
 void ColorPipelineOptions::validate() const { colorPipelineOptionTable().validate(*this); }
 void BlueBandOptions::validate() const { blueBandOptionTable().validate(*this); }
+void ScorePipelineOptions::validate() const { scorePipelineOptionTable().validate(*this); }
 
 }  // namespace mapnav

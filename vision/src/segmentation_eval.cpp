@@ -239,4 +239,17 @@ Image roadMask(const Image& label, const LabelClasses& classes) {
   return out;
 }
 
+std::unique_ptr<Camera> assumedPhotoCamera(int width, int height) {
+  CameraIntrinsics in;
+  in.width = width;
+  in.height = height;
+  in.fx = in.fy = 0.9 * width;
+  in.cx = (width - 1) / 2.0;
+  in.cy = (height - 1) / 2.0;
+  CameraMount mount;
+  mount.height_m = 1.3;
+  mount.tilt_rad = 0.0;
+  return createCamera(LensModel::Pinhole, in, mount);
+}
+
 }  // namespace mapnav

@@ -7,9 +7,16 @@
 // defaults, described by an option table (core/option_table.h) that configure() reads the JSON
 // options with and listPipelines() lists (PipelineInfo::options, `mapnav pipelines`). The
 // "cluster-perceptron" and "edge-tracker" pipelines' options are in cluster_perceptron.h and
-// edge_tracker.h.
+// edge_tracker.h. ScorePipeline: the region steps around a per-pixel probability of one's own
+// (the "learned" pipeline, learned/).
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
 #include "mapnav/core/option_table.h"
 #include "mapnav/vision/line_labelling.h"
+#include "mapnav/vision_iface/pipeline.h"
 
 namespace mapnav {
 
@@ -90,7 +97,43 @@ struct BlueBandOptions : RegionPipelineOptions {
   void validate() const;
 };
 
+/// Pipelines that score every pixel themselves (a learned network: learned/): road where the
+/// probability, smoothed over the (2 smooth_px + 1)² box, exceeds `threshold`.
+struct ScorePipelineOptions : RegionPipelineOptions {
+  double threshold = 0.5;  ///< road where the smoothed road probability exceeds this, in (0, 1)
+
+  /// Throws InvalidInput "ScorePipelineOptions::FIELD = VALUE: must be ..." for a field out of its range.
+  void validate() const;
+};
+
+/// A region pipeline whose per-pixel road probability comes from a subclass (e.g. a network): the
+/// frame checks, region reproduction, polygon, lines and their labels, the mask and the confidence
+/// (the probability on 0..255) are every region pipeline's. The prediction only picks which road
+/// region is the road and labels the lines: nothing is trained on it.
+class ScorePipeline : public VisionPipeline {
+ public:
+  explicit ScorePipeline(std::string name);
+  ~ScorePipeline() override;
+  std::string name() const override;
+  DetectedObject detect(const VisionFrame& frame, const PredictedObject& prediction) override;
+  void reset() override {}
+
+ protected:
+  /// P(road) of each pixel of `rgb` (width × height × 3, row-major), width × height values in [0, 1].
+  /// The frame is the pipeline's grid (grid_px: each cell the mean of its pixels); `ground`: 1 where
+  /// the cell sees the ground, else 0 (width × height).
+  virtual std::vector<float> roadProbability(const std::uint8_t* rgb, int width, int height,
+                                             const std::uint8_t* ground) = 0;
+  /// The options of the region steps and the threshold (the subclass's struct).
+  virtual const ScorePipelineOptions& scoreOptions() const = 0;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// The options' tables: names, ranges and the descriptions `mapnav pipelines` shows.
+const OptionTable<ScorePipelineOptions>& scorePipelineOptionTable();
 const OptionTable<RegionPipelineOptions>& regionPipelineOptionTable();
 const OptionTable<ColorPipelineOptions>& colorPipelineOptionTable();
 const OptionTable<BlueBandOptions>& blueBandOptionTable();

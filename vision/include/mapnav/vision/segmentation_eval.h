@@ -4,9 +4,11 @@
 // per-pixel confidence — MaxF (the F1 at the best threshold) and AP (11-point interpolated average
 // precision, as the KITTI road devkit computes it). Pure counting on plain Images; no OpenCV here.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
+#include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/image/image.h"
 
@@ -97,6 +99,11 @@ struct TrapezoidOptions {
 /// Its corners in pixels (u right, v down), counter-clockwise on the screen: bottom left, bottom
 /// right, top right, top left.
 Polygon2 bottomTrapezoid(int width, int height, const TrapezoidOptions& options = {});
+
+/// The pin-hole assumed for photos without a camera file (`mapnav eval`, `mapnav train`): fx = fy =
+/// 0.9 × width (a 58° horizontal field), principal point at the centre, 1.3 m above the ground,
+/// level (the horizon at mid-height: the ground is the rows below it).
+std::unique_ptr<Camera> assumedPhotoCamera(int width, int height);
 
 /// The outline (pixel centres) of the largest 8-connected region of non-zero pixels of a 1-channel
 /// mask, holes ignored; empty when the mask is empty.

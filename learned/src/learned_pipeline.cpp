@@ -1,0 +1,91 @@
+// The "learned" pipeline: a SegmentationModel behind ScorePipeline (docs/learned.md).
+#include "mapnav/learned/learned_pipeline.h"
+
+#include <mutex>
+#include <unistd.h>
+
+#include "mapnav/core/error.h"
+#include "mapnav/learned/segmentation_model.h"
+#include "mapnav/vision_iface/pipeline.h"
+
+namespace mapnav {
+
+const OptionTable<LearnedPipelineOptions>& learnedPipelineOptionTable() {
+  using O = LearnedPipelineOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("LearnedPipelineOptions")
+          .field("model", &O::model,
+                 "a model file (mapnav train segmentation), or a committed model's name: camvid (real streets: road "
+                 "and pavement, trained on CamVid photos) or sim (the simulator's paths, trained on its logs)")
+          .field("threads", &O::threads, inRange(0, 256), "Torch's CPU threads for the process; 0 = every core")
+          .include(scorePipelineOptionTable());
+  return table;
+}
+
+void LearnedPipelineOptions::validate() const { learnedPipelineOptionTable().validate(*this); }
+
+std::filesystem::path resolveSegmentationModel(const std::string& name_or_path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_regular_file(name_or_path, ec)) return name_or_path;
+  std::vector<fs::path> tried;
+  if (name_or_path.find('/') == std::string::npos && name_or_path.find('.') == std::string::npos) {
+    const std::string file = name_or_path + ".mnseg";
+    char exe[4096];
+    const ssize_t len = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (len > 0) tried.push_back(fs::path(std::string(exe, static_cast<std::size_t>(len))).parent_path().parent_path() /
+                                 "share/mapnav/models" / file);
+    tried.push_back(fs::path(MAPNAV_SOURCE_DIR) / "models" / file);
+    for (const fs::path& p : tried)
+      if (fs::is_regular_file(p, ec)) return p;
+  }
+  std::string where;
+  for (const fs::path& p : tried) where += (where.empty() ? "" : ", ") + p.string();
+  throw NotFound("model \"" + name_or_path + "\": no such file" + (where.empty() ? "" : " (looked for " + where + ")"));
+}
+
+namespace {
+
+class LearnedPipeline : public ScorePipeline {
+ public:
+  LearnedPipeline() : ScorePipeline("learned") {}
+  void configure(const std::string& options_json) override {
+    LearnedPipelineOptions o = learnedPipelineOptionTable().parse(options_json, LearnedPipelineOptions{}, "pipeline \"learned\"");
+    if (!model_ || o.model != options_.model) model_ = std::make_unique<SegmentationModel>(SegmentationModel::load(resolveSegmentationModel(o.model)));
+    options_ = std::move(o);
+    SegmentationModel::setThreads(options_.threads);
+  }
+
+ protected:
+  std::vector<float> roadProbability(const std::uint8_t* rgb, int width, int height, const std::uint8_t* ground) override {
+    if (!model_) configure("{}");  // never configured: the defaults
+    return model_->roadProbability(rgb, width, height, ground);
+  }
+  const ScorePipelineOptions& scoreOptions() const override { return options_; }
+
+ private:
+  LearnedPipelineOptions options_;
+  std::unique_ptr<SegmentationModel> model_;
+};
+
+}  // namespace
+
+void registerLearnedPipeline() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    registerPipeline({"learned",
+                      "A small fully-convolutional network's road probability per pixel (docs/learned.md; mapnav train "
+                      "segmentation makes one), needing no bootstrap; then region reproduction (2.2.1) and line labelling "
+                      "(2.2.2) as the other region pipelines",
+                      learnedPipelineOptionTable().list(), [] { return std::make_unique<LearnedPipeline>(); },
+                      learnedPipelineOptionTable().presets()});
+  });
+}
+
+}  // namespace mapnav
+
+/// Loaded as a plug-in (`--plugin libmapnav_learned.so`) by a program that does not link it.
+extern "C" int mapnav_register_pipelines() {
+  mapnav::registerLearnedPipeline();
+  return 1;
+}
