@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bench_measure.h"
+#include "bench_pipelines.h"
 #include "bench_sim_route.h"
 #include "cli.h"
 #include "command_line.h"
@@ -55,23 +56,6 @@ struct Training {
 double costPerPixelGrowth(double t_small, int small, double t_large, int large) {
   const double px = (static_cast<double>(large) * large) / (static_cast<double>(small) * small);
   return (t_large / t_small) / px;
-}
-
-// Four significant digits, without an exponent for the values a frame time takes.
-std::string sig(double value) {
-  if (!std::isfinite(value)) return "-";
-  const double a = std::fabs(value);
-  if (a >= 1000) return strprintf("%.0f", value);
-  if (a >= 100) return strprintf("%.1f", value);
-  if (a >= 10) return strprintf("%.2f", value);
-  if (a >= 1) return strprintf("%.3f", value);
-  if (a >= 0.1) return strprintf("%.4f", value);
-  if (a >= 0.01) return strprintf("%.5f", value);
-  return strprintf("%.6f", value);
-}
-
-std::string pad(const std::string& text, std::size_t width) {
-  return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
 }
 
 Json number(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
@@ -147,6 +131,7 @@ struct BenchResults {
   std::vector<Growth> growth;       // empty with one size
   SidewalkTimes sidewalk;
   RenderTimes render;
+  std::vector<PipelineTime> pipelines;
   std::vector<RouteTimes> routes;  // one per --route-sizes
 };
 
@@ -250,6 +235,7 @@ void printParkTargets(const std::vector<Row>& rows, std::ostream& out) {
 Json benchJson(const BenchConfig& config, const BenchResults& r) {
   Json doc = Json::object();
   const SidewalkTimes& sidewalk = r.sidewalk;
+  doc["pipelines"] = pipelineTimesJson(r.pipelines);
   doc["sidewalk"] = {{"width", sidewalk.width},
                      {"height", sidewalk.height},
                      {"ms", number(sidewalk.ms())},
@@ -342,6 +328,7 @@ void printSummary(const BenchResults& r, std::ostream& out) {
       << sig(sidewalk.memcpyRatio()) << ", reference_ratio " << sig(sidewalk.referenceRatio()) << " (reference, every pixel: "
       << sig(1e3 * sidewalk.reference.s_per_frame) << " ms)\n";
   printParkTargets(r.rows, out);
+  printPipelineTimes(r.pipelines, out);
   out << "renderer (the simulator's frames) at " << r.render.width << "x" << r.render.height
       << " on the campus scene, one thread: " << sig(r.render.ms()) << " ms/frame (" << strprintf("%.0f", 1e3 / r.render.ms())
       << " frames/s), memcpy_ratio " << sig(r.render.memcpyRatio()) << " (a copy of the frame's colour and mask planes: "
@@ -426,6 +413,7 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     const SidewalkScene scene = makeSidewalkScene(std::filesystem::path(defaultParkMapPath()).parent_path());
     r.sidewalk = timeSidewalk(scene, config.min_time_s);
     r.render = timeRender(scene, config.min_time_s);
+    r.pipelines = timePipelines(scene, resolveThreads(config.threads), config.min_time_s);
     r.routes = timeRoutes(config.route_sizes, config.min_time_s);
     if (config.json) {
       out << benchJson(config, r).dump() << "\n";

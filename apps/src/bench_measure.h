@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 #include <vector>
+
+#include "mapnav/core/strprintf.h"
 
 namespace mapnav::cli {
 
@@ -59,6 +62,23 @@ Measured measure(F&& once, double min_time_s) {
   const std::size_t m = batches.size();
   const double median = m % 2 ? batches[m / 2] : 0.5 * (batches[m / 2 - 1] + batches[m / 2]);
   return {median, static_cast<int>(m)};
+}
+
+// Four significant digits, without an exponent for the values a frame time takes.
+inline std::string sig(double value) {
+  if (!std::isfinite(value)) return "-";
+  const double a = std::fabs(value);
+  if (a >= 1000) return strprintf("%.0f", value);
+  if (a >= 100) return strprintf("%.1f", value);
+  if (a >= 10) return strprintf("%.2f", value);
+  if (a >= 1) return strprintf("%.3f", value);
+  if (a >= 0.1) return strprintf("%.4f", value);
+  if (a >= 0.01) return strprintf("%.5f", value);
+  return strprintf("%.6f", value);
+}
+
+inline std::string pad(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
 }
 
 }  // namespace mapnav::cli

@@ -85,6 +85,7 @@ ReportedRun runReported(const MissionFile& mission, const MissionRunConfig& conf
   ReportedRun r;
   RunOptions options;
   options.pipeline = config.pipeline;
+  if (!config.options_json.empty()) options.pipeline_options_json = config.options_json;
   options.max_frames = config.max_frames;
   if (!config.displace.empty()) options.displace = parseDisplacement(config.displace);
   r.trace = config.trace;
@@ -244,6 +245,9 @@ void addMissionOptions(CLI::App* c, MissionRunConfig& config, bool stderr_is_tty
       ->required()
       ->check(CLI::ExistingFile);
   c->add_option("--pipeline", config.pipeline, "Vision pipeline (default: the mission's vision.pipeline, else the one the surfaces of its route's roads call for)");
+  c->add_option("--options", config.options_json,
+                "The pipeline's options as a JSON object (default: the mission's vision.options, when the pipeline is "
+                "the mission's; e.g. '{\"model\": \"sim\"}' for --pipeline learned)");
   c->add_option("--plugin", config.plugins, "Load a vision plug-in first");
   c->add_option("--trace", config.trace, "Write the JSONL trace of every token (docs/trace-format.md)");
   c->add_option("--max-frames", config.max_frames, "Stop after this many frames (default: to the end)");

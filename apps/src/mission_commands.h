@@ -13,6 +13,7 @@ namespace mapnav::cli {
 struct MissionRunConfig {
   std::string mission;                 ///< mapnav-mission/1 file
   std::string pipeline;                ///< "" : the mission's vision.pipeline, else "sidewalk"
+  std::string options_json;            ///< the pipeline's options, a JSON object; "" : the mission's vision.options
   std::vector<std::string> plugins;    ///< vision plug-ins to load first
   std::string trace;                   ///< JSONL trace to write ("" = none)
   std::size_t max_frames = 0;          ///< 0: to the end

@@ -12,6 +12,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/map/camera_io.h"
+#include "mapnav/sim/replay_log.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision/segmentation_eval.h"
 
@@ -29,6 +30,21 @@ Image trainingLabel(const Image& label, const LabelClasses& classes) {
   return out;
 }
 
+/// Every `stride`-th frame of the log at `dir` that has a ground-truth road mask (255 = road).
+void appendLogFrames(const std::string& dir, int stride, std::vector<TrainingPhoto>& photos) {
+  const ReplayLog log = ReplayLog::open(dir);
+  const Image ground = groundMask(*log.header().camera);
+  std::size_t added = 0;
+  for (std::size_t i = 0; i < log.frames().size(); i += static_cast<std::size_t>(stride)) {
+    std::optional<Image> mask = log.mask(i);
+    if (!mask) continue;
+    for (std::uint8_t& v : mask->data) v = v != 0 ? 1 : 0;
+    photos.push_back({dir + " frame " + std::to_string(i), toRgb(log.image(i)), std::move(*mask), ground});
+    ++added;
+  }
+  if (added == 0) throw InvalidInput(dir + ": no frame with a ground-truth road mask (logs of mapnav simulate have them)");
+}
+
 std::string bar(int done, int total) {
   const int width = 24, filled = total > 0 ? done * width / total : width;
   return "[" + std::string(static_cast<std::size_t>(filled), '#') + std::string(static_cast<std::size_t>(width - filled), '.') + "]";
@@ -41,17 +57,22 @@ int runTrainSegmentation(const TrainSegmentationConfig& config, std::ostream& ou
     config.classes.validate();
     config.options.validate();
     if (config.output.empty()) throw InvalidInput("-o: the model file to write is required");
-    const std::vector<LabelledPhoto> set = readLabelledPhotos(config.images, config.labels, false);
+    if (config.images.empty() != config.labels.empty()) throw InvalidInput("--images and --labels go together");
+    if (config.images.empty() && config.logs.empty()) throw InvalidInput("nothing to train on: give --images and --labels, or --log");
+    if (config.log_stride < 1) throw InvalidInput("--log-stride " + std::to_string(config.log_stride) + ": must be >= 1");
     std::vector<TrainingPhoto> photos;
-    for (const LabelledPhoto& s : set) {
-      const std::unique_ptr<Camera> camera =
-          config.camera.empty() ? assumedPhotoCamera(s.image.width, s.image.height) : loadCamera(config.camera);
-      if (camera->width() != s.image.width || camera->height() != s.image.height)
-        throw InvalidInput(s.image_file.string() + ": the photo is " + std::to_string(s.image.width) + "x" +
-                           std::to_string(s.image.height) + " but the camera's image " + std::to_string(camera->width()) +
-                           "x" + std::to_string(camera->height()));
-      photos.push_back({s.image_file.string(), s.image, trainingLabel(s.label, config.classes), groundMask(*camera)});
+    if (!config.images.empty()) {
+      for (const LabelledPhoto& s : readLabelledPhotos(config.images, config.labels, false)) {
+        const std::unique_ptr<Camera> camera =
+            config.camera.empty() ? assumedPhotoCamera(s.image.width, s.image.height) : loadCamera(config.camera);
+        if (camera->width() != s.image.width || camera->height() != s.image.height)
+          throw InvalidInput(s.image_file.string() + ": the photo is " + std::to_string(s.image.width) + "x" +
+                             std::to_string(s.image.height) + " but the camera's image " + std::to_string(camera->width()) +
+                             "x" + std::to_string(camera->height()));
+        photos.push_back({s.image_file.string(), s.image, trainingLabel(s.label, config.classes), groundMask(*camera)});
+      }
     }
+    for (const std::string& dir : config.logs) appendLogFrames(dir, config.log_stride, photos);
     const SegmentationModel model = trainSegmentation(
         photos, config.options,
         [&](const EpochReport& r) {
@@ -95,8 +116,12 @@ void registerTrainCommand(CLI::App& app, Commands& commands) {
   CLI::App* ts = train->add_subcommand(
       "segmentation", "Train a small fully-convolutional road segmentation network on labelled photos, on CPU; "
                       "every tenth photo is held apart for the validation IoU shown after each epoch");
-  ts->add_option("--images", config->images, "Folder of RGB photos (PNG)")->required();
-  ts->add_option("--labels", config->labels, "Folder of 1-channel class-index PNGs, one per photo, same file stem")->required();
+  ts->add_option("--images", config->images, "Folder of RGB photos (PNG)");
+  ts->add_option("--labels", config->labels, "Folder of 1-channel class-index PNGs, one per photo, same file stem");
+  ts->add_option("--log", config->logs,
+                 "Replay log (mapnav simulate) whose frames and ground-truth road masks are trained on too; repeatable "
+                 "(the simulator's world has a model of its own: train it on logs of other seeds than the missions')");
+  ts->add_option("--log-stride", config->log_stride, "Every n-th frame of each log")->default_val(config->log_stride);
   ts->add_option("--road-values", text->road, "Label values that are road, comma-separated (CamVid: 3 road, 4 pavement)")
       ->default_val("3");
   ts->add_option("--ignore-values", text->ignore, "Label values left out of the loss (CamVid: 11 unlabelled)");
@@ -123,8 +148,13 @@ void registerTrainCommand(CLI::App& app, Commands& commands) {
     config->options.width = static_cast<int>(size[0]);
     config->options.height = static_cast<int>(size[1]);
     std::ostringstream cmd;
-    cmd << "mapnav train segmentation --images " << config->images << " --labels " << config->labels << " --road-values "
-        << text->road << (text->ignore.empty() ? "" : " --ignore-values " + text->ignore) << " --epochs "
+    cmd << "mapnav train segmentation";
+    if (!config->images.empty())
+      cmd << " --images " << config->images << " --labels " << config->labels << " --road-values " << text->road
+          << (text->ignore.empty() ? "" : " --ignore-values " + text->ignore);
+    for (const std::string& log : config->logs) cmd << " --log " << log;
+    if (!config->logs.empty()) cmd << " --log-stride " << config->log_stride;
+    cmd << " --epochs "
         << config->options.epochs << " --seed " << config->options.seed << " --size " << text->size << " --threads "
         << config->options.threads << " -o " << config->output;
     config->command = cmd.str();

@@ -11,7 +11,9 @@
 namespace mapnav::cli {
 
 struct TrainSegmentationConfig {
-  std::string images, labels;  ///< folders; a photo's label is the PNG of the same stem
+  std::string images, labels;  ///< folders; a photo's label is the PNG of the same stem (optional with logs)
+  std::vector<std::string> logs;  ///< replay logs: their frames with ground-truth road masks (mapnav simulate)
+  int log_stride = 5;          ///< every n-th frame of each log (consecutive frames are nearly the same picture)
   LabelClasses classes;
   std::string camera;          ///< optional camera file (where it sees the ground); default: the assumed pin-hole
   SegmentationTrainOptions options;
