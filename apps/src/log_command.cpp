@@ -9,6 +9,7 @@
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
 #include "mapnav/sim/replay_log.h"
 
@@ -166,6 +167,31 @@ int runLogImportKitti(const LogImportKittiConfig& config, std::ostream& out, std
   });
 }
 
+int runLogImportKittiRaw(const LogImportKittiRawConfig& config, std::ostream& out, std::ostream& err) {
+  return guarded(err, [&] {
+    KittiRawImportOptions options = config.options;
+    if (!config.origin.empty()) {
+      const std::vector<double> o = parseNumbers("--origin", config.origin, 2, 2, "LAT,LON (degrees)");
+      options.origin = LatLon{o[0], o[1]};
+    }
+    const KittiRawImportResult r = importKittiRaw(config.dir, config.output, options);
+    const CameraMount& m = r.mount;
+    out << strprintf("wrote %s: %zu frames (%dx%d), %.1f s, %.1f m along the OXTS track; world frame east-north about "
+                     "%.8f, %.8f; camera %s from the calibration chain: fx %.1f, %.2f m up, tilt %.2f deg, yaw %.2f deg, "
+                     "roll %.2f deg, %.2f m ahead of and %.2f m left of the OXTS unit (also in %s/camera.json); %zu GNSS "
+                     "fixes; odometry from the OXTS speed and yaw rate%s\n",
+                     config.output.c_str(), r.frames, r.intrinsics.width, r.intrinsics.height, r.duration_s, r.distance_m,
+                     r.origin.lat, r.origin.lon, options.camera.c_str(), r.intrinsics.fx, m.height_m, radToDeg(m.tilt_rad),
+                     radToDeg(m.yaw_rad), radToDeg(m.roll_rad), m.offset.x(), m.offset.y(), config.output.c_str(),
+                     r.gnss_fixes,
+                     options.scale_error != 0 || options.gyro_bias_deg_s != 0
+                         ? strprintf(", degraded: scale error %g, gyro bias %g deg/s (seed %llu)", options.scale_error,
+                                     options.gyro_bias_deg_s, static_cast<unsigned long long>(options.seed)).c_str()
+                         : "");
+    return static_cast<int>(kOk);
+  });
+}
+
 // ---- the command line: `mapnav log ...` -------------------------------------------------------
 
 namespace {
@@ -202,6 +228,33 @@ void addLogImportKitti(CLI::App& log, Commands& commands) {
   lk->callback(commands.choose([kitti](std::ostream& out, std::ostream& err) { return runLogImportKitti(*kitti, out, err); }));
 }
 
+void addLogImportKittiRaw(CLI::App& log, Commands& commands) {
+  auto* raw = commands.hold<LogImportKittiRawConfig>();
+  CLI::App* lr = log.add_subcommand(
+      "import-kitti-raw", "Turn a KITTI raw drive (camera frames, OXTS GPS/IMU packets, calibration) into a log with "
+                          "truth, GNSS fixes and odometry (docs/real-drive.md)");
+  lr->add_option("dir", raw->dir, "Drive folder, DATE/DATE_drive_NNNN_sync (the calibration files are read from DATE/)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  lr->add_option("-o,--output", raw->output, "Log folder to write (must not exist, or be empty)")->required();
+  lr->add_option("--camera", raw->options.camera, "The camera: image_NN and P_rect_NN (02: the left colour camera)")
+      ->default_val(raw->options.camera);
+  lr->add_option("--origin", raw->origin, "The world frame's origin LAT,LON, degrees (default: the first OXTS fix; use "
+                                          "the map's origin to replay on a map)");
+  lr->add_option("--imu-height", raw->options.imu_height_m, "The OXTS unit's height above the road, m (KITTI's set-up drawing)")
+      ->default_val(raw->options.imu_height_m);
+  lr->add_option("--gnss-every", raw->options.gnss_every, "A GNSS fix every n-th frame (0 = none)")->default_val(raw->options.gnss_every);
+  lr->add_option("--odometry-scale-error", raw->options.scale_error, "Degrade the odometry: relative distance error (0.02 = 2 % long)")
+      ->default_val(0.0);
+  lr->add_option("--gyro-bias-deg-s", raw->options.gyro_bias_deg_s, "Degrade the odometry: constant yaw-rate bias, deg/s")
+      ->default_val(0.0);
+  lr->add_option("--seed", raw->options.seed, "Seed of the odometry's degradation")->default_val(raw->options.seed);
+  lr->add_option("--name", raw->options.name, "The log's name (default: KITTI raw and the drive folder's name)");
+  lr->footer("Exit codes: 0 written, 1 invalid input (a malformed OXTS packet, calibration entry or timestamp: the file "
+             "and line are named and nothing is written), 2 usage or I/O error (a missing folder or file).");
+  lr->callback(commands.choose([raw](std::ostream& out, std::ostream& err) { return runLogImportKittiRaw(*raw, out, err); }));
+}
+
 }  // namespace
 
 void registerLogCommands(CLI::App& app, Commands& commands) {
@@ -210,6 +263,7 @@ void registerLogCommands(CLI::App& app, Commands& commands) {
   addLogInfo(*log, commands);
   addLogFrame(*log, commands);
   addLogImportKitti(*log, commands);
+  addLogImportKittiRaw(*log, commands);
   registerTrackCommand(*log, commands);
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "mapnav/sim/kitti_import.h"
+#include "mapnav/sim/kitti_raw_import.h"
 
 namespace mapnav::cli {
 
@@ -40,5 +41,17 @@ struct LogImportKittiConfig {
 /// log with truth and odometry, and LOGDIR/camera.json. Exit 0; 1 when the sequence is invalid
 /// (the file and line on `err`, nothing written); 2 when it cannot be read or the log not written.
 int runLogImportKitti(const LogImportKittiConfig& config, std::ostream& out, std::ostream& err);
+
+struct LogImportKittiRawConfig {
+  std::string dir;             ///< the drive folder (DATE/DATE_drive_NNNN_sync; calibration in DATE/)
+  std::string output;          ///< the log folder to write (required; must not exist or be empty)
+  std::string origin;          ///< "LAT,LON" or "" (the first OXTS fix)
+  KittiRawImportOptions options;
+};
+
+/// `mapnav log import-kitti-raw DRIVE -o LOGDIR` (docs/real-drive.md): a KITTI raw drive as a replay
+/// log with truth, GNSS fixes and odometry from its OXTS packets, and LOGDIR/camera.json. Exit codes
+/// as import-kitti's.
+int runLogImportKittiRaw(const LogImportKittiRawConfig& config, std::ostream& out, std::ostream& err);
 
 }  // namespace mapnav::cli

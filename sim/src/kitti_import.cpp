@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mapnav/core/error.h"
+#include "kitti_text.h"
 #include "mapnav/core/io.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
@@ -20,14 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-[[noreturn]] void badLine(const fs::path& file, int line, const std::string& check, const std::string& message) {
-  Issue issue;
-  issue.check = check;
-  issue.message = message;
-  issue.line = line;
-  issue.column = 1;
-  throw ValidationError(file.string(), {issue});
-}
+using kitti::badLine;
 
 /// One non-blank line of a whitespace-separated number file, with its 1-based line number.
 struct NumberLine {
