@@ -84,6 +84,8 @@ int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::
     GeoJsonImportOptions options;
     options.origin = config.origin;
     options.snap_tolerance_m = config.snap_tolerance_m;
+    if (config.default_width_m) options.default_width_m = *config.default_width_m;
+    if (config.default_surface) options.default_surface = *config.default_surface;
     Issues issues;
     const std::string text = readFile(config.input);
     auto imported = importGeoJson(text, issues, options);
@@ -103,6 +105,7 @@ int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::
     saveMap(imported->map, config.output);
     out << "wrote " << config.output << " (" << imported->map.intersections.size() << " intersections, "
         << imported->map.roads.size() << " roads)\n";
+    for (const std::string& a : imported->assumptions) out << "  assumed: " << a << "\n";
     return static_cast<int>(kOk);
   });
 }
@@ -221,8 +224,17 @@ void addImportGeoJson(CLI::App& map, Commands& commands) {
   im->add_option("--snap", import->snap_tolerance_m, "Road ends this close (m) to an intersection or to each other share it")
       ->default_val(1.0)
       ->check(CLI::Range(0.0, 100.0));
+  im->add_option("--default-width", import->default_width_m,
+                 "Width (m) of the roads whose features give none, e.g. a street's carriageway from centre lines (default 2)")
+      ->check(CLI::Range(0.01, 1000.0));
+  im->add_option("--default-surface", import->default_surface,
+                 "Surface of the roads whose features give none (default concrete; the map's surfaces: concrete, asphalt, "
+                 "brick, gravel, grass, dirt)");
   im->add_option("--name", import->name, "The map's name (default: the file's, or \"imported from GeoJSON\")");
-  im->footer("Without --origin, the origin is the file's mapnav.origin, else the centroid of its coordinates.");
+  im->footer("Without --origin, the origin is the file's mapnav.origin, else the centroid of its coordinates. Plain "
+             "street centre lines (LineString or MultiLineString features with only a name, as OpenStreetMap extracts "
+             "give them) import too: each part is a road named after its feature, cut where its vertices meet another "
+             "line's (--snap), with the default width and surface; what was assumed is printed after the counts.");
   im->callback(commands.choose([import, origin](std::ostream& out, std::ostream& err) {
     if (!origin->empty()) import->origin = parseOrigin(*origin);
     return runImportGeoJson(*import, out, err);

@@ -35,6 +35,8 @@ struct ImportGeoJsonConfig {
   std::string output;
   std::optional<GeoOrigin> origin;
   double snap_tolerance_m = 1.0;
+  std::optional<double> default_width_m;       ///< GeoJsonImportOptions' default when not given
+  std::optional<std::string> default_surface;  ///< GeoJsonImportOptions' default when not given
   std::optional<std::string> name;
 };
 int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::ostream& err);

@@ -1,12 +1,14 @@
 #include "mapnav/map/geojson.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <set>
 #include <sstream>
 
 #include "map_json_internal.h"
 #include "mapnav/core/error.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/geometry/polygon.h"
 #include "mapnav/map/geodesy.h"
 #include "mapnav/map/map_io.h"
@@ -36,7 +38,9 @@ namespace {
 struct RawFeature {
   std::string pointer;  // "/features/k"
   enum class Kind { Road, Point, Polygon } kind = Kind::Road;
-  std::vector<LatLon> coordinates;  // the line, the point, or the outer ring without its closing point
+  std::vector<LatLon> coordinates;  // the point, or the outer ring without its closing point
+  std::vector<std::vector<LatLon>> lines;  // a road's centre line: one (LineString) or more (MultiLineString)
+  bool id_from_name = false;  // the id is the feature's "id" member or its "name" property, not properties.id
   std::optional<std::string> id, kind_name, from, to, surface, left, right;
   std::optional<double> width, cost_factor;
   std::optional<bool> oneway;
@@ -102,6 +106,38 @@ std::optional<double> numberProperty(const Json& properties, const std::string& 
   return readNumber(*it, pointerJoin(pointer, key), issues);
 }
 
+// A map id from a street's name: ASCII letters, digits, '_' and '-' (German umlauts and ß spelt out,
+// every other character '_'), starting with a letter, at most 64 characters: "Rintheimer Querallee"
+// -> "Rintheimer_Querallee", "Veilchenstraße" -> "Veilchenstrasse".
+std::string idFromName(const std::string& name) {
+  static const std::vector<std::pair<std::string, std::string>> spelt = {
+      {"\xc3\x9f", "ss"}, {"\xc3\xa4", "ae"}, {"\xc3\xb6", "oe"}, {"\xc3\xbc", "ue"},
+      {"\xc3\x84", "Ae"}, {"\xc3\x96", "Oe"}, {"\xc3\x9c", "Ue"}};
+  std::string out;
+  for (std::size_t i = 0; i < name.size();) {
+    bool done = false;
+    for (const auto& [utf8, ascii] : spelt)
+      if (name.compare(i, utf8.size(), utf8) == 0) {
+        out += ascii;
+        i += utf8.size();
+        done = true;
+        break;
+      }
+    if (done) continue;
+    const unsigned char c = static_cast<unsigned char>(name[i]);
+    if (c >= 0x80) {  // another UTF-8 character: one '_' for all its bytes
+      out += '_';
+      ++i;
+      while (i < name.size() && (static_cast<unsigned char>(name[i]) & 0xC0) == 0x80) ++i;
+      continue;
+    }
+    out += std::isalnum(c) || c == '-' || c == '_' ? static_cast<char>(c) : '_';
+    ++i;
+  }
+  if (out.empty() || !std::isalpha(static_cast<unsigned char>(out.front()))) out = "R_" + out;
+  return out.substr(0, 56);  // room for a piece's suffix
+}
+
 std::optional<RawFeature> readFeature(const Json& value, const std::string& pointer, Issues& issues) {
   JsonObject feature(value, pointer, issues);
   if (!feature.isObject()) return std::nullopt;
@@ -125,7 +161,18 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
     raw.kind = RawFeature::Kind::Road;
     auto line = readPositions(*coordinates, cptr, issues, 2);
     if (!line) return std::nullopt;
-    raw.coordinates = std::move(*line);
+    raw.lines.push_back(std::move(*line));
+  } else if (*gtype == "MultiLineString") {  // a street drawn in parts: a road per part
+    raw.kind = RawFeature::Kind::Road;
+    if (!coordinates->is_array() || coordinates->empty()) {
+      addIssue(issues, Severity::Error, "geojson.position", cptr, "expected an array of line strings");
+      return std::nullopt;
+    }
+    for (std::size_t k = 0; k < coordinates->size(); ++k) {
+      auto line = readPositions((*coordinates)[k], pointerJoin(cptr, k), issues, 2);
+      if (!line) return std::nullopt;
+      raw.lines.push_back(std::move(*line));
+    }
   } else if (*gtype == "Point") {
     raw.kind = RawFeature::Kind::Point;
     auto p = readPosition(*coordinates, cptr, issues);
@@ -148,7 +195,7 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
     raw.coordinates = std::move(*ring);
   } else {
     addIssue(issues, Severity::Error, "geojson.unsupported_geometry", g.pointer("type"),
-             "geometry \"" + *gtype + "\" is not supported: roads are LineString, intersections Point or Polygon");
+             "geometry \"" + *gtype + "\" is not supported: roads are LineString or MultiLineString, intersections Point or Polygon");
     return std::nullopt;
   }
 
@@ -194,6 +241,12 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
     if (const auto it = p.find("center"); it != p.end() && !it->is_null()) {
       raw.center = readPosition(*it, pointerJoin(pptr, "center"), issues);
     }
+    if (!raw.id && raw.kind == RawFeature::Kind::Road) {
+      if (const auto name = stringProperty(p, pptr, "name", issues)) {
+        raw.id = idFromName(*name);
+        raw.id_from_name = true;
+      }
+    }
     if (issues.size() != before) return std::nullopt;
     const auto& interpreted = raw.kind == RawFeature::Kind::Road ? kRoadMembers : kIntersectionMembers;
     for (auto it = p.begin(); it != p.end(); ++it) {
@@ -204,6 +257,14 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
     } else if (it != p.end()) {
       addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, kShadowed), "expected an object");
       return std::nullopt;
+    }
+  }
+  if (!raw.id && raw.kind == RawFeature::Kind::Road) {  // RFC 7946's feature "id": a street's name in many exports
+    if (const auto it = value.find("id"); it != value.end() && (it->is_string() || it->is_number_integer())) {
+      const std::string name = it->is_string() ? it->get<std::string>() : std::to_string(it->get<long long>());
+      raw.id = idFromName(name);
+      raw.id_from_name = true;
+      if (!raw.extra.contains("name")) raw.extra.emplace("name", name);
     }
   }
   return raw;
@@ -279,12 +340,16 @@ GeoOrigin chooseOrigin(const GeoJsonImportOptions& options, const std::optional<
   GeoOrigin origin;
   double lat = 0, lon = 0;
   std::size_t n = 0;
-  for (const RawFeature& raw : raws) {
-    for (const LatLon& p : raw.coordinates) {
+  const auto add = [&](const std::vector<LatLon>& points) {
+    for (const LatLon& p : points) {
       lat += p.lat;
       lon += p.lon;
       ++n;
     }
+  };
+  for (const RawFeature& raw : raws) {
+    add(raw.coordinates);
+    for (const auto& line : raw.lines) add(line);
   }
   if (n > 0) origin = GeoOrigin{lat / static_cast<double>(n), lon / static_cast<double>(n), 0.0};
   return origin;
@@ -322,28 +387,77 @@ class MapBuilder {
   }
 
   // Roads, attaching each end to an intersection: as named, or the one at the end, or one made
-  // where road ends meet.
+  // where road ends meet. A centre line without `from` and `to` is cut at each interior vertex
+  // within the snap tolerance of another line's vertex (streets drawn as plain centre lines meet
+  // there, not at their ends); each piece, and each part of a MultiLineString, is a road: the
+  // feature's id, suffixed -1, -2, ... when it gives more than one.
   void addRoads(const std::vector<RawFeature>& raws) {
+    std::vector<Line> lines;
+    for (const RawFeature& raw : raws)
+      if (raw.kind == RawFeature::Kind::Road)
+        for (const auto& part : raw.lines) {
+          std::vector<Vec2> points = project(part);
+          const std::size_t before = points.size();
+          points.erase(std::unique(points.begin(), points.end(), [](const Vec2& a, const Vec2& b) { return (a - b).norm() < 1e-6; }),
+                       points.end());
+          repeated_ += before - points.size();
+          lines.push_back({&raw, std::move(points), {}});
+        }
+    cutAtSharedVertices(lines);
+    std::size_t defaults_width = 0, defaults_surface = 0, named = 0, multi = 0, cut_lines = 0;
     for (const RawFeature& raw : raws) {
       if (raw.kind != RawFeature::Kind::Road) continue;
-      Road road;
-      road.id = raw.id ? *raw.id : freshId("R", next_road_, taken_);
-      std::vector<Vec2> line = project(raw.coordinates);
-      attachEnd(line.front(), raw.from, road.from);
-      attachEnd(line.back(), raw.to, road.to);
-      road.centerline = Polyline2(std::move(line));
-      road.width = raw.width.value_or(options_.default_width_m);
-      road.surface = raw.surface.value_or(options_.default_surface);
-      road.left = raw.left.value_or(options_.default_shoulder);
-      road.right = raw.right.value_or(options_.default_shoulder);
-      road.oneway = raw.oneway.value_or(false);
-      road.cost_factor = raw.cost_factor.value_or(1.0);
-      road.layer = raw.layer.value_or(0);
-      road.structure = raw.structure.value_or(RoadStructure::None);
-      road.properties = raw.extra;
-      map_.roads.push_back(std::move(road));
-      result_.road_features.push_back(raw.pointer);
+      std::vector<std::vector<Vec2>> pieces;
+      for (const Line& l : lines) {
+        if (l.raw != &raw) continue;
+        std::vector<Vec2> piece{l.points.front()};
+        for (std::size_t k = 1; k < l.points.size(); ++k) {
+          piece.push_back(l.points[k]);
+          if (l.cut[k] && k + 1 < l.points.size()) {
+            pieces.push_back(std::move(piece));
+            piece = {l.points[k]};
+          }
+        }
+        pieces.push_back(std::move(piece));
+        cut_lines += std::count(l.cut.begin(), l.cut.end(), true) > 0;
+      }
+      multi += raw.lines.size() > 1;
+      named += raw.id_from_name;
+      const std::string base = raw.id ? *raw.id : freshId("R", next_road_, taken_);
+      for (std::size_t k = 0; k < pieces.size(); ++k) {
+        Road road;
+        road.id = uniqueRoadId(pieces.size() == 1 ? base : base + "-" + std::to_string(k + 1));
+        std::vector<Vec2>& line = pieces[k];
+        attachEnd(line.front(), raw.from, road.from);
+        attachEnd(line.back(), raw.to, road.to);
+        road.centerline = Polyline2(std::move(line));
+        road.width = raw.width.value_or(options_.default_width_m);
+        road.surface = raw.surface.value_or(options_.default_surface);
+        road.left = raw.left.value_or(options_.default_shoulder);
+        road.right = raw.right.value_or(options_.default_shoulder);
+        defaults_width += !raw.width;
+        defaults_surface += !raw.surface;
+        road.oneway = raw.oneway.value_or(false);
+        road.cost_factor = raw.cost_factor.value_or(1.0);
+        road.layer = raw.layer.value_or(0);
+        road.structure = raw.structure.value_or(RoadStructure::None);
+        road.properties = raw.extra;
+        map_.roads.push_back(std::move(road));
+        result_.road_features.push_back(raw.pointer);
+      }
     }
+    const auto note = [&](std::size_t n, const std::string& text) {
+      if (n > 0) result_.assumptions.push_back(std::to_string(n) + " " + text);
+    };
+    note(defaults_width, "roads without a width: " + strprintf("%g", options_.default_width_m) + " m (the default width)");
+    note(defaults_surface, "roads without a surface: " + options_.default_surface + ", shoulders " +
+                               options_.default_shoulder + " unless given (the defaults)");
+    note(named, "road features named by their \"id\" member or \"name\" property (no properties.id)");
+    note(multi, "MultiLineString features: a road per part");
+    note(cut_lines, "centre lines cut where an interior vertex meets another line's vertex (within " +
+                        strprintf("%g", options_.snap_tolerance_m) + " m)");
+    note(repeated_, "repeated points of centre lines dropped");
+    note(made_nodes_, "intersections made where road ends meet (no Point or Polygon feature there)");
   }
 
   // Kinds: as given, or inferred from the roads that meet. An unknown kind name is an error.
@@ -377,6 +491,47 @@ class MapBuilder {
     return out;
   }
 
+  // One line of a road feature (a MultiLineString gives several), projected, and where it is cut.
+  struct Line {
+    const RawFeature* raw;
+    std::vector<Vec2> points;
+    std::vector<bool> cut;  // cut[k]: end a piece at vertex k (interior vertices only)
+  };
+
+  // Marks each interior vertex of a line without `from` / `to` that lies within the snap tolerance
+  // of a vertex of another line.
+  void cutAtSharedVertices(std::vector<Line>& lines) const {
+    const double tol2 = options_.snap_tolerance_m * options_.snap_tolerance_m;
+    for (Line& l : lines) l.cut.assign(l.points.size(), false);
+    const auto cuttable = [](const Line& l, std::size_t k) {
+      return !l.raw->from && !l.raw->to && k > 0 && k + 1 < l.points.size();
+    };
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      for (std::size_t j = i + 1; j < lines.size(); ++j)
+        for (std::size_t a = 0; a < lines[i].points.size(); ++a)
+          for (std::size_t b = 0; b < lines[j].points.size(); ++b) {
+            if ((lines[i].points[a] - lines[j].points[b]).squaredNorm() > tol2) continue;
+            if (cuttable(lines[i], a)) lines[i].cut[a] = true;
+            if (cuttable(lines[j], b)) lines[j].cut[b] = true;
+          }
+    // No piece shorter than the tolerance: its ends would snap onto one node.
+    for (Line& l : lines) {
+      Vec2 last = l.points.front();
+      for (std::size_t k = 1; k + 1 < l.points.size(); ++k) {
+        if (!l.cut[k]) continue;
+        if ((l.points[k] - last).squaredNorm() <= tol2 || (l.points[k] - l.points.back()).squaredNorm() <= tol2) l.cut[k] = false;
+        else last = l.points[k];
+      }
+    }
+  }
+
+  // `id`, or `id` suffixed ~2, ~3, ... when a road has it already (two features of one name).
+  std::string uniqueRoadId(const std::string& id) {
+    std::string out = id;
+    for (int n = 2; !road_ids_.insert(out).second; ++n) out = id + "~" + std::to_string(n);
+    return out;
+  }
+
   // The intersection nearest to `p` within the snap tolerance (0 inside an intersection's shape).
   std::optional<std::size_t> nodeAt(const Vec2& p) const {
     std::optional<std::size_t> best;
@@ -407,6 +562,7 @@ class MapBuilder {
       map_.intersections.push_back(std::move(x));
       result_.intersection_features.emplace_back();
       kind_names_.emplace_back();
+      ++made_nodes_;
       node = map_.intersections.size() - 1;
     }
     const Intersection& x = map_.intersections[*node];
@@ -421,6 +577,9 @@ class MapBuilder {
   std::set<std::string> taken_;
   std::size_t next_road_ = 0, next_node_ = 0;
   std::vector<std::optional<std::string>> kind_names_;  // as given, per intersection
+  std::set<std::string> road_ids_;                      // the roads' ids so far
+  std::size_t made_nodes_ = 0;                          // intersections made at road ends
+  std::size_t repeated_ = 0;                            // repeated centre-line points dropped
 };
 
 }  // namespace

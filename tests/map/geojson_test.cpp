@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include <nlohmann/json.hpp>
@@ -181,6 +182,49 @@ TEST(GeoJsonImport, InfersNodesKindsAndIdsFromSharedEndPoints) {
   EXPECT_EQ(imported->toFeaturePointer("/roads/2/width"), "/features/3/properties/width");
   EXPECT_EQ(imported->toFeaturePointer("/intersections/0/position"), "/features/0/geometry/coordinates");
   EXPECT_EQ(imported->toFeaturePointer("/intersections/1/kind"), "/intersections/1/kind");  // made, no feature
+}
+
+// Street centre lines as OpenStreetMap extracts give them: names only, a street in parts, streets
+// that cross at a shared interior vertex, one that nearly meets another's end.
+TEST(GeoJsonImport, PlainCentreLinesAreCutWhereTheyMeetAndNamedAfterTheirStreets) {
+  Issues issues;
+  GeoJsonImportOptions options;
+  options.default_width_m = 7;
+  options.default_surface = "asphalt";
+  const auto imported = importGeoJson(readFile(testing::fixturePath("maps/valid/street_centre_lines.geojson")), issues, options);
+  ASSERT_TRUE(imported) << (issues.empty() ? "" : formatIssue(issues[0], "inline"));
+  const MapData& m = imported->map;
+  std::vector<std::string> ids;
+  for (const Road& r : m.roads) ids.push_back(r.id);
+  // Main Street cut at its middle vertex, Cross Street's two parts, the third named by its feature id.
+  EXPECT_EQ(ids, (std::vector<std::string>{"Main_Street-1", "Main_Street-2", "Cross_Street-1", "Cross_Street-2",
+                                           "Weg_ueber_die_Bruecke"}));
+  EXPECT_EQ(m.roads[4].properties.at("name").text, "Weg über die Brücke");
+  const auto node = [&](const std::string& id) -> const Intersection& {
+    return *std::find_if(m.intersections.begin(), m.intersections.end(), [&](const Intersection& x) { return x.id == id; });
+  };
+  // The four pieces meet at one node, a cross; the third street's start, 0.44 m north of Main
+  // Street's end (within the 1 m snap), shares that end's node.
+  EXPECT_EQ(m.roads[0].to, m.roads[1].from);
+  EXPECT_EQ(m.roads[2].to, m.roads[0].to);
+  EXPECT_EQ(m.roads[3].from, m.roads[0].to);
+  EXPECT_EQ(node(m.roads[0].to).kind, IntersectionKind::Cross);
+  EXPECT_EQ(m.roads[4].from, m.roads[1].to);
+  EXPECT_EQ(m.intersections.size(), 6u);
+  for (const Road& r : m.roads) {
+    EXPECT_EQ(r.width, 7.0);
+    EXPECT_EQ(r.surface, "asphalt");
+  }
+  EXPECT_TRUE(validateMap(m).empty());
+  const auto said = [&](const std::string& words) {
+    return std::any_of(imported->assumptions.begin(), imported->assumptions.end(),
+                       [&](const std::string& a) { return a.find(words) != std::string::npos; });
+  };
+  EXPECT_TRUE(said("5 roads without a width: 7 m")) << ::testing::PrintToString(imported->assumptions);
+  EXPECT_TRUE(said("3 road features named"));
+  EXPECT_TRUE(said("1 MultiLineString"));
+  EXPECT_TRUE(said("1 centre lines cut"));
+  EXPECT_TRUE(said("6 intersections made"));
 }
 
 TEST(GeoJsonImport, UnsupportedGeometryIsNamedWithItsPointer) {

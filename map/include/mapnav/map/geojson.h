@@ -13,7 +13,8 @@ namespace mapnav {
 struct GeoJsonImportOptions {
   /// The local frame's origin. Default: the file's `mapnav.origin`, else the data's centroid.
   std::optional<GeoOrigin> origin;
-  /// Road ends closer than this (m) to an intersection point, or to each other, share a node.
+  /// Road ends closer than this (m) to an intersection point, or to each other, share a node; a
+  /// plain centre line's interior vertex this close to another line's vertex cuts it there.
   double snap_tolerance_m = 1.0;
   /// Defaults for LineString properties that are absent.
   double default_width_m = 2.0;
@@ -30,6 +31,9 @@ struct GeoJsonImport {
   MapData map;
   std::vector<std::string> road_features;          ///< "/features/7" for roads[i]
   std::vector<std::string> intersection_features;  ///< "" for an intersection made at shared ends
+  /// What the import assumed, for people ("12 roads without a width: 7 m (the default width)"):
+  /// defaults taken, ids from names, lines cut where they meet, intersections made.
+  std::vector<std::string> assumptions;
 
   /// A pointer into the map ("/roads/3/width") as a pointer into the GeoJSON file
   /// ("/features/7/properties/width"); the input when it cannot be translated.
