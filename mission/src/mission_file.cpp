@@ -54,7 +54,7 @@ std::optional<MissionFile> parseMission(std::string_view text, const std::filesy
         }
       }
     }
-    m.speed_mps = top.number("speed_mps", false, 0.01, 5.0).value_or(m.speed_mps);
+    m.speed_mps = top.number("speed_mps", false, 0.01, 40.0).value_or(m.speed_mps);
     m.frame_rate_hz = top.number("frame_rate_hz", false, 0.01, 100.0).value_or(m.frame_rate_hz);
     m.wander_m = top.number("wander_m", false, 0.0, 5.0).value_or(m.wander_m);
     // Blocks read by the modules that own them; here only their shape is checked.

@@ -10,6 +10,7 @@
 #include "mapnav/mission/pipeline_choice.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/progress.h"
+#include "mapnav/navigator/road_position.h"
 
 #include "drive.h"
 
@@ -40,7 +41,11 @@ std::unique_ptr<VisionPipeline> missionPipeline(const MissionFile& mission, cons
 
 // Where the mission starts: the route's first point, facing along it (a road position says where,
 // the route which way: "R1@I1+3" with a route back through I1 faces I1, as simulate() drives it).
-Pose2 routeStart(const Route& route) { return Pose2(route.line.front(), route.line.headingAt(0)); }
+/// Where the mission starts: its start road position, the lateral offset included (a car's log
+/// starts in its lane, not on the road's centre line), heading the way the route leaves it.
+Pose2 missionStart(const Map& map, const MissionFile& mission, const Route& route) {
+  return Pose2(toPose(map, mission.start).translation(), route.line.headingAt(0));
+}
 
 BlackboardOptions boardOptions(const MissionFile& mission, const RunOptions& options) {
   const double period = 1.0 / mission.frame_rate_hz;
@@ -82,16 +87,16 @@ ModuleLoop::ModuleLoop(const MissionFile& mission, const Map& map, const Camera&
       run_(run),
       board_(boardOptions(mission, options)),
       navigator_(map, mission.start, missionStops(mission), navigatorOptions(mission, options), limits),
-      map_module_(map, camera, routeStart(navigator_.route()), options.map),
+      map_module_(map, camera, missionStart(map, mission, navigator_.route()), options.map),
       vision_(missionPipeline(mission, options, map, navigator_.route()), mission.halt),
       motion_(execute, limits, options.navigator.steering.lookahead_m),
-      odometry_only_(routeStart(navigator_.route()), Mat3::Identity(), options.map.filter),
+      odometry_only_(missionStart(map, mission, navigator_.route()), Mat3::Identity(), options.map.filter),
       truth_tracker_(densePath(navigator_.route().line, 0.25),
                      std::max(PathTracker::kDefaultWindowM, 4.0 * mission.speed_mps / mission.frame_rate_hz)) {
   run_.pipeline = vision_.pipelineName();
   run_.vehicle_width_m = options.vehicle_width_m;
   run_.route = navigator_.route();
-  run_.start = routeStart(run_.route);
+  run_.start = missionStart(map, mission, navigator_.route());
   run_.goal = Pose2(run_.route.line.back(), run_.route.line.headingAt(run_.route.line.length()));
   run_.image_width = camera.width();
   run_.image_height = camera.height();

@@ -31,8 +31,8 @@ const OptionTable<RunOptions>& runOptionTable() {
                  "a prediction, detection or position is used within this many frame periods")
           .field("command_validity_frames", &O::command_validity_frames, above(0),
                  "a steering plan is used within this many frame periods")
-          .field("max_odometry_speed_mps", &O::max_odometry_speed_mps, above(0),
-                 "replay: odometry faster than this is a spike, m/s")
+          .field("max_odometry_speed_mps", &O::max_odometry_speed_mps, atLeast(0),
+                 "replay: odometry faster than this is a spike, m/s; 0 = twice the mission's speed, at least 5")
           .field("max_odometry_turn_rate_deg_s", &O::max_odometry_turn_rate_deg_s, above(0),
                  "replay: odometry turning faster than this is a spike, deg/s")
           .field("vehicle_width_m", &O::vehicle_width_m, atLeast(0),
@@ -87,7 +87,9 @@ std::string text(const char* format, double a, double b = 0) {
 
 MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& log_dir, const RunOptions& options) {
   options.validate();
-  detail::ReplaySource source(log_dir, options);
+  RunOptions source_options = options;
+  if (source_options.max_odometry_speed_mps == 0) source_options.max_odometry_speed_mps = std::max(5.0, 2 * mission.speed_mps);
+  detail::ReplaySource source(log_dir, source_options);
   const Map map = loadMap(mission.map);
   MissionRun run;
   run.mode = "replay";

@@ -220,6 +220,22 @@ TEST_F(DamagedLog, OdometrySpikeIsReplacedByThePreviousRate) {
   expectStrictError(6, "log.odometry_spike");
 }
 
+// A car's log: 8 m/s is a spike for a sidewalk robot's mission (twice 0.6 m/s, at least 5 m/s) but
+// not for one whose speed is 6 m/s (twice that, 12 m/s).
+TEST_F(DamagedLog, TheSpikeThresholdIsTwiceTheMissionsSpeedAtLeastFive) {
+  nlohmann::json l6 = line(6);
+  l6["odometry"]["distance_m"] = 8.0 * (frames_[5].t - frames_[4].t);
+  setLine(6, l6);
+  expectOneFault(replay(), LogFaultKind::OdometrySpike, 6);
+  MissionFile fast = shortCrossing();
+  fast.speed_mps = 6;
+  const MissionRun run = runReplay(fast, log_, RunOptions{});
+  EXPECT_TRUE(run.faults.empty());
+  RunOptions fixed;
+  fixed.max_odometry_speed_mps = 7;  // given: used as it is
+  EXPECT_EQ(runReplay(fast, log_, fixed).faults.size(), 1u);
+}
+
 TEST_F(DamagedLog, LogCutMidLineSkipsTheLastLine) {
   const std::string last = lines_.back();
   lines_.pop_back();

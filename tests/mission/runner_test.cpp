@@ -14,7 +14,9 @@
 #include "mapnav/core/io.h"
 #include "mapnav/image/png.h"
 #include "mapnav/mission/simulate.h"
+#include "mapnav/map/map_io.h"
 #include "mapnav/mission/trace.h"
+#include "mapnav/navigator/road_position.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 
@@ -280,6 +282,28 @@ TEST(RunnerClosedLoop, TheShortCrossingReachesTheGoalSteeringOnTheEstimate) {
   again.trace = dir / "run2.jsonl";
   runClosedLoop(shortCrossing(), again);
   EXPECT_EQ(readFile(again.trace), trace);
+}
+
+// A start with a lateral offset (a car's lane, `ROAD@NODE+M/LATERAL`) is where the estimate and,
+// closed loop, the vehicle start: not the road's centre line.
+TEST(RunnerClosedLoop, TheStartsLateralOffsetIsWhereTheEstimateAndTheVehicleStart) {
+  registerBuiltinPipelines();
+  MissionFile mission = shortCrossing();
+  mission.start.lateral = 0.4;
+  const Map map = loadMap(mission.map);
+  RoadPosition centre = mission.start;
+  centre.lateral = 0;
+  const Vec2 beside = toPose(map, mission.start).translation();
+  EXPECT_NEAR((beside - toPose(map, centre).translation()).norm(), 0.4, 1e-9);  // 0.4 m off the centre line
+  RunOptions options;
+  options.max_frames = 1;
+  const MissionRun run = runClosedLoop(mission, options);
+  // There, heading the way the route leaves the start.
+  EXPECT_POSE_NEAR(run.start, Pose2(beside, run.route.line.headingAt(0)), 1e-9);
+  ASSERT_EQ(run.frames.size(), 1u);
+  ASSERT_TRUE(run.frames[0].truth);
+  EXPECT_LT((run.frames[0].truth->translation() - beside).norm(), 0.05);  // the vehicle, one frame on
+  EXPECT_LT((run.frames[0].odometry_only.translation() - beside).norm(), 0.05);
 }
 
 // Issue 30's recovery: mid-mission the estimate jumps 1.5 m ahead and 0.8 m right of the truth

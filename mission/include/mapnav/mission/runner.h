@@ -79,8 +79,9 @@ struct RunOptions {
   /// and records it (MissionRun::faults, a `Sensors/LogFault` trace line); true stops at the first
   /// with a ValidationError naming frames.jsonl and the line.
   bool strict = false;
-  /// Replay: odometry faster than this over the time since the previous frame is a spike, m/s (> 0).
-  double max_odometry_speed_mps = 5.0;
+  /// Replay: odometry faster than this over the time since the previous frame is a spike, m/s (>= 0);
+  /// 0 = twice the mission's speed_mps, at least 5 (a sidewalk robot's log: 5; a car's at 12 m/s: 24).
+  double max_odometry_speed_mps = 0.0;
   /// Replay: ... or turning faster than this, deg/s (> 0).
   double max_odometry_turn_rate_deg_s = 360.0;
   /// Closed loop: overrides the world's seed and the odometry's (seed + 1), as `mapnav simulate --seed`.
