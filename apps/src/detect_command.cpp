@@ -29,7 +29,7 @@ struct Detection {
 };
 
 Detection run(const Map* map, const DetectConfig& config) {
-  loadPlugins(config.plugins);
+  loadPlugins(config.plugins, config.pipeline);
   const auto camera = loadCamera(config.camera);
   Detection d;
   d.image = readPng(config.image);

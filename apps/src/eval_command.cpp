@@ -209,7 +209,7 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
     }
     if (config.bootstrap != "trapezoid" && config.bootstrap != "labels-first-frame")
       throw InvalidInput("--bootstrap \"" + config.bootstrap + "\": expected trapezoid or labels-first-frame");
-    loadPlugins(config.plugins);
+    loadPlugins(config.plugins, config.pipeline);
     auto pipeline = createPipeline(config.pipeline, config.options_json);
     const std::vector<Sample> set = readSet(config);
     const int w = set.front().image.width, h = set.front().image.height;

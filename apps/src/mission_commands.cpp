@@ -140,9 +140,8 @@ int finish(const ReportedRun& r, bool json, bool cut_short, std::ostream& out) {
 template <typename Runner>
 int runMissionCommand(const MissionRunConfig& config, std::ostream& out, std::ostream& err, Runner&& runner) {
   return guarded(err, [&] {
-    registerPipelines();
-    loadPlugins(config.plugins);
     const MissionFile mission = loadMission(config.mission);
+    loadPlugins(config.plugins, config.pipeline.empty() ? mission.vision_pipeline : config.pipeline);
     return finish(runReported(mission, config, err, runner), config.json, false, out);
   });
 }
@@ -189,13 +188,13 @@ int runRunCommand(const RunConfig& config, std::ostream& out, std::ostream& err)
 
 int runDemo(const DemoConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
-    registerPipelines();
     MissionRunConfig run;
     run.mission = config.mission.empty() ? dataPath("maps/missions/campus_dialogue.json") : config.mission;
     run.report_dir = config.output;
     run.max_frames = config.max_frames;
     run.progress = config.progress;
     const MissionFile mission = loadMission(run.mission);
+    loadPlugins({}, mission.vision_pipeline);
     const fs::path log = fs::path(config.output) / "log";
     checkEarlierLog(log);
     // Simulated beside the earlier log, which is replaced only once the new one is complete: a

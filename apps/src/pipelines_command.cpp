@@ -7,27 +7,19 @@
 #include "command_support.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
-#ifdef MAPNAV_HAVE_LEARNED
-#include "mapnav/learned/learned_pipeline.h"
-#endif
+#include "learned_module.h"
 
 namespace mapnav::cli {
 
-void registerPipelines() {
+void loadPlugins(const std::vector<std::string>& plugins, const std::string& pipeline) {
   registerBuiltinPipelines();
-#ifdef MAPNAV_HAVE_LEARNED
-  registerLearnedPipeline();
-#endif
-}
-
-void loadPlugins(const std::vector<std::string>& plugins) {
-  registerPipelines();
+  loadPipelineModule(pipeline);
   for (const std::string& plugin : plugins) loadPlugin(plugin);
 }
 
 int runPipelines(const PipelinesConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
-    loadPlugins(config.plugins);
+    loadPlugins(config.plugins, "learned");  // every pipeline this build has, listed
     for (const PipelineInfo& info : listPipelines()) {
       if (config.names_only) {
         out << info.name << "\n";

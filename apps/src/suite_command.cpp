@@ -57,7 +57,7 @@ int runSuiteCommand(const SuiteConfig& config, std::ostream& out, std::ostream& 
   options.threads = config.threads;
   options.camera = dataPath("maps/cameras/terregator_pinhole.json");
   return guarded(err, [&] {
-    registerPipelines();
+    loadPlugins({});
     std::optional<TemporaryFolder> temporary;
     if (config.output.empty()) {
       temporary.emplace();

@@ -135,7 +135,7 @@ std::string withTrackingPrior(const LogTrackConfig& config) {
 int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
     if (config.trapezoid) config.trapezoid->validate();
-    loadPlugins(config.plugins);
+    loadPlugins(config.plugins, config.pipeline);
     auto pipeline = createPipeline(config.pipeline, withTrackingPrior(config));
     const ReplayLog log = ReplayLog::open(config.dir);
     const std::shared_ptr<const Camera> camera =

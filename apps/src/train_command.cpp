@@ -9,6 +9,7 @@
 #include "command_support.h"
 #include "json_numbers.h"
 #include "labelled_photos.h"
+#include "learned_module.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/map/camera_io.h"
@@ -73,7 +74,7 @@ int runTrainSegmentation(const TrainSegmentationConfig& config, std::ostream& ou
       }
     }
     for (const std::string& dir : config.logs) appendLogFrames(dir, config.log_stride, photos);
-    const SegmentationModel model = trainSegmentation(
+    const TrainedModelSummary model = learnedModule().train(
         photos, config.options,
         [&](const EpochReport& r) {
           std::ostringstream line;
@@ -81,14 +82,13 @@ int runTrainSegmentation(const TrainSegmentationConfig& config, std::ostream& ou
                << fixedOr(r.loss, 4, "-") << "  validation IoU " << fixedOr(r.validation_iou, 4, "-");
           err << "\r" << line.str() << (r.epoch == r.epochs ? "\n" : "") << std::flush;
         },
-        config.command);
-    model.save(config.output);
-    const SegmentationTraining& t = model.training();
+        config.command, config.output);
+    const SegmentationTraining& t = model.training;
     const std::optional<double> validation = t.validation_iou < 0 ? std::nullopt : std::optional<double>(t.validation_iou);
     if (config.json) {
       Json j = {{"model", config.output},
-                {"parameters", model.parameterCount()},
-                {"input", {{"width", model.inputWidth()}, {"height", model.inputHeight()}}},
+                {"parameters", model.parameters},
+                {"input", {{"width", model.width}, {"height", model.height}}},
                 {"training_images", t.training_images},
                 {"validation_images", t.validation_images},
                 {"epochs", t.epochs},
@@ -97,8 +97,8 @@ int runTrainSegmentation(const TrainSegmentationConfig& config, std::ostream& ou
                 {"validation_iou", roundedOrNull(validation, 4)}};
       out << j.dump(2) << "\n";
     } else {
-      out << "wrote " << config.output << ": " << model.parameterCount() << " weights, input " << model.inputWidth() << "x"
-          << model.inputHeight() << ", trained on " << t.training_images << " photos ("
+      out << "wrote " << config.output << ": " << model.parameters << " weights, input " << model.width << "x"
+          << model.height << ", trained on " << t.training_images << " photos ("
           << t.validation_images << " held apart: validation IoU " << fixedOr(validation, 4, "-") << ")\n";
     }
     return static_cast<int>(kOk);

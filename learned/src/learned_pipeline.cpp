@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include "mapnav/core/error.h"
+#include "mapnav/learned/learned_api.h"
 #include "mapnav/learned/segmentation_model.h"
+#include "mapnav/learned/train_segmentation.h"
 #include "mapnav/vision_iface/pipeline.h"
 
 namespace mapnav {
@@ -84,8 +86,28 @@ void registerLearnedPipeline() {
 
 }  // namespace mapnav
 
-/// Loaded as a plug-in (`--plugin libmapnav_learned.so`) by a program that does not link it.
+namespace {
+
+mapnav::TrainedModelSummary trainAndSave(const std::vector<mapnav::TrainingPhoto>& photos,
+                                         const mapnav::SegmentationTrainOptions& options,
+                                         const std::function<void(const mapnav::EpochReport&)>& progress,
+                                         const std::string& command, const std::string& output) {
+  const mapnav::SegmentationModel model = mapnav::trainSegmentation(photos, options, progress, command);
+  model.save(output);
+  return {model.parameterCount(), model.inputWidth(), model.inputHeight(), model.training()};
+}
+
+}  // namespace
+
+/// Loaded as a plug-in (`--plugin libmapnav_learned.so`, or by the CLI when a command needs it) by a
+/// program that does not link it: registers "learned".
 extern "C" int mapnav_register_pipelines() {
   mapnav::registerLearnedPipeline();
   return 1;
+}
+
+/// The training entry for such a program (learned_api.h).
+extern "C" const mapnav::LearnedApi* mapnav_learned_api() {
+  static const mapnav::LearnedApi api{&trainAndSave};
+  return &api;
 }

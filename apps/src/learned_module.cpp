@@ -1,0 +1,60 @@
+#include "learned_module.h"
+
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <mutex>
+#include <vector>
+
+#include "mapnav/core/error.h"
+#include "mapnav/vision_iface/pipeline.h"
+
+namespace mapnav::cli {
+
+namespace fs = std::filesystem;
+
+bool learnedModuleBuilt() {
+#ifdef MAPNAV_LEARNED_MODULE
+  return true;
+#else
+  return false;
+#endif
+}
+
+const LearnedApi& learnedModule() {
+#ifndef MAPNAV_LEARNED_MODULE
+  throw NotFound("this mapnav was built without the learned segmentation (libtorch-dev missing or MAPNAV_LEARNED=OFF)");
+#else
+  static std::mutex mutex;
+  static const LearnedApi* api = nullptr;
+  const std::lock_guard lock(mutex);
+  if (api != nullptr) return *api;
+  // Beside the program's libraries: the build tree's lib/, an installed tree's libdir.
+  char exe[4096];
+  const ssize_t len = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+  const fs::path bin = len > 0 ? fs::path(std::string(exe, static_cast<std::size_t>(len))).parent_path() : fs::path(".");
+  std::vector<fs::path> candidates = {bin / ".." / "lib" / MAPNAV_LEARNED_MODULE,
+                                      bin / ".." / MAPNAV_INSTALL_LIBDIR / MAPNAV_LEARNED_MODULE};
+  std::string tried;
+  for (const fs::path& p : candidates) {
+    std::error_code ec;
+    tried += (tried.empty() ? "" : ", ") + p.lexically_normal().string();
+    if (!fs::exists(p, ec)) continue;
+    loadPlugin(p.string());  // registers "learned"
+    void* handle = ::dlopen(p.c_str(), RTLD_NOW | RTLD_NOLOAD);
+    using Entry = const LearnedApi* (*)();
+    const auto entry = handle != nullptr ? reinterpret_cast<Entry>(::dlsym(handle, kLearnedApiSymbol)) : nullptr;
+    if (entry == nullptr) throw IoError(p.string() + ": not the learned module (no " + kLearnedApiSymbol + ")");
+    api = entry();
+    return *api;
+  }
+  throw IoError("the learned segmentation module is not installed (looked for " + tried + ")");
+#endif
+}
+
+void loadPipelineModule(const std::string& pipeline) {
+  if (pipeline == "learned" && learnedModuleBuilt()) learnedModule();
+}
+
+}  // namespace mapnav::cli
