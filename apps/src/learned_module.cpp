@@ -9,6 +9,9 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/vision_iface/pipeline.h"
+#ifdef MAPNAV_LEARNED_MODULE
+#include "mapnav/learned/learned_api.h"
+#endif
 
 namespace mapnav::cli {
 

@@ -4,7 +4,9 @@
 // initialise, which every command would pay.
 #include <string>
 
-#include "mapnav/learned/learned_api.h"
+namespace mapnav {
+struct LearnedApi;  // mapnav/learned/learned_api.h, where the build has learned/
+}  // namespace mapnav
 
 namespace mapnav::cli {
 

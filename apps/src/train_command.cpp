@@ -12,6 +12,7 @@
 #include "learned_module.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
+#include "mapnav/learned/learned_api.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/sim/replay_log.h"
 #include "mapnav/vision/overlay.h"
