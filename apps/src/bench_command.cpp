@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -413,7 +414,7 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     const SidewalkScene scene = makeSidewalkScene(std::filesystem::path(defaultParkMapPath()).parent_path());
     r.sidewalk = timeSidewalk(scene, config.min_time_s);
     r.render = timeRender(scene, config.min_time_s);
-    r.pipelines = timePipelines(scene, resolveThreads(config.threads), config.min_time_s);
+    r.pipelines = timePipelines(scene, resolveThreads(config.threads), config.min_time_s, config.pipelines);
     r.routes = timeRoutes(config.route_sizes, config.min_time_s);
     if (config.json) {
       out << benchJson(config, r).dump() << "\n";
@@ -430,6 +431,7 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
   auto* bench = commands.hold<BenchConfig>();
   struct Texts {
     std::string sizes = "64,128,256,512,1024", min_time = "0.2", road_model = "line", route_sizes = "10000,100000";
+    std::optional<std::string> pipelines;
   };
   auto* text = commands.hold<Texts>();
   CLI::App* bn = app.add_subcommand("bench", "Time the park road finder's runtime per frame on this machine (Jochem & Baluja 1993, section 6), the sidewalk pipeline and the simulator's renderer at 512x480, and route queries at 10k and 100k intersections");
@@ -438,6 +440,9 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
       ->default_str("64,128,256,512,1024");
   bn->add_option("--min-time", text->min_time, "Seconds to spend on each measurement at least (> 0, at most 60)")
       ->default_str("0.2");
+  bn->add_option("--pipelines", text->pipelines,
+                 "Vision pipelines to time per frame, comma-separated (default: every one `mapnav pipelines` lists); "
+                 "\"none\" = none");
   bn->add_option("--route-sizes", text->route_sizes,
                  "Grid campuses of the route queries, intersections each, comma-separated, each in [4, 4000000]; "
                  "\"\" = none")
@@ -479,6 +484,12 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
     bench->sizes = parseBenchSizes(text->sizes);
     bench->min_time_s = parseBenchMinTime(text->min_time);
     bench->route_sizes = parseRouteSizes(text->route_sizes);
+    if (text->pipelines) {
+      bench->pipelines.emplace();
+      std::stringstream list(*text->pipelines);
+      for (std::string name; std::getline(list, name, ',');)
+        if (!name.empty() && name != "none") bench->pipelines->push_back(name);
+    }
     bench->road_model = roadModelFromString(text->road_model);
     return runBench(*bench, out, err);
   }));

@@ -4,6 +4,7 @@
 // ratios to a memcpy of the same frame and to the per-pixel reference path; and the training time;
 // then the default Vision pipeline ("sidewalk") per frame at 512 x 480 with the same two ratios.
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct BenchConfig {
   /// The grid campuses of the route queries, intersections each (rounded up to a square grid),
   /// 4..4 000 000; empty = no route queries.
   std::vector<int> route_sizes{10000, 100000};
+  /// The vision pipelines timed per frame (--pipelines): every registered one by default, none when
+  /// empty.
+  std::optional<std::vector<std::string>> pipelines;
 };
 
 /// maps/park_path.json: the installed copy next to the program (../share/mapnav/maps) when there is

@@ -38,15 +38,25 @@ double ratioToSidewalk(const std::vector<PipelineTime>& times, const PipelineTim
 
 }  // namespace
 
-std::vector<PipelineTime> timePipelines(const SidewalkScene& scene, int threads, double min_time_s) {
+std::vector<PipelineTime> timePipelines(const SidewalkScene& scene, int threads, double min_time_s,
+                                        const std::optional<std::vector<std::string>>& names) {
+  std::vector<PipelineInfo> infos;
+  for (const PipelineInfo& info : listPipelines()) {
+    const bool wanted = names ? std::find(names->begin(), names->end(), info.name) != names->end()
+                              : info.name.rfind("example-", 0) != 0;
+    if (wanted) infos.push_back(info);
+  }
+  if (names)
+    for (const std::string& name : *names)
+      if (std::none_of(infos.begin(), infos.end(), [&](const PipelineInfo& i) { return i.name == name; }))
+        createPipeline(name, "{}");  // throws NotFound naming the pipelines there are
   std::vector<PipelineTime> out;
   for (const auto& [w, h] : {std::pair{480, 360}, std::pair{512, 480}}) {
     std::vector<Image> frames;
     for (const Frame& f : scene.frames) frames.push_back(resized(f.rgb, w, h));
     const std::unique_ptr<Camera> camera = assumedPhotoCamera(w, h);
     const PredictedObject prediction = predictionFromImageRegion(bottomTrapezoid(w, h), *camera).view;
-    for (const PipelineInfo& info : listPipelines()) {
-      if (info.name.rfind("example-", 0) == 0) continue;
+    for (const PipelineInfo& info : infos) {
       std::vector<int> counts{1};
       if (hasThreadsOption(info) && threads > 1) counts.push_back(threads);
       for (const int n : counts) {

@@ -367,7 +367,8 @@ TEST(Cli, CalibrateTiltFromTwoGroundParallelLinesAndSegmentFromAGivenRegion) {
 // `mapnav bench` end to end at two small sizes: the JSON's shape and that its numbers agree with each
 // other. No timing asserts: the machine decides how fast.
 TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
-  const auto r = runCli({"bench", "--json", "--sizes", "64,128", "--min-time", "0.01", "--route-sizes", "400,100"});
+  const auto r = runCli({"bench", "--json", "--sizes", "64,128", "--min-time", "0.01", "--route-sizes", "400,100",
+                         "--pipelines", "sidewalk,color-rgb"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.contains("runtime")) << r.out;
@@ -377,6 +378,17 @@ TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
   EXPECT_TRUE(std::isfinite(j["train_ms"].get<double>()));
   EXPECT_EQ(j["train_size"], 128);  // 512 is not measured: the largest size
   EXPECT_EQ(j["road_model"], "line");  // the default, the paper's
+  // The two pipelines asked for, at 480x360 and 512x480, one thread each (neither has a threads
+  // option); sidewalk's own ratio is 1.
+  ASSERT_EQ(j["pipelines"].size(), 4u) << r.out;
+  for (const auto& row : j["pipelines"]) {
+    EXPECT_TRUE(row["pipeline"] == "sidewalk" || row["pipeline"] == "color-rgb") << row.dump();
+    EXPECT_EQ(row["threads"], 1);
+    EXPECT_GT(row["ms"].get<double>(), 0.0);
+    if (row["pipeline"] == "sidewalk") {
+      EXPECT_DOUBLE_EQ(row["sidewalk_ratio"].get<double>(), 1.0);
+    }
+  }
   const int cores = j["cores"].get<int>();
   EXPECT_GE(cores, 1);
   ASSERT_EQ(j["runtime"].size(), 4u) << r.out;
@@ -447,7 +459,8 @@ TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
 }
 
 TEST(Cli, BenchPrintsATableWithTheRatios) {
-  const auto r = runCli({"bench", "--sizes", "32,64", "--min-time", "0.01", "--threads", "2", "--route-sizes", "100,400"});
+  const auto r = runCli({"bench", "--sizes", "32,64", "--min-time", "0.01", "--threads", "2", "--route-sizes", "100,400",
+                         "--pipelines", "none"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* text : {"cores", "memcpy_ratio", "reference_ratio", "frames/s", "cost per pixel growth", "training at 64x64",
                            "sidewalk pipeline", "at 512x480", "renderer", "grid campus of 100 intersections",
@@ -457,7 +470,7 @@ TEST(Cli, BenchPrintsATableWithTheRatios) {
   EXPECT_NE(r.out.find("line road model"), std::string::npos) << r.out;  // the default, the paper's
   // The arc model (§9) is timed when asked for, and says so.
   const auto arc = runCli({"bench", "--sizes", "32", "--min-time", "0.01", "--threads", "1", "--road-model", "arc",
-                           "--route-sizes", ""});
+                           "--pipelines", "none", "--route-sizes", ""});
   ASSERT_EQ(arc.exit_code, 0) << arc.err;
   EXPECT_NE(arc.out.find("arc road model"), std::string::npos) << arc.out;
   const auto help = runCli({"bench", "--help"});
@@ -469,7 +482,8 @@ TEST(Cli, BenchPrintsATableWithTheRatios) {
 // Issue 31's park finder figures: at 512 the line with frames/s (one thread) and its target, the JSON's
 // park.fps_512 the one-thread row's; no 1024 figure without 1024.
 TEST(Cli, BenchPrintsTheParkFinderFiguresOfIssue31) {
-  const auto r = runCli({"bench", "--json", "--sizes", "512", "--min-time", "0.01", "--route-sizes", ""});
+  const auto r =
+      runCli({"bench", "--json", "--sizes", "512", "--min-time", "0.01", "--route-sizes", "", "--pipelines", "none"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j["park"].contains("fps_512")) << j["park"].dump();
@@ -479,7 +493,8 @@ TEST(Cli, BenchPrintsTheParkFinderFiguresOfIssue31) {
   const auto first = std::find_if(rows.begin(), rows.end(), [](const auto& row) { return row["threads"] == 1; });
   ASSERT_NE(first, rows.end()) << rows.dump();
   EXPECT_EQ(j["park"]["fps_512"].get<double>(), (*first)["fps"].get<double>());
-  const auto text = runCli({"bench", "--sizes", "512", "--min-time", "0.01", "--threads", "1", "--route-sizes", ""});
+  const auto text = runCli(
+      {"bench", "--sizes", "512", "--min-time", "0.01", "--threads", "1", "--route-sizes", "", "--pipelines", "none"});
   ASSERT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find("park road finder (the fast path, one thread): "), std::string::npos) << text.out;
   EXPECT_NE(text.out.find(" frames/s at 512x512 (issue 31: >= 2000)"), std::string::npos) << text.out;
