@@ -47,13 +47,12 @@ std::vector<NumberLine> readNumberLines(const fs::path& file) {
         l.label = token.substr(0, token.size() - 1);
         continue;
       }
-      double v = 0;
-      const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
-      if (ec != std::errc() || end != token.data() + token.size() || !std::isfinite(v)) {
+      const std::optional<double> v = kitti::finiteNumber(token);
+      if (!v) {
         badLine(file, number, "kitti.number",
                 "value " + std::to_string(l.values.size() + 1) + " \"" + token + "\" is not a finite number");
       }
-      l.values.push_back(v);
+      l.values.push_back(*v);
     }
     if (!l.values.empty() || !l.label.empty()) lines.push_back(std::move(l));
   }

@@ -27,12 +27,7 @@ namespace {
 
 using kitti::badLine;
 
-std::optional<double> number(const std::string& token) {
-  double v = 0;
-  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
-  if (ec != std::errc() || end != token.data() + token.size() || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
+using kitti::finiteNumber;
 
 /// A calibration file's "KEY: v v v" lines (a key whose values are not all numbers, e.g.
 /// calib_time, keeps no values and is only an error when it is asked for).
@@ -54,7 +49,7 @@ std::map<std::string, Keyed> readKeyed(const fs::path& file) {
     k.line = n;
     std::istringstream tokens(row.substr(colon + 1));
     for (std::string t; tokens >> t;) {
-      const auto v = number(t);
+      const auto v = finiteNumber(t);
       if (!v) k.numeric = false;
       else k.values.push_back(*v);
     }
@@ -88,7 +83,7 @@ Oxts readOxts(const fs::path& file) {
   std::istringstream in(readFile(file));
   std::vector<double> v;
   for (std::string t; in >> t;) {
-    const auto x = number(t);
+    const auto x = finiteNumber(t);
     if (!x) badLine(file, 1, "kitti.number", "value " + std::to_string(v.size() + 1) + " \"" + t + "\" is not a finite number");
     v.push_back(*x);
   }
