@@ -192,17 +192,19 @@ TEST(ClusterPerceptron, NormalisedColourClassifiesAShadedViewAsTheSunlitOne) {
   EXPECT_LE(worst, 1);  // three roundings of at most 0.5
 }
 
-// The lookup table stays exact in normalised colour: every one of the 2^24 colours (68.3 frames of
-// them) gets the reference path's class, for the clusters' perceptron and for raw_rgb's. And a colour
-// and its double have the same normalised colour to the bit, so the same output.
-TEST(ClusterPerceptron, NormalisedColourTableIsExactForEveryColour) {
+// The lookup table stays exact in normalised colour and in log colour: every one of the 2^24 colours
+// (68.3 frames of them) gets the reference path's class, for the clusters' perceptron and (normalised)
+// for raw_rgb's. And a colour and its double have the same normalised colour to the bit, so the same
+// output.
+TEST(ClusterPerceptron, NormalisedAndLogColourTablesAreExactForEveryColour) {
   const World world(park(), parkWorld());
   const Pose2 pose = straightPoses(10.0).front().pose;
   const int w = cam().width(), h = cam().height();
   const std::uint32_t per_frame = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
-  for (const bool raw : {false, true}) {
+  for (const auto& [raw, log] : {std::pair{false, false}, std::pair{true, false}, std::pair{false, true}}) {
     ClusterPerceptronOptions o;
-    o.normalized_color = true;
+    o.normalized_color = !log;
+    o.log_color = log;
     o.raw_rgb = raw;
     const ClusterPerceptron fast = trainedOn(world, pose, 0.0, o);
     ClusterPerceptron ref = fast;
@@ -228,6 +230,13 @@ TEST(ClusterPerceptron, NormalisedColourTableIsExactForEveryColour) {
       EXPECT_EQ(a.shift, b.shift);
       EXPECT_EQ(a.intercept_col, b.intercept_col);
     }
+    std::printf("%s colour%s: %zu of %zu colours differ between the table and the reference, %.1f %% road\n",
+                log ? "log" : "normalised", raw ? ", raw_rgb" : "", differing, total,
+                100.0 * static_cast<double>(road) / static_cast<double>(total));
+    EXPECT_EQ(differing, 0u);
+    EXPECT_GT(road, total / 100);
+    EXPECT_LT(road, total - total / 100);
+    if (log) continue;
     int halved_differ = 0;
     for (int r = 0; r < 128; ++r)
       for (int g = 0; g < 128; ++g)
@@ -236,13 +245,7 @@ TEST(ClusterPerceptron, NormalisedColourTableIsExactForEveryColour) {
                                                static_cast<std::uint8_t>(b)) !=
                            ref.outputReference(static_cast<std::uint8_t>(2 * r), static_cast<std::uint8_t>(2 * g),
                                                static_cast<std::uint8_t>(2 * b));
-    std::printf("normalised colour%s: %zu of %zu colours differ between the table and the reference, %.1f %% road; "
-                "%d colours differ from their doubles\n",
-                raw ? ", raw_rgb" : "", differing, total, 100.0 * static_cast<double>(road) / static_cast<double>(total),
-                halved_differ);
-    EXPECT_EQ(differing, 0u);
-    EXPECT_GT(road, total / 100);
-    EXPECT_LT(road, total - total / 100);
+    std::printf("normalised colour%s: %d colours differ from their doubles\n", raw ? ", raw_rgb" : "", halved_differ);
     EXPECT_EQ(halved_differ, 0);
   }
 }

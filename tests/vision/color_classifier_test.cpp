@@ -35,7 +35,7 @@ TEST(ColorClassifier, SeparatesRoadFromGrassInBothSpaces) {
   std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
   for (int v = 0; v < h; ++v)
     for (int u = 0; u < w; ++u) (u < w / 2 - 4 ? road : non)[v * w + u] = (u < w / 2 - 4 || u > w / 2 + 4) ? 1 : 0;
-  for (ColorSpace space : {ColorSpace::RGB, ColorSpace::NormalizedRG}) {
+  for (ColorSpace space : {ColorSpace::LogRGB, ColorSpace::NormalizedRG}) {
     ColorClassifierOptions o;
     o.space = space;
     o.min_pixels = 50;
@@ -61,7 +61,7 @@ TEST(ColorClassifier, NormalizedRgIgnoresShadowsWhereRgbDoesNot) {
     for (int u = 0; u < w; ++u) (u < w / 2 ? road : non)[v * w + u] = 1;
   int errs[2] = {0, 0};
   int idx = 0;
-  for (ColorSpace space : {ColorSpace::RGB, ColorSpace::NormalizedRG}) {
+  for (ColorSpace space : {ColorSpace::LogRGB, ColorSpace::NormalizedRG}) {
     ColorClassifierOptions o;
     o.space = space;
     o.min_pixels = 50;
@@ -72,7 +72,7 @@ TEST(ColorClassifier, NormalizedRgIgnoresShadowsWhereRgbDoesNot) {
       for (int u = 0; u < w / 2; ++u) errs[idx] += llr[v * w + u] <= 0;
     ++idx;
   }
-  EXPECT_GT(errs[0], 0.9 * (w / 2) * (h / 2));  // RGB: shadowed concrete is not road
+  EXPECT_GT(errs[0], 0.9 * (w / 2) * (h / 2));  // log RGB: shadowed concrete is not road
   EXPECT_LT(errs[1], 0.01 * (w / 2) * (h / 2));  // rg: it is (noise aside)
 }
 
@@ -104,7 +104,7 @@ TEST(ColorClassifier, DriftGuardRefusesAJumpAndTooFewPixels) {
   // A consistent update is accepted.
   r = c.update(rgb.data(), w, h, road.data(), non.data());
   EXPECT_TRUE(r.road_accepted);
-  EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.space = ColorSpace::RGB, .blend = 0}), InvalidInput);
+  EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.space = ColorSpace::LogRGB, .blend = 0}), InvalidInput);
 }
 
 // The non-road gate: a real road's surroundings are mostly more road. Road labels on the left
@@ -143,6 +143,46 @@ TEST(ColorClassifier, NonRoadGateTrainsNonRoadOnlyOnWhatIsNotRoadColoured) {
     for (int u = 32; u < 48; ++u) grey_band_road += llr[v * w + u] > 0;
   EXPECT_EQ(grey_band_road, 16 * h);
   EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.nonroad_gate_sigma = -1}), InvalidInput);
+}
+
+// Log RGB: each channel c as 255 ln(c + 1) / ln 256 (s = 45.99 levels per unit of ln). The road
+// class is the road pixels' sample mean and covariance in those features, plus the camera's noise
+// floor on the diagonal (noise_sigma 1: (s / 129)², one level at mid-grey) and brightness_sigma's
+// (0.1 s)² = 21.15 in every entry: a shade of the road's own colour is one step along the grey axis.
+TEST(ColorClassifier, LogRgbSpreadsTheRoadAlongTheGreyAxis) {
+  const int w = 64, h = 64;
+  const auto rgb = twoTone(w, h, false);
+  std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) (u < w / 2 - 4 ? road : non)[v * w + u] = (u < w / 2 - 4 || u > w / 2 + 4) ? 1 : 0;
+  const double s = 255.0 / std::log(256.0);
+  Vec3 sum = Vec3::Zero();
+  Mat3 sq = Mat3::Zero();
+  double n = 0;
+  for (int i = 0; i < w * h; ++i) {
+    if (road[i] == 0) continue;
+    const Vec3 x(s * std::log(rgb[3 * i] + 1.0), s * std::log(rgb[3 * i + 1] + 1.0), s * std::log(rgb[3 * i + 2] + 1.0));
+    sum += x, sq += x * x.transpose(), n += 1;
+  }
+  const Vec3 mean = sum / n;
+  const Mat3 sample = sq / n - mean * mean.transpose();
+  ColorClassifier c({.space = ColorSpace::LogRGB, .min_pixels = 50, .stride = 1, .brightness_sigma = 0.1});
+  c.update(rgb.data(), w, h, road.data(), non.data());
+  ASSERT_TRUE(c.trained());
+  EXPECT_NEAR((c.road().mean - mean).norm(), 0.0, 1e-9);
+  const double spread = 0.01 * s * s, floor = (s / 129) * (s / 129);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(c.road().cov(i, j), sample(i, j) + spread + (i == j ? floor : 0.0), 1e-9) << i << j;
+  // A 10 % shade moves every channel by s ln 0.9 = -4.85, 8.39 along the grey axis. The class's
+  // variance along that axis is 3 x 21.15 + about 1.8 (the pixels' noise, 5 levels = 1.28 in log at
+  // 178, and the floor): 1.04 sigma. Without the spread, the noise alone: 8.39 / 1.34 = 6.3 sigma.
+  const Vec3 shade = Vec3::Constant(s * std::log(0.9));
+  const auto sigmas = [](const GaussianClass& g, const Vec3& d) { return std::sqrt(d.dot(g.cov.inverse() * d)); };
+  EXPECT_NEAR(sigmas(c.road(), shade), 1.04, 0.02);
+  ColorClassifier tight({.space = ColorSpace::LogRGB, .min_pixels = 50, .stride = 1});
+  tight.update(rgb.data(), w, h, road.data(), non.data());
+  EXPECT_NEAR(sigmas(tight.road(), shade), 6.3, 0.4);
 }
 
 // The log brightness as a third feature: a dark grey car has the concrete's rg (178, 176, 168 scaled

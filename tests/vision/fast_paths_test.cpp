@@ -124,14 +124,14 @@ TEST(ColorClassifierFastPath, LogOddsAgreesWithTheDoublePrecisionReference) {
     for (int g = 0; g < 256; g += 3)
       for (int b = 0; b < 256; b += 3) cube.insert(cube.end(), {std::uint8_t(r), std::uint8_t(g), std::uint8_t(b)});
   const int cube_px = static_cast<int>(cube.size() / 3);
-  // rg; rg with the log brightness (a table lookup on the fast path); RGB.
+  // rg; rg with the log brightness (a table lookup on the fast path); log RGB (three lookups).
   const ColorClassifierOptions feature_sets[] = {
       {.space = ColorSpace::NormalizedRG, .min_pixels = 50},
       {.space = ColorSpace::NormalizedRG, .min_pixels = 50, .brightness_sigma = 0.1},
-      {.space = ColorSpace::RGB, .min_pixels = 50}};
+      {.space = ColorSpace::LogRGB, .min_pixels = 50}};
   for (const ColorClassifierOptions& options : feature_sets) {
     const std::string name =
-        options.space == ColorSpace::RGB ? "RGB" : (options.brightness_sigma > 0 ? "rg+brightness" : "rg");
+        options.space == ColorSpace::LogRGB ? "log RGB" : (options.brightness_sigma > 0 ? "rg+brightness" : "rg");
     ColorClassifier c(options);
     c.update(rgb.data(), w, h, road.data(), non.data());
     ASSERT_TRUE(c.trained());
@@ -146,7 +146,9 @@ TEST(ColorClassifierFastPath, LogOddsAgreesWithTheDoublePrecisionReference) {
         if (std::abs(ref[i]) > 1e-3 && (fast[i] > 0) != (ref[i] > 0)) ++sign_flips;
         EXPECT_EQ(c.logOdds(pixels->data() + 3 * i), fast[i]);  // one pixel = the vectorised row
       }
-      EXPECT_LT(worst, 1e-4) << name;
+      // Log RGB's features are single-precision table values (rounded by up to 8e-6 of 255) where
+      // rg's come from exact integer sums; the quadratic form amplifies that where the classes cancel.
+      EXPECT_LT(worst, options.space == ColorSpace::LogRGB ? 3e-4 : 1e-4) << name;
       EXPECT_EQ(sign_flips, 0) << name;
     }
     // Only where asked.

@@ -137,6 +137,10 @@ const OptionTable<ClusterPerceptronPipelineOptions>& clusterPerceptronPipelineOp
                  "beyond the paper (Wallace et al. 1985, 3.4.3): clusters and perceptron see (R, G, B) / (R + G + "
                  "B), which a shadow (C1 = k C2) does not change, so that shaded grass is not taken for asphalt; "
                  "brightness is lost")
+          .field("log_color", &O::log_color,
+                 "beyond the paper: clusters and perceptron see each channel as 255 ln(c + 1) / ln 256, where a "
+                 "shadow moves every colour by the same step along the grey axis; brightness is kept; "
+                 "normalized_color replaces it when both are set; false = (R, G, B) (the paper)")
           .field("balance_classes", &O::balance_classes,
                  "beyond the paper: the bootstrap weighs the road (inside the outline) and the rest equally, for "
                  "frames where the road is a small part")
@@ -167,6 +171,10 @@ const OptionTable<ClusterPerceptronPipelineOptions>& clusterPerceptronPipelineOp
                  "beyond the paper: every frame clusters its colours and retrains the perceptron on its own bootstrap "
                  "(the prediction, else the trapezoid); false = train on the first frame and freeze (the paper), "
                  "except after a training under the non-road gate, which is redone on every frame")
+          .field("log_color_when_gated", &O::log_color_when_gated,
+                 "beyond the paper: when the non-road gate was needed (the paper's bootstrap could not part the road "
+                 "from the rest: a street, its road and pavements running on beyond the outline in sun and shade), "
+                 "cluster and train again in log colour (log_color), where a shadow is one step along the grey axis")
           .field("smooth_px", &O::smooth_px, inRange(0, 64),
                  "beyond the paper: the road region and confidence come from the per-pixel certainty averaged over "
                  "a (2 r + 1)^2 box, so that markings and speckle do not cut the road")
@@ -222,17 +230,21 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     const Image outline = retrain || frame.want_masks ? bootstrapOutline(prediction, cam) : Image();
     if (retrain) {
       ClusterPerceptronOptions o = opts_;
-      // Grey frames' texture features are not colours: normalised, their texture would be gone,
-      // and the gate's feature distance barely parts them: the classes are balanced instead.
+      // Grey frames' texture features are not colours: normalised, their texture would be gone (and
+      // a log would squeeze the high texture levels that part asphalt from grass), and the gate's
+      // feature distance barely parts them: the classes are balanced instead.
       if (pixels != frame.rgb) {
         o.normalized_color = false;
+        o.log_color = false;
         o.balance_classes = o.balance_classes || opts_.grey_balance_classes;
       }
-      finder_ = ClusterPerceptron(o);
-      finder_.trainClusters(pixels, w, h);
-      finder_.setRowWidths(trapezoidRowWidths(outline));
-      finder_.setCamera(cam);
-      finder_.trainPerceptron(pixels, w, h, outline.data.data());
+      train(o, pixels, w, h, outline, cam);
+      // A street (the paper's bootstrap could not part the road from the rest): again in log colour.
+      if (opts_.log_color_when_gated && finder_.nonroadGated() && pixels == frame.rgb && !o.normalized_color &&
+          !o.log_color) {
+        o.log_color = true;
+        train(o, pixels, w, h, outline, cam);
+      }
     }
     std::optional<Segment2> prior;
     if (opts_.prior_px > 0) prior = maskCentreLine(predictedRoadMask(prediction, cam));
@@ -282,6 +294,16 @@ class ClusterPerceptronPipeline : public VisionPipeline {
   /// Whether to train on this frame: the first, one of another size, every one with
   /// retrain_each_frame, and the next one after a perceptron that the non-road gate trained (a model
   /// of one frame's colours, trained where the paper's bootstrap could not separate).
+  // A new finder with options `o`, its clusters and perceptron trained on the frame's pixels.
+  void train(const ClusterPerceptronOptions& o, const std::uint8_t* pixels, int w, int h, const Image& outline,
+             const Camera& cam) {
+    finder_ = ClusterPerceptron(o);
+    finder_.trainClusters(pixels, w, h);
+    finder_.setRowWidths(trapezoidRowWidths(outline));
+    finder_.setCamera(cam);
+    finder_.trainPerceptron(pixels, w, h, outline.data.data());
+  }
+
   bool retrainOn(int h) const {
     return opts_.retrain_each_frame || !finder_.trained() || static_cast<int>(finder_.rowWidths().size()) != h ||
            finder_.nonroadGated();

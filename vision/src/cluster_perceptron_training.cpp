@@ -13,15 +13,19 @@
 #include <vector>
 
 #include "cluster_perceptron_internal.h"
+#include "log_colour.h"
 #include "mapnav/core/error.h"
 #include "mapnav/vision/cluster_perceptron.h"
 
 namespace mapnav {
 
 Vec3 ClusterPerceptron::feature(double r, double g, double b) const {
-  if (!opt_.normalized_color) return Vec3(r, g, b);
-  const double sum = r + g + b;
-  return sum > 0 ? Vec3(Vec3(r, g, b) * (255.0 / sum)) : Vec3::Constant(85.0);
+  if (opt_.normalized_color) {
+    const double sum = r + g + b;
+    return sum > 0 ? Vec3(Vec3(r, g, b) * (255.0 / sum)) : Vec3::Constant(85.0);
+  }
+  if (opt_.log_color) return Vec3(log_colour::of(r), log_colour::of(g), log_colour::of(b));
+  return Vec3(r, g, b);
 }
 
 int ClusterPerceptron::nearest(const Vec3& f) const {
@@ -144,6 +148,7 @@ Image ClusterPerceptron::reconstruct(const std::uint8_t* rgb, int width, int hei
     Vec3 c = means_[static_cast<std::size_t>(nearest(p[0], p[1], p[2]))];
     // Normalised colour: the cluster's chromaticity at the pixel's own brightness.
     if (opt_.normalized_color) c *= (p[0] + p[1] + p[2]) / 255.0;
+    else if (opt_.log_color) c = c.unaryExpr([](double x) { return log_colour::level(x); });
     for (int b = 0; b < 3; ++b)
       out.data[3 * i + b] = static_cast<std::uint8_t>(std::clamp(std::lround(c[b]), 0L, 255L));
   }
@@ -382,7 +387,9 @@ void ClusterPerceptron::buildLut() {
   } else {
     // A cell whose 8 corners share their nearest cluster lies wholly in that cluster's (convex)
     // Voronoi cell. In normalised colour f = 255 C / (R + G + B), "nearer mean k than mean j" is
-    // linear in f and so, times R + G + B, a half-space through black in RGB: the same holds.
+    // linear in f and so, times R + G + B, a half-space through black in RGB: the same holds. Log
+    // colour maps each channel by one increasing function, so a cell is a box there too whose corners
+    // are the corners' images: the same holds.
     const int n = static_cast<int>(means_.size());
     cert.resize(n);
     for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));

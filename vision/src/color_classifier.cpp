@@ -7,18 +7,19 @@
 
 #include <opencv2/core.hpp>
 
+#include "log_colour.h"
 #include "mapnav/core/options.h"
 
 namespace mapnav {
 
 namespace {
 
-// What a pixel's feature is: RGB; rg; or rg and the log brightness.
-enum class Features { RGB, RG, RGBrightness };
+// What a pixel's feature is: log RGB; rg; or rg and the log brightness.
+enum class Features { LogRGB, RG, RGBrightness };
 
 // The features the options ask for.
 Features featuresOf(const ColorClassifierOptions& o) {
-  if (o.space == ColorSpace::RGB) return Features::RGB;
+  if (o.space == ColorSpace::LogRGB) return Features::LogRGB;
   return o.brightness_sigma > 0 ? Features::RGBrightness : Features::RG;
 }
 
@@ -29,14 +30,21 @@ Features usedFeatures(const ColorClassifierOptions& o, bool brightness_used) {
   return f == Features::RGBrightness && !brightness_used ? Features::RG : f;
 }
 
-// Added to the covariance diagonal: the camera's noise (noise_sigma levels per channel; in rg one
-// level moves r or g by about 1/500 at mid-grey, R + G + B ≈ 384) and the floor on the spread in log
-// brightness (brightness_sigma).
-Vec3 minVariance(const ColorClassifierOptions& o) {
+constexpr double kLogScale = log_colour::kScale;
+
+// Added to every class's covariance: the camera's noise (noise_sigma levels per channel; in rg one
+// level moves r or g by about 1/500 at mid-grey, R + G + B ≈ 384; in log RGB by kLogScale / 129 at
+// mid-grey) and the spread in log brightness (brightness_sigma: on the diagonal in rg and brightness;
+// in log RGB along the grey axis, where a brightness change of δ moves every channel by kLogScale δ).
+Mat3 minCovariance(const ColorClassifierOptions& o) {
   const double n2 = o.noise_sigma * o.noise_sigma;
-  if (featuresOf(o) == Features::RGB) return Vec3(n2, n2, n2);
+  const double b2 = o.brightness_sigma * o.brightness_sigma;
+  if (featuresOf(o) == Features::LogRGB) {
+    const double k = kLogScale / 129.0;
+    return Mat3(Vec3::Constant(n2 * k * k).asDiagonal()) + Mat3::Constant(kLogScale * kLogScale * b2);
+  }
   const double rg2 = n2 / (500.0 * 500.0);
-  return Vec3(rg2, rg2, featuresOf(o) == Features::RGBrightness ? o.brightness_sigma * o.brightness_sigma : 0.0);
+  return Vec3(rg2, rg2, featuresOf(o) == Features::RGBrightness ? b2 : 0.0).asDiagonal();
 }
 
 // ln((s + 3) / 3) for s = R + G + B: the log brightness, 0 for black (+1 per channel, as rg's).
@@ -69,23 +77,20 @@ struct Accum {
     g.count = n;
     g.valid = true;
     const int d = featureDims(o);
-    const Vec3 floor = minVariance(o);
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
+    g.cov += minCovariance(o);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
         if (i >= d || j >= d) g.cov(i, j) = (i == j) ? 1.0 : 0.0;
-      }
-      if (i < d) g.cov(i, i) += floor[i];
-    }
     return g;
   }
 };
 
 /// A Gaussian so broad that it is nearly flat over the feature space: rg in [0, 1]², the log
-/// brightness in [0, 5.55], RGB in 0..255.
+/// brightness in [0, 5.55], log RGB in 0..255.
 GaussianClass flatClass(const ColorClassifierOptions& o) {
   GaussianClass g;
   const Features f = featuresOf(o);
-  if (f == Features::RGB) {
+  if (f == Features::LogRGB) {
     g.mean = Vec3::Constant(127.5);
     g.cov = Vec3(Vec3::Constant(256.0 * 256.0)).asDiagonal();
   } else {
@@ -132,23 +137,27 @@ GaussianClass blendClass(const GaussianClass& old, const GaussianClass& fresh, d
 // colorFeature, inline here (the per-pixel loops call it without going through the library's PLT).
 inline Vec3 feature(Features f, const std::uint8_t* p) {
   const double r = p[0], g = p[1], b = p[2];
-  if (f == Features::RGB) return Vec3(r, g, b);
+  if (f == Features::LogRGB) {
+    const auto& t = log_colour::table();
+    return Vec3(t[p[0]], t[p[1]], t[p[2]]);
+  }
   // +1 per channel: black stays neutral (1/3, 1/3) instead of dividing by zero.
   const double s = r + g + b + 3.0;
   return Vec3((r + 1.0) / s, (g + 1.0) / s, f == Features::RGBrightness ? std::log(s / 3.0) : 0.0);
 }
 
 // The log-odds of one pixel on the fast path (the same arithmetic, lane by lane, as quadraticRow).
-// `ln` is logBrightnessTable() (read for RGBrightness only).
-inline float quadratic(const LogOddsQuadratic& q, Features f, const float* ln, float r, float g, float b) {
+// `ln` is logBrightnessTable() (read for RGBrightness only), `lc` log_colour::tableF() (LogRGB only).
+inline float quadratic(const LogOddsQuadratic& q, Features f, const float* ln, const float* lc, float r, float g,
+                       float b) {
   float u0, u1, u2;
-  if (f != Features::RGB) {
+  if (f != Features::LogRGB) {
     const float inv = 1.0f / (r + g + b + 3.0f);
     u0 = (r + 1.0f) * inv - q.c0;
     u1 = (g + 1.0f) * inv - q.c1;
     u2 = (f == Features::RGBrightness ? ln[static_cast<int>(r + g + b)] : 0.0f) - q.c2;
   } else {
-    u0 = r - q.c0, u1 = g - q.c1, u2 = b - q.c2;
+    u0 = lc[static_cast<int>(r)] - q.c0, u1 = lc[static_cast<int>(g)] - q.c1, u2 = lc[static_cast<int>(b)] - q.c2;
   }
   const float v = q.k + u0 * (q.l0 + q.q00 * u0 + q.q01 * u1 + q.q02 * u2) + u1 * (q.l1 + q.q11 * u1 + q.q12 * u2) +
                   u2 * (q.l2 + q.q22 * u2);
@@ -163,8 +172,9 @@ inline void quadraticLoop(const LogOddsQuadratic& c, const std::uint8_t* __restr
                           const std::uint8_t* __restrict B, const std::uint8_t* __restrict where, float* __restrict out,
                           int n) {
   const float* ln = logBrightnessTable().data();
+  const float* lc = log_colour::tableF().data();
   for (int i = 0; i < n; ++i) {
-    const float v = quadratic(c, F, ln, R[i], G[i], B[i]);
+    const float v = quadratic(c, F, ln, lc, R[i], G[i], B[i]);
     out[i] = where[i] != 0 ? v : 0.0f;
   }
 }
@@ -176,7 +186,7 @@ __attribute__((target_clones("avx2", "default"))) void quadraticRow(const LogOdd
   switch (f) {
     case Features::RG: quadraticLoop<Features::RG>(c, R, G, B, where, out, n); break;
     case Features::RGBrightness: quadraticLoop<Features::RGBrightness>(c, R, G, B, where, out, n); break;
-    case Features::RGB: quadraticLoop<Features::RGB>(c, R, G, B, where, out, n); break;
+    case Features::LogRGB: quadraticLoop<Features::LogRGB>(c, R, G, B, where, out, n); break;
   }
 }
 
@@ -303,7 +313,8 @@ void ColorClassifier::refreshCache() {
 }
 
 float ColorClassifier::logOdds(const std::uint8_t* pixel) const {
-  return quadratic(quad_, usedFeatures(options_, brightness_used_), logBrightnessTable().data(), pixel[0], pixel[1], pixel[2]);
+  return quadratic(quad_, usedFeatures(options_, brightness_used_), logBrightnessTable().data(),
+                   log_colour::tableF().data(), pixel[0], pixel[1], pixel[2]);
 }
 
 float ColorClassifier::logOddsReference(const std::uint8_t* pixel) const {

@@ -658,11 +658,11 @@ void registerBuiltinPipelines() {
                       blueBandOptionTable().list(), [] { return std::make_unique<BlueBandPipeline>(); },
                       blueBandOptionTable().presets()});
     registerPipeline({"color-rgb",
-                      "Gaussian road/non-road classes in RGB (3.4), one road class per surface in view, trained from "
+                      "Gaussian road/non-road classes in log RGB (3.4; a shadow moves a colour along the grey axis), one road class per surface in view, trained from "
                       "the prediction, adaptive; region "
                       "reproduction (2.2.1) and line labelling (2.2.2)",
                       colorPipelineOptionTable().list(),
-                      [] { return std::make_unique<ClassifierPipeline>("color-rgb", ColorSpace::RGB); },
+                      [] { return std::make_unique<ClassifierPipeline>("color-rgb", ColorSpace::LogRGB); },
                       colorPipelineOptionTable().presets()});
     registerPipeline({"sidewalk",
                       "The default: Gaussian classes in normalised colour rg (3.4.3, robust to shadows), one road "

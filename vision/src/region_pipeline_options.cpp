@@ -86,9 +86,9 @@ const OptionTable<ColorPipelineOptions>& colorPipelineOptionTable() {
                  "until a frame shows such cells, non-road is flat (road is what the road colour explains); "
                  "0 = every cell outside")
           .field("brightness_sigma", &O::brightness_sigma, inRange(0, 10),
-                 "sidewalk (rg) only: the log brightness is a third feature, each class's spread in it at least this "
-                 "(0.1 = 10 %): rg alone takes grey cars, walls and kerbs for a grey road; a shadow stays in reach "
-                 "once the road's spread covers it; 0 = rg only (Wallace 3.4.3); color-rgb ignores it")
+                 "the spread in log brightness added to every class (0.1 = 10 %), so that a road learnt in even light "
+                 "keeps its shades; sidewalk: the log brightness is a third feature (rg alone takes grey cars, walls and "
+                 "kerbs for a grey road), 0 = rg only (Wallace 3.4.3); color-rgb: added along log RGB's grey axis")
           .field("brightness_separation", &O::brightness_separation, inRange(0, 1e6),
                  "sidewalk: the brightness only while rg alone separates road and non-road by less than this "
                  "Bhattacharyya distance (a grey road among grey cars and walls: 2-4); where colour separates them "

@@ -1,6 +1,6 @@
 #pragma once
 // Road / non-road colour classification (Wallace 1985, 3.4): one Gaussian per class, trivariate in
-// RGB or bivariate in normalised colour rg (r = R/(R+G+B), g = G/(R+G+B), 3.4.3: robust to
+// log RGB or bivariate in normalised colour rg (r = R/(R+G+B), g = G/(R+G+B), 3.4.3: robust to
 // shadows, which scale a colour) — optionally with the log brightness as a third feature whose
 // spread is floored (brightness_sigma: a shadow stays within reach, a black car or a white wall
 // does not) — and a Bayes decision with quadratic boundaries (the log-likelihood
@@ -16,9 +16,15 @@
 
 namespace mapnav {
 
-enum class ColorSpace { RGB, NormalizedRG };
+/// LogRGB: each channel c as 255 ln(c + 1) / ln 256 (0..255). The paper's classes are in RGB (3.4);
+/// in its log a shadow, which scales the channels, moves a colour along the grey axis by the same
+/// amount wherever the colour is, so one Gaussian with a spread along that axis (brightness_sigma)
+/// covers a road in sun and shade without covering every grey (camvid_train: road IoU 0.889 against
+/// linear RGB's 0.862, docs/eval.md). NormalizedRG: r = R/(R+G+B), g = G/(R+G+B).
+enum class ColorSpace { LogRGB, NormalizedRG };
 
-/// A Gaussian in 2 (rg) or 3 (RGB) dimensions; in 2-D only the upper-left block is used.
+/// A Gaussian in 2 (rg) or 3 (log RGB; rg and brightness) dimensions; in 2-D only the upper-left
+/// block is used.
 struct GaussianClass {
   Vec3 mean = Vec3::Zero();
   Mat3 cov = Mat3::Identity();
@@ -43,29 +49,30 @@ struct ColorClassifierOptions {
   /// what is confidently not road-coloured may train the non-road class. 0 = every labelled pixel.
   /// ≥ 0.
   double nonroad_gate_sigma = 0;
-  /// NormalizedRG only (RGB holds the brightness already and ignores it). > 0: the log brightness
-  /// ln((R + G + B + 3) / 3) is a third feature, and every class's standard deviation in it is at
-  /// least this (natural-log units: 0.1 is a 10 % brightness change). rg alone cannot tell a grey
-  /// road from a grey car, wall or kerb; the brightness can, and a floor keeps a road learnt in even
-  /// light from rejecting every shade (a shadow is in reach when the road's spread, learnt from
-  /// frames that show shadows, covers it). 0 = rg only (Wallace 3.4.3). ≥ 0.
+  /// The spread in log brightness added to every class (natural-log units: 0.1 is a 10 % brightness
+  /// change), so that a road learnt in even light does not reject every shade (a deeper shadow is in
+  /// reach when the road's spread, learnt from frames that show shadows, covers it).
+  /// NormalizedRG: > 0 makes the log brightness ln((R + G + B + 3) / 3) a third feature with this
+  /// added to its variance (rg alone cannot tell a grey road from a grey car, wall or kerb; the
+  /// brightness can); 0 = rg only (Wallace 3.4.3). LogRGB: added along the grey axis (a brightness
+  /// change δ moves every channel by 255 δ / ln 256). ≥ 0.
   double brightness_sigma = 0;
   /// With brightness_sigma > 0: the brightness is used only while rg alone separates the road and
   /// non-road models by less than this Bhattacharyya distance. Where colour tells road from its
   /// surroundings (grey path, green lawn: 5 and more), rg alone stays robust to shadows; where it
   /// does not (a grey road among grey cars and walls: 2 to 4), the brightness is needed. ≥ 0.
   double brightness_separation = std::numeric_limits<double>::infinity();
-  /// The camera's noise, 8-bit levels per channel: its variance is added to every class's (in RGB
-  /// as it is; in rg scaled by 1/500², one level's effect at mid-grey). 1 suits rendered frames;
+  /// The camera's noise, 8-bit levels per channel: its variance is added to every class's (scaled to
+  /// one level's effect at mid-grey: in rg by 1/500², in log RGB by (255 / ln 256 / 129)²). 1 suits rendered frames;
   /// a real camera's noise and compression call for more (the colour pipelines' 3). > 0.
   double noise_sigma = 1;
 
   void validate() const;
 };
 
-/// Feature dimensions: 2 (rg), 3 (rg and log brightness, or RGB).
+/// Feature dimensions: 2 (rg), 3 (rg and log brightness, or log RGB).
 int featureDims(const ColorClassifierOptions& options);
-/// The feature of one pixel (rg in [0, 1] and ln((R+G+B+3)/3) in [0, 5.55]; RGB in 0..255), in
+/// The feature of one pixel (rg in [0, 1] and ln((R+G+B+3)/3) in [0, 5.55]; log RGB in 0..255), in
 /// the first featureDims() entries, 0 in the rest.
 Vec3 colorFeature(const ColorClassifierOptions& options, const std::uint8_t* rgb);
 
