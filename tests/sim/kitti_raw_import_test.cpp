@@ -5,8 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "mapnav/core/error.h"
@@ -106,6 +112,42 @@ TEST_F(KittiRawDrive, CameraFromTheCalibrationChainSitsWhereKittisDrawingPutsIt)
   EXPECT_NEAR(result_->mount.offset.y(), -0.3, 0.2);
   EXPECT_NEAR(result_->intrinsics.fx, 721.5377, 1e-3);  // P_rect_02
   EXPECT_EQ(result_->intrinsics.width, 1242);
+}
+
+// The carriageway's kerbs marked by eye at the row 10 m ahead (tests/data/real/ostring_kerb_marks.json
+// says how), seen through the imported camera from the vehicle: a two-lane carriageway is two lanes
+// of 3.25-3.5 m and two gutters, 7-8 m between the grass edges; and the car changes lanes, from the
+// left one (its centre 1.5-2 m from the left kerb) at the start to the right one (5-5.5 m) from
+// frame 100 on. A map that puts the carriageway at a fixed offset from the OXTS track is wrong.
+TEST_F(KittiRawDrive, KerbMarksSeenThroughTheCameraSpanOneCarriagewayAndALaneChange) {
+  const ReplayLog log = ReplayLog::open(*dir_);
+  const auto marks = nlohmann::json::parse(readFile(testing::sourceDir() / "tests/data/real/ostring_kerb_marks.json"));
+  const double row = marks["row"].get<double>();
+  const Camera& camera = *log.header().camera;
+  // Where the row meets the ground: 10 m ahead of the camera.
+  const auto ahead = camera.backproject(Vec2(camera.width() / 2.0, row));
+  ASSERT_TRUE(ahead);
+  EXPECT_NEAR(ahead->x() - camera.mount().offset.x(), 10.0, 0.3);
+  std::vector<double> widths;
+  std::map<int, double> left_y;  // the left kerb's offset from the vehicle, m
+  for (const auto& [frame, m] : marks["frames"].items()) {
+    const auto side = [&](const char* key) -> std::optional<Vec2> {
+      if (m[key].is_null()) return std::nullopt;
+      return camera.backproject(Vec2(m[key].get<double>(), row));
+    };
+    const auto l = side("left"), r = side("right");
+    if (l) left_y[std::stoi(frame)] = l->y();
+    if (l && r) widths.push_back(l->y() - r->y());
+  }
+  ASSERT_EQ(widths.size(), 10u);
+  std::sort(widths.begin(), widths.end());
+  const double median = 0.5 * (widths[4] + widths[5]);
+  EXPECT_GT(median, 7.0);
+  EXPECT_LT(median, 8.0);
+  for (int f : {0, 10}) EXPECT_LT(left_y.at(f), 2.5) << "frame " << f;
+  for (int f : {100, 110, 120, 130, 140}) EXPECT_GT(left_y.at(f), 4.0) << "frame " << f;
+  std::printf("kerb to kerb at 10 m: median %.2f m (%.2f-%.2f); left kerb from the vehicle: frame 0 %.2f m, frame 140 %.2f m\n",
+              median, widths.front(), widths.back(), left_y.at(0), left_y.at(140));
 }
 
 TEST_F(KittiRawDrive, DegradedOdometryIsLongByItsScaleError) {
