@@ -97,7 +97,8 @@ ModuleLoop::ModuleLoop(const MissionFile& mission, const Map& map, const Camera&
   run_.vehicle_width_m = options.vehicle_width_m;
   run_.route = navigator_.route();
   run_.start = missionStart(map, mission, navigator_.route());
-  run_.goal = Pose2(run_.route.line.back(), run_.route.line.headingAt(run_.route.line.length()));
+  // The goal's lateral offset, like the start's, is where the vehicle should be: a car's lane.
+  run_.goal = Pose2(toPose(map, mission.goal).translation(), run_.route.line.headingAt(run_.route.line.length()));
   run_.image_width = camera.width();
   run_.image_height = camera.height();
   board_.onPost([this](const Posting& p) { postings_.push_back(p); });
@@ -196,6 +197,8 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   r.observed_heading = position.observed_heading;
   r.lines_used = position.lines_used;
   r.odometry_only = odometry_only_.pose();
+  r.gnss = frame.gnss;
+  r.gnss_sigma_m = frame.gnss_sigma_m;
   r.vision_ok = detected.status == DetectedObject::Status::Ok;
   r.vision_reason = r.vision_ok ? "" : detected.reason;
   roads_.push_back(roadFound(detected));

@@ -148,6 +148,8 @@ bool ReplaySource::next(Driver& /*driver*/, SourceFrame& frame) {
     frame.t = f.t;
     frame.rgb = std::move(*rgb);
     frame.truth = f.truth;
+    frame.gnss.reset();
+    if (f.gnss) frame.gnss = f.gnss->position, frame.gnss_sigma_m = f.gnss->sigma_m;
     frame.image = f.image;
     return true;
   }

@@ -118,6 +118,7 @@ constexpr Rgb kEstimateColor{0, 90, 230};
 constexpr Rgb kOdometryColor{240, 120, 0};
 constexpr Rgb kAlongColor{0, 150, 70};
 constexpr Rgb kFailureColor{220, 30, 30};
+constexpr Rgb kGnssColor{150, 0, 200};
 constexpr Rgb kHaltColor{250, 170, 170};
 
 std::string hex(const Rgb& c) {
@@ -197,9 +198,13 @@ std::string mapFigure(const MissionRun& run, const Map& map, const ReportOptions
   const std::vector<Vec2> estimate = track(run, &FrameRecord::estimate);
   const std::vector<Vec2> odometry = track(run, &FrameRecord::odometry_only);
   Box2 box;
+  std::vector<std::pair<Vec2, double>> gnss;  // the fixes and their sigma
+  for (const FrameRecord& f : run.frames)
+    if (f.gnss) gnss.emplace_back(*f.gnss, f.gnss_sigma_m);
   for (const auto* line : {&run.route.line.points(), &truth, &estimate, &odometry}) {
     for (const Vec2& p : *line) box.extend(p);
   }
+  for (const auto& [p, sigma] : gnss) box.extend(p);
   box.extend(run.start.translation());
   box.extend(run.goal.translation());
   const Vec2 pad(15.0, 15.0);  // the roads around the route
@@ -240,6 +245,11 @@ std::string mapFigure(const MissionRun& run, const Map& map, const ReportOptions
   est.stroke = kEstimateColor;
   est.stroke_width_px = 1.5;
   canvas.polyline(pixels(estimate), est);
+  // GNSS fixes: a ring of radius 1 sigma (at least 3 px) about each.
+  render::Style fix;
+  fix.stroke = kGnssColor;
+  fix.stroke_width_px = 1.5;
+  for (const auto& [p, sigma] : gnss) canvas.circle(view.toPixel(p), std::max(3.0, sigma * view.pixelsPerMetre()), fix);
   // Where Vision failed: on the truth when known, else on the estimate.
   render::Style fail;
   fail.stroke = kFailureColor;
@@ -590,6 +600,9 @@ std::string reportHtml(const MissionRun& run, const Map& map, const std::vector<
   if (run.metrics.has_truth) html += swatch(kTruthColor, 2.5, false, "true", "truth");
   html += swatch(kEstimateColor, 1.5, false, "estimate (Map module)", "estimate");
   html += swatch(kOdometryColor, 2, true, "odometry only", "odometry");
+  if (std::any_of(run.frames.begin(), run.frames.end(), [](const FrameRecord& f) { return f.gnss.has_value(); }))
+    html += "<span class=\"key\" id=\"key-gnss\"><svg width=\"16\" height=\"16\"><circle cx=\"8\" cy=\"8\" r=\"5\" "
+            "fill=\"none\" stroke=\"" + hex(kGnssColor) + "\" stroke-width=\"1.5\"/></svg>GNSS fix (ring: its 1&sigma;)</span>";
   html += "<span class=\"key\"><svg width=\"16\" height=\"16\"><circle cx=\"8\" cy=\"8\" r=\"6\" fill=\"none\" stroke=\"" +
           hex(kFailureColor) + "\" stroke-width=\"2\"/></svg>vision failure</span>";
   html += "</p>\n" + mapFigure(run, map, options) + "</section>\n";
@@ -647,6 +660,13 @@ std::string trajectoriesGeoJson(const MissionRun& run, const Map& map) {
   add("true", track(run, &FrameRecord::truth));
   add("estimate", track(run, &FrameRecord::estimate));
   add("odometry", track(run, &FrameRecord::odometry_only));
+  Json fixes = Json::array();
+  for (const FrameRecord& f : run.frames)
+    if (f.gnss) fixes.push_back(positions({*f.gnss})[0]);
+  if (!fixes.empty())
+    features.push_back({{"type", "Feature"},
+                        {"properties", {{"name", "gnss"}, {"mission", run.mission}, {"mode", run.mode}}},
+                        {"geometry", {{"type", "MultiPoint"}, {"coordinates", fixes}}}});
   return dumpJson({{"type", "FeatureCollection"}, {"features", features}});
 }
 

@@ -240,6 +240,33 @@ TEST(ReportGeoJson, TheTrajectoriesReadBackToThePosesThroughTheMapsOrigin) {
   }
 }
 
+// GNSS fixes (a real log's, every other frame here, 0.5 m off the truth to the left, sigma 0.2 m):
+// a ring each on the map with their key, and a MultiPoint in the GeoJSON; a run without has neither.
+TEST(ReportGnss, FixesAreDrawnOnTheMapAndWrittenToTheGeoJson) {
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  MissionRun run = handMadeRun();
+  EXPECT_EQ(reportHtml(run, map, {}, "").find("GNSS fix"), std::string::npos);
+  EXPECT_EQ(nlohmann::json::parse(trajectoriesGeoJson(run, map))["features"].size(), 4u);
+  for (std::size_t i = 0; i < run.frames.size(); i += 2) {
+    run.frames[i].gnss = run.frames[i].truth->translation() + Vec2(0, 0.5);
+    run.frames[i].gnss_sigma_m = 0.2;
+  }
+  const std::string html = reportHtml(run, map, {}, "");
+  EXPECT_NE(html.find("GNSS fix (ring: its 1&sigma;)"), std::string::npos);
+  const auto doc = nlohmann::json::parse(trajectoriesGeoJson(run, map));
+  ASSERT_EQ(doc["features"].size(), 5u);
+  const auto& gnss = doc["features"][4];
+  EXPECT_EQ(gnss["properties"]["name"], "gnss");
+  EXPECT_EQ(gnss["geometry"]["type"], "MultiPoint");
+  const auto& points = gnss["geometry"]["coordinates"];
+  ASSERT_EQ(points.size(), 3u);
+  const LocalFrame frame(*map.data().origin);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Vec2 p = frame.toLocal(LatLon{points[k][1].get<double>(), points[k][0].get<double>()});
+    EXPECT_NEAR((p - Vec2(2.0 * static_cast<double>(k), 0.5)).norm(), 0.0, 1e-3) << k;
+  }
+}
+
 TEST(ReportFiles, WritesTheReportAndTheGeoJsonAndNamesABadTrace) {
   const Map map = loadMap(testing::mapPath("cmu_campus.json"));
   const fs::path dir = testing::freshTempDir() / "report";

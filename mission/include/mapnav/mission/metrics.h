@@ -39,6 +39,10 @@ struct FrameRecord {
   bool observed_lateral = false, observed_along = false, observed_heading = false;
   int lines_used = 0;
   Pose2 odometry_only;            ///< dead reckoning alone from the start, same motion model
+  /// A GNSS fix the log recorded with this frame (world frame, m) and its 1-sigma error: drawn in the
+  /// report beside the truth, not used by the Map module.
+  std::optional<Vec2> gnss;
+  double gnss_sigma_m = 0;
   // Vision.
   bool vision_ok = true;
   std::string vision_reason;      ///< when it failed
