@@ -205,6 +205,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     reset();
   }
   void reset() override {
+    street_ = false;
     finder_ = ClusterPerceptron(opts_);
     ground_camera_ = nullptr;
   }
@@ -240,8 +241,9 @@ class ClusterPerceptronPipeline : public VisionPipeline {
       }
       train(o, pixels, w, h, outline, cam);
       // A street (the paper's bootstrap could not part the road from the rest): again in log colour.
-      if (opts_.log_color_when_gated && finder_.nonroadGated() && pixels == frame.rgb && !o.normalized_color &&
-          !o.log_color) {
+      street_ = opts_.log_color_when_gated && finder_.nonroadGated() && pixels == frame.rgb && !o.normalized_color &&
+                !o.log_color;
+      if (street_) {
         o.log_color = true;
         train(o, pixels, w, h, outline, cam);
       }
@@ -291,9 +293,6 @@ class ClusterPerceptronPipeline : public VisionPipeline {
   }
 
  private:
-  /// Whether to train on this frame: the first, one of another size, every one with
-  /// retrain_each_frame, and the next one after a perceptron that the non-road gate trained (a model
-  /// of one frame's colours, trained where the paper's bootstrap could not separate).
   // A new finder with options `o`, its clusters and perceptron trained on the frame's pixels.
   void train(const ClusterPerceptronOptions& o, const std::uint8_t* pixels, int w, int h, const Image& outline,
              const Camera& cam) {
@@ -304,9 +303,13 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     finder_.trainPerceptron(pixels, w, h, outline.data.data());
   }
 
+  /// Whether to train on this frame: the first, one of another size, every one with
+  /// retrain_each_frame, and the next one after a perceptron that the non-road gate trained (a model
+  /// of one frame's colours, trained where the paper's bootstrap could not separate), in RGB or,
+  /// on a street, in log colour (which may separate without the gate).
   bool retrainOn(int h) const {
     return opts_.retrain_each_frame || !finder_.trained() || static_cast<int>(finder_.rowWidths().size()) != h ||
-           finder_.nonroadGated();
+           finder_.nonroadGated() || street_;
   }
 
   /// The bootstrap outline of a frame (1 channel, 255 inside): the prediction's road region in the
@@ -342,6 +345,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
 
   ClusterPerceptronPipelineOptions opts_;
   ClusterPerceptron finder_;
+  bool street_ = false;  // the last training needed the gate in RGB and was redone in log colour
   const Camera* ground_camera_ = nullptr;  ///< the camera ground_ was computed for
   Image ground_;                           ///< where it sees the ground (groundMask())
 };
