@@ -29,12 +29,19 @@ std::vector<std::uint8_t> twoTone(int w, int h, bool shadow, std::uint32_t seed 
   return rgb;
 }
 
-TEST(ColorClassifier, SeparatesRoadFromGrassInBothSpaces) {
-  const int w = 64, h = 64;
-  const auto rgb = twoTone(w, h, false);
+// twoTone's labels: road on the concrete half, non-road on the grass half, 4 columns either side of
+// the boundary unlabelled.
+std::pair<std::vector<std::uint8_t>, std::vector<std::uint8_t>> concreteAndGrassLabels(int w, int h) {
   std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
   for (int v = 0; v < h; ++v)
     for (int u = 0; u < w; ++u) (u < w / 2 - 4 ? road : non)[v * w + u] = (u < w / 2 - 4 || u > w / 2 + 4) ? 1 : 0;
+  return {road, non};
+}
+
+TEST(ColorClassifier, SeparatesRoadFromGrassInBothSpaces) {
+  const int w = 64, h = 64;
+  const auto rgb = twoTone(w, h, false);
+  const auto [road, non] = concreteAndGrassLabels(w, h);
   for (ColorSpace space : {ColorSpace::LogRGB, ColorSpace::NormalizedRG}) {
     ColorClassifierOptions o;
     o.space = space;
@@ -152,9 +159,7 @@ TEST(ColorClassifier, NonRoadGateTrainsNonRoadOnlyOnWhatIsNotRoadColoured) {
 TEST(ColorClassifier, LogRgbSpreadsTheRoadAlongTheGreyAxis) {
   const int w = 64, h = 64;
   const auto rgb = twoTone(w, h, false);
-  std::vector<std::uint8_t> road(w * h, 0), non(w * h, 0);
-  for (int v = 0; v < h; ++v)
-    for (int u = 0; u < w; ++u) (u < w / 2 - 4 ? road : non)[v * w + u] = (u < w / 2 - 4 || u > w / 2 + 4) ? 1 : 0;
+  const auto [road, non] = concreteAndGrassLabels(w, h);
   const double s = 255.0 / std::log(256.0);
   Vec3 sum = Vec3::Zero();
   Mat3 sq = Mat3::Zero();
