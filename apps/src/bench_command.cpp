@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <ostream>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -486,9 +485,8 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
     bench->route_sizes = parseRouteSizes(text->route_sizes);
     if (text->pipelines) {
       bench->pipelines.emplace();
-      std::stringstream list(*text->pipelines);
-      for (std::string name; std::getline(list, name, ',');)
-        if (!name.empty() && name != "none") bench->pipelines->push_back(name);
+      for (const std::string& name : splitNames(*text->pipelines))
+        if (name != "none") bench->pipelines->push_back(name);
     }
     bench->road_model = roadModelFromString(text->road_model);
     return runBench(*bench, out, err);

@@ -113,6 +113,14 @@ std::string dataPath(const std::string& relative) {
   return std::string(MAPNAV_SOURCE_DIR) + "/" + relative;
 }
 
+std::vector<std::string> splitNames(const std::string& text) {
+  std::vector<std::string> names;
+  std::stringstream in(text);
+  for (std::string name; std::getline(in, name, ',');)
+    if (!name.empty()) names.push_back(name);
+  return names;
+}
+
 std::vector<double> parseNumbers(const std::string& option, const std::string& text, std::size_t min_count,
                                  std::size_t max_count, const std::string& expected) {
   std::vector<double> values;

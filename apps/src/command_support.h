@@ -12,6 +12,9 @@
 
 namespace mapnav::cli {
 
+/// The non-empty names of a comma-separated list ("R1,,I5" -> R1, I5; "" -> none).
+std::vector<std::string> splitNames(const std::string& text);
+
 /// The numbers of a comma-separated option value ("40.44,-79.94"), between `min_count` and
 /// `max_count` of them. Throws InvalidInput naming the option and what it expects.
 std::vector<double> parseNumbers(const std::string& option, const std::string& text, std::size_t min_count,

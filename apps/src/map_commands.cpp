@@ -6,7 +6,6 @@
 #include <functional>
 #include <map>
 #include <ostream>
-#include <sstream>
 
 #include "cli.h"
 #include "command_line.h"
@@ -127,11 +126,7 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
     OsmImportOptions options;
     options.bbox = config.bbox;
     if (config.highways) {
-      options.highways.clear();
-      std::stringstream list(*config.highways);
-      for (std::string h; std::getline(list, h, ',');) {
-        if (!h.empty()) options.highways.push_back(h);
-      }
+      options.highways = splitNames(*config.highways);
     }
     options.origin = config.origin;
     options.repair = config.repair;

@@ -2,7 +2,6 @@
 
 #include <filesystem>
 #include <ostream>
-#include <sstream>
 #include <string>
 
 #include "cli.h"
@@ -64,10 +63,7 @@ void registerRouteCommand(CLI::App& app, Commands& commands) {
   rt->callback(commands.choose([route, text](std::ostream& out, std::ostream& err) {
     route->from = parseRoadPosition(text->from);
     route->to = parseRoadPosition(text->to);
-    std::stringstream ids(text->block);
-    for (std::string id; std::getline(ids, id, ',');) {
-      if (!id.empty()) route->blocked.push_back(id);
-    }
+    for (const std::string& id : splitNames(text->block)) route->blocked.push_back(id);
     return runRoute(*route, out, err);
   }));
 }

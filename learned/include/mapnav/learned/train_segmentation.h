@@ -50,7 +50,6 @@ inline void SegmentationTrainOptions::validate() const {
   requireOption(threads >= 0 && threads <= 256, kOwner, "threads", threads, "in [0, 256]");
 }
 
-
 /// One epoch's figures, for a progress bar.
 struct EpochReport {
   int epoch = 0, epochs = 0;
