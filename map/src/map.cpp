@@ -34,6 +34,14 @@ constexpr std::array<std::pair<RoadStructure, std::string_view>, 3> kStructureNa
     {RoadStructure::Tunnel, "tunnel"},
 }};
 
+constexpr std::array<std::pair<LandmarkKind, std::string_view>, 5> kLandmarkNames{{
+    {LandmarkKind::Pole, "pole"},
+    {LandmarkKind::Tree, "tree"},
+    {LandmarkKind::Bench, "bench"},
+    {LandmarkKind::Bollard, "bollard"},
+    {LandmarkKind::Manhole, "manhole"},
+}};
+
 // What an R-tree entry stands for: a road segment or an intersection shape.
 struct Entry {
   bool is_road;
@@ -113,6 +121,42 @@ const std::vector<IntersectionKind>& allIntersectionKinds() {
   return kinds;
 }
 
+std::string_view toString(LandmarkKind kind) {
+  for (const auto& [k, name] : kLandmarkNames) {
+    if (k == kind) return name;
+  }
+  return "pole";
+}
+
+std::optional<LandmarkKind> landmarkKindFromString(std::string_view text) {
+  for (const auto& [k, name] : kLandmarkNames) {
+    if (name == text) return k;
+  }
+  return std::nullopt;
+}
+
+const std::vector<LandmarkKind>& allLandmarkKinds() {
+  static const std::vector<LandmarkKind> kinds = [] {
+    std::vector<LandmarkKind> out;
+    for (const auto& entry : kLandmarkNames) out.push_back(entry.first);
+    return out;
+  }();
+  return kinds;
+}
+
+LandmarkSize defaultLandmarkSize(LandmarkKind kind) {
+  switch (kind) {
+    case LandmarkKind::Pole: return {0.10, 5.0};
+    case LandmarkKind::Tree: return {0.15, 6.0};
+    case LandmarkKind::Bench: return {0.80, 0.8};
+    case LandmarkKind::Bollard: return {0.08, 0.9};
+    case LandmarkKind::Manhole: return {0.30, 0.0};
+  }
+  return {0.10, 5.0};
+}
+
+bool isUpright(LandmarkKind kind) { return kind != LandmarkKind::Manhole; }
+
 struct Map::Impl {
   MapData data;
   Issues warnings;
@@ -122,6 +166,7 @@ struct Map::Impl {
   std::vector<Polygon2> shapes;            // per intersection
   std::vector<std::vector<std::size_t>> components;
   RTree tree;
+  bgi::rtree<std::pair<spatial::BPoint, std::size_t>, bgi::rstar<16>> landmark_tree;  // position → index
   Box2 bounds;
 
   std::size_t roadIndex(const Road& road) const {
@@ -193,6 +238,11 @@ void Map::Impl::build() {
     bounds.extend(box);
   }
   tree = RTree(values.begin(), values.end());
+  std::vector<std::pair<spatial::BPoint, std::size_t>> landmark_points;
+  for (std::size_t i = 0; i < data.landmarks.size(); ++i) {
+    landmark_points.emplace_back(spatial::BPoint(data.landmarks[i].position.x(), data.landmarks[i].position.y()), i);
+  }
+  landmark_tree = decltype(landmark_tree)(landmark_points.begin(), landmark_points.end());
 }
 
 Polygon2 Map::Impl::deriveShape(std::size_t i) const {
@@ -343,6 +393,28 @@ std::vector<const Intersection*> Map::intersectionsMeeting(const Polygon2& polyg
   }
   std::sort(out.begin(), out.end(), [](const Intersection* a, const Intersection* b) { return a->id < b->id; });
   return out;
+}
+
+std::vector<const Landmark*> Map::landmarksIn(const Polygon2& polygon) const {
+  std::vector<std::pair<spatial::BPoint, std::size_t>> found;
+  impl_->landmark_tree.query(bgi::intersects(toBBox(polygonBounds(polygon))), std::back_inserter(found));
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  std::vector<const Landmark*> out;
+  for (const auto& [point, index] : found) {
+    if (contains(polygon, impl_->data.landmarks[index].position)) out.push_back(&impl_->data.landmarks[index]);
+  }
+  return out;
+}
+
+const Road* Map::roadBeside(const Landmark& landmark) const {
+  if (!landmark.road.empty()) return findRoad(landmark.road);
+  // Widen the search until a road is found: the first radius that finds one finds the nearest.
+  // Coordinates are within ±1e7 m (validation), so 1e8 m reaches every road.
+  for (double radius = 5.0; radius < 1e9; radius *= 4) {
+    const auto near = roadsNear(landmark.position, radius);
+    if (!near.empty()) return near.front();
+  }
+  return nullptr;
 }
 
 Box2 Map::bounds() const { return impl_->bounds; }

@@ -237,6 +237,36 @@ std::optional<Road> readRoad(const Json& value, const std::string& pointer, Issu
   return road;
 }
 
+/// A landmark: its kind, position, and the kind's size unless the file gives one.
+std::optional<Landmark> readLandmark(const Json& value, const std::string& pointer, Issues& issues) {
+  JsonObject object(value, pointer, issues);
+  if (!object.isObject()) return std::nullopt;
+  const auto id = object.string("id");
+  const auto kind = object.string("kind");
+  std::optional<LandmarkKind> parsed_kind;
+  if (kind) {
+    parsed_kind = landmarkKindFromString(*kind);
+    if (!parsed_kind) {
+      std::string allowed;
+      for (LandmarkKind k : allLandmarkKinds()) allowed += std::string(allowed.empty() ? "" : ", ") + std::string(toString(k));
+      addIssue(issues, Severity::Error, "schema.enum", object.pointer("kind"),
+               "unknown landmark kind \"" + *kind + "\"; expected one of " + allowed);
+    }
+  }
+  const Json* position = object.member("position", true);
+  const auto point = position ? readPoint(*position, object.pointer("position"), issues) : std::nullopt;
+  const auto radius = object.number("radius", false);
+  const auto height = object.number("height", false);
+  const auto road = object.string("road", false);
+  Properties properties = readProperties(object, issues);
+  object.rejectUnknownMembers();
+  const bool optional_ok = (radius || !object.has("radius")) && (height || !object.has("height")) && (road || !object.has("road"));
+  if (!id || !parsed_kind || !point || !optional_ok) return std::nullopt;
+  const LandmarkSize size = defaultLandmarkSize(*parsed_kind);
+  return Landmark{*id, *parsed_kind, *point, radius.value_or(size.radius_m), height.value_or(size.height_m),
+                  road.value_or(""), std::move(properties)};
+}
+
 template <typename T, typename Reader>
 void readArray(const Json* value, const std::string& pointer, Issues& issues, std::vector<T>& out, Reader read) {
   if (value == nullptr) return;
@@ -284,6 +314,7 @@ std::optional<MapData> parseMap(std::string_view text, Issues& issues) {
   if (auto surfaces = readSurfaces(top.member("surfaces", true), "/surfaces", issues)) map.surfaces = std::move(*surfaces);
   readArray(top.member("intersections", true), "/intersections", issues, map.intersections, readIntersection);
   readArray(top.member("roads", true), "/roads", issues, map.roads, readRoad);
+  readArray(top.member("landmarks", false), "/landmarks", issues, map.landmarks, readLandmark);
   top.rejectUnknownMembers();
   if (countSeverity(issues, Severity::Error) != before) return std::nullopt;
   return map;
@@ -362,6 +393,17 @@ std::string mapToJson(const MapData& map) {
     roads.push_back(std::move(j));
   }
   doc["roads"] = std::move(roads);
+  if (!map.landmarks.empty()) {
+    Json landmarks = Json::array();
+    for (const Landmark& l : map.landmarks) {
+      Json j = {{"id", l.id}, {"kind", toString(l.kind)}, {"position", pointToJson(l.position)}, {"radius", l.radius},
+                {"height", l.height}};
+      if (!l.road.empty()) j["road"] = l.road;
+      if (!l.properties.empty()) j["properties"] = propertiesToJson(l.properties);
+      landmarks.push_back(std::move(j));
+    }
+    doc["landmarks"] = std::move(landmarks);
+  }
   return dumpJson(doc);
 }
 

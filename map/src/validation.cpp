@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <map>
 #include <unordered_map>
 #include <set>
 #include <unordered_set>
@@ -29,6 +30,8 @@ void ValidationOptions::validate() const {
           "finite and >= 0");
   require(std::isfinite(max_coordinate_m) && max_coordinate_m > 0, "max_coordinate_m", max_coordinate_m, "finite and > 0");
   require(std::isfinite(max_width_m) && max_width_m > 0, "max_width_m", max_width_m, "finite and > 0");
+  require(std::isfinite(max_landmark_distance_m) && max_landmark_distance_m >= 0, "max_landmark_distance_m",
+          max_landmark_distance_m, "finite and >= 0");
 }
 
 namespace {
@@ -74,6 +77,7 @@ class Validator {
     checkRoads();
     checkCrossings();
     checkTopology();
+    checkLandmarks();
     return std::move(issues_);
   }
 
@@ -93,6 +97,7 @@ class Validator {
   }
   static std::string roadPtr(std::size_t i) { return pointerJoin("/roads", i); }
   static std::string xPtr(std::size_t i) { return pointerJoin("/intersections", i); }
+  static std::string landmarkPtr(std::size_t i) { return pointerJoin("/landmarks", i); }
 
   void checkIds() {
     std::unordered_map<std::string, std::string> seen;  // id → pointer of its first use
@@ -109,6 +114,7 @@ class Validator {
       intersection_index_.emplace(map_.intersections[i].id, i);
     }
     for (std::size_t i = 0; i < map_.roads.size(); ++i) check(map_.roads[i].id, roadPtr(i) + "/id");
+    for (std::size_t i = 0; i < map_.landmarks.size(); ++i) check(map_.landmarks[i].id, landmarkPtr(i) + "/id");
   }
 
   bool pointOk(const Vec2& p, const std::string& ptr) {
@@ -243,6 +249,82 @@ class Validator {
     if (road.centerline.length() < options_.min_road_length_m) {
       const auto [length, least] = comparedText(road.centerline.length(), options_.min_road_length_m);
       warning("roads.very_short", ptr, "road \"" + road.id + "\" is " + length + " m long (< " + least + " m)");
+    }
+  }
+
+  // Landmarks: a size that makes sense, a road that exists, standing beside it (not on its paving,
+  // not far from it). Distances are to the paved areas of roads with valid geometry, found through
+  // an R-tree of their segments, so the cost grows with the roads near each landmark.
+  void checkLandmarks() {
+    if (map_.landmarks.empty()) return;
+    using Value = std::pair<spatial::BBox, std::pair<std::size_t, std::size_t>>;  // (road, segment)
+    std::vector<Value> values;
+    double widest = 0;
+    std::unordered_map<std::string, std::size_t> road_index;
+    for (std::size_t r = 0; r < map_.roads.size(); ++r) {
+      road_index.emplace(map_.roads[r].id, r);
+      if (!road_geometry_ok_[r] || !std::isfinite(map_.roads[r].width)) continue;
+      widest = std::max(widest, map_.roads[r].width);
+      const Polyline2& c = map_.roads[r].centerline;
+      for (std::size_t s = 0; s < c.segmentCount(); ++s) values.emplace_back(spatial::toBBox(c.segment(s).bounds()), std::pair{r, s});
+    }
+    const bgi::rtree<Value, bgi::rstar<16>> tree(values.begin(), values.end());
+    for (std::size_t i = 0; i < map_.landmarks.size(); ++i) {
+      const Landmark& l = map_.landmarks[i];
+      const std::string ptr = landmarkPtr(i);
+      if (!pointOk(l.position, ptr + "/position")) continue;
+      checkLandmarkSize(l, ptr);
+      std::optional<std::size_t> named;
+      if (!l.road.empty()) {
+        const auto it = road_index.find(l.road);
+        if (it == road_index.end()) {
+          error("landmarks.unknown_road", ptr + "/road", "landmark \"" + l.id + "\" road \"" + l.road + "\": no road has this id");
+          continue;
+        }
+        named = it->second;
+      }
+      // Distance (m) from the landmark's centre to each nearby road's paved area (< 0: inside it).
+      const double reach = options_.max_landmark_distance_m + widest / 2 + std::max(l.radius, 0.0);
+      const Box2 box(l.position - Vec2::Constant(reach), l.position + Vec2::Constant(reach));
+      std::vector<Value> found;
+      tree.query(bgi::intersects(spatial::toBBox(box)), std::back_inserter(found));
+      std::map<std::size_t, double> distance;  // road → distance, ordered for a stable report
+      for (const Value& v : found) {
+        const auto [r, s] = v.second;
+        const double d = map_.roads[r].centerline.segment(s).distanceTo(l.position) - map_.roads[r].width / 2;
+        auto [it, inserted] = distance.emplace(r, d);
+        if (!inserted) it->second = std::min(it->second, d);
+      }
+      if (isUpright(l.kind)) {
+        for (const auto& [r, d] : distance) {
+          if (d >= l.radius) continue;
+          warning("landmarks.on_paved_area", ptr + "/position",
+                  "landmark \"" + l.id + "\" (a " + std::string(toString(l.kind)) + ") stands on road \"" +
+                      map_.roads[r].id + "\"'s paved area: a vehicle there would have to pass it");
+          break;
+        }
+      }
+      const auto beside = named ? distance.find(*named) : std::min_element(distance.begin(), distance.end(), [](const auto& a, const auto& b) {
+        return a.second < b.second;
+      });
+      if (beside == distance.end() || beside->second > options_.max_landmark_distance_m) {
+        const std::string road = named ? "its road \"" + l.road + "\"" : "every road";
+        warning("landmarks.far_from_road", ptr + "/position",
+                "landmark \"" + l.id + "\" is more than " + fmt(options_.max_landmark_distance_m) + " m from " + road +
+                    ": a camera on the road would hardly see it");
+      }
+    }
+  }
+
+  void checkLandmarkSize(const Landmark& l, const std::string& ptr) {
+    if (!std::isfinite(l.radius) || l.radius <= 0 || l.radius > 10) {
+      error("landmarks.invalid_size", ptr + "/radius", "radius " + fmt(l.radius) + " m must be > 0 and <= 10 m");
+    }
+    const bool upright = isUpright(l.kind);
+    if (!std::isfinite(l.height) || l.height < 0 || l.height > 100 || (upright && l.height == 0) || (!upright && l.height != 0)) {
+      error("landmarks.invalid_size", ptr + "/height",
+            "height " + fmt(l.height) + " m of a " + std::string(toString(l.kind)) + " must be " +
+                (upright ? "> 0 and <= 100 m" : "0 (it lies flat)"));
     }
   }
 

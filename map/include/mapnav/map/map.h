@@ -96,6 +96,40 @@ struct Road {
   bool operator==(const Road&) const = default;
 };
 
+/// What a landmark is (issue 28): something beside a road that a camera sees at a known place and
+/// that fixes the position along the road where no intersection is in view. Poles, trees, bollards
+/// and benches stand up from the ground; a manhole cover lies flat in the paving.
+enum class LandmarkKind { Pole, Tree, Bench, Bollard, Manhole };
+/// "pole", "tree", "bench", "bollard", "manhole".
+std::string_view toString(LandmarkKind kind);
+std::optional<LandmarkKind> landmarkKindFromString(std::string_view text);
+/// Every kind, in declaration order (for help texts and enumerations).
+const std::vector<LandmarkKind>& allLandmarkKinds();
+
+/// A landmark's size when the map does not give one, m: a street lamp's post (radius 0.10, 5 m
+/// tall), a tree's trunk (0.15, crown top at 6 m), a bench (0.8 along its seat, 0.8 tall), a
+/// bollard (0.08, 0.9 tall), a manhole cover (0.30, flat).
+struct LandmarkSize {
+  double radius_m = 0;  ///< of the trunk, post or cover; half the length of a bench
+  double height_m = 0;  ///< of its top above the ground; 0 for a flat mark
+};
+LandmarkSize defaultLandmarkSize(LandmarkKind kind);
+/// Does the kind stand up from the ground (everything but a manhole cover)?
+bool isUpright(LandmarkKind kind);
+
+/// A point feature beside (or, for a manhole, in) a road. Frames: world, metres.
+struct Landmark {
+  std::string id;                   ///< unique among intersections, roads and landmarks
+  LandmarkKind kind = LandmarkKind::Pole;
+  Vec2 position = Vec2::Zero();     ///< where it meets the ground: the trunk's, post's or cover's centre
+  double radius = 0.1;              ///< m; see LandmarkSize
+  double height = 5.0;              ///< m; see LandmarkSize
+  /// The road it stands beside (an id); empty: the nearest road, found by Map::roadBeside.
+  std::string road;
+  Properties properties = {};  ///< see Properties
+  bool operator==(const Landmark&) const = default;
+};
+
 /// The map as authored (the file's content). May be invalid: see validateMap().
 struct MapData {
   std::string name;
@@ -104,6 +138,7 @@ struct MapData {
   std::vector<std::pair<std::string, Appearance>> surfaces;  ///< in the file's order
   std::vector<Intersection> intersections;
   std::vector<Road> roads;
+  std::vector<Landmark> landmarks;  ///< optional in the file; none by default
   bool operator==(const MapData&) const = default;
 };
 
@@ -126,6 +161,7 @@ class Map {
   const std::string& name() const { return data().name; }
   const std::vector<Intersection>& intersections() const { return data().intersections; }
   const std::vector<Road>& roads() const { return data().roads; }
+  const std::vector<Landmark>& landmarks() const { return data().landmarks; }
 
   /// nullptr when there is no such id.
   const Intersection* findIntersection(std::string_view id) const;
@@ -162,6 +198,11 @@ class Map {
   std::vector<const Road*> roadsMeeting(const Polygon2& polygon) const;
   /// Intersections whose shape meets the polygon, in id order.
   std::vector<const Intersection*> intersectionsMeeting(const Polygon2& polygon) const;
+  /// Landmarks whose position lies inside the polygon, in the map's order.
+  std::vector<const Landmark*> landmarksIn(const Polygon2& polygon) const;
+  /// The road a landmark stands beside: the one it names, else the road whose paved area is
+  /// nearest (nullptr when the map has no road).
+  const Road* roadBeside(const Landmark& landmark) const;
 
   /// Everything paved, with road widths and intersection shapes.
   Box2 bounds() const;

@@ -19,6 +19,9 @@ struct ValidationOptions {
   double max_coordinate_m = 1e7;
   /// Widths above this (m) are refused (`roads.invalid_width`).
   double max_width_m = 100.0;
+  /// A landmark farther than this (m) from the paved area of the road it stands beside gets a
+  /// `landmarks.far_from_road` warning: a camera looking along that road would hardly see it.
+  double max_landmark_distance_m = 10.0;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
