@@ -7,6 +7,7 @@
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/core/json.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -37,6 +38,44 @@ TEST(MapJson, RoundTripKeepsOptionalMembers) {
   ASSERT_TRUE(back);
   EXPECT_TRUE(issues.empty());
   EXPECT_EQ(*back, data);
+}
+
+TEST(MapJson, RoundTripKeepsLandmarks) {
+  MapData data = testing::crossOfFourRoads();
+  data.landmarks = {Landmark{"T1", LandmarkKind::Tree, Vec2(10, 2.4), 0.2, 7.5, "R1", {{"osm_node", PropertyValue::json("42")}}},
+                    Landmark{"M1", LandmarkKind::Manhole, Vec2(0.3, 12), 0.35, 0.0, "", {}}};
+  Issues issues;
+  const auto back = parseMap(mapToJson(data), issues);
+  ASSERT_TRUE(back);
+  EXPECT_TRUE(issues.empty());
+  EXPECT_EQ(*back, data);
+}
+
+TEST(MapJson, ALandmarkWithoutASizeTakesItsKindsSize) {
+  MapData data = testing::crossOfFourRoads();
+  Json doc = Json::parse(mapToJson(data));
+  doc["landmarks"] = Json::parse(R"([{"id": "B1", "kind": "bench", "position": [5, 2.5]},
+                                     {"id": "P1", "kind": "pole", "position": [-5, 1.5], "height": 4.5}])");
+  Issues issues;
+  const auto back = parseMap(doc.dump(), issues);
+  ASSERT_TRUE(back) << (issues.empty() ? "" : formatIssue(issues[0], "<map>"));
+  ASSERT_EQ(back->landmarks.size(), 2u);
+  EXPECT_EQ(back->landmarks[0].radius, 0.8);  // a bench: half its 1.6 m seat
+  EXPECT_EQ(back->landmarks[0].height, 0.8);
+  EXPECT_EQ(back->landmarks[0].road, "");
+  EXPECT_EQ(back->landmarks[1].radius, 0.10);  // a lamp post's default radius, its own height
+  EXPECT_EQ(back->landmarks[1].height, 4.5);
+}
+
+TEST(ParseMap, AnUnknownLandmarkKindNamesTheKindsThereAre) {
+  Json doc = Json::parse(mapToJson(testing::crossOfFourRoads()));
+  doc["landmarks"] = Json::parse(R"([{"id": "X1", "kind": "statue", "position": [5, 2.5]}])");
+  Issues issues;
+  EXPECT_FALSE(parseMap(doc.dump(), issues));
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].check, "schema.enum");
+  EXPECT_EQ(issues[0].where, "/landmarks/0/kind");
+  EXPECT_EQ(issues[0].message, "unknown landmark kind \"statue\"; expected one of pole, tree, bench, bollard, manhole");
 }
 
 TEST(MapJson, ReadsTheCampusAsAuthored) {

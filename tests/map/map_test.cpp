@@ -98,6 +98,25 @@ TEST_F(CrossOfFourRoads, PolygonQueriesFindWhatMeetsThePolygon) {
   EXPECT_EQ(centre[0]->id, "I1");
 }
 
+TEST(Map, LandmarksInAPolygonAndTheRoadTheyStandBeside) {
+  MapData data = testing::crossOfFourRoads();
+  data.landmarks = {Landmark{"T1", LandmarkKind::Tree, Vec2(10, 2.5), 0.15, 6, "", {}},     // 1.5 m off R1's paving
+                    Landmark{"T2", LandmarkKind::Tree, Vec2(-3, 4), 0.15, 6, "", {}},      // 2 m off R2, 2 m off R3
+                    Landmark{"P1", LandmarkKind::Pole, Vec2(10, -2), 0.1, 5, "R3", {}},    // names R3, 9 m off it
+                    Landmark{"M1", LandmarkKind::Manhole, Vec2(0.2, -15), 0.3, 0, "", {}}};  // in R4's paving
+  const Map map(data);
+  const auto in = map.landmarksIn({{5, -5}, {15, -5}, {15, 5}, {5, 5}});
+  ASSERT_EQ(in.size(), 2u);
+  EXPECT_EQ(in[0]->id, "T1");
+  EXPECT_EQ(in[1]->id, "P1");
+  EXPECT_TRUE(map.landmarksIn({{5, 3}, {15, 3}, {15, 5}, {5, 5}}).empty());
+  EXPECT_EQ(map.roadBeside(map.landmarks()[0])->id, "R1");
+  EXPECT_EQ(map.roadBeside(map.landmarks()[1])->id, "R2");  // a tie at 2 m: the first id
+  EXPECT_EQ(map.roadBeside(map.landmarks()[2])->id, "R3");  // the road it names, though R1 is nearer
+  EXPECT_EQ(map.roadBeside(map.landmarks()[3])->id, "R4");
+  EXPECT_TRUE(map.warnings().empty());  // within 10 m of their roads, nothing standing on the paving
+}
+
 TEST_F(CrossOfFourRoads, BoundsCoverThePavedArea) {
   EXPECT_VEC2_NEAR(map.bounds().min(), Vec2(-21, -21), 1e-9);
   EXPECT_VEC2_NEAR(map.bounds().max(), Vec2(21, 21), 1e-9);
