@@ -54,6 +54,13 @@ void describe(const Prediction& p, std::ostream& out) {
     }
     out << line;
   }
+  for (const PredictedLandmark& l : p.view.landmarks) {
+    char line[200];
+    std::snprintf(line, sizeof line, "  landmark %-8s %-7s at (%5.1f, %5.1f) m, base pixel (%.0f, %.0f), %.0f px tall\n",
+                  l.id.c_str(), l.kind.c_str(), l.vehicle.x(), l.vehicle.y(), l.image_base.x(), l.image_base.y(),
+                  (l.image_top - l.image_base).norm());
+    out << line;
+  }
 }
 
 }  // namespace

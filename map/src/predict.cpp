@@ -292,6 +292,41 @@ struct ViewPredictor::Store {
   }
 };
 
+namespace {
+
+// The landmarks whose ground contact point lies in the footprint and projects into the image,
+// nearest the camera first (ties in the map's order).
+void addLandmarks(const Map& map, const Pose2& pose, const Camera& camera, Prediction& out) {
+  const Vec2 centre = camera.center().head<2>();
+  std::vector<std::pair<double, const Landmark*>> found;
+  for (const Landmark* l : map.landmarksIn(out.footprint_world)) {
+    found.emplace_back((pose.inverseTransform(l->position) - centre).norm(), l);
+  }
+  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [range, l] : found) {
+    const Vec2 vehicle = pose.inverseTransform(l->position);
+    const auto base = camera.projectGround(vehicle);
+    const auto top = camera.project(Vec3(vehicle.x(), vehicle.y(), l->height));
+    if (!base || !top || !camera.inImage(*base)) continue;
+    // The diameter at the base: the two points a radius to either side, across the line of sight.
+    const Vec2 across = Vec2(-(vehicle - centre).y(), (vehicle - centre).x()).normalized() * l->radius;
+    const auto left = camera.projectGround(vehicle + across), right = camera.projectGround(vehicle - across);
+    PredictedLandmark p;
+    p.id = l->id;
+    p.kind = std::string(toString(l->kind));
+    p.vehicle = vehicle;
+    p.radius_m = l->radius;
+    p.height_m = l->height;
+    p.image_base = *base;
+    p.image_top = *top;
+    p.width_px = left && right ? (*left - *right).norm() : 0.0;
+    out.view.landmarks.push_back(std::move(p));
+    out.landmarks.push_back(l);
+  }
+}
+
+}  // namespace
+
 ViewPredictor::ViewPredictor(const Map& map, const PredictOptions& options)
     : map_(&map), options_(options), store_(std::make_unique<Store>()) {
   options_.validate();
@@ -378,6 +413,7 @@ Prediction ViewPredictor::predict(const Pose2& pose, const Camera& camera) {
     addRegion(x->id, regionKind(x->kind), intersectionSurface(map, *x), store_->of(*x, predictor, map));
   }
   addRelations(out.view, options);
+  addLandmarks(map, pose, camera, out);
   return out;
 }
 
@@ -437,6 +473,15 @@ std::string predictionToJson(const Prediction& p) {
     }
   }
   doc["relations"] = relations;
+  Json landmarks = Json::array();
+  for (std::size_t i = 0; i < p.view.landmarks.size(); ++i) {
+    const PredictedLandmark& l = p.view.landmarks[i];
+    landmarks.push_back({{"id", l.id}, {"kind", l.kind}, {"world", pointJson(p.landmarks[i]->position)},
+                         {"vehicle", pointJson(l.vehicle)}, {"image_base", pointJson(l.image_base)},
+                         {"image_top", pointJson(l.image_top)}, {"width_px", round3(l.width_px)},
+                         {"height_px", round3((l.image_top - l.image_base).norm())}});
+  }
+  doc["landmarks"] = landmarks;
   return dumpJson(doc);
 }
 

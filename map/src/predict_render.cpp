@@ -61,6 +61,29 @@ struct ImagePanel {
   Vec2 pixelToPanel(const Vec2& px) const { return Vec2(x0 + (px.x() + 0.5) * scale, (px.y() + 0.5) * scale); }
 };
 
+// The landmarks in view: what stands as a bar from its base to its top, one diameter wide (at
+// least 3 px), a flat mark as a ring; a dot at the base, the id beside it.
+void drawLandmarks(render::Canvas& canvas, const ImagePanel& panel, const PredictedObject& view) {
+  using render::Rgb;
+  for (const PredictedLandmark& l : view.landmarks) {
+    const Vec2 base = panel.pixelToPanel(l.image_base), top = panel.pixelToPanel(l.image_top);
+    const double width = std::max(3.0, l.width_px * panel.scale);
+    const Rgb colour = l.kind == "tree" ? Rgb{60, 110, 30} : Rgb{30, 30, 110};
+    if (l.height_m > 0) {
+      canvas.polyline({base, top}, render::Style{std::nullopt, colour, width, 0.85, false});
+    } else {
+      canvas.circle(base, std::max(3.0, width / 2), render::Style{std::nullopt, colour, 2.0, 1.0, false});
+    }
+    canvas.circle(base, 2.5, render::Style{Rgb{255, 255, 255}, colour, 1.0, 1.0, false});
+    render::TextStyle text;
+    text.size_px = 11;
+    text.color = colour;
+    text.halo = Rgb{255, 255, 255};
+    text.anchor = render::Anchor::Start;
+    canvas.text(base + Vec2(width / 2 + 3, -3), l.id, text);
+  }
+}
+
 std::vector<Vec2> projectAll(const ImagePanel& panel, const std::vector<Vec2>& ground) {
   std::vector<Vec2> out;
   for (const Vec2& g : ground) {
@@ -158,6 +181,7 @@ render::Canvas renderPrediction(const Map& map, const Prediction& prediction, co
       canvas.text(*mid + Vec2(0, -6), s.id, text);
     }
   }
+  drawLandmarks(canvas, panel, prediction.view);
   // The image panel's frame hides whatever spilled past the image.
   canvas.polygon({{x0 - gap, 0}, {x0, 0}, {x0, double(height)}, {x0 - gap, double(height)}},
                  Style{Rgb{255, 255, 255}, std::nullopt, 1.0, 1.0, false});

@@ -104,6 +104,45 @@ TEST(StraightRoadAhead, GivesTwoParallelSegmentsOneWidthApartAtThePinholePixels)
   EXPECT_NEAR(p.view.relations[0].separation_m, 2.0, 1e-9);
 }
 
+// A point (x, y, z) of the vehicle frame through the same pin-hole, written out independently.
+Vec2 pinholePixel3(const Vec3& q) {
+  const double Z = q.x() * std::cos(kTilt) + (kHeight - q.z()) * std::sin(kTilt);
+  const double Y = (kHeight - q.z()) * std::cos(kTilt) - q.x() * std::sin(kTilt);
+  return {kCx + kF * -q.y() / Z, kCy + kF * Y / Z};
+}
+
+TEST(StraightRoadAhead, ListsTheLandmarksInViewNearestFirstWithTheirBaseAndTopPixels) {
+  MapData data = straightRoad();
+  data.landmarks = {Landmark{"P1", LandmarkKind::Pole, Vec2(6, 2), 0.1, 5.0, "", {}},
+                    Landmark{"B1", LandmarkKind::Bench, Vec2(-5, 2), 0.8, 0.8, "", {}},     // behind the camera
+                    Landmark{"M1", LandmarkKind::Manhole, Vec2(30, 0), 0.3, 0.0, "", {}},   // beyond the 15 m range
+                    Landmark{"X1", LandmarkKind::Bollard, Vec2(8, 9), 0.08, 0.9, "", {}},   // out of the field
+                    Landmark{"T1", LandmarkKind::Tree, Vec2(4, -2.5), 0.15, 6.0, "", {}}};
+  const Map map(data);
+  const auto camera = pinhole();
+  const Prediction p = predictView(map, Pose2(0, 0, 0), *camera);
+  ASSERT_EQ(p.view.landmarks.size(), 2u);
+  const PredictedLandmark& tree = p.view.landmarks[0];
+  const PredictedLandmark& pole = p.view.landmarks[1];
+  EXPECT_EQ(tree.id, "T1");
+  EXPECT_EQ(tree.kind, "tree");
+  EXPECT_EQ(pole.id, "P1");
+  EXPECT_EQ(p.landmarks[1], &map.landmarks()[0]);
+  EXPECT_VEC2_NEAR(pole.vehicle, Vec2(6, 2), 1e-12);
+  EXPECT_VEC2_NEAR(pole.image_base, pinholePixel(Vec2(6, 2)), 1e-6);
+  EXPECT_VEC2_NEAR(pole.image_top, pinholePixel3(Vec3(6, 2, 5)), 1e-6);
+  EXPECT_NEAR(tree.image_top.y(), pinholePixel3(Vec3(4, -2.5, 6)).y(), 1e-6);
+  // Its diameter: the ground points 0.1 m to either side across the line of sight, (6, 2) ± 0.1 (−2, 6)/√40.
+  const Vec2 across = Vec2(-2, 6) / std::sqrt(40.0) * 0.1;
+  EXPECT_NEAR(pole.width_px, (pinholePixel(Vec2(6, 2) + across) - pinholePixel(Vec2(6, 2) - across)).norm(), 1e-6);
+  EXPECT_EQ(pole.height_m, 5.0);
+  // Seen from 3 m further along the road, the pole is 3 m nearer, and so is every pixel.
+  const Prediction q = predictView(map, Pose2(3, 0, 0), *camera);
+  ASSERT_GE(q.view.landmarks.size(), 1u);
+  EXPECT_EQ(q.view.landmarks[0].id, "P1");
+  EXPECT_VEC2_NEAR(q.view.landmarks[0].image_base, pinholePixel(Vec2(3, 2)), 1e-6);
+}
+
 TEST(StraightRoadAhead, SegmentIdsStayTheSameAsTheVehicleMoves) {
   const Map map(straightRoad());
   const auto camera = pinhole();

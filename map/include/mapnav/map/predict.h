@@ -52,6 +52,7 @@ struct Prediction {
   PredictedObject view;                            ///< what Vision is given
   std::vector<Segment2> segments_world;            ///< view.segments[i] in the world frame
   std::vector<std::vector<Polygon2>> regions_world;  ///< view.regions[i] in the world frame
+  std::vector<const Landmark*> landmarks;          ///< view.landmarks[i] in the map
 
   bool empty() const { return view.empty(); }
 };

@@ -42,12 +42,27 @@ struct SegmentRelation {
   Vec2 point = Vec2::Zero();  ///< crossing: where the lines meet, vehicle frame
 };
 
+/// A landmark the camera should see (issue 28): something beside the road at a known place, whose
+/// sighting fixes the position along the road. Vehicle- and image-frame geometry only.
+struct PredictedLandmark {
+  std::string id;           ///< the map's landmark id
+  std::string kind;         ///< "pole", "tree", "bench", "bollard", "manhole"
+  Vec2 vehicle = Vec2::Zero();     ///< where it meets the ground (its centre), vehicle frame, m
+  double radius_m = 0, height_m = 0;  ///< its size (height 0: flat on the ground)
+  Vec2 image_base = Vec2::Zero();  ///< the projection of its ground contact point (centre), px
+  Vec2 image_top = Vec2::Zero();   ///< the projection of its top above that point, px (= base when flat)
+  double width_px = 0;      ///< its diameter as seen at the base, px
+};
+
 struct PredictedObject {
   double timestamp = 0;           ///< seconds, of the frame this prediction is for
   Polygon2 footprint;             ///< the ground the camera sees, vehicle frame
   std::vector<PredictedRegion> regions;
   std::vector<InterestSegment> segments;
   std::vector<SegmentRelation> relations;
+  /// Landmarks whose ground contact point lies in the footprint and projects into the image,
+  /// nearest first.
+  std::vector<PredictedLandmark> landmarks;
   /// How uncertain the pose this view was predicted from is, in the vehicle frame: the covariance of
   /// (x forward m, y left m, heading rad). Zero when unknown (a bootstrap, an eval). Line labelling
   /// widens its gate with it: a predicted line's place in the vehicle frame is that uncertain.
