@@ -9,6 +9,7 @@
 #include "mapnav/core/options.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/localization/correspondences.h"
+#include "mapnav/localization/observability.h"
 #include "mapnav/map/map.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/tokens/detected_object.h"
@@ -28,7 +29,86 @@ void LocalizeOptions::validate() const {
           "finite and > 0");
   require(std::isfinite(curve_piece_m) && curve_piece_m >= 0, "curve_piece_m", curve_piece_m, "finite and >= 0");
   require(std::isfinite(edge_sigma_px) && edge_sigma_px >= 0, "edge_sigma_px", edge_sigma_px, "finite and >= 0");
+  require(std::isfinite(landmark_sigma_px) && landmark_sigma_px >= 0, "landmark_sigma_px", landmark_sigma_px,
+          "finite and >= 0");
 }
+
+std::optional<LandmarkObservation> landmarkObservation(const Camera& camera, const std::string& id, const Vec2& image_base,
+                                                       const Mat2& pixel_covariance, const Vec2& map_world) {
+  const Vec2 origin = camera.center().head<2>();
+  const auto ground = camera.backproject(image_base);
+  if (!ground) return std::nullopt;
+  auto rangeBearing = [&](const Vec2& g) {
+    const Vec2 d = g - origin;
+    return Vec2(d.norm(), std::atan2(d.y(), d.x()));
+  };
+  const Vec2 z = rangeBearing(*ground);
+  // d(range, bearing) / d(u, v) by central differences of half a pixel.
+  Mat2 j;
+  for (int k = 0; k < 2; ++k) {
+    const Vec2 du = 0.5 * Vec2::Unit(k);
+    const auto plus = camera.backproject(image_base + du), minus = camera.backproject(image_base - du);
+    if (!plus || !minus) return std::nullopt;
+    j.col(k) = rangeBearing(*plus) - rangeBearing(*minus);
+    j(1, k) = normalizeAngle(j(1, k));
+  }
+  LandmarkObservation o;
+  o.id = id;
+  o.map_world = map_world;
+  o.origin_vehicle = origin;
+  o.range_m = z.x();
+  o.bearing_rad = z.y();
+  o.covariance = j * pixel_covariance * j.transpose();
+  o.covariance = 0.5 * (o.covariance + o.covariance.transpose()).eval();
+  return o;
+}
+
+namespace {
+
+// The landmarks Vision found, as observations of the prediction's landmarks (matched by id).
+std::vector<LandmarkObservation> landmarkObservations(const Prediction& prediction, const DetectedObject& detected,
+                                                      const Camera& camera, double sigma_px) {
+  std::vector<LandmarkObservation> out;
+  for (const DetectedLandmark& d : detected.landmarks) {
+    if (!d.found) continue;
+    for (std::size_t i = 0; i < prediction.view.landmarks.size(); ++i) {
+      if (prediction.view.landmarks[i].id != d.id || i >= prediction.landmarks.size()) continue;
+      const Mat2 covariance = d.covariance + Mat2::Identity() * sigma_px * sigma_px;
+      if (auto o = landmarkObservation(camera, d.id, d.image_base, covariance, prediction.landmarks[i]->position)) {
+        out.push_back(std::move(*o));
+      }
+    }
+  }
+  return out;
+}
+
+// Fuses the landmarks into `out` (the lines' result): counts, information, status, the cue.
+void addLandmarks(PoseFilter& filter, const std::vector<LandmarkObservation>& observations, CurrentPosition& out) {
+  const bool lines_along = out.status == PositionStatus::Corrected && out.observed_along;
+  out.along_cue = lines_along ? AlongCue::Intersection : AlongCue::None;
+  if (observations.empty()) return;
+  const LandmarkUpdateResult r = filter.updateLandmarks(observations);
+  out.landmarks_used = static_cast<int>(r.used.size());
+  out.landmarks_rejected = r.rejected;
+  if (r.used.empty()) {
+    out.reason += "; landmark(s) rejected by the gate: " + std::to_string(r.rejected.size());
+    return;
+  }
+  const bool corrected = out.status == PositionStatus::Corrected;
+  out.pose = filter.pose();
+  out.covariance = filter.covariance();
+  out.information = (corrected ? out.information : Mat3::Zero()) + r.information;
+  const Observability seen = observability(out.information, out.pose.heading(), filter.options().match.min_information);
+  out.observed_lateral = seen.lateral;
+  out.observed_along = seen.along;
+  out.observed_heading = seen.heading;
+  if (!lines_along && seen.along) out.along_cue = AlongCue::Landmark;
+  const std::string what = std::to_string(r.used.size()) + " landmark(s)";
+  out.reason = corrected ? out.reason + "; " + what : "corrected from " + what + " (" + out.reason + ")";
+  out.status = PositionStatus::Corrected;
+}
+
+}  // namespace
 
 std::optional<double> groundMetresPerPixel(const Camera& camera, const Segment2& line) {
   const Vec2 mid = line.pointAt(0.5);
@@ -70,14 +150,19 @@ CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, cons
       park = true;
     }
   }
+  CurrentPosition out;
   if (lines.empty()) {
     const bool any_label = std::any_of(detected.lines.begin(), detected.lines.end(),
                                        [](const DetectedLine& l) { return l.label && !l.frame_edge; });
-    return filter.current(t, any_label ? "no usable lines (no label matches a predicted segment): odometry only"
-                                       : "no usable lines (none labelled, no centre line): odometry only");
+    out = filter.current(t, any_label ? "no usable lines (no label matches a predicted segment): odometry only"
+                                      : "no usable lines (none labelled, no centre line): odometry only");
+  } else {
+    out = filter.update(lines, t);
+    if (park) out.reason = "park mode, " + out.reason;
   }
-  CurrentPosition out = filter.update(lines, t);
-  if (park) out.reason = "park mode, " + out.reason;
+  if (camera != nullptr) {
+    addLandmarks(filter, landmarkObservations(prediction, detected, *camera, options.landmark_sigma_px), out);
+  }
   return out;
 }
 

@@ -1,4 +1,4 @@
-// PositionStatus's names, as the trace and the mission reports write them.
+// PositionStatus's and AlongCue's names, as the trace and the mission reports write them.
 #include "mapnav/tokens/current_position.h"
 
 namespace mapnav {
@@ -19,6 +19,15 @@ std::optional<PositionStatus> positionStatusFromString(std::string_view text) {
     if (toString(s) == text) return s;
   }
   return std::nullopt;
+}
+
+std::string_view toString(AlongCue cue) {
+  switch (cue) {
+    case AlongCue::None: return "none";
+    case AlongCue::Intersection: return "intersection";
+    case AlongCue::Landmark: return "landmark";
+  }
+  return "none";
 }
 
 }  // namespace mapnav

@@ -39,6 +39,11 @@ struct LocalizeOptions {
   /// tree shadow at campus_tour's I8) collapsed the along-road sigma from 0.28 to 0.035 m in a frame
   /// and the gate then refused the good ones.
   double edge_sigma_px = 2.0;
+  /// Landmarks (issue 28): the detected base pixel's covariance is widened by this many pixels in
+  /// each direction (the detector's own covariance plus the map's survey error and the landmark's
+  /// lean, seen from the camera), px. 1 px: a pole's base seen 10 m ahead by the Terregator camera is
+  /// 1-2 cm across and 5-7 cm along the line of sight per pixel.
+  double landmark_sigma_px = 1.0;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
@@ -47,12 +52,20 @@ struct LocalizeOptions {
 /// The Map module's step: predict `filter` with `motion`, match `detected`'s labelled lines to
 /// `prediction`'s interest segments and update. Park mode: when no labelled line is usable and
 /// `detected` has a centre line and `map` is given, that centre line against the nearest road's.
-/// A failed DetectedObject, or nothing to match, leaves the pose to odometry and says so. `camera`:
-/// the one the frame was taken with, for LocalizeOptions::edge_sigma_px. `dt_s`: the time `motion`
-/// covers (PoseFilter::predict).
+/// Then the landmarks `detected` found, matched by id to the prediction's, as range and bearing
+/// updates (PoseFilter::updateLandmarks; they need `camera`). A failed DetectedObject, or nothing to
+/// match, leaves the pose to odometry and says so. `camera`: the one the frame was taken with, for
+/// LocalizeOptions::edge_sigma_px and the landmarks. `dt_s`: the time `motion` covers
+/// (PoseFilter::predict). The result's along_cue says what observed the along-road position.
 CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, const Prediction& prediction,
                          const DetectedObject& detected, const LocalizeOptions& options = {},
                          const Map* map = nullptr, const Camera* camera = nullptr, double dt_s = 0);
+
+/// A detected landmark's base pixel, with its covariance (px^2), as range and bearing on the ground
+/// from `camera`'s optical centre (the covariance carried through the ground back-projection);
+/// nullopt when the pixel does not see the ground. `map_world` is the landmark's place in the map.
+std::optional<LandmarkObservation> landmarkObservation(const Camera& camera, const std::string& id, const Vec2& image_base,
+                                                       const Mat2& pixel_covariance, const Vec2& map_world);
 
 /// Metres on the ground across `line` (vehicle frame) per pixel across its image in `camera`, at
 /// the line's midpoint; nullopt when the camera does not see it.

@@ -80,6 +80,25 @@ struct FilterOptions {
 /// gyro bias b (rad/s).
 using Mat5 = Eigen::Matrix<double, 5, 5>;
 
+/// A landmark seen in one frame (issue 28): where the map has it and where the camera saw it, as
+/// range and bearing on the ground from the camera's optical centre. Unlike a road edge it fixes
+/// the position along the road as well as across it.
+struct LandmarkObservation {
+  std::string id;                       ///< the map's landmark id
+  Vec2 map_world = Vec2::Zero();        ///< its ground contact point in the map, world frame, m
+  Vec2 origin_vehicle = Vec2::Zero();   ///< the optical centre's ground point, vehicle frame, m
+  double range_m = 0;                   ///< measured distance on the ground from the origin, m
+  double bearing_rad = 0;               ///< measured direction from the vehicle's x axis, CCW, rad
+  Mat2 covariance = Mat2::Identity();   ///< of (range m, bearing rad)
+};
+
+/// What a frame's landmark observations did to the filter.
+struct LandmarkUpdateResult {
+  std::vector<std::string> used;      ///< ids fused, in the order given
+  std::vector<std::string> rejected;  ///< ids beyond the gate (Mahalanobis, 2 degrees of freedom)
+  Mat3 information = Mat3::Zero();    ///< the fused observations' information over (x, y, heading)
+};
+
 /// An extended Kalman filter over the pose (x, y, heading) in the world, with the odometry's scale
 /// error and gyro bias as two more states (MotionNoiseOptions).
 class PoseFilter {
@@ -116,6 +135,14 @@ class PoseFilter {
   /// The returned position's status says whether the pose changed; on Rejected / OdometryOnly the
   /// filter is left as it was.
   CurrentPosition update(const std::vector<LineCorrespondence>& lines, double timestamp = 0);
+
+  /// Fuses landmark observations one after another, each an EKF update of the full state (x, y,
+  /// heading, e, b) with the range and bearing of the landmark from the optical centre: an
+  /// observation along the road also estimates the odometry's scale, through its correlation with
+  /// the position. Each is gated by its Mahalanobis distance (2 dof, FilterOptions::gate_probability)
+  /// and skipped when beyond the gate. Throws InvalidInput for a covariance that is not positive
+  /// definite or a non-finite measurement.
+  LandmarkUpdateResult updateLandmarks(const std::vector<LandmarkObservation>& observations);
 
   /// The filter's state as a CurrentPosition (status OdometryOnly, nothing observed).
   CurrentPosition current(double timestamp, std::string reason) const;

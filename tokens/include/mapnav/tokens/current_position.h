@@ -27,6 +27,12 @@ enum class PositionStatus {
 std::string_view toString(PositionStatus status);
 std::optional<PositionStatus> positionStatusFromString(std::string_view text);
 
+/// What fixed the position along the road in a frame (issue 28): lines across the road (an
+/// intersection's or a corner's), landmarks, or nothing (odometry carries it).
+enum class AlongCue { None, Intersection, Landmark };
+/// "none", "intersection", "landmark".
+std::string_view toString(AlongCue cue);
+
 /// The CurrentPosition token (Map → Navigator).
 struct CurrentPosition {
   double timestamp = 0;                 ///< seconds, of the frame
@@ -41,6 +47,9 @@ struct CurrentPosition {
   PositionStatus status = PositionStatus::OdometryOnly;
   std::string reason;                   ///< what was used, or why nothing was ("no labelled lines")
   int lines_used = 0;                   ///< correspondences fused
+  int landmarks_used = 0;               ///< landmark observations fused
+  std::vector<std::string> landmarks_rejected;  ///< landmark observations beyond the gate
+  AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position, if anything
   std::vector<std::string> outliers;    ///< correspondences the robust fit rejected
   double mahalanobis_d2 = 0;            ///< the gate's statistic (0 when there was no measurement)
   /// IoU on the ground of Vision's road region and the predicted paved area (regionAgreement);

@@ -20,6 +20,17 @@ struct DetectedLine {
   bool frame_edge = false;           ///< part of the image border, never a road edge
 };
 
+/// A predicted landmark looked for in the frame (issue 28): found where it meets the ground, or
+/// not there.
+struct DetectedLandmark {
+  std::string id;                      ///< the predicted landmark's id (PredictedLandmark::id)
+  bool found = false;                  ///< false: looked for near its prediction and not seen
+  std::string reason;                  ///< why not found ("no vertical edge pair near the prediction")
+  Vec2 image_base = Vec2::Zero();      ///< where it meets the ground (its centre), px
+  Mat2 covariance = Mat2::Identity();  ///< of image_base, px^2
+  double score = 0;                    ///< how sure, 0..1
+};
+
 struct DetectedObject {
   double timestamp = 0;
   enum class Status { Ok, Failed };
@@ -30,6 +41,7 @@ struct DetectedObject {
   Polygon2 region_vehicle;           ///< the same on the ground, vehicle frame (empty where above the horizon)
   std::vector<DetectedLine> lines;
   std::optional<Segment2> centerline_vehicle;  ///< when the pipeline finds one
+  std::vector<DetectedLandmark> landmarks;     ///< the predicted landmarks looked for, in their order
   /// The road region found, per pixel and holes and all (a car on the road is not road), when the
   /// frame wants it (VisionFrame::want_masks) and the pipeline gives one; else empty: region_image
   /// is its outline. 1 channel, the frame's size, 255 inside. For scoring, not for the mission loop.
