@@ -29,6 +29,21 @@ TEST(DescribeMap, CountsLengthsAndBoundsOfTheCross) {
   EXPECT_NE(toText(info).find("total length:  80.0 m"), std::string::npos);
 }
 
+TEST(DescribeMap, CountsLandmarksByKind) {
+  MapData data = testing::crossWithOneLandmarkOfEachKind();
+  data.landmarks.push_back({"T2", LandmarkKind::Tree, Vec2(3, 12), 0.2, 7.0, "", {}});
+  const MapInfo info = describeMap(Map(data));
+  EXPECT_EQ(info.landmarks, 6u);
+  EXPECT_EQ(info.landmarks_by_kind,
+            (std::map<std::string, std::size_t>{{"bench", 1}, {"bollard", 1}, {"manhole", 1}, {"pole", 1}, {"tree", 2}}));
+  EXPECT_NE(toText(info).find("\nlandmarks:     6 (bench 1, bollard 1, manhole 1, pole 1, tree 2)\n"), std::string::npos)
+      << toText(info);
+  const Json j = Json::parse(toJson(info));
+  EXPECT_EQ(j["landmarks"], 6);
+  EXPECT_EQ(j["landmarks_by_kind"]["tree"], 2);
+  EXPECT_NE(toText(describeMap(Map(testing::crossOfFourRoads()))).find("\nlandmarks:     0\n"), std::string::npos);
+}
+
 TEST(RenderMap, RoadsArePaintedInTheirSurfaceColourOnTheShoulderGround) {
   const Map map(testing::crossOfFourRoads());
   MapRenderOptions options;
