@@ -103,7 +103,7 @@ int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::
     }
     saveMap(imported->map, config.output);
     out << "wrote " << config.output << " (" << imported->map.intersections.size() << " intersections, "
-        << imported->map.roads.size() << " roads)\n";
+        << imported->map.roads.size() << " roads, " << imported->map.landmarks.size() << " landmarks)\n";
     for (const std::string& a : imported->assumptions) out << "  assumed: " << a << "\n";
     return static_cast<int>(kOk);
   });
@@ -156,7 +156,8 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
 int runExportGeoJson(const ExportGeoJsonConfig& config, std::ostream& out, std::ostream& err) {
   return withMap(config.input, err, [&](const Map& map) {
     writeFileAtomic(config.output, exportGeoJson(map.data(), config.origin));
-    out << "wrote " << config.output << " (" << map.intersections().size() + map.roads().size() << " features)\n";
+    out << "wrote " << config.output << " ("
+        << map.intersections().size() + map.roads().size() + map.landmarks().size() << " features)\n";
     return static_cast<int>(kOk);
   });
 }
@@ -212,7 +213,8 @@ void addRender(CLI::App& map, Commands& commands) {
 void addImportGeoJson(CLI::App& map, Commands& commands) {
   auto* import = commands.hold<ImportGeoJsonConfig>();
   auto* origin = commands.hold<std::string>();
-  CLI::App* im = map.add_subcommand("import-geojson", "Convert GeoJSON (LineString roads, Point/Polygon intersections) to a mapnav map");
+  CLI::App* im = map.add_subcommand(
+      "import-geojson", "Convert GeoJSON (LineString roads, Point/Polygon intersections, Point landmarks) to a mapnav map");
   im->add_option("input", import->input, "GeoJSON FeatureCollection in lon/lat")->required()->check(CLI::ExistingFile);
   im->add_option("-o,--output", import->output, "mapnav-map/1 JSON to write (only when the import is valid)")->required();
   addOrigin(im, *origin);
