@@ -12,6 +12,7 @@
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/map/geojson.h"
 #include "mapnav/map/info.h"
 #include "mapnav/map/map_io.h"
@@ -103,7 +104,7 @@ int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::
     }
     saveMap(imported->map, config.output);
     out << "wrote " << config.output << " (" << imported->map.intersections.size() << " intersections, "
-        << imported->map.roads.size() << " roads)\n";
+        << imported->map.roads.size() << " roads, " << imported->map.landmarks.size() << " landmarks)\n";
     for (const std::string& a : imported->assumptions) out << "  assumed: " << a << "\n";
     return static_cast<int>(kOk);
   });
@@ -121,6 +122,19 @@ static std::string repairHint(const Issues& issues) {
   return hint.empty() ? hint : "; --repair may fix the " + hint;
 }
 
+// "landmarks: 48 found, 39 kept (9 farther than 10 m from every road dropped; --keep-far-landmarks keeps them)"
+static std::string landmarksLine(const OsmImportReport& report, const OsmImportOptions& options) {
+  const std::size_t far = report.landmarks_far;
+  const std::size_t kept = options.keep_far_landmarks ? report.landmarks_found : report.landmarks_found - far;
+  std::string line = "landmarks: " + std::to_string(report.landmarks_found) + " found, " + std::to_string(kept) + " kept";
+  if (far > 0) {
+    line += " (" + std::to_string(far) + " farther than " + strprintf("%g", options.max_landmark_distance_m) +
+            " m from every road " +
+            (options.keep_far_landmarks ? "kept too)" : "dropped; --keep-far-landmarks keeps them)");
+  }
+  return line + "\n";
+}
+
 int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
     OsmImportOptions options;
@@ -130,11 +144,13 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
     }
     options.origin = config.origin;
     options.repair = config.repair;
+    options.keep_far_landmarks = config.keep_far_landmarks;
     if (config.name) options.name = *config.name;
     const OsmImport imported = importOsm(config.input, options);
     const OsmImportReport& report = imported.report;
     out << config.input << ": " << report.nodes_read << " nodes, " << report.ways_read << " ways; kept "
         << report.ways_kept << " ways\n";
+    if (report.landmarks_found > 0) out << landmarksLine(report, options);
     printIssues(report.issues, config.input, err);
     for (const std::string& repair : report.repairs) out << "repair: " << repair << "\n";
     const Issues issues = validateMap(imported.map);
@@ -146,7 +162,8 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
     }
     saveMap(imported.map, config.output);
     out << "wrote " << config.output << " (" << imported.map.intersections.size() << " intersections, "
-        << imported.map.roads.size() << " roads; " << report.repairs.size() << " repairs, "
+        << imported.map.roads.size() << " roads, " << imported.map.landmarks.size() << " landmarks; "
+        << report.repairs.size() << " repairs, "
         << countSeverity(report.issues, Severity::Warning) << " data warnings, "
         << countSeverity(issues, Severity::Warning) << " map warnings)\n";
     return static_cast<int>(kOk);
@@ -156,7 +173,8 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
 int runExportGeoJson(const ExportGeoJsonConfig& config, std::ostream& out, std::ostream& err) {
   return withMap(config.input, err, [&](const Map& map) {
     writeFileAtomic(config.output, exportGeoJson(map.data(), config.origin));
-    out << "wrote " << config.output << " (" << map.intersections().size() + map.roads().size() << " features)\n";
+    out << "wrote " << config.output << " ("
+        << map.intersections().size() + map.roads().size() + map.landmarks().size() << " features)\n";
     return static_cast<int>(kOk);
   });
 }
@@ -212,7 +230,8 @@ void addRender(CLI::App& map, Commands& commands) {
 void addImportGeoJson(CLI::App& map, Commands& commands) {
   auto* import = commands.hold<ImportGeoJsonConfig>();
   auto* origin = commands.hold<std::string>();
-  CLI::App* im = map.add_subcommand("import-geojson", "Convert GeoJSON (LineString roads, Point/Polygon intersections) to a mapnav map");
+  CLI::App* im = map.add_subcommand(
+      "import-geojson", "Convert GeoJSON (LineString roads, Point/Polygon intersections, Point landmarks) to a mapnav map");
   im->add_option("input", import->input, "GeoJSON FeatureCollection in lon/lat")->required()->check(CLI::ExistingFile);
   im->add_option("-o,--output", import->output, "mapnav-map/1 JSON to write (only when the import is valid)")->required();
   addOrigin(im, *origin);
@@ -251,14 +270,18 @@ void addImportOsm(CLI::App& map, Commands& commands) {
   io->add_flag("--repair", osm->repair,
                "Merge nodes closer than 0.5 m, add an intersection where kept ways cross without a shared node, "
                "drop stubs and loops shorter than 1 m; every repair is listed");
+  io->add_flag("--keep-far-landmarks", osm->keep_far_landmarks,
+               "Keep the landmarks (trees, street lamps, benches, bollards, manholes) farther than 10 m from every "
+               "imported road; by default they are dropped and counted");
   io->add_option("--name", osm->name, "The map's name (default: \"imported from FILE\")");
   io->footer(
       "Ways are split at every node two kept ways share; those nodes and way ends become intersections (id n<node>, "
       "x<k> for one --repair added), roads are w<way> or w<way>-<k>, with the OSM ids in their properties. Widths "
       "from `width` or per highway (footway 2 m, path 1.5, pedestrian 4, steps 2, cycleway 2), surfaces from "
-      "`surface`, grass shoulders, steps with route cost factor 20. Without --origin the origin is the centre of the "
-      "kept data. Data problems are reported as warnings (where = way/ID or node/ID); nothing is written when the "
-      "map is invalid.");
+      "`surface`, grass shoulders, steps with route cost factor 20. Nodes tagged natural=tree, highway=street_lamp, "
+      "amenity=bench, barrier=bollard, man_made=manhole or manhole=* become landmarks (size from circumference and "
+      "height when given). Without --origin the origin is the centre of the kept data. Data problems are reported "
+      "as warnings (where = way/ID or node/ID); nothing is written when the map is invalid.");
   io->callback(commands.choose([osm, text](std::ostream& out, std::ostream& err) {
     if (!text->origin.empty()) osm->origin = parseOrigin(text->origin);
     if (!text->bbox.empty()) osm->bbox = parseBbox(text->bbox);

@@ -55,6 +55,7 @@ struct ImportOsmConfig {
   std::optional<std::string> highways;     ///< "footway,path,..." (default: OsmImportOptions')
   std::optional<GeoOrigin> origin;
   bool repair = false;
+  bool keep_far_landmarks = false;         ///< keep landmarks farther than 10 m from every road
   std::optional<std::string> name;
 };
 int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream& err);

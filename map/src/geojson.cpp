@@ -37,7 +37,7 @@ namespace {
 // A feature as read, before projection: its lon/lat geometry and its properties.
 struct RawFeature {
   std::string pointer;  // "/features/k"
-  enum class Kind { Road, Point, Polygon } kind = Kind::Road;
+  enum class Kind { Road, Point, Polygon, Landmark } kind = Kind::Road;  // Point, Polygon: intersections
   std::vector<LatLon> coordinates;  // the point, or the outer ring without its closing point
   std::vector<std::vector<LatLon>> lines;  // a road's centre line: one (LineString) or more (MultiLineString)
   bool id_from_name = false;  // the id is the feature's "id" member or its "name" property, not properties.id
@@ -47,16 +47,30 @@ struct RawFeature {
   std::optional<int> layer;
   std::optional<RoadStructure> structure;
   std::optional<LatLon> center;
+  std::optional<LandmarkKind> landmark;     // a landmark's kind (properties.landmark)
+  std::optional<double> radius, height;     // a landmark's size
+  std::optional<std::string> road;          // the road a landmark stands beside
   Properties extra;  // the members mapnav does not interpret for this kind of feature, kept as they are
 };
 
-// The members of a feature's properties that mapnav interprets: for roads, and for intersections.
+// The members of a feature's properties that mapnav interprets: for roads, intersections and landmarks.
 // A kept property named like one of them (an OSM way's `surface` tag) is written inside the member
 // kShadowed instead, and read back from there.
 const std::set<std::string, std::less<>> kRoadMembers{"id",    "from",   "to",          "width", "surface",   "left",
                                                       "right", "oneway", "cost_factor", "layer", "structure", "mapnav_kept"};
 const std::set<std::string, std::less<>> kIntersectionMembers{"id", "kind", "center", "mapnav_kept"};
+const std::set<std::string, std::less<>> kLandmarkMembers{"landmark", "id", "radius", "height", "road", "mapnav_kept"};
 constexpr const char* kShadowed = "mapnav_kept";
+
+const std::set<std::string, std::less<>>& interpretedMembers(RawFeature::Kind kind) {
+  switch (kind) {
+    case RawFeature::Kind::Road: return kRoadMembers;
+    case RawFeature::Kind::Landmark: return kLandmarkMembers;
+    case RawFeature::Kind::Point:
+    case RawFeature::Kind::Polygon: break;
+  }
+  return kIntersectionMembers;
+}
 
 std::optional<LatLon> readPosition(const Json& value, const std::string& pointer, Issues& issues) {
   if (!value.is_array() || value.size() < 2 || value.size() > 3) {
@@ -138,6 +152,156 @@ std::string idFromName(const std::string& name) {
   return out.substr(0, 56);  // room for a piece's suffix
 }
 
+// The feature's geometry into `raw` (its kind: a road, a point, a polygon; and its lon/lat).
+// False, with issues, when it is not a geometry mapnav reads.
+bool readGeometry(JsonObject& feature, RawFeature& raw, Issues& issues) {
+  const Json* geometry = feature.member("geometry", true);
+  if (geometry == nullptr) return false;
+  JsonObject g(*geometry, feature.pointer("geometry"), issues);
+  const auto gtype = g.string("type");
+  const Json* coordinates = g.member("coordinates", true);
+  if (!gtype || coordinates == nullptr) return false;
+  const std::string cptr = g.pointer("coordinates");
+  if (*gtype == "LineString") {
+    raw.kind = RawFeature::Kind::Road;
+    auto line = readPositions(*coordinates, cptr, issues, 2);
+    if (!line) return false;
+    raw.lines.push_back(std::move(*line));
+  } else if (*gtype == "MultiLineString") {  // a street drawn in parts: a road per part
+    raw.kind = RawFeature::Kind::Road;
+    if (!coordinates->is_array() || coordinates->empty()) {
+      addIssue(issues, Severity::Error, "geojson.position", cptr, "expected an array of line strings");
+      return false;
+    }
+    for (std::size_t k = 0; k < coordinates->size(); ++k) {
+      auto line = readPositions((*coordinates)[k], pointerJoin(cptr, k), issues, 2);
+      if (!line) return false;
+      raw.lines.push_back(std::move(*line));
+    }
+  } else if (*gtype == "Point") {
+    raw.kind = RawFeature::Kind::Point;
+    auto p = readPosition(*coordinates, cptr, issues);
+    if (!p) return false;
+    raw.coordinates = {*p};
+  } else if (*gtype == "Polygon") {
+    raw.kind = RawFeature::Kind::Polygon;
+    if (!coordinates->is_array() || coordinates->empty()) {
+      addIssue(issues, Severity::Error, "geojson.position", cptr, "expected an array of linear rings");
+      return false;
+    }
+    auto ring = readPositions((*coordinates)[0], pointerJoin(cptr, std::size_t{0}), issues, 4);
+    if (!ring) return false;
+    if (ring->front().lat != ring->back().lat || ring->front().lon != ring->back().lon) {
+      addIssue(issues, Severity::Error, "geojson.position", pointerJoin(cptr, std::size_t{0}),
+               "a linear ring must end at its first position (RFC 7946, 3.1.6)");
+      return false;
+    }
+    ring->pop_back();
+    raw.coordinates = std::move(*ring);
+  } else {
+    addIssue(issues, Severity::Error, "geojson.unsupported_geometry", g.pointer("type"),
+             "geometry \"" + *gtype + "\" is not supported: roads are LineString or MultiLineString, intersections "
+             "Point or Polygon, landmarks Point");
+    return false;
+  }
+  return true;
+}
+
+// The members a road or an intersection feature's properties may carry (read on both kinds, as
+// they always were: a Point's `width` must be a number too).
+void readNetworkMembers(const Json& p, const std::string& pptr, RawFeature& raw, Issues& issues) {
+  raw.id = stringProperty(p, pptr, "id", issues, true);
+  raw.kind_name = stringProperty(p, pptr, "kind", issues);
+  raw.from = stringProperty(p, pptr, "from", issues, true);
+  raw.to = stringProperty(p, pptr, "to", issues, true);
+  raw.surface = stringProperty(p, pptr, "surface", issues);
+  raw.left = stringProperty(p, pptr, "left", issues);
+  raw.right = stringProperty(p, pptr, "right", issues);
+  raw.width = numberProperty(p, pptr, "width", issues);
+  raw.cost_factor = numberProperty(p, pptr, "cost_factor", issues);
+  if (const auto it = p.find("oneway"); it != p.end() && !it->is_null()) {
+    if (it->is_boolean()) {
+      raw.oneway = it->get<bool>();
+    } else {
+      addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, "oneway"), "expected true or false");
+    }
+  }
+  if (const auto layer = numberProperty(p, pptr, "layer", issues)) {
+    if (*layer == std::floor(*layer) && std::abs(*layer) <= 10) {
+      raw.layer = static_cast<int>(*layer);
+    } else {
+      addIssue(issues, Severity::Error, "schema.range", pointerJoin(pptr, "layer"), "expected an integer in [-10, 10]");
+    }
+  }
+  if (const auto structure = stringProperty(p, pptr, "structure", issues)) {
+    raw.structure = roadStructureFromString(*structure);
+    if (!raw.structure) {
+      addIssue(issues, Severity::Error, "schema.enum", pointerJoin(pptr, "structure"),
+               "unknown road structure \"" + *structure + "\"; expected one of none, bridge, tunnel");
+    }
+  }
+  if (const auto it = p.find("center"); it != p.end() && !it->is_null()) {
+    raw.center = readPosition(*it, pointerJoin(pptr, "center"), issues);
+  }
+  if (!raw.id && raw.kind == RawFeature::Kind::Road) {
+    if (const auto name = stringProperty(p, pptr, "name", issues)) {
+      raw.id = idFromName(*name);
+      raw.id_from_name = true;
+    }
+  }
+}
+
+// The members of a landmark's properties: its kind (`landmark`), id, size and road.
+void readLandmarkMembers(const Json& p, const std::string& pptr, RawFeature& raw, Issues& issues) {
+  if (const auto kind = stringProperty(p, pptr, "landmark", issues)) {
+    raw.landmark = readLandmarkKind(*kind, pointerJoin(pptr, "landmark"), issues);
+  }
+  raw.id = stringProperty(p, pptr, "id", issues, true);
+  raw.radius = numberProperty(p, pptr, "radius", issues);
+  raw.height = numberProperty(p, pptr, "height", issues);
+  raw.road = stringProperty(p, pptr, "road", issues, true);
+}
+
+// A feature's properties into `raw`: the members mapnav interprets for its kind, and the rest kept
+// as they are. A Point with a `landmark` property is a landmark. False, with issues, when a member
+// mapnav interprets is wrong.
+bool readProperties(JsonObject& feature, RawFeature& raw, Issues& issues) {
+  const Json* properties = feature.member("properties", false);
+  const std::string pptr = feature.pointer("properties");
+  if (properties == nullptr || properties->is_null()) return true;
+  if (!properties->is_object()) {
+    addIssue(issues, Severity::Error, "schema.type", pptr, "expected an object or null");
+    return false;
+  }
+  const Json& p = *properties;
+  if (const auto it = p.find("landmark"); it != p.end() && !it->is_null()) {
+    if (raw.kind != RawFeature::Kind::Point) {
+      addIssue(issues, Severity::Error, "geojson.unsupported_geometry", feature.pointer("geometry") + "/type",
+               "a landmark (properties.landmark) is a Point feature");
+      return false;
+    }
+    raw.kind = RawFeature::Kind::Landmark;
+  }
+  const std::size_t before = issues.size();
+  if (raw.kind == RawFeature::Kind::Landmark) {
+    readLandmarkMembers(p, pptr, raw, issues);
+  } else {
+    readNetworkMembers(p, pptr, raw, issues);
+  }
+  if (issues.size() != before) return false;
+  const auto& interpreted = interpretedMembers(raw.kind);
+  for (auto it = p.begin(); it != p.end(); ++it) {
+    if (!interpreted.contains(it.key())) raw.extra.emplace(it.key(), propertyFromJson(*it));
+  }
+  if (const auto it = p.find(kShadowed); it != p.end() && it->is_object()) {
+    for (auto k = it->begin(); k != it->end(); ++k) raw.extra.emplace(k.key(), propertyFromJson(*k));
+  } else if (it != p.end()) {
+    addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, kShadowed), "expected an object");
+    return false;
+  }
+  return true;
+}
+
 std::optional<RawFeature> readFeature(const Json& value, const std::string& pointer, Issues& issues) {
   JsonObject feature(value, pointer, issues);
   if (!feature.isObject()) return std::nullopt;
@@ -146,119 +310,9 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
     addIssue(issues, Severity::Error, "geojson.type", feature.pointer("type"), "expected \"Feature\", got \"" + *type + "\"");
     return std::nullopt;
   }
-  const Json* geometry = feature.member("geometry", true);
-  if (geometry == nullptr) return std::nullopt;
-  const std::string gptr = feature.pointer("geometry");
-  JsonObject g(*geometry, gptr, issues);
-  const auto gtype = g.string("type");
-  const Json* coordinates = g.member("coordinates", true);
-  if (!gtype || coordinates == nullptr) return std::nullopt;
-  const std::string cptr = g.pointer("coordinates");
-
   RawFeature raw;
   raw.pointer = pointer;
-  if (*gtype == "LineString") {
-    raw.kind = RawFeature::Kind::Road;
-    auto line = readPositions(*coordinates, cptr, issues, 2);
-    if (!line) return std::nullopt;
-    raw.lines.push_back(std::move(*line));
-  } else if (*gtype == "MultiLineString") {  // a street drawn in parts: a road per part
-    raw.kind = RawFeature::Kind::Road;
-    if (!coordinates->is_array() || coordinates->empty()) {
-      addIssue(issues, Severity::Error, "geojson.position", cptr, "expected an array of line strings");
-      return std::nullopt;
-    }
-    for (std::size_t k = 0; k < coordinates->size(); ++k) {
-      auto line = readPositions((*coordinates)[k], pointerJoin(cptr, k), issues, 2);
-      if (!line) return std::nullopt;
-      raw.lines.push_back(std::move(*line));
-    }
-  } else if (*gtype == "Point") {
-    raw.kind = RawFeature::Kind::Point;
-    auto p = readPosition(*coordinates, cptr, issues);
-    if (!p) return std::nullopt;
-    raw.coordinates = {*p};
-  } else if (*gtype == "Polygon") {
-    raw.kind = RawFeature::Kind::Polygon;
-    if (!coordinates->is_array() || coordinates->empty()) {
-      addIssue(issues, Severity::Error, "geojson.position", cptr, "expected an array of linear rings");
-      return std::nullopt;
-    }
-    auto ring = readPositions((*coordinates)[0], pointerJoin(cptr, std::size_t{0}), issues, 4);
-    if (!ring) return std::nullopt;
-    if (ring->front().lat != ring->back().lat || ring->front().lon != ring->back().lon) {
-      addIssue(issues, Severity::Error, "geojson.position", pointerJoin(cptr, std::size_t{0}),
-               "a linear ring must end at its first position (RFC 7946, 3.1.6)");
-      return std::nullopt;
-    }
-    ring->pop_back();
-    raw.coordinates = std::move(*ring);
-  } else {
-    addIssue(issues, Severity::Error, "geojson.unsupported_geometry", g.pointer("type"),
-             "geometry \"" + *gtype + "\" is not supported: roads are LineString or MultiLineString, intersections Point or Polygon");
-    return std::nullopt;
-  }
-
-  const Json* properties = feature.member("properties", false);
-  const std::string pptr = feature.pointer("properties");
-  if (properties != nullptr && !properties->is_null()) {
-    if (!properties->is_object()) {
-      addIssue(issues, Severity::Error, "schema.type", pptr, "expected an object or null");
-      return std::nullopt;
-    }
-    const Json& p = *properties;
-    const std::size_t before = issues.size();
-    raw.id = stringProperty(p, pptr, "id", issues, true);
-    raw.kind_name = stringProperty(p, pptr, "kind", issues);
-    raw.from = stringProperty(p, pptr, "from", issues, true);
-    raw.to = stringProperty(p, pptr, "to", issues, true);
-    raw.surface = stringProperty(p, pptr, "surface", issues);
-    raw.left = stringProperty(p, pptr, "left", issues);
-    raw.right = stringProperty(p, pptr, "right", issues);
-    raw.width = numberProperty(p, pptr, "width", issues);
-    raw.cost_factor = numberProperty(p, pptr, "cost_factor", issues);
-    if (const auto it = p.find("oneway"); it != p.end() && !it->is_null()) {
-      if (it->is_boolean()) {
-        raw.oneway = it->get<bool>();
-      } else {
-        addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, "oneway"), "expected true or false");
-      }
-    }
-    if (const auto layer = numberProperty(p, pptr, "layer", issues)) {
-      if (*layer == std::floor(*layer) && std::abs(*layer) <= 10) {
-        raw.layer = static_cast<int>(*layer);
-      } else {
-        addIssue(issues, Severity::Error, "schema.range", pointerJoin(pptr, "layer"), "expected an integer in [-10, 10]");
-      }
-    }
-    if (const auto structure = stringProperty(p, pptr, "structure", issues)) {
-      raw.structure = roadStructureFromString(*structure);
-      if (!raw.structure) {
-        addIssue(issues, Severity::Error, "schema.enum", pointerJoin(pptr, "structure"),
-                 "unknown road structure \"" + *structure + "\"; expected one of none, bridge, tunnel");
-      }
-    }
-    if (const auto it = p.find("center"); it != p.end() && !it->is_null()) {
-      raw.center = readPosition(*it, pointerJoin(pptr, "center"), issues);
-    }
-    if (!raw.id && raw.kind == RawFeature::Kind::Road) {
-      if (const auto name = stringProperty(p, pptr, "name", issues)) {
-        raw.id = idFromName(*name);
-        raw.id_from_name = true;
-      }
-    }
-    if (issues.size() != before) return std::nullopt;
-    const auto& interpreted = raw.kind == RawFeature::Kind::Road ? kRoadMembers : kIntersectionMembers;
-    for (auto it = p.begin(); it != p.end(); ++it) {
-      if (!interpreted.contains(it.key())) raw.extra.emplace(it.key(), propertyFromJson(*it));
-    }
-    if (const auto it = p.find(kShadowed); it != p.end() && it->is_object()) {
-      for (auto k = it->begin(); k != it->end(); ++k) raw.extra.emplace(k.key(), propertyFromJson(*k));
-    } else if (it != p.end()) {
-      addIssue(issues, Severity::Error, "schema.type", pointerJoin(pptr, kShadowed), "expected an object");
-      return std::nullopt;
-    }
-  }
+  if (!readGeometry(feature, raw, issues) || !readProperties(feature, raw, issues)) return std::nullopt;
   if (!raw.id && raw.kind == RawFeature::Kind::Road) {  // RFC 7946's feature "id": a street's name in many exports
     if (const auto it = value.find("id"); it != value.end() && (it->is_string() || it->is_number_integer())) {
       const std::string name = it->is_string() ? it->get<std::string>() : std::to_string(it->get<long long>());
@@ -370,7 +424,7 @@ class MapBuilder {
 
   void addIntersections(const std::vector<RawFeature>& raws) {
     for (const RawFeature& raw : raws) {
-      if (raw.kind == RawFeature::Kind::Road) continue;
+      if (raw.kind != RawFeature::Kind::Point && raw.kind != RawFeature::Kind::Polygon) continue;
       Intersection x;
       x.id = raw.id ? *raw.id : freshId("J", next_node_, taken_);
       if (raw.kind == RawFeature::Kind::Point) {
@@ -407,20 +461,7 @@ class MapBuilder {
     std::size_t defaults_width = 0, defaults_surface = 0, named = 0, multi = 0, cut_lines = 0;
     for (const RawFeature& raw : raws) {
       if (raw.kind != RawFeature::Kind::Road) continue;
-      std::vector<std::vector<Vec2>> pieces;
-      for (const Line& l : lines) {
-        if (l.raw != &raw) continue;
-        std::vector<Vec2> piece{l.points.front()};
-        for (std::size_t k = 1; k < l.points.size(); ++k) {
-          piece.push_back(l.points[k]);
-          if (l.cut[k] && k + 1 < l.points.size()) {
-            pieces.push_back(std::move(piece));
-            piece = {l.points[k]};
-          }
-        }
-        pieces.push_back(std::move(piece));
-        cut_lines += std::count(l.cut.begin(), l.cut.end(), true) > 0;
-      }
+      std::vector<std::vector<Vec2>> pieces = piecesOf(raw, lines, cut_lines);
       multi += raw.lines.size() > 1;
       named += raw.id_from_name;
       const std::string base = raw.id ? *raw.id : freshId("R", next_road_, taken_);
@@ -446,9 +487,6 @@ class MapBuilder {
         result_.road_features.push_back(raw.pointer);
       }
     }
-    const auto note = [&](std::size_t n, const std::string& text) {
-      if (n > 0) result_.assumptions.push_back(std::to_string(n) + " " + text);
-    };
     note(defaults_width, "roads without a width: " + strprintf("%g", options_.default_width_m) + " m (the default width)");
     note(defaults_surface, "roads without a surface: " + options_.default_surface + ", shoulders " +
                                options_.default_shoulder + " unless given (the defaults)");
@@ -458,6 +496,28 @@ class MapBuilder {
                         strprintf("%g", options_.snap_tolerance_m) + " m)");
     note(repeated_, "repeated points of centre lines dropped");
     note(made_nodes_, "intersections made where road ends meet (no Point or Polygon feature there)");
+  }
+
+  // Landmarks: Point features with a `landmark` property; the kind's size where the feature gives
+  // none, ids made fresh ("L1", "L2", ...) where it gives none.
+  void addLandmarks(const std::vector<RawFeature>& raws) {
+    std::size_t default_size = 0;
+    for (const RawFeature& raw : raws) {
+      if (raw.kind != RawFeature::Kind::Landmark) continue;
+      Landmark l;
+      l.id = raw.id ? *raw.id : freshId("L", next_landmark_, taken_);
+      l.kind = *raw.landmark;
+      l.position = frame_.toLocal(raw.coordinates[0]);
+      const LandmarkSize size = defaultLandmarkSize(l.kind);
+      l.radius = raw.radius.value_or(size.radius_m);
+      l.height = raw.height.value_or(size.height_m);
+      default_size += !raw.radius || !raw.height;
+      l.road = raw.road.value_or("");
+      l.properties = raw.extra;
+      map_.landmarks.push_back(std::move(l));
+      result_.landmark_features.push_back(raw.pointer);
+    }
+    note(default_size, "landmarks without a radius or a height: their kind's size");
   }
 
   // Kinds: as given, or inferred from the roads that meet. An unknown kind name is an error.
@@ -498,6 +558,25 @@ class MapBuilder {
     std::vector<bool> cut;  // cut[k]: end a piece at vertex k (interior vertices only)
   };
 
+  // The pieces of a road feature's lines, cut where marked; `cut_lines` counts the lines cut.
+  static std::vector<std::vector<Vec2>> piecesOf(const RawFeature& raw, const std::vector<Line>& lines, std::size_t& cut_lines) {
+    std::vector<std::vector<Vec2>> pieces;
+    for (const Line& l : lines) {
+      if (l.raw != &raw) continue;
+      std::vector<Vec2> piece{l.points.front()};
+      for (std::size_t k = 1; k < l.points.size(); ++k) {
+        piece.push_back(l.points[k]);
+        if (l.cut[k] && k + 1 < l.points.size()) {
+          pieces.push_back(std::move(piece));
+          piece = {l.points[k]};
+        }
+      }
+      pieces.push_back(std::move(piece));
+      cut_lines += std::count(l.cut.begin(), l.cut.end(), true) > 0;
+    }
+    return pieces;
+  }
+
   // Marks each interior vertex of a line without `from` / `to` that lies within the snap tolerance
   // of a vertex of another line.
   void cutAtSharedVertices(std::vector<Line>& lines) const {
@@ -523,6 +602,11 @@ class MapBuilder {
         else last = l.points[k];
       }
     }
+  }
+
+  // "12 roads without a width: ..." among the assumptions, when n > 0.
+  void note(std::size_t n, const std::string& text) {
+    if (n > 0) result_.assumptions.push_back(std::to_string(n) + " " + text);
   }
 
   // `id`, or `id` suffixed ~2, ~3, ... when a road has it already (two features of one name).
@@ -575,7 +659,7 @@ class MapBuilder {
   MapData& map_;
   GeoJsonImport& result_;
   std::set<std::string> taken_;
-  std::size_t next_road_ = 0, next_node_ = 0;
+  std::size_t next_road_ = 0, next_node_ = 0, next_landmark_ = 0;
   std::vector<std::optional<std::string>> kind_names_;  // as given, per intersection
   std::set<std::string> road_ids_;                      // the roads' ids so far
   std::size_t made_nodes_ = 0;                          // intersections made at road ends
@@ -599,6 +683,7 @@ std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues
   MapBuilder builder(options, *map.origin, *raws, result);
   builder.addIntersections(*raws);
   builder.addRoads(*raws);
+  builder.addLandmarks(*raws);
   builder.assignKinds(issues);
   if (countSeverity(issues, Severity::Error) != errors_before) return std::nullopt;
   return result;
@@ -609,16 +694,20 @@ std::string GeoJsonImport::toFeaturePointer(const std::string& map_pointer) cons
   std::vector<std::string> parts;
   std::stringstream in(map_pointer.size() > 1 ? map_pointer.substr(1) : "");
   for (std::string part; std::getline(in, part, '/');) parts.push_back(part);
-  if (parts.size() < 2 || (parts[0] != "roads" && parts[0] != "intersections")) return map_pointer;
+  if (parts.size() < 2) return map_pointer;
+  const std::vector<std::string>* features = parts[0] == "roads"           ? &road_features
+                                             : parts[0] == "intersections" ? &intersection_features
+                                             : parts[0] == "landmarks"     ? &landmark_features
+                                                                           : nullptr;
+  if (features == nullptr) return map_pointer;
   std::size_t index = 0;
   try {
     index = std::stoul(parts[1]);
   } catch (...) {
     return map_pointer;
   }
-  const auto& features = parts[0] == "roads" ? road_features : intersection_features;
-  if (index >= features.size() || features[index].empty()) return map_pointer;
-  std::string out = features[index];
+  if (index >= features->size() || (*features)[index].empty()) return map_pointer;
+  std::string out = (*features)[index];
   if (parts.size() == 2) return out;
   const std::string& member = parts[2];
   if (member == "centerline") {
@@ -627,6 +716,8 @@ std::string GeoJsonImport::toFeaturePointer(const std::string& map_pointer) cons
     out += "/geometry/coordinates/0";
   } else if (member == "position") {
     out += "/geometry/coordinates";
+  } else if (parts[0] == "landmarks" && member == "kind") {
+    out += "/properties/landmark";
   } else {
     out += "/properties/" + member;
   }
@@ -686,6 +777,13 @@ std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& or
     if (r.structure != RoadStructure::None) properties["structure"] = toString(r.structure);
     addKept(properties, r.properties, kRoadMembers);
     Json geometry = {{"type", "LineString"}, {"coordinates", positions(r.centerline.points())}};
+    features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
+  }
+  for (const Landmark& l : map.landmarks) {
+    Json properties = {{"landmark", toString(l.kind)}, {"id", l.id}, {"radius", l.radius}, {"height", l.height}};
+    if (!l.road.empty()) properties["road"] = l.road;
+    addKept(properties, l.properties, kLandmarkMembers);
+    Json geometry = {{"type", "Point"}, {"coordinates", position(l.position)}};
     features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
   }
   Json meta = {{"format", kMapFormat}, {"name", map.name}, {"origin", originToJson(*origin)},

@@ -18,6 +18,8 @@ MapInfo describeMap(const Map& map) {
     info.total_length_m += r.centerline.length();
     info.paved_area_m2 += r.centerline.length() * r.width;
   }
+  info.landmarks = map.landmarks().size();
+  for (const Landmark& l : map.landmarks()) ++info.landmarks_by_kind[std::string(toString(l.kind))];
   info.bounds = map.bounds();
   info.components = map.components().size();
   info.origin = map.data().origin;
@@ -30,25 +32,25 @@ std::string fixed(double x, int decimals) {
   std::snprintf(buffer, sizeof buffer, "%.*f", decimals, x);
   return buffer;
 }
+
+// "roads:         4 (asphalt 1, concrete 3)": the label, the total, and the counts by name.
+std::string countsLine(const std::string& label, std::size_t total, const std::map<std::string, std::size_t>& by) {
+  std::string out = label + std::to_string(total);
+  std::string sep = " (";
+  for (const auto& [name, n] : by) {
+    out += sep + name + " " + std::to_string(n);
+    sep = ", ";
+  }
+  return out + (by.empty() ? "" : ")") + "\n";
+}
 }  // namespace
 
 std::string toText(const MapInfo& info) {
   std::ostringstream out;
   out << "name:          " << info.name << "\n";
-  out << "intersections: " << info.intersections;
-  std::string sep = " (";
-  for (const auto& [kind, n] : info.intersections_by_kind) {
-    out << sep << kind << " " << n;
-    sep = ", ";
-  }
-  out << (info.intersections_by_kind.empty() ? "" : ")") << "\n";
-  out << "roads:         " << info.roads;
-  sep = " (";
-  for (const auto& [surface, n] : info.roads_by_surface) {
-    out << sep << surface << " " << n;
-    sep = ", ";
-  }
-  out << (info.roads_by_surface.empty() ? "" : ")") << "\n";
+  out << countsLine("intersections: ", info.intersections, info.intersections_by_kind);
+  out << countsLine("roads:         ", info.roads, info.roads_by_surface);
+  out << countsLine("landmarks:     ", info.landmarks, info.landmarks_by_kind);
   out << "total length:  " << fixed(info.total_length_m, 1) << " m\n";
   out << "paved area:    " << fixed(info.paved_area_m2, 1) << " m²\n";
   if (!info.bounds.isEmpty()) {
@@ -71,6 +73,8 @@ std::string toJson(const MapInfo& info) {
   j["intersections_by_kind"] = Json(info.intersections_by_kind);
   j["roads"] = info.roads;
   j["roads_by_surface"] = Json(info.roads_by_surface);
+  j["landmarks"] = info.landmarks;
+  j["landmarks_by_kind"] = Json(info.landmarks_by_kind);
   j["total_length_m"] = info.total_length_m;
   j["paved_area_m2"] = info.paved_area_m2;
   if (!info.bounds.isEmpty()) {

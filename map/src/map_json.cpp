@@ -143,6 +143,16 @@ Json propertyToJson(const PropertyValue& value) {
   return parsed;
 }
 
+std::optional<LandmarkKind> readLandmarkKind(const std::string& text, const std::string& pointer, Issues& issues) {
+  const auto kind = landmarkKindFromString(text);
+  if (!kind) {
+    std::string allowed;
+    for (LandmarkKind k : allLandmarkKinds()) allowed += std::string(allowed.empty() ? "" : ", ") + std::string(toString(k));
+    addIssue(issues, Severity::Error, "schema.enum", pointer, "unknown landmark kind \"" + text + "\"; expected one of " + allowed);
+  }
+  return kind;
+}
+
 namespace {
 
 std::optional<Intersection> readIntersection(const Json& value, const std::string& pointer, Issues& issues) {
@@ -244,15 +254,7 @@ std::optional<Landmark> readLandmark(const Json& value, const std::string& point
   const auto id = object.string("id");
   const auto kind = object.string("kind");
   std::optional<LandmarkKind> parsed_kind;
-  if (kind) {
-    parsed_kind = landmarkKindFromString(*kind);
-    if (!parsed_kind) {
-      std::string allowed;
-      for (LandmarkKind k : allLandmarkKinds()) allowed += std::string(allowed.empty() ? "" : ", ") + std::string(toString(k));
-      addIssue(issues, Severity::Error, "schema.enum", object.pointer("kind"),
-               "unknown landmark kind \"" + *kind + "\"; expected one of " + allowed);
-    }
-  }
+  if (kind) parsed_kind = readLandmarkKind(*kind, object.pointer("kind"), issues);
   const Json* position = object.member("position", true);
   const auto point = position ? readPoint(*position, object.pointer("position"), issues) : std::nullopt;
   const auto radius = object.number("radius", false);

@@ -25,6 +25,9 @@ Json pointToJson(const Vec2& p);
 Json pointsToJson(const std::vector<Vec2>& points);
 Json surfacesToJson(const std::vector<std::pair<std::string, Appearance>>& surfaces);
 Json originToJson(const GeoOrigin& origin);
+/// The landmark kind a name spells; nothing, with a schema.enum error at `pointer` listing the
+/// kinds, when it spells none.
+std::optional<LandmarkKind> readLandmarkKind(const std::string& text, const std::string& pointer, Issues& issues);
 /// A property's JSON value as kept (a string as itself, anything else as its compact text), and back.
 PropertyValue propertyFromJson(const Json& value);
 Json propertyToJson(const PropertyValue& value);

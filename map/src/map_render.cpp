@@ -178,11 +178,80 @@ void drawMapLayers(render::Canvas& canvas, const render::View& view, const Map& 
   }
 }
 
+namespace {
+
+// A rectangle `half_length` px either side of `center` along the unit `direction` and `half_width`
+// px across it (pixel coordinates).
+std::vector<Vec2> bar(const Vec2& center, const Vec2& direction, double half_length, double half_width) {
+  const Vec2 along = direction * half_length, across = Vec2(-direction.y(), direction.x()) * half_width;
+  return {center - along - across, center + along - across, center + along + across, center - along + across};
+}
+
+// The direction (pixels, unit) of the road a landmark stands beside, at its nearest point; east
+// when the map has no road.
+Vec2 roadDirectionPx(const render::View& view, const Map& map, const Landmark& landmark) {
+  const Road* road = map.roadBeside(landmark);
+  if (road == nullptr) return Vec2(1, 0);
+  const Vec2 tangent = road->centerline.tangentAt(road->centerline.project(landmark.position).arc_length);
+  const Vec2 px = view.toPixel(landmark.position + tangent) - view.toPixel(landmark.position);
+  return px.norm() > 0 ? Vec2(px / px.norm()) : Vec2(1, 0);
+}
+
+void drawLandmark(render::Canvas& canvas, const render::View& view, const Map& map, const Landmark& l) {
+  const double ppm = view.pixelsPerMetre();
+  const Vec2 at = view.toPixel(l.position);
+  const double r = l.radius * ppm;
+  Style style;
+  switch (l.kind) {
+    case LandmarkKind::Tree: {
+      style.fill = kTreeCrown;
+      style.stroke = shade(kTreeCrown, 0.6);
+      canvas.circle(at, std::max(std::clamp(l.height / 3, 1.0, 4.0) * ppm, 4.0), style);
+      Style trunk;
+      trunk.fill = kTreeTrunk;
+      canvas.circle(at, std::max(r, 1.5), trunk);
+      break;
+    }
+    case LandmarkKind::Pole:
+      style.fill = kPole;
+      canvas.circle(at, std::max(r, 2.5), style);
+      break;
+    case LandmarkKind::Bollard:
+      style.fill = kBollard;
+      style.stroke = shade(kBollard, 0.55);
+      canvas.polygon(bar(at, Vec2(1, 0), std::max(r, 2.5), std::max(r, 2.5)), style);
+      break;
+    case LandmarkKind::Bench:
+      style.fill = kBench;
+      canvas.polygon(bar(at, roadDirectionPx(view, map, l), std::max(r, 4.0), std::max(0.25 * ppm, 1.5)), style);
+      break;
+    case LandmarkKind::Manhole:
+      style.fill = kManhole;
+      style.stroke = shade(kManhole, 0.5);
+      style.stroke_width_px = 1.2;
+      canvas.circle(at, std::max(r, 3.0), style);
+      break;
+  }
+}
+
+}  // namespace
+
+void drawLandmarks(render::Canvas& canvas, const render::View& view, const Map& map,
+                   const std::vector<const Landmark*>& landmarks) {
+  // Flat covers first, so that an upright landmark is never hidden under one.
+  for (const bool upright : {false, true}) {
+    for (const Landmark* l : landmarks) {
+      if (isUpright(l->kind) == upright) drawLandmark(canvas, view, map, *l);
+    }
+  }
+}
+
 render::Rgb groundColor(const Map& map) { return lightGround(map); }
 
 MapPicture renderMap(const Map& map, const MapRenderOptions& options) {
   options.validate();
   Box2 world = map.bounds();
+  for (const Landmark& l : map.landmarks()) world.extend(l.position);  // one kept far from every road too
   if (world.isEmpty()) world = Box2(Vec2(-10, -10), Vec2(10, 10));
   const double top_band = options.title ? 40.0 : 0.0;
   render::View fit = render::View::fitWidth(world, options.width_px, options.margin_px);
@@ -193,6 +262,9 @@ MapPicture renderMap(const Map& map, const MapRenderOptions& options) {
   std::vector<const Intersection*> intersections;
   for (const Intersection& x : map.intersections()) intersections.push_back(&x);
   drawMapLayers(canvas, view, map, roads, intersections, options.labels);
+  std::vector<const Landmark*> landmarks;
+  for (const Landmark& l : map.landmarks()) landmarks.push_back(&l);
+  drawLandmarks(canvas, view, map, landmarks);
   if (options.title) {
     TextStyle title;
     title.size_px = 18;

@@ -23,6 +23,7 @@
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/map/geodesy.h"
 #include "mapnav/map/geojson.h"
+#include "osm_internal.h"
 
 namespace mapnav {
 
@@ -44,6 +45,8 @@ void OsmImportOptions::validate() const {
   requireOption(std::isfinite(merge_distance_m) && merge_distance_m >= 0, "OsmImportOptions", "merge_distance_m",
                 merge_distance_m, ">= 0");
   requireOption(std::isfinite(min_piece_m) && min_piece_m >= 0, "OsmImportOptions", "min_piece_m", min_piece_m, ">= 0");
+  requireOption(std::isfinite(max_landmark_distance_m) && max_landmark_distance_m >= 0, "OsmImportOptions",
+                "max_landmark_distance_m", max_landmark_distance_m, ">= 0");
   const auto surfaces = standardSurfaces();
   if (std::none_of(surfaces.begin(), surfaces.end(), [&](const auto& s) { return s.first == shoulder; })) {
     throw InvalidInput("OsmImportOptions.shoulder: \"" + shoulder + "\" is not a standard surface");
@@ -74,7 +77,13 @@ IntersectionKind inferIntersectionKind(const std::vector<double>& headings) {
 
 namespace {
 
-using NodeId = std::int64_t;
+using osm_internal::Cell;
+using osm_internal::CellHash;
+using osm_internal::cellOf;
+using osm_internal::forEachCell;
+using osm_internal::LandmarkTags;
+using osm_internal::NodeId;
+using osm_internal::nodeRef;
 
 struct RawWay {
   NodeId id = 0;
@@ -104,14 +113,29 @@ RoadStructure structureOf(const std::string& bridge, const std::string& tunnel, 
   return RoadStructure::None;
 }
 
-/// Collects the nodes and the kept ways of the file.
+/// A node tagged as a landmark, as read.
+struct RawLandmark {
+  NodeId id = 0;
+  LatLon position;
+  LandmarkKind kind = LandmarkKind::Pole;
+  LandmarkTags tags;  // those mapnav reads
+};
+
+/// Collects the nodes, the landmarks among them and the kept ways of the file.
 class Collector : public osmium::handler::Handler {
  public:
   explicit Collector(const std::set<std::string, std::less<>>& highways) : highways_(highways) {}
 
   void node(const osmium::Node& node) {
     ++nodes_read;
-    if (node.location().valid()) nodes.emplace(node.id(), LatLon{node.location().lat(), node.location().lon()});
+    if (!node.location().valid()) return;
+    const LatLon position{node.location().lat(), node.location().lon()};
+    nodes.emplace(node.id(), position);
+    LandmarkTags tags;
+    for (const osmium::Tag& tag : node.tags()) {
+      if (osm_internal::isLandmarkKey(tag.key())) tags.emplace_back(tag.key(), tag.value());
+    }
+    if (const auto kind = osm_internal::landmarkKindOf(tags)) landmarks.push_back({node.id(), position, *kind, std::move(tags)});
   }
 
   void way(const osmium::Way& way) {
@@ -138,6 +162,7 @@ class Collector : public osmium::handler::Handler {
 
   std::size_t nodes_read = 0, ways_read = 0;
   std::unordered_map<NodeId, LatLon> nodes;
+  std::vector<RawLandmark> landmarks;
   std::vector<RawWay> ways;
 
  private:
@@ -158,7 +183,6 @@ struct Piece {
 };
 
 std::string wayRef(NodeId id) { return "way/" + std::to_string(id); }
-std::string nodeRef(NodeId id) { return "node/" + std::to_string(id); }
 
 std::string fixed(double v, int decimals = 2) {
   char text[64];
@@ -190,17 +214,6 @@ class NodeSets {
   std::unordered_map<NodeId, NodeId> parent_;
 };
 
-/// Integer grid cell of a point, for neighbour searches.
-std::pair<std::int64_t, std::int64_t> cellOf(const Vec2& p, double size) {
-  return {static_cast<std::int64_t>(std::floor(p.x() / size)), static_cast<std::int64_t>(std::floor(p.y() / size))};
-}
-
-struct CellHash {
-  std::size_t operator()(const std::pair<std::int64_t, std::int64_t>& c) const {
-    return std::hash<std::int64_t>()(c.first * 73856093LL ^ c.second * 19349663LL);
-  }
-};
-
 class Importer {
  public:
   Importer(const std::filesystem::path& file, const OsmImportOptions& options) : file_(file), options_(options) {}
@@ -214,6 +227,7 @@ class Importer {
     makePieces();
     dropDegeneratePieces();
     build();
+    addLandmarks();
     return std::move(result_);
   }
 
@@ -234,6 +248,7 @@ class Importer {
     result_.report.nodes_read = collector.nodes_read;
     result_.report.ways_read = collector.ways_read;
     nodes_ = std::move(collector.nodes);
+    landmarks_ = std::move(collector.landmarks);
     ways_ = std::move(collector.ways);
   }
 
@@ -325,7 +340,7 @@ class Importer {
     ids.reserve(xy_.size());
     for (const auto& [id, p] : xy_) ids.push_back(id);
     std::sort(ids.begin(), ids.end());
-    std::unordered_map<std::pair<std::int64_t, std::int64_t>, std::vector<NodeId>, CellHash> grid;
+    std::unordered_map<Cell, std::vector<NodeId>, CellHash> grid;
     for (const NodeId id : ids) grid[cellOf(xy_.at(id), d)].push_back(id);
     NodeSets sets;
     for (const NodeId id : ids) {
@@ -370,26 +385,17 @@ class Importer {
       std::size_t run, index;  // nodes[index] → nodes[index + 1]
     };
     constexpr double kCell = 25.0;
-    std::unordered_map<std::pair<std::int64_t, std::int64_t>, std::vector<SegmentRef>, CellHash> grid;
+    std::unordered_map<Cell, std::vector<SegmentRef>, CellHash> grid;
     auto segment = [&](const SegmentRef& s) {
       const Run& run = runs_[s.run];
       return Segment2{xy_.at(run.nodes[s.index]), xy_.at(run.nodes[s.index + 1])};
     };
     for (std::size_t r = 0; r < runs_.size(); ++r) {
       for (std::size_t i = 0; i + 1 < runs_[r].nodes.size(); ++i) {
-        const Box2 box = segment({r, i}).bounds();
-        const auto [x0, y0] = cellOf(box.min(), kCell);
-        const auto [x1, y1] = cellOf(box.max(), kCell);
-        for (std::int64_t x = x0; x <= x1; ++x) {
-          for (std::int64_t y = y0; y <= y1; ++y) grid[{x, y}].push_back({r, i});
-        }
+        forEachCell(segment({r, i}).bounds(), kCell, [&](const Cell& c) { grid[c].push_back({r, i}); });
       }
     }
-    struct Cut {
-      double t;
-      NodeId node;
-    };
-    std::map<std::pair<std::size_t, std::size_t>, std::vector<Cut>> cuts;  // (run, segment) → new nodes
+    Cuts cuts;
     std::set<std::pair<std::pair<std::size_t, std::size_t>, std::pair<std::size_t, std::size_t>>> seen;
     NodeId next_id = -1;
     for (const auto& [cell, list] : grid) {
@@ -429,6 +435,17 @@ class Importer {
         }
       }
     }
+    insertCuts(cuts);
+  }
+
+  /// A node put into a run's segment where another crosses it, at fraction t along the segment.
+  struct Cut {
+    double t;
+    NodeId node;
+  };
+  using Cuts = std::map<std::pair<std::size_t, std::size_t>, std::vector<Cut>>;  // (run, segment) → new nodes
+
+  void insertCuts(const Cuts& cuts) {
     if (cuts.empty()) return;
     for (std::size_t r = 0; r < runs_.size(); ++r) {
       std::vector<NodeId> nodes;
@@ -532,12 +549,8 @@ class Importer {
 
   double widthOf(const RawWay& way) {
     if (!way.width.empty()) {
-      std::string text = way.width;
-      if (text.size() > 1 && text.ends_with("m")) text.pop_back();
-      while (!text.empty() && text.back() == ' ') text.pop_back();
-      char* end = nullptr;
-      const double w = std::strtod(text.c_str(), &end);
-      if (!text.empty() && end != nullptr && *end == '\0' && std::isfinite(w) && w > 0 && w < 100) return w;
+      const auto w = osm_internal::parseMetres(way.width);
+      if (w && *w > 0 && *w < 100) return *w;
       warn("osm.bad_width", wayRef(way.id), "width=" + way.width + " is not a width in metres: the highway's default used");
     }
     const auto it = options_.widths.find(way.highway);
@@ -617,10 +630,34 @@ class Importer {
     }
   }
 
+  /// The landmark nodes inside the bbox, projected like the rest; those farther than
+  /// max_landmark_distance_m from every road's paved area dropped unless keep_far_landmarks.
+  void addLandmarks() {
+    const LocalFrame frame(*result_.map.origin);
+    std::vector<Landmark> found;
+    std::vector<Vec2> positions;
+    for (const RawLandmark& raw : landmarks_) {
+      if (!inside(raw.position)) continue;
+      found.push_back(osm_internal::landmarkFromNode(raw.id, raw.kind, frame.toLocal(raw.position), raw.tags,
+                                                     result_.report.issues));
+      positions.push_back(found.back().position);
+    }
+    const double reach = options_.max_landmark_distance_m;
+    const std::vector<double> distance = osm_internal::distancesToPavedArea(result_.map.roads, positions, reach);
+    OsmImportReport& report = result_.report;
+    report.landmarks_found = found.size();
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      const bool far = !(distance[i] <= reach);
+      report.landmarks_far += far;
+      if (!far || options_.keep_far_landmarks) result_.map.landmarks.push_back(std::move(found[i]));
+    }
+  }
+
   std::filesystem::path file_;
   OsmImportOptions options_;
   OsmImport result_;
   std::unordered_map<NodeId, LatLon> nodes_;
+  std::vector<RawLandmark> landmarks_;
   std::vector<RawWay> ways_;
   std::vector<Run> runs_;
   std::unordered_map<NodeId, Vec2> xy_;

@@ -165,6 +165,28 @@ TEST(Cli, ImportOfAnInvalidGeoJsonWritesNothing) {
   EXPECT_FALSE(fs::exists(dir / "out.json"));
 }
 
+// Issue 28: Point features with a `landmark` property import as landmarks, counted; `map info`
+// counts them by kind; a landmark of an unknown kind is an error naming the file and the pointer.
+TEST(Cli, GeoJsonLandmarksImportCountedAndAnUnknownKindIsNamed) {
+  const fs::path dir = testing::freshTempDir();
+  const auto r = runCli({"map", "import-geojson", str(testing::fixturePath("maps/valid/landmarks_each_kind.geojson")), "-o",
+                         str(dir / "lm.json")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(2 intersections, 1 roads, 5 landmarks)\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  assumed: 3 landmarks without a radius or a height: their kind's size\n"), std::string::npos) << r.out;
+  const auto info = runCli({"map", "info", str(dir / "lm.json")});
+  EXPECT_NE(info.out.find("landmarks:     5 (bench 1, bollard 1, manhole 1, pole 1, tree 1)\n"), std::string::npos) << info.out;
+  const auto exported = runCli({"map", "export-geojson", str(dir / "lm.json"), "-o", str(dir / "lm.geojson")});
+  EXPECT_NE(exported.out.find("(8 features)"), std::string::npos) << exported.out;
+  const std::string bad = str(testing::fixturePath("malformed/landmark_unknown_kind.geojson"));
+  const auto b = runCli({"map", "import-geojson", bad, "-o", str(dir / "bad.json")});
+  EXPECT_EQ(b.exit_code, 1);
+  EXPECT_NE(b.err.find(bad + ":/features/4/properties/landmark: error: schema.enum: unknown landmark kind \"lamppost\""),
+            std::string::npos)
+      << b.err;
+  EXPECT_FALSE(fs::exists(dir / "bad.json"));
+}
+
 TEST(Cli, BadOriginIsAUsageError) {
   const fs::path dir = testing::freshTempDir();
   for (const std::string origin : {"40.4", "91,0", "40.4,abc", "40,-80,1,2"}) {

@@ -7,11 +7,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "map_fixtures.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/map/geodesy.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/validation.h"
+#include "mapnav/testing/landmarks.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -227,12 +229,109 @@ TEST(GeoJsonImport, PlainCentreLinesAreCutWhereTheyMeetAndNamedAfterTheirStreets
   EXPECT_TRUE(said("6 intersections made"));
 }
 
+// The (check, where) of each issue of an import that must fail; `issues` keeps them whole.
+using Found = std::vector<std::pair<std::string, std::string>>;
+Found refusedWith(const std::string& text, Issues& issues) {
+  issues.clear();
+  EXPECT_FALSE(importGeoJson(text, issues));
+  Found found;
+  for (const Issue& issue : issues) found.emplace_back(issue.check, issue.where);
+  return found;
+}
+
 TEST(GeoJsonImport, UnsupportedGeometryIsNamedWithItsPointer) {
   Issues issues;
-  EXPECT_FALSE(importGeoJson(readFile(testing::fixturePath("malformed/unsupported_geometry.geojson")), issues));
-  ASSERT_EQ(issues.size(), 1u);
-  EXPECT_EQ(issues[0].check, "geojson.unsupported_geometry");
-  EXPECT_EQ(issues[0].where, "/features/0/geometry/type");
+  EXPECT_EQ(refusedWith(readFile(testing::fixturePath("malformed/unsupported_geometry.geojson")), issues),
+            (Found{{"geojson.unsupported_geometry", "/features/0/geometry/type"}}));
+}
+
+// Issue 28: landmarks go out as Point features with a `landmark` property and come back equal: ids,
+// kinds, sizes, roads and kept properties exactly, positions within a millimetre.
+TEST(GeoJsonExport, LandmarksRoundTripMapToGeoJsonToMapEqual) {
+  const MapData map = testing::crossWithOneLandmarkOfEachKind();
+  ASSERT_TRUE(validateMap(map).empty());
+  const std::string text = exportGeoJson(map);
+  const auto doc = nlohmann::json::parse(text);
+  ASSERT_EQ(doc["features"].size(), 5u + 4u + 5u);  // intersections, roads, then landmarks
+  EXPECT_EQ(doc["features"][9]["properties"],
+            nlohmann::json::parse(R"({"landmark": "pole", "id": "P1", "radius": 0.1, "height": 5.0, "road": "R1"})"));
+  EXPECT_EQ(doc["features"][10]["properties"],
+            nlohmann::json::parse(R"({"landmark": "tree", "id": "T1", "radius": 0.25, "height": 8.0, "species": "Acer",
+                                      "osm_node": "42"})"));
+  EXPECT_EQ(doc["features"][10]["geometry"]["type"], "Point");
+  // The bench's kept OSM `height` tag beside mapnav's height: inside mapnav_kept.
+  EXPECT_EQ(doc["features"][11]["properties"]["height"], 0.8);
+  EXPECT_EQ(doc["features"][11]["properties"]["mapnav_kept"], nlohmann::json::parse(R"({"height": "0.45 m"})"));
+  Issues issues;
+  const auto back = importGeoJson(text, issues);
+  ASSERT_TRUE(back) << (issues.empty() ? "" : formatIssue(issues[0], "inline"));
+  EXPECT_TRUE(issues.empty());
+  EXPECT_TRUE(back->assumptions.empty()) << ::testing::PrintToString(back->assumptions);
+  expectSameNetwork(back->map, map, 0.001);
+  ASSERT_EQ(back->map.landmarks.size(), 5u);
+  for (std::size_t i = 0; i < map.landmarks.size(); ++i) {
+    EXPECT_TRUE(testing::landmarkNear(back->map.landmarks[i], map.landmarks[i], 0.001));
+  }
+  EXPECT_EQ(exportGeoJson(back->map), text);
+}
+
+// tests/data/maps/valid/landmarks_each_kind.geojson: a 60 m road east from A and one landmark of
+// each kind drawn as a Point, at metres east/north of the file's origin (42.05 N, 87.67 W) written
+// as lon/lat with the series for the metres per degree there (as in tests/osm). They are
+// landmarks, not intersections, with their kind's size where the feature gives none.
+TEST(GeoJsonImport, PointsWithALandmarkPropertyAreLandmarksOfEachKind) {
+  Issues issues;
+  const auto imported = importGeoJson(readFile(testing::fixturePath("maps/valid/landmarks_each_kind.geojson")), issues);
+  ASSERT_TRUE(imported) << (issues.empty() ? "" : formatIssue(issues[0], "inline"));
+  const MapData& m = imported->map;
+  EXPECT_EQ(m.intersections.size(), 2u);
+  EXPECT_EQ(m.roads.size(), 1u);
+  ASSERT_EQ(m.landmarks.size(), 5u);
+  // P1's `kind` is not interpreted (a landmark's kind is `landmark`): kept with the other members.
+  const std::vector<Landmark> expected{
+      {"P1", LandmarkKind::Pole, Vec2(10, 2.5), 0.12, 4.5, "R1", {{"kind", "lamp"}, {"ref", "lamp 7"}}},
+      {"L1", LandmarkKind::Tree, Vec2(20, -3), 0.15, 6.0, "", {{"species", "Quercus rubra"}}},  // no id: made; a tree's size
+      {"B1", LandmarkKind::Bench, Vec2(30, 2), 0.9, 0.85, "", {}},
+      {"Bo1", LandmarkKind::Bollard, Vec2(40, 1.5), 0.1, 0.9, "", {}},  // a bollard's height
+      {"M1", LandmarkKind::Manhole, Vec2(50, 0), 0.3, 0.0, "", {}}};    // a cover's size, flat
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_TRUE(testing::landmarkNear(m.landmarks[i], expected[i], 0.005));
+  EXPECT_TRUE(validateMap(m).empty());
+  EXPECT_EQ(imported->assumptions, (std::vector<std::string>{"3 landmarks without a radius or a height: their kind's size"}));
+  EXPECT_EQ(imported->landmark_features[1], "/features/4");
+  EXPECT_EQ(imported->toFeaturePointer("/landmarks/1/kind"), "/features/4/properties/landmark");
+  EXPECT_EQ(imported->toFeaturePointer("/landmarks/2/radius"), "/features/5/properties/radius");
+  EXPECT_EQ(imported->toFeaturePointer("/landmarks/4/position"), "/features/7/geometry/coordinates");
+}
+
+TEST(GeoJsonImport, AnUnknownLandmarkKindIsAnErrorAtItsFeaturesLandmarkProperty) {
+  Issues issues;
+  ASSERT_EQ(refusedWith(readFile(testing::fixturePath("malformed/landmark_unknown_kind.geojson")), issues),
+            (Found{{"schema.enum", "/features/4/properties/landmark"}}));
+  EXPECT_NE(issues[0].message.find("\"lamppost\""), std::string::npos) << issues[0].message;
+  EXPECT_NE(issues[0].message.find("pole, tree, bench, bollard, manhole"), std::string::npos) << issues[0].message;
+}
+
+// A landmark that is not a Point and a size that is not a number are errors at the feature; a size
+// the map refuses is validation's, its pointer translated into the GeoJSON file.
+TEST(GeoJsonImport, LandmarkErrorsPointIntoTheFeature) {
+  const std::string bad = R"({"type": "FeatureCollection", "features": [
+    {"type": "Feature", "properties": {"landmark": "tree"},
+     "geometry": {"type": "LineString", "coordinates": [[-87.67, 42.05], [-87.6699, 42.05]]}},
+    {"type": "Feature", "properties": {"landmark": "bench", "radius": "wide"}, "geometry": {"type": "Point", "coordinates": [-87.67, 42.05]}}]})";
+  Issues issues;
+  EXPECT_EQ(refusedWith(bad, issues), (Found{{"geojson.unsupported_geometry", "/features/0/geometry/type"},
+                                             {"schema.type", "/features/1/properties/radius"}}));
+
+  MapData map = testing::crossWithOneLandmarkOfEachKind();
+  map.landmarks[2].radius = -1;
+  issues.clear();
+  const auto imported = importGeoJson(exportGeoJson(map), issues);
+  ASSERT_TRUE(imported);
+  std::vector<std::string> where;
+  for (const Issue& issue : validateMap(imported->map)) {
+    if (issue.check == "landmarks.invalid_size") where.push_back(imported->toFeaturePointer(issue.where));
+  }
+  EXPECT_EQ(where, (std::vector<std::string>{"/features/11/properties/radius"}));
 }
 
 // LocalCartesian's east/north against the geodesic on WGS84: random pairs up to 1 km apart around

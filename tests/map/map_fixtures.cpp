@@ -27,4 +27,16 @@ MapData crossOfFourRoads() {
   return m;
 }
 
+MapData crossWithOneLandmarkOfEachKind() {
+  MapData m = crossOfFourRoads();
+  m.origin = GeoOrigin{42.05, -87.67, 0.0};
+  m.landmarks = {{"P1", LandmarkKind::Pole, Vec2(10, 2), 0.1, 5.0, "R1", {}},
+                 {"T1", LandmarkKind::Tree, Vec2(-3, 12), 0.25, 8.0, "", {{"species", PropertyValue("Acer")},
+                                                                         {"osm_node", PropertyValue("42")}}},
+                 {"B1", LandmarkKind::Bench, Vec2(-12, -2.5), 0.8, 0.8, "", {{"height", PropertyValue("0.45 m")}}},
+                 {"Bo1", LandmarkKind::Bollard, Vec2(2, -6), 0.08, 0.9, "R4", {}},
+                 {"M1", LandmarkKind::Manhole, Vec2(15, 0), 0.3, 0.0, "", {}}};
+  return m;
+}
+
 }  // namespace mapnav::testing

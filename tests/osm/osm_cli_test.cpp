@@ -20,7 +20,7 @@ TEST(ImportOsmCli, TheRealCampusImportsWithItsRepairsListedAndValidates) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("8301 nodes, 1008 ways; kept 385 ways"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("repair: merged node 4774727997 with node 4773912810 (0.36 m apart)"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("wrote " + out.string() + " (497 intersections, 660 roads; 2 repairs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("wrote " + out.string() + " (497 intersections, 660 roads, 39 landmarks; 2 repairs"), std::string::npos) << r.out;
   EXPECT_NE(r.err.find("nu_campus_south.osm:way/"), std::string::npos) << "data warnings name the OSM element";
   const Map map = loadMap(out);
   EXPECT_EQ(map.findRoad("w1088626459-1")->properties.at("osm_way"), "1088626459");
@@ -29,7 +29,7 @@ TEST(ImportOsmCli, TheRealCampusImportsWithItsRepairsListedAndValidates) {
 }
 
 // Issue 27: the real campus imported, exported as GeoJSON and imported again keeps every OSM tag
-// the import copied (osm_node, osm_way, highway, name, surface), element by element.
+// the import copied (osm_node, osm_way, highway, name, surface; a landmark's), element by element.
 TEST(ImportOsmCli, TheCampusKeepsEveryCopiedOsmTagThroughGeoJson) {
   ASSERT_TRUE(testing::realDataPresent("osm/nu_campus_south.osm"));
   const fs::path dir = testing::freshTempDir();
@@ -57,6 +57,13 @@ TEST(ImportOsmCli, TheCampusKeepsEveryCopiedOsmTagThroughGeoJson) {
     ASSERT_NE(again, nullptr) << x.id;
     EXPECT_EQ(again->properties, x.properties) << x.id;
     tags += x.properties.size();
+  }
+  // Issue 28: the 39 landmarks too (a tree's natural tag, a bench's amenity), in the same order.
+  ASSERT_EQ(a.landmarks().size(), 39u);
+  ASSERT_EQ(b.landmarks().size(), 39u);
+  for (std::size_t i = 0; i < a.landmarks().size(); ++i) {
+    EXPECT_EQ(b.landmarks()[i].id, a.landmarks()[i].id);
+    EXPECT_EQ(b.landmarks()[i].properties, a.landmarks()[i].properties) << a.landmarks()[i].id;
   }
   // 660 roads with osm_way and highway each, some named; 495 of 497 intersections are OSM nodes
   // (2 were added by --repair).

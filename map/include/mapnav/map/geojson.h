@@ -25,18 +25,20 @@ struct GeoJsonImportOptions {
   void validate() const;
 };
 
-/// What an import gives: the map, and for each road and intersection the JSON Pointer of the
-/// feature it came from, so that validation issues point into the GeoJSON file.
+/// What an import gives: the map, and for each road, intersection and landmark the JSON Pointer of
+/// the feature it came from, so that validation issues point into the GeoJSON file.
 struct GeoJsonImport {
   MapData map;
   std::vector<std::string> road_features;          ///< "/features/7" for roads[i]
   std::vector<std::string> intersection_features;  ///< "" for an intersection made at shared ends
+  std::vector<std::string> landmark_features;      ///< for landmarks[i]: a Point with a `landmark` property
   /// What the import assumed, for people ("12 roads without a width: 7 m (the default width)"):
   /// defaults taken, ids from names, lines cut where they meet, intersections made.
   std::vector<std::string> assumptions;
 
   /// A pointer into the map ("/roads/3/width") as a pointer into the GeoJSON file
-  /// ("/features/7/properties/width"); the input when it cannot be translated.
+  /// ("/features/7/properties/width"; a landmark's "kind" is its feature's "properties/landmark");
+  /// the input when it cannot be translated.
   std::string toFeaturePointer(const std::string& map_pointer) const;
 };
 
@@ -45,8 +47,9 @@ struct GeoJsonImport {
 std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues,
                                            const GeoJsonImportOptions& options = {});
 
-/// The map as a FeatureCollection in lon/lat (9 decimals), with a `mapnav` foreign member holding
-/// name, origin and surfaces. Throws InvalidInput when neither `origin` nor the map has an origin.
+/// The map as a FeatureCollection in lon/lat (9 decimals): intersections, roads, then landmarks
+/// (Point features with a `landmark` property), with a `mapnav` foreign member holding name, origin
+/// and surfaces. Throws InvalidInput when neither `origin` nor the map has an origin.
 std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& origin = std::nullopt);
 
 /// The surfaces used when a GeoJSON file carries none (concrete, asphalt, brick, gravel, grass, dirt).

@@ -13,6 +13,8 @@ struct MapInfo {
   std::size_t roads = 0;
   std::map<std::string, std::size_t> intersections_by_kind;  ///< kind name → count
   std::map<std::string, std::size_t> roads_by_surface;       ///< surface → count
+  std::size_t landmarks = 0;
+  std::map<std::string, std::size_t> landmarks_by_kind;      ///< kind name ("tree") → count
   double total_length_m = 0;                                 ///< sum of centre-line lengths
   double paved_area_m2 = 0;                                  ///< sum of length × width
   Box2 bounds;                                               ///< paved area

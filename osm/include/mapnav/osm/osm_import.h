@@ -8,6 +8,9 @@
 // ways that cross without a shared node, tiny pieces, steps, missing nodes) and map validation says
 // what that means for the map; with `repair` it merges near-coincident nodes, adds an intersection
 // where two kept ways cross, and drops degenerate pieces, and lists each repair.
+//
+// Trees, street lamps, benches, bollards and manholes tagged on nodes become the map's landmarks
+// (issue 28), those beside the imported roads.
 #include <array>
 #include <filesystem>
 #include <map>
@@ -45,6 +48,13 @@ struct OsmImportOptions {
   /// A piece shorter than this (m, >= 0) is reported as tiny; with repair, a tiny piece that ends
   /// in nothing (a stub) or joins a node to itself is dropped.
   double min_piece_m = 1.0;
+  /// Landmarks (issue 28) come from nodes tagged natural=tree, highway=street_lamp, amenity=bench,
+  /// barrier=bollard, man_made=manhole or manhole=*. One farther than this (m, >= 0) from the paved
+  /// area of every imported road is dropped: a vehicle on the roads could hardly see it (as
+  /// ValidationOptions::max_landmark_distance_m, whose warning it would get).
+  double max_landmark_distance_m = 10.0;
+  /// Keep the landmarks farther than max_landmark_distance_m from every road too.
+  bool keep_far_landmarks = false;
   /// The map's name ("" : "imported from <file name>").
   std::string name;
 
@@ -56,11 +66,14 @@ struct OsmImportOptions {
 struct OsmImportReport {
   std::size_t nodes_read = 0, ways_read = 0;
   std::size_t ways_kept = 0;       ///< with a kept highway value, at least partly inside the bbox
+  std::size_t landmarks_found = 0;  ///< nodes tagged as a landmark inside the bbox
+  /// Of those, farther than max_landmark_distance_m from every road: dropped unless keep_far_landmarks.
+  std::size_t landmarks_far = 0;
   std::vector<std::string> repairs;  ///< one line each: "merged node 123 into node 456 (0.21 m apart)"
   /// Data problems found, with the check name (osm.duplicate_node, osm.crossing_without_node,
-  /// osm.tiny_piece, osm.steps, osm.missing_node, osm.area, osm.bad_width, osm.unknown_surface) and
-  /// where = "way/123" or "node/456" (OSM's own element address). Warnings only: the map's own
-  /// validation decides whether the result is usable.
+  /// osm.tiny_piece, osm.steps, osm.missing_node, osm.area, osm.bad_width, osm.unknown_surface,
+  /// osm.bad_size) and where = "way/123" or "node/456" (OSM's own element address). Warnings only:
+  /// the map's own validation decides whether the result is usable.
   Issues issues;
 };
 
