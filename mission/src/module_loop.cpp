@@ -196,6 +196,8 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   r.observed_along = position.observed_along;
   r.observed_heading = position.observed_heading;
   r.lines_used = position.lines_used;
+  r.landmarks_used = position.landmarks_used;
+  r.along_cue = position.along_cue;
   r.odometry_only = odometry_only_.pose();
   r.gnss = frame.gnss;
   r.gnss_sigma_m = frame.gnss_sigma_m;

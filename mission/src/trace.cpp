@@ -118,6 +118,9 @@ Json positionPayload(const CurrentPosition& p) {
               {"status", toString(p.status)},
               {"reason", p.reason},
               {"lines_used", p.lines_used},
+              {"landmarks_used", p.landmarks_used},
+              {"landmarks_rejected", p.landmarks_rejected},
+              {"along_cue", toString(p.along_cue)},
               {"outliers", p.outliers},
               {"mahalanobis_d2", sig(p.mahalanobis_d2)},
               {"region_agreement", p.region_agreement ? Json(sig(*p.region_agreement)) : Json()}};
@@ -503,8 +506,11 @@ std::string say(const std::string& module, const std::string& type, const Fields
       if (observed.boolean("lateral")) what.push_back("across");
       if (observed.boolean("along")) what.push_back("along");
       if (observed.boolean("heading")) what.push_back("heading");
-      text += "; " + std::to_string(static_cast<long long>(p.num("lines_used"))) + " lines matched, " +
-              (what.empty() ? std::string("nothing") : joinList(what)) + " corrected.";
+      const long long landmarks = p.has("landmarks_used") ? static_cast<long long>(p.num("landmarks_used")) : 0;
+      text += "; " + std::to_string(static_cast<long long>(p.num("lines_used"))) + " lines" +
+              (landmarks > 0 ? " and " + std::to_string(landmarks) + " landmark" + (landmarks == 1 ? "" : "s") : "") +
+              " matched, " + (what.empty() ? std::string("nothing") : joinList(what)) + " corrected";
+      text += p.has("along_cue") && p.str("along_cue") == "landmark" ? " (along by a landmark)." : ".";
     } else {
       text += "; by odometry alone (" + reason + ").";
     }

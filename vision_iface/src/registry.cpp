@@ -15,6 +15,7 @@ struct Registry {
   std::mutex mutex;
   std::map<std::string, PipelineInfo> pipelines;
   std::vector<std::string> order;  // registration order: built-ins first, then plug-ins
+  LandmarkFinder landmark_finder;
 };
 
 Registry& registry() {
@@ -29,6 +30,18 @@ void registerPipeline(PipelineInfo info) {
   const std::lock_guard lock(r.mutex);
   if (!r.pipelines.contains(info.name)) r.order.push_back(info.name);
   r.pipelines[info.name] = std::move(info);
+}
+
+void registerLandmarkFinder(LandmarkFinder finder) {
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  r.landmark_finder = std::move(finder);
+}
+
+LandmarkFinder landmarkFinder() {
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  return r.landmark_finder;
 }
 
 std::vector<PipelineInfo> listPipelines() {

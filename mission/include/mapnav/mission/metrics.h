@@ -38,6 +38,8 @@ struct FrameRecord {
   PositionStatus status = PositionStatus::OdometryOnly;
   bool observed_lateral = false, observed_along = false, observed_heading = false;
   int lines_used = 0;
+  int landmarks_used = 0;
+  AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position (issue 28)
   Pose2 odometry_only;            ///< dead reckoning alone from the start, same motion model
   /// A GNSS fix the log recorded with this frame (world frame, m) and its 1-sigma error: drawn in the
   /// report beside the truth, not used by the Map module.

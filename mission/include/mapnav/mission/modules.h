@@ -139,7 +139,8 @@ class VisionModule {
   /// pipeline's, no prediction for this frame, or an exception from the pipeline) also posts a
   /// VisionFailure and a Halt: "the Vision system halts and signals the blackboard so that another
   /// module (or person) [can] take control". An empty PredictedObject (no road in view) is not
-  /// looked for: the DetectedObject is Ok with nothing in it.
+  /// looked for: the DetectedObject is Ok with nothing in it. The landmarks the prediction lists
+  /// are looked for too (the registered LandmarkFinder), unless the pipeline reported them itself.
   const DetectedObject& see(Blackboard& board, const VisionFrame& frame);
 
   /// Forgets what the pipeline learnt (a new scene: the start, or after a halt).

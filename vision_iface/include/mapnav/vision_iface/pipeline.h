@@ -58,6 +58,15 @@ void registerPipeline(PipelineInfo info);
 std::vector<PipelineInfo> listPipelines();
 /// A new pipeline by name, configured with `options_json`. Throws NotFound listing the names.
 std::unique_ptr<VisionPipeline> createPipeline(const std::string& name, const std::string& options_json = "{}");
+/// Finds the landmarks a prediction lists in a frame (issue 28): one DetectedLandmark per
+/// PredictedObject::landmarks entry, in its order. The Vision module runs it after the pipeline,
+/// unless the pipeline reported landmarks itself.
+using LandmarkFinder = std::function<std::vector<DetectedLandmark>(const VisionFrame&, const PredictedObject&)>;
+/// Sets the landmark finder (registerBuiltinPipelines sets the built-in one; a plug-in may replace it).
+void registerLandmarkFinder(LandmarkFinder finder);
+/// The landmark finder registered; empty when none is (landmarks are then not looked for).
+LandmarkFinder landmarkFinder();
+
 /// Loads a plug-in: a shared library exporting `extern "C" int mapnav_register_pipelines(void)`
 /// (see examples/); returns how many pipelines it registered. Throws IoError / InvalidInput naming
 /// the file.
