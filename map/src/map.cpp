@@ -157,6 +157,10 @@ LandmarkSize defaultLandmarkSize(LandmarkKind kind) {
 
 bool isUpright(LandmarkKind kind) { return kind != LandmarkKind::Manhole; }
 
+double landmarkHalfWidth(const Landmark& landmark) {
+  return landmark.kind == LandmarkKind::Bench ? kBenchDepthM / 2 : landmark.radius;
+}
+
 struct Map::Impl {
   MapData data;
   Issues warnings;

@@ -297,7 +297,7 @@ class Validator {
       }
       if (isUpright(l.kind)) {
         for (const auto& [r, d] : distance) {
-          if (d >= l.radius) continue;
+          if (d >= landmarkHalfWidth(l)) continue;
           warning("landmarks.on_paved_area", ptr + "/position",
                   "landmark \"" + l.id + "\" (a " + std::string(toString(l.kind)) + ") stands on road \"" +
                       map_.roads[r].id + "\"'s paved area: a vehicle there would have to pass it");

@@ -114,6 +114,8 @@ struct LandmarkSize {
   double height_m = 0;  ///< of its top above the ground; 0 for a flat mark
 };
 LandmarkSize defaultLandmarkSize(LandmarkKind kind);
+/// A bench is this deep across its road (its radius is half its length along the road), m.
+inline constexpr double kBenchDepthM = 0.5;
 /// Does the kind stand up from the ground (everything but a manhole cover)?
 bool isUpright(LandmarkKind kind);
 
@@ -129,6 +131,9 @@ struct Landmark {
   Properties properties = {};  ///< see Properties
   bool operator==(const Landmark&) const = default;
 };
+
+/// How far a landmark reaches from its position across its road: its radius, or half a bench's depth.
+double landmarkHalfWidth(const Landmark& landmark);
 
 /// The map as authored (the file's content). May be invalid: see validateMap().
 struct MapData {
