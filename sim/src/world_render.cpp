@@ -86,6 +86,32 @@ bool RayTable::matches(const Camera& camera) const {
   return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
 }
 
+void World::Impl::textureSums(const RayTable& rays, int v, RowScratch& rs) const {
+  const auto w = static_cast<std::size_t>(rays.width());
+  for (int m = 0; m < kMaterials; ++m) {
+    const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
+    if (group.empty()) continue;
+    const std::size_t n = group.size();
+    rs.xs.resize(n);
+    rs.ys.resize(n);
+    rs.footprints.resize(n);
+    rs.sums.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      rs.xs[j] = rs.points[group[j]].x();
+      rs.ys[j] = rs.points[group[j]].y();
+      rs.footprints[j] = rays.at(static_cast<int>(group[j]), v).footprint;
+    }
+    for (int k : materialChannels(static_cast<Material>(m))) {
+      if (k == 0) break;
+      const FbmSpec spec = fbmSpec(k);
+      fbmRow(salts[static_cast<std::size_t>(k)], rs.xs.data(), rs.ys.data(), rs.footprints.data(), n, spec.base_freq,
+             spec.octaves, rs.sums.data());
+      float* values = rs.values.data() + static_cast<std::size_t>(k) * w;
+      for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
+    }
+  }
+}
+
 void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
                            RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const {
   const auto w = static_cast<std::size_t>(rays.width());
@@ -113,29 +139,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     rgb[3 * u + 2] = c.b;
   }
   canopyRow(rays, v, rs);
-  // The fractal sums of each group's texture, channel by channel.
-  for (int m = 0; m < kMaterials; ++m) {
-    const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
-    if (group.empty()) continue;
-    const std::size_t n = group.size();
-    rs.xs.resize(n);
-    rs.ys.resize(n);
-    rs.footprints.resize(n);
-    rs.sums.resize(n);
-    for (std::size_t j = 0; j < n; ++j) {
-      rs.xs[j] = rs.points[group[j]].x();
-      rs.ys[j] = rs.points[group[j]].y();
-      rs.footprints[j] = rays.at(static_cast<int>(group[j]), v).footprint;
-    }
-    for (int k : materialChannels(static_cast<Material>(m))) {
-      if (k == 0) break;
-      const FbmSpec spec = fbmSpec(k);
-      fbmRow(salts[static_cast<std::size_t>(k)], rs.xs.data(), rs.ys.data(), rs.footprints.data(), n, spec.base_freq,
-             spec.octaves, rs.sums.data());
-      float* values = rs.values.data() + static_cast<std::size_t>(k) * w;
-      for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
-    }
-  }
+  textureSums(rays, v, rs);
   // Each ground pixel's texture from those sums, then its edge, leaves, shadow and haze.
   for (const auto& group : rs.group)
     for (std::uint32_t u : group) {

@@ -167,6 +167,11 @@ struct PavedPolygon {
   int road = -1;  // index into roads; -1 for an intersection
 };
 
+/// The corners of a box, in order around it (counter-clockwise from its least corner).
+inline std::array<Vec2, 4> corners(const Box2& b) {
+  return {b.min(), Vec2(b.max().x(), b.min().y()), b.max(), Vec2(b.min().x(), b.max().y())};
+}
+
 /// Whether p is inside the polygon (crossing number over the edges of p's y-band).
 bool crossingContains(const PavedPolygon& poly, const Vec2& p);
 
@@ -273,6 +278,10 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   Impl(const Map& map, const WorldOptions& opts);
   int surfaceIndex(const Map& map, const std::string& name);
   void buildGrid(const Box2& box);
+  /// The grid cells [x0, x1] × [y0, y1] a box meets (clamped to the grid).
+  void cellRange(const Box2& b, int& x0, int& y0, int& x1, int& y1) const;
+  /// Per grid cell, the paved polygons that touch it (whole ones first).
+  std::vector<std::vector<PolyRef>> polygonCells() const;
   void placeTrees(const Map& map);
 
   /// Index of the paved polygon holding p (roads before intersections), or -1.
@@ -307,6 +316,9 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   /// `haze`: rayExtras' row v (unread without haze); `tiles`: row v's band (tileRow).
   void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
                 world_detail::RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const;
+  /// The fractal sums of each material group of row v's ground pixels (rs.group, rs.points), channel
+  /// by channel, into rs.values.
+  void textureSums(const RayTable& rays, int v, world_detail::RowScratch& rs) const;
   /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
   /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel).
   void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,

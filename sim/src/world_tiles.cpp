@@ -35,10 +35,6 @@ double pointSegDist(const Vec2& q, const Segment& s) {
   return (d - s.dir * t).norm();
 }
 
-std::array<Vec2, 4> corners(const Box2& box) {
-  return {box.min(), Vec2(box.max().x(), box.min().y()), Vec2(box.min().x(), box.max().y()), box.max()};
-}
-
 /// Whether segment ab may meet the box (true when unsure: the separating tests want a clear side).
 bool segmentMayMeet(const Vec2& a, const Vec2& b, const Box2& box) {
   if (std::max(a.x(), b.x()) < box.min().x() || std::min(a.x(), b.x()) > box.max().x() ||
