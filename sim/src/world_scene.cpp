@@ -153,6 +153,8 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
   const double margin = 2 * max_width + options.shoulder_width_m + 12.0;
   box.extend(box.min() - Vec2(margin, margin));
   box.extend(box.max() + Vec2(margin, margin));
+  landmarks = Landmarks(map, options);
+  for (const GroundMark& m : landmarks.marks) box.extend(m.box);  // the grid holds their shadows too
   placeTrees(map);
   buildGrid(box);
 }
@@ -252,7 +254,7 @@ void World::Impl::buildGrid(const Box2& box) {
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) sc[static_cast<std::size_t>(y) * nx + x].push_back(static_cast<std::uint32_t>(si));
   }
-  // Discs: the cells their boxes touch.
+  // Discs and the landmarks' ground marks: the cells their boxes touch.
   const Box2 grid(origin, origin + Vec2(nx * kCell, ny * kCell));
   const auto boxCells = [&](std::size_t n, const auto& boxOf) {
     std::vector<std::vector<std::uint32_t>> lists(cells);
@@ -270,6 +272,7 @@ void World::Impl::buildGrid(const Box2& box) {
     const double r = discs[di].r + 0.2;
     return Box2(discs[di].c - Vec2(r, r), discs[di].c + Vec2(r, r));
   });
+  const auto mc = boxCells(landmarks.marks.size(), [&](std::size_t mi) { return landmarks.marks[mi].box; });
   // Compressed rows: a list's start offset per cell, the lists one after the other.
   const auto compress = [&](const auto& lists, auto& start, auto& flat) {
     start.assign(cells + 1, 0);
@@ -282,6 +285,7 @@ void World::Impl::buildGrid(const Box2& box) {
   compress(pc, poly_start, cell_polys);
   compress(sc, seg_start, cell_segs);
   compress(dc, disc_start, cell_discs);
+  compress(mc, mark_start, cell_marks);
 }
 
 int World::Impl::pavedAt(const Vec2& p, const CellLists& lists) const {
