@@ -3,6 +3,7 @@
 // world_render.cpp.
 #include "mapnav/sim/world.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string_view>
@@ -37,6 +38,9 @@ void WorldOptions::validate() const {
                 illumination_period_s, "finite and > 0");
   requireOption(finiteIn(haze_distance_m, 0, 1e9), kOwner, "haze_distance_m", haze_distance_m, "finite and >= 0");
   requireOption(finiteIn(noise_sigma, 0, 1e3), kOwner, "noise_sigma", noise_sigma, "finite and >= 0");
+  requireOption(std::isfinite(sun_azimuth_rad), kOwner, "sun_azimuth_rad", sun_azimuth_rad, "finite");
+  requireOption(finiteIn(sun_elevation_rad, 0.1, kPi / 2), kOwner, "sun_elevation_rad", sun_elevation_rad,
+                "in [0.1, pi/2]");
   requireOption(std::isfinite(tv_hue_shift_rad), kOwner, "tv_hue_shift_rad", tv_hue_shift_rad, "finite");
   requireOption(finiteIn(tv_chroma_gain, 0, 2), kOwner, "tv_chroma_gain", tv_chroma_gain, "in [0, 2]");
   requireOption(paved_edge_samples >= 1 && paved_edge_samples <= 16, kOwner, "paved_edge_samples",
@@ -57,8 +61,9 @@ bool World::isPaved(const Vec2& p) const { return impl_->pavedAt(p, impl_->cellL
 
 double World::shadowAt(const Vec2& p) const {
   float bare = 0, flecked = 0;
-  impl_->canopy(p, impl_->cellLists(impl_->cellIndex(p)), 0.0, nullptr, bare, flecked);
-  return flecked;
+  const world_detail::CellLists lists = impl_->cellLists(impl_->cellIndex(p));
+  impl_->canopy(p, lists, 0.0, nullptr, bare, flecked);
+  return std::max(flecked, impl_->landmarks.marksAt(p, lists.marks, lists.n_marks, 0.0, nullptr, nullptr));
 }
 
 }  // namespace mapnav

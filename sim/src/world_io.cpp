@@ -35,6 +35,8 @@ WorldOptions parseWorldOptions(const std::string& json, const std::string& point
       {"noise_sigma", &WorldOptions::noise_sigma},
       {"tv_hue_shift_rad", &WorldOptions::tv_hue_shift_rad},
       {"tv_chroma_gain", &WorldOptions::tv_chroma_gain},
+      {"sun_azimuth_rad", &WorldOptions::sun_azimuth_rad},
+      {"sun_elevation_rad", &WorldOptions::sun_elevation_rad},
   };
   for (const auto& [name, member] : numbers) {
     if (const auto v = block.number(name, false)) o.*member = *v;

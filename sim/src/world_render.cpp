@@ -37,11 +37,27 @@ void forRowBands(int h, int threads, const Body& body) {
   for (std::thread& th : pool) th.join();
 }
 
+/// Each pixel's unit ray in the vehicle frame (3 floats; 0 outside the lens' field).
+std::vector<float> rayDirections(const RayTable& rays) {
+  const int w = rays.width(), h = rays.height();
+  std::vector<float> dirs(3 * static_cast<std::size_t>(w) * h, 0.0f);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const auto d = rays.camera().ray(Vec2(u, v));
+      if (!d) continue;
+      const Vec3 n = d->normalized();
+      float* out = dirs.data() + 3 * (static_cast<std::size_t>(v) * w + u);
+      out[0] = static_cast<float>(n.x()), out[1] = static_cast<float>(n.y()), out[2] = static_cast<float>(n.z());
+    }
+  return dirs;
+}
+
 }  // namespace
 
 RayTable::RayTable(const Camera& camera)
     : model_(camera.model()), intrinsics_(camera.intrinsics()), mount_(camera.mount()),
       width_(camera.width()), height_(camera.height()),
+      camera_(createCamera(camera.model(), camera.intrinsics(), camera.mount())),
       rays_(static_cast<std::size_t>(width_) * height_) {
   static std::atomic<std::uint64_t> next_id{1};
   id_ = next_id.fetch_add(1, std::memory_order_relaxed);
@@ -86,34 +102,8 @@ bool RayTable::matches(const Camera& camera) const {
   return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
 }
 
-void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
-                           RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const {
+void World::Impl::textureSums(const RayTable& rays, int v, RowScratch& rs) const {
   const auto w = static_cast<std::size_t>(rays.width());
-  const auto [ch, sh, tx, ty] = pose;
-  rs.ground.resize(w);
-  rs.points.resize(w);
-  rs.values.resize(static_cast<std::size_t>(NoiseCache::kChannels) * w);
-  for (auto& group : rs.group) group.clear();
-  // Where each ground pixel lies, the pixels grouped by their texture's material; the sky.
-  for (std::size_t u = 0; u < w; ++u) {
-    const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
-    C3 c;
-    if (r.kind == RayTable::Kind::Ground) {
-      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
-      rs.points[u] = p;
-      locate(p, tileLists(tiles, static_cast<int>(u) / kTileW, p), &nc, rs.ground[u]);
-      mask[u] = rs.ground[u].paved ? 255 : 0;
-      const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
-      rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
-      continue;
-    }
-    if (r.kind == RayTable::Kind::Sky) c = sky(r.elevation);
-    rgb[3 * u] = c.r;
-    rgb[3 * u + 1] = c.g;
-    rgb[3 * u + 2] = c.b;
-  }
-  canopyRow(rays, v, rs);
-  // The fractal sums of each group's texture, channel by channel.
   for (int m = 0; m < kMaterials; ++m) {
     const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
     if (group.empty()) continue;
@@ -136,6 +126,43 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
       for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
     }
   }
+}
+
+void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
+                           RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask,
+                           const LandmarkView* view, std::uint8_t* lmask) const {
+  const auto w = static_cast<std::size_t>(rays.width());
+  const auto [ch, sh, tx, ty] = pose;
+  rs.ground.resize(w);
+  rs.points.resize(w);
+  rs.values.resize(static_cast<std::size_t>(NoiseCache::kChannels) * w);
+  for (auto& group : rs.group) group.clear();
+  // The pixels that show a landmark's body are done; the others show the ground or the sky.
+  const bool bodies_here = view != nullptr && view->bodies && bodyRow(rays, *view, v, rs, rgb, mask, lmask);
+  // Where each ground pixel lies, the pixels grouped by their texture's material; the sky.
+  for (std::size_t u = 0; u < w; ++u) {
+    const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
+    C3 c;
+    if (bodies_here && rs.hit_slot[u] >= 0) {
+      rs.ground[u] = GroundPoint{};  // no canopy lookups for it
+      continue;
+    }
+    if (r.kind == RayTable::Kind::Ground) {
+      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
+      rs.points[u] = p;
+      locate(p, tileLists(tiles, static_cast<int>(u) / kTileW, p), &nc, rs.ground[u]);
+      mask[u] = rs.ground[u].paved ? 255 : 0;
+      const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
+      rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
+      continue;
+    }
+    if (r.kind == RayTable::Kind::Sky) c = sky(r.elevation);
+    rgb[3 * u] = c.r;
+    rgb[3 * u + 1] = c.g;
+    rgb[3 * u + 2] = c.b;
+  }
+  canopyRow(rays, v, rs);
+  textureSums(rays, v, rs);
   // Each ground pixel's texture from those sums, then its edge, leaves, shadow and haze.
   for (const auto& group : rs.group)
     for (std::uint32_t u : group) {
@@ -143,7 +170,17 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
       const GroundPoint& g = rs.ground[u];
       const Vec2& p = rs.points[u];
       C3 c = texture(g.surface, p, r.footprint, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
-      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, rs.tree[u], rs.flecked[u], &nc);
+      float shadow = rs.flecked[u];
+      if (g.lists.n_marks > 0) {  // the landmarks' shadows and covers
+        int cover = -1;
+        shadow = std::max(shadow, landmarks.marksAt(p, g.lists.marks, g.lists.n_marks, r.footprint, &c, &cover));
+        if (cover >= 0) {
+          lmask[u] = kShowsCover;
+          if (const int slot = view != nullptr ? view->slot(static_cast<std::uint32_t>(cover)) : -1; slot >= 0)
+            ++rs.shown[static_cast<std::size_t>(slot)];
+        }
+      }
+      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, rs.tree[u], shadow, &nc);
       rgb[3 * u] = c.r;
       rgb[3 * u + 1] = c.g;
       rgb[3 * u + 2] = c.b;
@@ -163,6 +200,7 @@ std::shared_ptr<const RayExtras> World::Impl::rayExtras(const RayTable& rays) co
       if (all[i].kind == RayTable::Kind::Ground) table->haze[i] = hazeAt(all[i].range);
   }
   const int w = rays.width(), h = rays.height();
+  if (landmarks.any_upright) table->dirs = rayDirections(rays);
   table->tiles_x = (w + kTileW - 1) / kTileW;
   table->tiles.resize(static_cast<std::size_t>(table->tiles_x) * ((h + kTileH - 1) / kTileH));
   for (int v = 0; v < h; ++v)
@@ -174,6 +212,12 @@ std::shared_ptr<const RayExtras> World::Impl::rayExtras(const RayTable& rays) co
       b.x0 = std::min<double>(b.x0, r.x), b.y0 = std::min<double>(b.y0, r.y);
       b.x1 = std::max<double>(b.x1, r.x), b.y1 = std::max<double>(b.y1, r.y);
     }
+  for (const RayExtras::TileBox& b : table->tiles) {
+    if (!b.ground) continue;
+    RayExtras::TileBox& g = table->ground;
+    if (!g.ground) g = b;
+    g.x0 = std::min(g.x0, b.x0), g.y0 = std::min(g.y0, b.y0), g.x1 = std::max(g.x1, b.x1), g.y1 = std::max(g.y1, b.y1);
+  }
   std::lock_guard lock(cache_mutex);
   extras_id = rays.id();
   extras = table;
@@ -203,7 +247,7 @@ Frame World::render(const Camera& camera, const Pose2& pose, double t) const {
 }
 
 void World::Impl::edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose,
-                              const std::uint8_t* mask, NoiseCache& nc, float* buf) const {
+                              const std::uint8_t* mask, const std::uint8_t* lmask, NoiseCache& nc, float* buf) const {
   // The pixels the paved area's edge crosses: the mean of n × n samples spread over the pixel's
   // ground footprint, its sides taken from the neighbouring pixels' rays (locally affine).
   const int w = rays.width(), h = rays.height();
@@ -221,15 +265,18 @@ void World::Impl::edgeSamples(const RayTable& rays, int v0, int v1, const std::a
     if (back) return Vec2(0.5 * (point(u, v) - point(u - du, v - dv)));
     return Vec2(0, 0);
   };
-  // mask: the centres' classes (mixing leaves them)
+  // mask: the centres' classes (mixing leaves them); a landmark's body is no ground
+  const auto body = [&](std::size_t i) { return lmask != nullptr && lmask[i] == kShowsBody; };
   const auto differs = [&](int u, int v, std::uint8_t m) {
-    return ground(u, v) && mask[static_cast<std::size_t>(v) * w + u] != m;
+    const std::size_t i = static_cast<std::size_t>(v) * w + u;
+    return ground(u, v) && mask[i] != m && !body(i);
   };
   for (int v = v0; v < v1; ++v)
     for (int u = 0; u < w; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * w + u;
       const std::uint8_t m = mask[i];
-      if (!ground(u, v) || !(differs(u - 1, v, m) || differs(u + 1, v, m) || differs(u, v - 1, m) || differs(u, v + 1, m)))
+      if (!ground(u, v) || body(i) ||
+          !(differs(u - 1, v, m) || differs(u + 1, v, m) || differs(u, v - 1, m) || differs(u, v + 1, m)))
         continue;
       const RayTable::Ray& r = rays.at(u, v);
       const Vec2 su = halfStep(u, v, 1, 0), sv = halfStep(u, v, 0, 1);
@@ -319,32 +366,45 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
   const Impl& im = *impl_;
   const WorldOptions& o = im.options;
   const int w = rays.width(), h = rays.height();
-  Frame frame{Image(w, h, 3), Image(w, h, 1)};
+  Frame frame{Image(w, h, 3), Image(w, h, 1), Image(w, h, 1), {}};
   std::vector<float> buf(static_cast<std::size_t>(w) * h * 3);
   const std::array<double, 4> pose4{std::cos(pose.heading()), std::sin(pose.heading()), pose.x(), pose.y()};
   const std::shared_ptr<const RayExtras> extras = im.rayExtras(rays);
   const float* haze = extras->haze.empty() ? nullptr : extras->haze.data();
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  // The landmarks that may show (none: the frame is what it was without landmarks, byte for byte).
+  const LandmarkView view = im.landmarkView(rays, *extras, pose4);
+  const LandmarkView* lv = view.items.empty() ? nullptr : &view;
+  std::uint8_t* lmask = frame.landmark_mask.data.data();
+  std::vector<int> shown(view.items.size(), 0);  // the pixels showing each, summed over the bands
+  std::mutex shown_mutex;
   // Each pixel's colour depends on its row alone (the edge samples on the finished mask), so the
   // bands of rows and their threads do not change the frame.
   forRowBands(h, threads, [&](int v0, int v1) {
     const auto cache = std::make_unique<NoiseCache>();  // the noise lattice's last cells
     RowScratch scratch;
+    scratch.shown.assign(view.items.size(), 0);
     RenderTiles tiles;
     for (int v = v0; v < v1; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * w;
       if (tiles.band != v / kTileH) im.tileRow(*extras, v / kTileH, pose4, tiles);
       im.shadeRow(rays, v, pose4, tiles, scratch, *cache, haze != nullptr ? haze + row : nullptr, buf.data() + 3 * row,
-                  frame.mask.data.data() + row);
+                  frame.mask.data.data() + row, lv, lmask + row);
     }
+    const std::lock_guard lock(shown_mutex);
+    for (std::size_t s = 0; s < shown.size(); ++s) shown[s] += scratch.shown[s];
   });
   forRowBands(h, threads, [&](int v0, int v1) {
     if (o.paved_edge_samples > 1) {
       const auto cache = std::make_unique<NoiseCache>();
-      im.edgeSamples(rays, v0, v1, pose4, frame.mask.data.data(), *cache, buf.data());
+      im.edgeSamples(rays, v0, v1, pose4, frame.mask.data.data(), lv != nullptr ? lmask : nullptr, *cache, buf.data());
     }
     im.camera(rays, v0, v1, pose, t, buf.data(), frame.rgb.data.data());
   });
+  if (lv != nullptr || !im.landmarks.marks.empty()) {
+    for (std::uint8_t& m : frame.landmark_mask.data) m = m != 0 ? 255 : 0;
+    frame.landmarks = im.landmarkTruth(rays.camera(), view, pose4, shown);
+  }
   return frame;
 }
 

@@ -36,6 +36,32 @@ class Stream {
   std::uint64_t state_;
 };
 
+/// The polygon's box and its edges by bands of y (crossingContains).
+void indexEdges(PavedPolygon& poly) {
+  poly.box = Box2();
+  for (const Vec2& v : poly.ring) poly.box.extend(v);
+  poly.band_y0 = poly.box.min().y();
+  const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kEdgeBand)) + 1;
+  std::vector<std::vector<Edge>> bands(nb);
+  const std::size_t n = poly.ring.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    Edge e{poly.ring[i], poly.ring[(i + 1) % n]};
+    const double lo = std::min(e.a.x(), e.b.x()), hi = std::max(e.a.x(), e.b.x());
+    const double margin = 1e-9 * (std::abs(lo) + std::abs(hi) + 1.0);
+    e.x_lo = lo - margin;
+    e.x_hi = hi + margin;
+    const double y0 = std::min(e.a.y(), e.b.y()), y1 = std::max(e.a.y(), e.b.y());
+    const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kEdgeBand, 0.0, double(nb - 1)));
+    const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kEdgeBand, 0.0, double(nb - 1)));
+    for (std::size_t b = b0; b <= b1; ++b) bands[b].push_back(e);
+  }
+  poly.band_start.assign(1, 0);
+  for (const auto& band : bands) {
+    poly.band_edges.insert(poly.band_edges.end(), band.begin(), band.end());
+    poly.band_start.push_back(static_cast<std::uint32_t>(poly.band_edges.size()));
+  }
+}
+
 }  // namespace
 
 bool world_detail::crossingContains(const PavedPolygon& poly, const Vec2& p) {
@@ -121,35 +147,14 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
     poly.surface = surface.empty() ? lawn : surfaceIndex(map, surface);
     polys.push_back(std::move(poly));
   }
-  for (PavedPolygon& poly : polys) {
-    poly.box = Box2();
-    for (const Vec2& v : poly.ring) poly.box.extend(v);
-    poly.band_y0 = poly.box.min().y();
-    const auto nb = static_cast<std::size_t>(std::floor(poly.box.sizes().y() / kEdgeBand)) + 1;
-    std::vector<std::vector<Edge>> bands(nb);
-    const std::size_t n = poly.ring.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      Edge e{poly.ring[i], poly.ring[(i + 1) % n]};
-      const double lo = std::min(e.a.x(), e.b.x()), hi = std::max(e.a.x(), e.b.x());
-      const double margin = 1e-9 * (std::abs(lo) + std::abs(hi) + 1.0);
-      e.x_lo = lo - margin;
-      e.x_hi = hi + margin;
-      const double y0 = std::min(e.a.y(), e.b.y()), y1 = std::max(e.a.y(), e.b.y());
-      const auto b0 = static_cast<std::size_t>(std::clamp((y0 - poly.band_y0) / kEdgeBand, 0.0, double(nb - 1)));
-      const auto b1 = static_cast<std::size_t>(std::clamp((y1 - poly.band_y0) / kEdgeBand, 0.0, double(nb - 1)));
-      for (std::size_t b = b0; b <= b1; ++b) bands[b].push_back(e);
-    }
-    poly.band_start.assign(1, 0);
-    for (const auto& band : bands) {
-      poly.band_edges.insert(poly.band_edges.end(), band.begin(), band.end());
-      poly.band_start.push_back(static_cast<std::uint32_t>(poly.band_edges.size()));
-    }
-  }
+  for (PavedPolygon& poly : polys) indexEdges(poly);
 
   Box2 box = map.bounds();
   const double margin = 2 * max_width + options.shoulder_width_m + 12.0;
   box.extend(box.min() - Vec2(margin, margin));
   box.extend(box.max() + Vec2(margin, margin));
+  landmarks = Landmarks(map, options);
+  for (const GroundMark& m : landmarks.marks) box.extend(m.box);  // the grid holds their shadows too
   placeTrees(map);
   buildGrid(box);
 }
@@ -181,17 +186,15 @@ void World::Impl::placeTrees(const Map& map) {
   }
 }
 
-void World::Impl::buildGrid(const Box2& box) {
-  origin = box.min();
-  nx = std::max(1, static_cast<int>(std::ceil(box.sizes().x() / kCell)));
-  ny = std::max(1, static_cast<int>(std::ceil(box.sizes().y() / kCell)));
+void World::Impl::cellRange(const Box2& b, int& x0, int& y0, int& x1, int& y1) const {
+  x0 = std::clamp(static_cast<int>(std::floor((b.min().x() - origin.x()) / kCell)), 0, nx - 1);
+  y0 = std::clamp(static_cast<int>(std::floor((b.min().y() - origin.y()) / kCell)), 0, ny - 1);
+  x1 = std::clamp(static_cast<int>(std::floor((b.max().x() - origin.x()) / kCell)), 0, nx - 1);
+  y1 = std::clamp(static_cast<int>(std::floor((b.max().y() - origin.y()) / kCell)), 0, ny - 1);
+}
+
+std::vector<std::vector<PolyRef>> World::Impl::polygonCells() const {
   const std::size_t cells = static_cast<std::size_t>(nx) * ny;
-  auto cellRange = [&](const Box2& b, int& x0, int& y0, int& x1, int& y1) {
-    x0 = std::clamp(static_cast<int>(std::floor((b.min().x() - origin.x()) / kCell)), 0, nx - 1);
-    y0 = std::clamp(static_cast<int>(std::floor((b.min().y() - origin.y()) / kCell)), 0, ny - 1);
-    x1 = std::clamp(static_cast<int>(std::floor((b.max().x() - origin.x()) / kCell)), 0, nx - 1);
-    y1 = std::clamp(static_cast<int>(std::floor((b.max().y() - origin.y()) / kCell)), 0, ny - 1);
-  };
   // Polygons: cells an edge's box touches are boundary cells; other cells inside are whole.
   std::vector<std::vector<PolyRef>> pc(cells);
   std::vector<int> mark(cells, -1);
@@ -227,6 +230,15 @@ void World::Impl::buildGrid(const Box2& box) {
         }
       }
   }
+  return pc;
+}
+
+void World::Impl::buildGrid(const Box2& box) {
+  origin = box.min();
+  nx = std::max(1, static_cast<int>(std::ceil(box.sizes().x() / kCell)));
+  ny = std::max(1, static_cast<int>(std::ceil(box.sizes().y() / kCell)));
+  const std::size_t cells = static_cast<std::size_t>(nx) * ny;
+  const std::vector<std::vector<PolyRef>> pc = polygonCells();
   // Segments within reach of a cell.
   std::vector<std::vector<std::uint32_t>> sc(cells);
   for (std::size_t si = 0; si < segments.size(); ++si) {
@@ -242,33 +254,38 @@ void World::Impl::buildGrid(const Box2& box) {
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) sc[static_cast<std::size_t>(y) * nx + x].push_back(static_cast<std::uint32_t>(si));
   }
-  // Discs.
-  std::vector<std::vector<std::uint32_t>> dc(cells);
-  for (std::size_t di = 0; di < discs.size(); ++di) {
-    Box2 b;
+  // Discs and the landmarks' ground marks: the cells their boxes touch.
+  const Box2 grid(origin, origin + Vec2(nx * kCell, ny * kCell));
+  const auto boxCells = [&](std::size_t n, const auto& boxOf) {
+    std::vector<std::vector<std::uint32_t>> lists(cells);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Box2 b = boxOf(i);
+      if (!b.intersects(grid)) continue;
+      int x0, y0, x1, y1;
+      cellRange(b, x0, y0, x1, y1);
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) lists[static_cast<std::size_t>(y) * nx + x].push_back(static_cast<std::uint32_t>(i));
+    }
+    return lists;
+  };
+  const auto dc = boxCells(discs.size(), [&](std::size_t di) {
     const double r = discs[di].r + 0.2;
-    b.extend(discs[di].c - Vec2(r, r));
-    b.extend(discs[di].c + Vec2(r, r));
-    if (!b.intersects(Box2(origin, origin + Vec2(nx * kCell, ny * kCell)))) continue;
-    int x0, y0, x1, y1;
-    cellRange(b, x0, y0, x1, y1);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) dc[static_cast<std::size_t>(y) * nx + x].push_back(static_cast<std::uint32_t>(di));
-  }
-  poly_start.assign(cells + 1, 0);
-  seg_start.assign(cells + 1, 0);
-  disc_start.assign(cells + 1, 0);
-  for (std::size_t c = 0; c < cells; ++c) {
-    poly_start[c] = static_cast<std::uint32_t>(cell_polys.size());
-    cell_polys.insert(cell_polys.end(), pc[c].begin(), pc[c].end());
-    seg_start[c] = static_cast<std::uint32_t>(cell_segs.size());
-    cell_segs.insert(cell_segs.end(), sc[c].begin(), sc[c].end());
-    disc_start[c] = static_cast<std::uint32_t>(cell_discs.size());
-    cell_discs.insert(cell_discs.end(), dc[c].begin(), dc[c].end());
-  }
-  poly_start[cells] = static_cast<std::uint32_t>(cell_polys.size());
-  seg_start[cells] = static_cast<std::uint32_t>(cell_segs.size());
-  disc_start[cells] = static_cast<std::uint32_t>(cell_discs.size());
+    return Box2(discs[di].c - Vec2(r, r), discs[di].c + Vec2(r, r));
+  });
+  const auto mc = boxCells(landmarks.marks.size(), [&](std::size_t mi) { return landmarks.marks[mi].box; });
+  // Compressed rows: a list's start offset per cell, the lists one after the other.
+  const auto compress = [&](const auto& lists, auto& start, auto& flat) {
+    start.assign(cells + 1, 0);
+    for (std::size_t c = 0; c < cells; ++c) {
+      start[c] = static_cast<std::uint32_t>(flat.size());
+      flat.insert(flat.end(), lists[c].begin(), lists[c].end());
+    }
+    start[cells] = static_cast<std::uint32_t>(flat.size());
+  };
+  compress(pc, poly_start, cell_polys);
+  compress(sc, seg_start, cell_segs);
+  compress(dc, disc_start, cell_discs);
+  compress(mc, mark_start, cell_marks);
 }
 
 int World::Impl::pavedAt(const Vec2& p, const CellLists& lists) const {

@@ -6,7 +6,8 @@
 // Structure. A uniform grid of kCell-metre cells over the map lists, per cell, (1) the paved
 // polygons (road areas, intersection shapes) that touch it, each flagged when it covers the whole
 // cell, (2) the centre-line segments near enough to decide a point's shoulder side and its
-// position along a road, (3) the tree-canopy discs whose shadow touches it. A ground point's
+// position along a road, (3) the tree-canopy discs whose shadow touches it, (4) the ground marks
+// of the map's landmarks (their shadows, manhole covers; world_landmarks.h) that touch it. A ground point's
 // paved test is then a lookup plus, in boundary cells only, an exact crossing-number test against
 // the polygon's edges in a 1 m band of y. The renderer narrows the lists further per frame: each
 // kTileW × kTileH tile of the image keeps, per cell its ground points meet, only what a point of
@@ -21,6 +22,7 @@
 
 #include "mapnav/geometry/polygon.h"
 #include "mapnav/sim/world.h"
+#include "world_landmarks.h"
 #include "world_noise.h"
 
 namespace mapnav {
@@ -112,13 +114,14 @@ struct PolyRef {
 };
 
 /// What a ground point's lookups consult: its grid cell's lists of paved polygons, centre-line
-/// segments and canopy discs, or a tile's copy of them without the entries that no point of the
-/// tile can meet (RenderTiles), in the cell's order. Empty for a point off the grid.
+/// segments, canopy discs and landmarks' ground marks, or a tile's copy of them without the entries
+/// that no point of the tile can meet (RenderTiles), in the cell's order. Empty for a point off the grid.
 struct CellLists {
   const PolyRef* polys = nullptr;
   const std::uint32_t* segs = nullptr;
   const std::uint32_t* discs = nullptr;
-  std::uint32_t n_polys = 0, n_segs = 0, n_discs = 0;
+  const std::uint32_t* marks = nullptr;
+  std::uint32_t n_polys = 0, n_segs = 0, n_discs = 0, n_marks = 0;
 };
 
 /// Where a ground point lies: its paved area or shoulder, the road it belongs to.
@@ -144,6 +147,9 @@ struct RowScratch {
   std::vector<std::uint32_t> cand;              // canopyRow's pixels, their points and noise
   std::vector<double> cx, cy;
   std::vector<float> zeros, n0, n1;
+  std::vector<BodyHit> hits;                    // the row's nearest landmark bodies (World::Impl::bodyRow)
+  std::vector<int> hit_slot;                    //   their slots in the frame's LandmarkView, -1: none
+  std::vector<int> shown;                       // per LandmarkView slot, the pixels that show it
 };
 
 struct Surface {
@@ -167,6 +173,11 @@ struct PavedPolygon {
   int road = -1;  // index into roads; -1 for an intersection
 };
 
+/// The corners of a box, in order around it (counter-clockwise from its least corner).
+inline std::array<Vec2, 4> corners(const Box2& b) {
+  return {b.min(), Vec2(b.max().x(), b.min().y()), b.max(), Vec2(b.min().x(), b.max().y())};
+}
+
 /// Whether p is inside the polygon (crossing number over the edges of p's y-band).
 bool crossingContains(const PavedPolygon& poly, const Vec2& p);
 
@@ -180,23 +191,25 @@ struct RayExtras {
   std::vector<float> haze;      // hazeAt of each ground pixel's range (empty without haze)
   std::vector<TileBox> tiles;   // kTileW × kTileH pixels each, tiles_x per band of kTileH rows
   int tiles_x = 0;
+  TileBox ground;               // the box of every ground point
+  std::vector<float> dirs;      // each pixel's unit ray, vehicle frame, 3 floats (a world with landmarks)
 };
 
 /// One band of tiles of a frame (World::Impl::tileRow): for each tile, the grid cells its box
 /// meets, each with the cell's lists less what no point of the tile meets (in `polys`, `segs`,
-/// `discs`; a polygon that holds the whole tile marked whole). A renderer's thread keeps one.
+/// `discs`, `marks`; a polygon that holds the whole tile marked whole). A renderer's thread keeps one.
 struct RenderTiles {
   struct Cell {
     int cell = -1;
-    std::uint32_t polys = 0, segs = 0, discs = 0;  // offsets of its lists
-    std::uint32_t n_polys = 0, n_segs = 0, n_discs = 0;
+    std::uint32_t polys = 0, segs = 0, discs = 0, marks = 0;  // offsets of its lists
+    std::uint32_t n_polys = 0, n_segs = 0, n_discs = 0, n_marks = 0;
   };
   int band = -1;
   std::vector<Cell> cells;
   std::vector<std::uint32_t> first;  // tile t's cells: [first[t], first[t + 1])
   std::vector<int> sure;             // per tile, its one cell's entry when every pixel is in it, else -1
   std::vector<PolyRef> polys;
-  std::vector<std::uint32_t> segs, discs;
+  std::vector<std::uint32_t> segs, discs, marks;
   std::vector<double> road_bound;    // per road, scratch of addTileCell (infinite between calls)
 };
 
@@ -242,13 +255,14 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   std::vector<Disc> discs;
   bool shadow_everywhere = false;
   std::uint64_t leaf_salt = 0;  // the fallen leaves' cells' (finish)
+  world_detail::Landmarks landmarks;  // the map's (world_landmarks.cpp)
 
   // Grid.
   Vec2 origin = Vec2::Zero();
   int nx = 0, ny = 0;
-  std::vector<std::uint32_t> poly_start, seg_start, disc_start;  // CSR offsets, size nx*ny+1
+  std::vector<std::uint32_t> poly_start, seg_start, disc_start, mark_start;  // CSR offsets, size nx*ny+1
   std::vector<PolyRef> cell_polys;
-  std::vector<std::uint32_t> cell_segs, cell_discs;
+  std::vector<std::uint32_t> cell_segs, cell_discs, cell_marks;
 
   mutable std::mutex cache_mutex;
   mutable std::vector<std::shared_ptr<const RayTable>> cache;
@@ -260,8 +274,10 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   world_detail::CellLists cellLists(int cell) const {
     if (cell < 0) return {};
     const auto c = static_cast<std::size_t>(cell);
-    return {cell_polys.data() + poly_start[c], cell_segs.data() + seg_start[c], cell_discs.data() + disc_start[c],
-            poly_start[c + 1] - poly_start[c], seg_start[c + 1] - seg_start[c], disc_start[c + 1] - disc_start[c]};
+    return {cell_polys.data() + poly_start[c],      cell_segs.data() + seg_start[c],
+            cell_discs.data() + disc_start[c],      cell_marks.data() + mark_start[c],
+            poly_start[c + 1] - poly_start[c],      seg_start[c + 1] - seg_start[c],
+            disc_start[c + 1] - disc_start[c],      mark_start[c + 1] - mark_start[c]};
   }
 
   int cellIndex(const Vec2& p) const {
@@ -273,8 +289,22 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   Impl(const Map& map, const WorldOptions& opts);
   int surfaceIndex(const Map& map, const std::string& name);
   void buildGrid(const Box2& box);
+  /// The grid cells [x0, x1] × [y0, y1] a box meets (clamped to the grid).
+  void cellRange(const Box2& b, int& x0, int& y0, int& x1, int& y1) const;
+  /// Per grid cell, the paved polygons that touch it (whole ones first).
+  std::vector<std::vector<PolyRef>> polygonCells() const;
   void placeTrees(const Map& map);
-
+  /// The landmarks that may show in a frame seen from pose (cos, sin of the heading, x, y).
+  world_detail::LandmarkView landmarkView(const RayTable& rays, const world_detail::RayExtras& extras,
+                                          const std::array<double, 4>& pose) const;
+  /// Row v's pixels whose ray meets a landmark of the view before the ground: their colour (3
+  /// floats, before the camera), mask 0 and landmark mask kShowsBody, counted in rs.shown. False
+  /// when no body's box holds the row; else rs.hit_slot marks those pixels (-1 the others).
+  bool bodyRow(const RayTable& rays, const world_detail::LandmarkView& view, int v, world_detail::RowScratch& rs,
+               float* rgb, std::uint8_t* mask, std::uint8_t* lmask) const;
+  /// The landmarks of the view that a frame lists (Frame::landmarks), from the pixels that show each.
+  std::vector<LandmarkInView> landmarkTruth(const Camera& camera, const world_detail::LandmarkView& view,
+                                            const std::array<double, 4>& pose, const std::vector<int>& shown) const;
   /// Index of the paved polygon holding p (roads before intersections), or -1.
   int pavedAt(const Vec2& p, const world_detail::CellLists& lists) const;
   /// Tree shadow at p, 0 sunlit … 1 full: `bare` at the point without the sun flecks (where the
@@ -304,13 +334,19 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   /// Shades row v of a frame seen from pose (cos, sin of the heading, x, y): its pixels' colours
   /// (3 floats each, before the camera's drift and noise) and mask. The same as `shade` per pixel,
   /// with the texture's fractal sums evaluated channel by channel over the row.
-  /// `haze`: rayExtras' row v (unread without haze); `tiles`: row v's band (tileRow).
+  /// `haze`: rayExtras' row v (unread without haze); `tiles`: row v's band (tileRow); `view`: the
+  /// frame's landmarks (nullptr: none), `lmask` row v of the frame's landmark mask (kShowsBody, kShowsCover).
   void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
-                world_detail::RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask) const;
+                world_detail::RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask,
+                const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
+  /// The fractal sums of each material group of row v's ground pixels (rs.group, rs.points), channel
+  /// by channel, into rs.values.
+  void textureSums(const RayTable& rays, int v, world_detail::RowScratch& rs) const;
   /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
-  /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel).
+  /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel). Pixels that show a
+  /// landmark's body (kShowsBody in `lmask`, nullptr: none) are neither re-sampled nor an edge.
   void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,
-                   NoiseCache& nc, float* buf) const;
+                   const std::uint8_t* lmask, NoiseCache& nc, float* buf) const;
   /// Rows [v0, v1) through the camera: illumination drift, TV colour shift, sensor noise, bytes.
   void camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf, std::uint8_t* rgb) const;
   /// The texture `c` of located point p finished: the lawn's worn edge, leaves, shadow, haze.

@@ -210,9 +210,11 @@ C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved, Noise
   GroundPoint g;
   locate(p, cellLists(cellIndex(p)), nc, g);
   paved = g.paved;
-  const C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, PointNoise{salts.data(), p, fp, nc}, nc);
+  C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, PointNoise{salts.data(), p, fp, nc}, nc);
   float tree = 0, flecked = 0;  // tree shadow: at the point (leaves fall there), and as seen
   canopy(p, g.lists, fp, nc, tree, flecked);
+  if (g.lists.n_marks > 0)  // the landmarks' shadows and covers
+    flecked = std::max(flecked, landmarks.marksAt(p, g.lists.marks, g.lists.n_marks, fp, &c, nullptr));
   return finish(p, g, c, fp, options.haze_distance_m > 0 ? hazeAt(range) : 0.0f, tree, flecked, nc);
 }
 

@@ -35,10 +35,6 @@ double pointSegDist(const Vec2& q, const Segment& s) {
   return (d - s.dir * t).norm();
 }
 
-std::array<Vec2, 4> corners(const Box2& box) {
-  return {box.min(), Vec2(box.max().x(), box.min().y()), Vec2(box.min().x(), box.max().y()), box.max()};
-}
-
 /// Whether segment ab may meet the box (true when unsure: the separating tests want a clear side).
 bool segmentMayMeet(const Vec2& a, const Vec2& b, const Box2& box) {
   if (std::max(a.x(), b.x()) < box.min().x() || std::min(a.x(), b.x()) > box.max().x() ||
@@ -97,7 +93,7 @@ void World::Impl::addTileCell(int cell, const Box2& tile, RenderTiles& rt) const
   if (box.isEmpty()) return;
   const CellLists all = cellLists(cell);
   RenderTiles::Cell tc{cell, static_cast<std::uint32_t>(rt.polys.size()), static_cast<std::uint32_t>(rt.segs.size()),
-                       static_cast<std::uint32_t>(rt.discs.size())};
+                       static_cast<std::uint32_t>(rt.discs.size()), static_cast<std::uint32_t>(rt.marks.size())};
   // Paved polygons: those whose box the tile misses dropped, those holding the whole tile marked so.
   for (std::uint32_t i = 0; i < all.n_polys; ++i) {
     PolyRef ref = all.polys[i];
@@ -127,9 +123,25 @@ void World::Impl::addTileCell(int cell, const Box2& tile, RenderTiles& rt) const
     const Disc& d = discs[all.discs[i]];
     if (pointBoxDist2(d.c, box) <= d.reach2) rt.discs.push_back(all.discs[i]);
   }
+  // The landmarks' ground marks whose box the tile meets; a post's and a crown's shadow only within
+  // their reach (the radius, or the longer half-axis, and half the widest soft edge) of the tile.
+  for (std::uint32_t i = 0; i < all.n_marks; ++i) {
+    const GroundMark& m = landmarks.marks[all.marks[i]];
+    if (!m.box.intersects(box)) continue;
+    if (m.kind == GroundMark::Kind::Capsule) {
+      const double len = (m.b - m.a).norm();
+      const Segment axis{m.a, len > 0 ? Vec2((m.b - m.a) / len) : Vec2::UnitX(), len};
+      if (boxSegLowerBound(box, axis) > m.r + 0.5 * kMarkEdgeMax + kSlack) continue;
+    } else if (m.kind == GroundMark::Kind::Ellipse) {
+      const double reach = m.r_along + 0.5 * kMarkEdgeMax + kSlack;
+      if (pointBoxDist2(m.a, box) > reach * reach) continue;
+    }
+    rt.marks.push_back(all.marks[i]);
+  }
   tc.n_polys = static_cast<std::uint32_t>(rt.polys.size()) - tc.polys;
   tc.n_segs = static_cast<std::uint32_t>(rt.segs.size()) - tc.segs;
   tc.n_discs = static_cast<std::uint32_t>(rt.discs.size()) - tc.discs;
+  tc.n_marks = static_cast<std::uint32_t>(rt.marks.size()) - tc.marks;
   rt.cells.push_back(tc);
 }
 
@@ -140,6 +152,7 @@ void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<do
   rt.polys.clear();
   rt.segs.clear();
   rt.discs.clear();
+  rt.marks.clear();
   rt.road_bound.assign(roads.size(), std::numeric_limits<double>::infinity());
   rt.first.assign(1, 0);
   rt.sure.clear();
@@ -175,8 +188,8 @@ CellLists World::Impl::tileLists(const RenderTiles& rt, int tile, const Vec2& p)
   for (std::uint32_t i = rt.first[t]; i < rt.first[t + 1]; ++i) {
     const RenderTiles::Cell& c = rt.cells[i];
     if (c.cell == cell)
-      return {rt.polys.data() + c.polys, rt.segs.data() + c.segs, rt.discs.data() + c.discs,
-              c.n_polys,           c.n_segs,          c.n_discs};
+      return {rt.polys.data() + c.polys, rt.segs.data() + c.segs, rt.discs.data() + c.discs, rt.marks.data() + c.marks,
+              c.n_polys,                 c.n_segs,                c.n_discs,                 c.n_marks};
   }
   return cellLists(cell);  // off the grid, or a cell the tile's box missed by a rounding
 }

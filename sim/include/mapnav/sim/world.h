@@ -9,8 +9,30 @@
 // world point (continuous in world coordinates, so consecutive frames agree as the vehicle moves);
 // nothing is stored per texel. Rendering is deterministic: the same map, options, camera, pose and
 // time give byte-identical frames.
+//
+// The map's landmarks (Map::landmarks(), issue 28) stand on that plane: a pixel shows the nearest
+// landmark its ray meets above the ground (and below the landmark's top) before the ground.
+//  - pole, bollard: a vertical cylinder (radius, height), grey metal shaded by the sun; a bollard
+//    with a light band at 72–84 % of its height;
+//  - tree: a trunk (a cylinder of its radius) up into a crown, a sphere of radius 0.3 × height
+//    centred at 0.7 × height (its top at the height, its bottom at 40 % of it: the trunk's visible
+//    part) with a seeded ragged outline;
+//  - bench: a box 2 × radius long along its road (Map::roadBeside), 0.5 m deep, solid up to its seat
+//    at 0.45 m, and its back (the 0.08 m of the box away from the road) up to its height;
+//  - manhole: a dark-grey disc with a rim painted on the ground (no height, no shadow).
+// Each upright landmark casts a shadow away from the sun (WorldOptions::sun_azimuth_rad,
+// sun_elevation_rad), height / tan(elevation) long and its diameter wide (a crown's: an ellipse),
+// by the same model as the canopies (C1 = k·C2, tinted), so World::shadowAt includes them. The
+// seeded canopies (shadow_density) stay: they model trees the map does not hold. A landmark's
+// surface is lit by the sun by its facing alone (the side away from it is k·C, tinted); no shadow
+// falls on it. Frame::mask is 0 where a landmark stands in front of the road; Frame::landmarks
+// and landmark_mask give the landmarks' truth. A frame pays only for the landmarks that may show
+// in it (culled by the ground it sees, then by the pixels each projects to): a map without
+// landmarks renders the very bytes it rendered before they existed.
+#include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
@@ -86,6 +108,16 @@ struct WorldOptions {
   double tv_hue_shift_rad = 0.15;  ///< finite
   double tv_chroma_gain = 0.85;    ///< in [0, 2]
   int tv_chroma_blur_px = 2;       ///< in [0, 16]
+  // --- Sun (the map's landmarks) ------------------------------------------------------------------
+  /// Where the sun stands, for the map's landmarks alone (their shading and the shadows they cast
+  /// on the ground; the seeded canopies' shadows lie straight below them): its azimuth, rad,
+  /// counter-clockwise from +x (east). Default −2.0 (114.6° clockwise from east: south-south-west,
+  /// an afternoon sun in the northern hemisphere), so shadows fall toward north-north-east. Finite.
+  double sun_azimuth_rad = -2.0;
+  /// The sun's elevation above the horizon, rad: a shadow is height / tan(elevation) long.
+  /// Default 0.7 (40°: shadows 1.19 × the height). In [0.1, π/2].
+  double sun_elevation_rad = 0.7;
+
   /// The paper's TV camera of 7:1 dynamic range (3.4.3): every channel is clipped to [37, 255], so
   /// shadows on dark surfaces become flat splotches of black level and max/min ≤ 255/37 < 7.
   bool low_dynamic_range = false;
@@ -99,11 +131,37 @@ struct WorldOptions {
   void validate() const;
 };
 
+/// A map landmark in a rendered frame (Frame::landmarks): one whose ground contact point
+/// (Landmark::position) projects into the image and that a nearer landmark does not hide (some
+/// pixel shows it, or nothing hides its base from the optical centre).
+struct LandmarkInView {
+  std::size_t index = 0;  ///< in Map::landmarks()
+  /// The pixel of its base: where it meets the ground nearest the camera, i.e. the point of a
+  /// post's, bollard's or trunk's circle toward the optical centre (position + radius × the unit
+  /// vector toward the optical centre's ground point), the point of a bench's footprint nearest
+  /// that ground point; a manhole cover's centre. Image frame, may lie outside the image.
+  Vec2 base_px = Vec2::Zero();
+  /// The pixel of the point `height` above the base (a manhole's: its base's). May lie outside;
+  /// nothing when the lens cannot image it (above a pin-hole's near plane, beyond a fish-eye's field).
+  std::optional<Vec2> top_px;
+  /// No nearer landmark stands between the optical centre and the base.
+  bool base_visible = false;
+  /// How many pixels show it (its pixels in landmark_mask).
+  int pixels = 0;
+};
+
 /// One rendered camera frame.
 struct Frame {
   Image rgb;   ///< 3 channels
-  Image mask;  ///< 1 channel: 255 where the pixel's ground point is on a road or intersection's
-               ///< paved area, 0 elsewhere (shoulders, sky, outside the lens' field)
+  Image mask;  ///< 1 channel: 255 where the pixel shows the ground (no landmark stands in front of
+               ///< it) and its ground point is on a road or intersection's paved area (a manhole
+               ///< cover in the paving included), 0 elsewhere (shoulders, sky, outside the lens'
+               ///< field, a pole or tree in front of the road)
+  /// 1 channel: 255 where the pixel shows a map landmark (a standing one, or a manhole cover's
+  /// disc on the ground), 0 elsewhere. All 0 for a map without landmarks.
+  Image landmark_mask;
+  /// The landmarks in view, by index in Map::landmarks() (see LandmarkInView).
+  std::vector<LandmarkInView> landmarks;
 };
 
 /// For each pixel of a camera, the ground point (vehicle frame) its centre's ray meets, or the sky.
@@ -122,6 +180,8 @@ class RayTable {
   explicit RayTable(const Camera& camera);
   int width() const { return width_; }
   int height() const { return height_; }
+  /// The camera it was built for (a copy: the same model, intrinsics and mount).
+  const Camera& camera() const { return *camera_; }
   const std::vector<Ray>& rays() const { return rays_; }
   const Ray& at(int u, int v) const { return rays_[static_cast<std::size_t>(v) * width_ + u]; }
   /// True when built for a camera with this model, intrinsics and mount.
@@ -136,6 +196,7 @@ class RayTable {
   CameraMount mount_;
   int width_ = 0, height_ = 0;
   std::uint64_t id_ = 0;
+  std::shared_ptr<const Camera> camera_;
   std::vector<Ray> rays_;
 };
 
@@ -155,8 +216,11 @@ class World {
 
   /// Ground truth at a world point: on a road's or an intersection's paved area.
   bool isPaved(const Vec2& world_point) const;
-  /// How much a world point is in tree shadow: 0 sunlit … 1 full shadow.
+  /// How much a world point is in shadow (the canopies' and the landmarks'): 0 sunlit … 1 full.
   double shadowAt(const Vec2& world_point) const;
+  /// The landmarks (indices in Map::landmarks(), ascending) a frame from `pose` tests: those whose
+  /// body, shadow or cover may show in the image. The others cost the frame nothing.
+  std::vector<std::size_t> landmarksInView(const RayTable& rays, const Pose2& pose) const;
   const WorldOptions& options() const;
 
  private:
