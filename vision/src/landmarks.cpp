@@ -72,6 +72,9 @@ class RowSums {
     return Stats{mean, std::sqrt(std::max(0.0, sum[3] / double(n) - mean.squaredNorm()))};
   }
 
+  int width() const { return w_; }
+  int height() const { return h_; }
+
  private:
   int w_, h_;
   std::vector<double> s_;
@@ -120,16 +123,25 @@ double distance(const std::optional<RowSums::Stats>& a, const std::optional<RowS
 
 // How well an upright landmark with its base's visible front edge at (u, v) explains the frame: the
 // least of its colour's distances from the strips beside it and from the ground in front of it,
-// less its own colour's spread (a strip across a boundary between two surfaces differs from both
-// sides, but is no more uniform than they are). Its strips lean as the vertical through it does.
+// less the difference between its upper and lower halves. Something standing is the same colour
+// all the way up (its shading runs across it, not up it); a strip across a slanting boundary
+// between two surfaces differs from both sides too, but holds more of one surface at the top than
+// at the bottom. Its strips lean as the vertical through it does.
 double uprightScore(const RowSums& in, int u, int v, const RowShape& s, const LandmarkFinderOptions& o) {
   const double hw = std::max(1.0, s.width / 2);
-  const int probe = std::max(2, static_cast<int>(std::lround(s.probe)));
+  const int probe = std::max(2, static_cast<int>(std::lround(s.probe))), mid = v - probe / 2;
+  // All of it and its side strips in the frame, and at least half its probed height: a landmark cut
+  // by the frame's edge cannot be told from the ground beside it, nor its centre found.
+  const double reach = hw + o.side_px + std::abs(s.lean) * probe;
+  if (u - reach < 0 || u + reach > in.width() || v + o.below_px > in.height() || v - probe / 2 < 0) {
+    return -std::numeric_limits<double>::infinity();
+  }
   const auto body = in.strip(u - hw, u + hw, v - probe, v, s.lean, v);
   const double d = std::min({distance(body, in.strip(u - hw - o.side_px, u - hw, v - probe, v, s.lean, v)),
                              distance(body, in.strip(u + hw, u + hw + o.side_px, v - probe, v, s.lean, v)),
                              distance(body, in.strip(u - hw, u + hw, v, v + static_cast<int>(o.below_px), 0.0, v))});
-  return body ? d - body->spread : d;
+  const double halves = distance(in.strip(u - hw, u + hw, v - probe, mid, s.lean, v), in.strip(u - hw, u + hw, mid, v, s.lean, v));
+  return std::isfinite(halves) ? d - halves : d;
 }
 
 // The same for a flat mark centred at (u, v): its inner part against the strips all round it.
@@ -137,6 +149,9 @@ double flatScore(const RowSums& in, int u, int v, const RowShape& s, const Landm
   const double hu = std::max(1.0, 0.35 * s.width), ou = 0.5 * s.width + 1;
   const int hv = std::max(1, static_cast<int>(std::lround(0.35 * s.depth))), ov = static_cast<int>(std::lround(0.5 * s.depth)) + 1;
   const int side = static_cast<int>(o.side_px);
+  if (u - ou - side < 0 || u + ou + side > in.width() || v - ov - side < 0 || v + ov + side > in.height()) {
+    return -std::numeric_limits<double>::infinity();  // all of it and the paving round it in the frame
+  }
   const auto body = in.strip(u - hu, u + hu, v - hv, v + hv + 1, 0.0, v);
   const double d = std::min({distance(body, in.strip(u - ou - o.side_px, u - ou, v - hv, v + hv + 1, 0.0, v)),
                              distance(body, in.strip(u + ou, u + ou + o.side_px, v - hv, v + hv + 1, 0.0, v)),
@@ -152,6 +167,26 @@ double vertex(double a, double b, double c) {
   return std::clamp(0.5 * (a - c) / d, -0.5, 0.5);
 }
 
+// An upright landmark's base front edge (image coordinates, pixel centres at integers) refined from
+// the best place (u, v) of the search: the row, within 5 of v, where the colour of the middle of its
+// band changes most (3 rows above against 3 below): its foot against the ground in front, which a
+// lit or shaded patch of that ground (a canopy's shadow edge) pulls the search's place off by a few
+// rows. The column stays the search's: a cylinder's shaded side against shaded ground has no edge
+// to find.
+Vec2 refineUpright(const RowSums& in, int u, int v, const RowShape& s) {
+  const double hw = std::max(1.0, s.width / 2);
+  const int reach = 5;
+  std::vector<double> step;  // step[k]: the change at the boundary above row v - reach - 1 + k
+  for (int b = v - reach - 1; b <= v + reach + 1; ++b) {
+    step.push_back(distance(in.strip(u - 0.6 * hw, u + 0.6 * hw, b - 3, b, s.lean, v),
+                            in.strip(u - 0.6 * hw, u + 0.6 * hw, b, b + 3, s.lean, v)));
+  }
+  const auto top = std::max_element(step.begin() + 1, step.end() - 1);
+  const auto k = static_cast<std::size_t>(top - step.begin());
+  const double row = std::isfinite(*top) ? v - reach - 1 + double(k) + vertex(step[k - 1], step[k], step[k + 1]) : double(v);
+  return Vec2(u - 0.5, row - 0.5);
+}
+
 DetectedLandmark findOne(const RowSums& sums, const Camera& camera, const PredictedLandmark& l, const Mat3& pose_covariance,
                          const LandmarkFinderOptions& o) {
   DetectedLandmark out;
@@ -161,6 +196,12 @@ DetectedLandmark findOne(const RowSums& sums, const Camera& camera, const Predic
   const int ru = static_cast<int>(std::ceil(std::clamp(o.gate_sigma * sigma.x(), o.min_search_px, o.max_search_px)));
   const int rv = static_cast<int>(std::ceil(std::clamp(o.gate_sigma * sigma.y(), o.min_search_px, o.max_search_px)));
   const int u0 = static_cast<int>(std::lround(l.image_base.x())), v0 = static_cast<int>(std::lround(l.image_base.y()));
+  // Where the frame's side edge may cut it off, part of it could be taken for all of it.
+  const double half = l.width_px / 2 + o.side_px;
+  if (u0 - ru - half < 0 || u0 + ru + half > camera.width()) {
+    out.reason = "too near the frame's side edge to be told whole";
+    return out;
+  }
   std::vector<double> score(static_cast<std::size_t>(2 * ru + 3) * (2 * rv + 3), -std::numeric_limits<double>::infinity());
   auto at = [&](int du, int dv) -> double& { return score[static_cast<std::size_t>(dv + rv + 1) * (2 * ru + 3) + (du + ru + 1)]; };
   double best = -std::numeric_limits<double>::infinity();
@@ -175,13 +216,21 @@ DetectedLandmark findOne(const RowSums& sums, const Camera& camera, const Predic
     }
   }
   out.score = std::clamp(best / (2 * o.min_contrast), 0.0, 1.0);
-  if (!(best >= o.min_contrast)) {
+  // A peak, not the edge of what could be scored (the frame's border cutting it off there).
+  const bool peak = std::isfinite(at(bu - 1, bv)) && std::isfinite(at(bu + 1, bv)) && std::isfinite(at(bu, bv - 1)) &&
+                    std::isfinite(at(bu, bv + 1));
+  if (!(best >= o.min_contrast) || !peak) {
     out.reason = upright ? "nothing standing out from the ground beside it near its prediction"
                          : "no patch differing from the paving all round it near its prediction";
     return out;
   }
-  const Vec2 found(u0 + bu + vertex(at(bu - 1, bv), at(bu, bv), at(bu + 1, bv)),
-                   v0 + bv + vertex(at(bu, bv - 1), at(bu, bv), at(bu, bv + 1)));
+  Vec2 found(u0 + bu + vertex(at(bu - 1, bv), at(bu, bv), at(bu + 1, bv)) - 0.5,
+             v0 + bv + vertex(at(bu, bv - 1), at(bu, bv), at(bu, bv + 1)) - 0.5);  // pixel centres at integers
+  if (upright) {
+    if (const auto best_shape = shapeAt(camera, l, u0 + bu, v0 + bv, o.probe_height_m)) {
+      found = Vec2(found.x(), refineUpright(sums, u0 + bu, v0 + bv, *best_shape).y());
+    }
+  }
   const auto shape = shapeAt(camera, l, found.x(), found.y(), o.probe_height_m);
   if (!shape) return out;
   out.found = true;

@@ -25,7 +25,7 @@ struct LandmarkFinderOptions {
   /// How much of something standing is compared with its sides: from its base up this far (or its
   /// height, if less), m. 0.6: a bench's seat, most of a bollard, and a trunk or post below the
   /// parked bicycles and hedges that hide the rest.
-  double probe_height_m = 0.6;
+  double probe_height_m = 0.3;
   /// The strips beside it (and, for a manhole, all round it) that must differ from it, px.
   double side_px = 4.0;
   /// The ground in front of its base compared with it, px below the base.
@@ -36,8 +36,10 @@ struct LandmarkFinderOptions {
   double min_contrast = 20.0;
   /// The standard deviation of a found base across (u) and up the image (v), px, at least: what
   /// the covariance of DetectedLandmark::image_base says (a quarter of the width is added across).
-  double base_sigma_u_px = 0.7;
-  double base_sigma_v_px = 1.5;
+  /// 2 px: on the simulator's frames with shadows the median error is 1.1 px and the 90th
+  /// percentile 5.7 px (a cylinder's shaded side merges with shaded ground), within 3 sigma.
+  double base_sigma_u_px = 2.0;
+  double base_sigma_v_px = 2.0;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;

@@ -1,7 +1,9 @@
 #pragma once
-// Comparing landmarks (issue 28) in the tests of the modules that read and write them. Header-only:
+// Comparing landmarks (issue 28) in the tests of the modules that read and write them, and a map
+// to look for them on. Header-only:
 // the support library itself does not link the map module.
 #include <sstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -30,6 +32,36 @@ inline ::testing::AssertionResult landmarkNear(const Landmark& actual, const Lan
   }
   if (diff.str().empty()) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "landmark " << expected.id << ":" << diff.str();
+}
+
+/// A straight avenue with no intersection for 230 m: A (0, 0) to B (230, 0), 2.5 m of concrete
+/// between lawns; with landmarks, a tree or a lamp post beside it every 24-35 m, alternating sides,
+/// trees 1.2 m and posts 0.45 m beyond the paving (the kind's default size).
+inline MapData landmarkAvenue(bool with_landmarks) {
+  MapData m;
+  m.name = with_landmarks ? "avenue with landmarks" : "avenue";
+  m.surfaces = {{"concrete", {Vec3(178, 176, 168), Vec3(10, 10, 10)}}, {"grass", {Vec3(70, 120, 50), Vec3(14, 18, 12)}}};
+  m.intersections = {{"A", IntersectionKind::End, Vec2(0, 0), std::nullopt}, {"B", IntersectionKind::End, Vec2(230, 0), std::nullopt}};
+  Road r;
+  r.id = "R1";
+  r.from = "A";
+  r.to = "B";
+  r.centerline = Polyline2({Vec2(0, 0), Vec2(230, 0)});
+  r.width = 2.5;
+  r.surface = "concrete";
+  r.left = r.right = "grass";
+  m.roads = {r};
+  if (!with_landmarks) return m;
+  const double at[] = {24, 52, 80, 104, 139, 165, 190, 218};  // gaps of 24-35 m
+  for (int i = 0; i < 8; ++i) {
+    const bool tree = i % 3 != 1;
+    const double side = i % 2 == 0 ? 1 : -1;
+    const LandmarkKind kind = tree ? LandmarkKind::Tree : LandmarkKind::Pole;
+    const LandmarkSize size = defaultLandmarkSize(kind);
+    m.landmarks.push_back(Landmark{(tree ? "T" : "P") + std::to_string(i + 1), kind, Vec2(at[i], side * (1.25 + (tree ? 1.2 : 0.45))),
+                                   size.radius_m, size.height_m, "R1", {}});
+  }
+  return m;
 }
 
 }  // namespace mapnav::testing
