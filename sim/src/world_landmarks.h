@@ -23,7 +23,7 @@ enum class Part : std::uint8_t { Post, Cap, Crown, Seat, Back };
 
 // A bench's box: its depth, its seat's height and the depth of its back (at the side away from
 // its road), m.
-constexpr double kBenchDepth = 0.5, kBenchSeat = 0.45, kBenchBack = 0.08;
+constexpr double kBenchDepth = kBenchDepthM, kBenchSeat = 0.45, kBenchBack = 0.08;  // the depth: the map's
 // A tree: its crown's radius and centre height, and the top of its trunk (inside the crown), as
 // fractions of its height; the crown's outline is ragged inward by up to kCrownRag of its radius.
 constexpr double kCrownRadius = 0.3, kCrownCentre = 0.7, kTrunkTop = 0.5, kCrownRag = 0.18;

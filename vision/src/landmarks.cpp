@@ -167,13 +167,13 @@ double vertex(double a, double b, double c) {
   return std::clamp(0.5 * (a - c) / d, -0.5, 0.5);
 }
 
-// An upright landmark's base front edge (image coordinates, pixel centres at integers) refined from
-// the best place (u, v) of the search: the row, within 5 of v, where the colour of the middle of its
+// An upright landmark's base front edge row (image coordinates, pixel centres at integers) refined
+// from the best place (u, v) of the search: the row, within 5 of v, where the colour of the middle of its
 // band changes most (3 rows above against 3 below): its foot against the ground in front, which a
 // lit or shaded patch of that ground (a canopy's shadow edge) pulls the search's place off by a few
 // rows. The column stays the search's: a cylinder's shaded side against shaded ground has no edge
 // to find.
-Vec2 refineUpright(const RowSums& in, int u, int v, const RowShape& s) {
+double refinedBaseRow(const RowSums& in, int u, int v, const RowShape& s) {
   const double hw = std::max(1.0, s.width / 2);
   const int reach = 5;
   std::vector<double> step;  // step[k]: the change at the boundary above row v - reach - 1 + k
@@ -184,7 +184,7 @@ Vec2 refineUpright(const RowSums& in, int u, int v, const RowShape& s) {
   const auto top = std::max_element(step.begin() + 1, step.end() - 1);
   const auto k = static_cast<std::size_t>(top - step.begin());
   const double row = std::isfinite(*top) ? v - reach - 1 + double(k) + vertex(step[k - 1], step[k], step[k + 1]) : double(v);
-  return Vec2(u - 0.5, row - 0.5);
+  return row - 0.5;
 }
 
 DetectedLandmark findOne(const RowSums& sums, const Camera& camera, const PredictedLandmark& l, const Mat3& pose_covariance,
@@ -228,7 +228,7 @@ DetectedLandmark findOne(const RowSums& sums, const Camera& camera, const Predic
              v0 + bv + vertex(at(bu, bv - 1), at(bu, bv), at(bu, bv + 1)) - 0.5);  // pixel centres at integers
   if (upright) {
     if (const auto best_shape = shapeAt(camera, l, u0 + bu, v0 + bv, o.probe_height_m)) {
-      found = Vec2(found.x(), refineUpright(sums, u0 + bu, v0 + bv, *best_shape).y());
+      found.y() = refinedBaseRow(sums, u0 + bu, v0 + bv, *best_shape);
     }
   }
   const auto shape = shapeAt(camera, l, found.x(), found.y(), o.probe_height_m);

@@ -4,7 +4,8 @@
 // pole, a trunk, a bollard, a bench) is a band of its predicted width whose colour differs from
 // the ground on both sides of it and from the ground just in front of its base; a manhole cover is
 // a patch of its predicted size that differs from the paving all round it. The best place is kept
-// when it stands out enough; otherwise the landmark is reported as not there.
+// when it stands out enough (its base row then refined at the strongest colour step); otherwise,
+// and where the frame's side may cut it off, the landmark is reported as not there.
 //
 // Frames: the image (u right, v down, px). Colours: 8-bit RGB levels.
 #include <vector>
