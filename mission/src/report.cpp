@@ -120,6 +120,8 @@ constexpr Rgb kAlongColor{0, 150, 70};
 constexpr Rgb kFailureColor{220, 30, 30};
 constexpr Rgb kGnssColor{150, 0, 200};
 constexpr Rgb kHaltColor{250, 170, 170};
+constexpr Rgb kIntersectionCueColor{90, 90, 90};  // the along-road position fixed by lines across the road
+constexpr Rgb kLandmarkCueColor{200, 120, 0};     // ... by a landmark
 
 std::string hex(const Rgb& c) {
   char s[8];
@@ -292,8 +294,14 @@ struct Series {
 };
 
 // A time plot of `series` over the run's frames, with failed frames shaded red and halted ones pink.
+// A tick under a plot at one frame's time: what the Map module's along-road position came from.
+struct FrameMark {
+  double t;
+  Rgb color;
+};
+
 std::string plot(const MissionRun& run, const std::string& id, const std::string& title, const std::string& unit,
-                 const std::vector<Series>& series, int width) {
+                 const std::vector<Series>& series, int width, const std::vector<FrameMark>& marks = {}) {
   const int height = 210;
   const double left = 64, right = width - 16.0, top = 28, bottom = height - 34.0;
   render::Canvas canvas(width, height, Rgb{255, 255, 255});
@@ -348,6 +356,12 @@ std::string plot(const MissionRun& run, const std::string& id, const std::string
   render::Style frame;
   frame.stroke = Rgb{60, 60, 60};
   canvas.polygon({px(t0, lo), px(t1, lo), px(t1, hi), px(t0, hi)}, frame);
+  for (const FrameMark& m : marks) {
+    render::Style tick_style;
+    tick_style.stroke = m.color;
+    tick_style.stroke_width_px = 2.0;
+    canvas.polyline({px(m.t, lo), px(m.t, lo) + Vec2(0, -7)}, tick_style);
+  }
   for (const Series& s : series) {
     std::vector<Vec2> points;
     render::Style line;
@@ -383,6 +397,17 @@ std::string plot(const MissionRun& run, const std::string& id, const std::string
   return inlineSvg(canvas, id, title);
 }
 
+// "12 frames by intersections, 30 by landmarks, 158 by neither (odometry)".
+std::string alongCueText(const MissionRun& run) {
+  std::size_t by_lines = 0, by_landmarks = 0;
+  for (const FrameRecord& f : run.frames) {
+    by_lines += f.along_cue == AlongCue::Intersection ? 1 : 0;
+    by_landmarks += f.along_cue == AlongCue::Landmark ? 1 : 0;
+  }
+  return std::to_string(by_lines) + " frames by intersections, " + std::to_string(by_landmarks) + " by landmarks, " +
+         std::to_string(run.frames.size() - by_lines - by_landmarks) + " by neither (odometry)";
+}
+
 std::string errorPlots(const MissionRun& run, const ReportOptions& options) {
   if (!run.metrics.has_truth) {
     return "<p class=\"note\">The log has no ground truth: the errors were not measured.</p>\n";
@@ -395,10 +420,16 @@ std::string errorPlots(const MissionRun& run, const ReportOptions& options) {
   constexpr double kDeg = 180.0 / 3.14159265358979323846;
   const int w = options.figure_width_px;
   std::string out;
+  std::vector<FrameMark> cues;  // what fixed the along-road position, frame by frame
+  for (const FrameRecord& f : run.frames) {
+    if (f.along_cue != AlongCue::None) {
+      cues.push_back({f.t, f.along_cue == AlongCue::Landmark ? kLandmarkCueColor : kIntersectionCueColor});
+    }
+  }
   out += plot(run, "plot-position", "Estimate error across and along the road", "m",
               {{"lateral", kEstimateColor, values([](const FrameRecord& f) { return f.error.lateral_m; })},
                {"along", kAlongColor, values([](const FrameRecord& f) { return f.error.along_m; })}},
-              w);
+              w, cues);
   out += plot(run, "plot-heading", "Estimate heading error", "deg",
               {{"heading", kEstimateColor, values([&](const FrameRecord& f) { return f.error.heading_rad * kDeg; })}}, w);
   out += plot(run, "plot-distance", "Position error: estimate and odometry alone", "m",
@@ -503,6 +534,7 @@ std::string metricsTable(const MissionRun& run) {
     }
     row("along error 2 m past intersections", strprintf("max %.3f m", m.along_after_intersection_max_m) + " (" +
                                                   std::to_string(m.intersections_checked) + " checked)");
+    row("along-road position fixed by", alongCueText(run));
   } else {
     row("errors", "no ground truth", "no ground truth");
   }
@@ -609,7 +641,8 @@ std::string reportHtml(const MissionRun& run, const Map& map, const std::vector<
 
   html += "<section id=\"errors\">\n<h2>Errors over time</h2>\n";
   html += "<p class=\"legend\">Estimate &minus; truth in the road's frame at the true pose (lateral: left positive; "
-          "along: forward positive). Red bands: frames where Vision failed; pink: halted.</p>\n";
+          "along: forward positive). Red bands: frames where Vision failed; pink: halted. Ticks under the first plot: "
+          "frames whose along-road position was fixed by an intersection's lines (grey) or a landmark (orange).</p>\n";
   html += errorPlots(run, options) + "</section>\n";
 
   html += "<section id=\"failures\">\n<h2>Vision failures and halts</h2>\n" + failureList(run) + "</section>\n";

@@ -211,6 +211,33 @@ TEST(ReportHtml, TheSummaryHasTheFilterConsistency) {
   EXPECT_EQ(reportHtml(run, map, {}, "").find("true error within 2 sigma"), std::string::npos);
 }
 
+// Counts `needle` in `text`.
+std::size_t occurrences(const std::string& text, const std::string& needle) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
+  return n;
+}
+
+TEST(ReportHtml, SaysWhatFixedTheAlongRoadPositionInTheSummaryAndUnderTheErrorPlot) {
+  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  MissionRun run = handMadeRun();
+  run.metrics.has_truth = true;
+  run.frames[1].along_cue = AlongCue::Intersection;
+  run.frames[3].along_cue = AlongCue::Landmark;
+  run.frames[4].along_cue = AlongCue::Landmark;
+  const std::string html = reportHtml(run, map, {}, "");
+  EXPECT_NE(html.find("<tr><th>along-road position fixed by</th><td>1 frames by intersections, 2 by landmarks, 3 by "
+                      "neither (odometry)</td><td></td></tr>"),
+            std::string::npos);
+  // The ticks: two of the landmark colour (#c87800), one of the intersections' (#5a5a5a), in the position plot.
+  const std::size_t a = html.find("id=\"plot-position\""), b = html.find("id=\"plot-heading\"");
+  ASSERT_NE(a, std::string::npos);
+  ASSERT_NE(b, std::string::npos);
+  const std::string plot = html.substr(a, b - a);
+  EXPECT_EQ(occurrences(plot, "stroke=\"#c87800\""), 2u);
+  EXPECT_EQ(occurrences(plot, "stroke=\"#5a5a5a\""), 1u);
+}
+
 TEST(ReportGeoJson, TheTrajectoriesReadBackToThePosesThroughTheMapsOrigin) {
   const Map map = loadMap(testing::mapPath("cmu_campus.json"));
   const MissionRun run = handMadeRun();
