@@ -171,8 +171,7 @@ double vertex(double a, double b, double c) {
 // from the best place (u, v) of the search: the row, within 5 of v, where the colour of the middle of its
 // band changes most (3 rows above against 3 below): its foot against the ground in front, which a
 // lit or shaded patch of that ground (a canopy's shadow edge) pulls the search's place off by a few
-// rows. The column stays the search's: a cylinder's shaded side against shaded ground has no edge
-// to find.
+// rows.
 double refinedBaseRow(const RowSums& in, int u, int v, const RowShape& s) {
   const double hw = std::max(1.0, s.width / 2);
   const int reach = 5;
@@ -185,6 +184,23 @@ double refinedBaseRow(const RowSums& in, int u, int v, const RowShape& s) {
   const auto k = static_cast<std::size_t>(top - step.begin());
   const double row = std::isfinite(*top) ? v - reach - 1 + double(k) + vertex(step[k - 1], step[k], step[k + 1]) : double(v);
   return row - 0.5;
+}
+
+// The column of an upright landmark's middle refined from the search's u: the strongest colour
+// change within 3 columns of each predicted side (columns averaged over its probed rows, leaning),
+// and the middle between the two.
+double refinedMiddleColumn(const RowSums& in, int u, int v, const RowShape& s) {
+  const double hw = std::max(1.0, s.width / 2);
+  const int probe = std::max(2, static_cast<int>(std::lround(s.probe)));
+  auto edgeNear = [&](double c0) {
+    double best = -1, at = c0;
+    for (int c = static_cast<int>(std::lround(c0)) - 3; c <= static_cast<int>(std::lround(c0)) + 3; ++c) {
+      const double g = distance(in.strip(c - 2, c, v - probe, v, s.lean, v), in.strip(c, c + 2, v - probe, v, s.lean, v));
+      if (g > best) best = g, at = c;
+    }
+    return at;  // the boundary between columns at - 1 and at
+  };
+  return 0.5 * (edgeNear(u - hw) + edgeNear(u + hw)) - 0.5;
 }
 
 DetectedLandmark findOne(const RowSums& sums, const Camera& camera, const PredictedLandmark& l, const Mat3& pose_covariance,
@@ -229,6 +245,7 @@ DetectedLandmark findOne(const RowSums& sums, const Camera& camera, const Predic
   if (upright) {
     if (const auto best_shape = shapeAt(camera, l, u0 + bu, v0 + bv, o.probe_height_m)) {
       found.y() = refinedBaseRow(sums, u0 + bu, v0 + bv, *best_shape);
+      found.x() = refinedMiddleColumn(sums, u0 + bu, v0 + bv, *best_shape);
     }
   }
   const auto shape = shapeAt(camera, l, found.x(), found.y(), o.probe_height_m);
