@@ -162,4 +162,12 @@ std::unique_ptr<Camera> createCamera(LensModel model, const CameraIntrinsics& in
   throw InvalidInput("LensModel = " + std::to_string(static_cast<int>(model)) + ": not a lens model");
 }
 
+std::optional<double> groundWidthPx(const Camera& camera, const Vec2& ground_point, double radius_m) {
+  const Vec2 sight = ground_point - camera.center().head<2>();
+  const Vec2 across = Vec2(-sight.y(), sight.x()).normalized() * radius_m;
+  const auto left = camera.projectGround(ground_point + across), right = camera.projectGround(ground_point - across);
+  if (!left || !right) return std::nullopt;
+  return (*left - *right).norm();
+}
+
 }  // namespace mapnav

@@ -298,19 +298,21 @@ namespace {
 // nearest the camera first (ties in the map's order).
 void addLandmarks(const Map& map, const Pose2& pose, const Camera& camera, Prediction& out) {
   const Vec2 centre = camera.center().head<2>();
-  std::vector<std::pair<double, const Landmark*>> found;
+  struct InView {
+    double range;
+    Vec2 vehicle;
+    const Landmark* landmark;
+  };
+  std::vector<InView> found;
   for (const Landmark* l : map.landmarksIn(out.footprint_world)) {
-    found.emplace_back((pose.inverseTransform(l->position) - centre).norm(), l);
-  }
-  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [range, l] : found) {
     const Vec2 vehicle = pose.inverseTransform(l->position);
+    found.push_back({(vehicle - centre).norm(), vehicle, l});
+  }
+  std::stable_sort(found.begin(), found.end(), [](const InView& a, const InView& b) { return a.range < b.range; });
+  for (const auto& [range, vehicle, l] : found) {
     const auto base = camera.projectGround(vehicle);
     const auto top = camera.project(Vec3(vehicle.x(), vehicle.y(), l->height));
     if (!base || !top || !camera.inImage(*base)) continue;
-    // The diameter at the base: the two points a radius to either side, across the line of sight.
-    const Vec2 across = Vec2(-(vehicle - centre).y(), (vehicle - centre).x()).normalized() * l->radius;
-    const auto left = camera.projectGround(vehicle + across), right = camera.projectGround(vehicle - across);
     PredictedLandmark p;
     p.id = l->id;
     p.kind = std::string(toString(l->kind));
@@ -319,7 +321,7 @@ void addLandmarks(const Map& map, const Pose2& pose, const Camera& camera, Predi
     p.height_m = l->height;
     p.image_base = *base;
     p.image_top = *top;
-    p.width_px = left && right ? (*left - *right).norm() : 0.0;
+    p.width_px = groundWidthPx(camera, vehicle, l->radius).value_or(0.0);
     out.view.landmarks.push_back(std::move(p));
     out.landmarks.push_back(l);
   }

@@ -108,13 +108,12 @@ std::optional<RowShape> shapeAt(const Camera& camera, const PredictedLandmark& l
   const auto g = camera.backproject(Vec2(u, v));
   if (!g) return std::nullopt;
   const Vec2 sight = (*g - camera.center().head<2>()).normalized();
-  const Vec2 across(-sight.y(), sight.x());
-  const auto left = camera.projectGround(*g + across * l.radius_m), right = camera.projectGround(*g - across * l.radius_m);
+  const auto width = groundWidthPx(camera, *g, l.radius_m);
   const auto near = camera.projectGround(*g - sight * l.radius_m), far = camera.projectGround(*g + sight * l.radius_m);
   const auto top = camera.project(Vec3(g->x(), g->y(), std::min(probe_m, l.height_m)));
-  if (!left || !right || !near || !far || !top) return std::nullopt;
+  if (!width || !near || !far || !top) return std::nullopt;
   const double probe = v - top->y();
-  return RowShape{(*left - *right).norm(), probe, std::abs(near->y() - far->y()), probe > 0 ? (u - top->x()) / probe : 0.0, *g};
+  return RowShape{*width, probe, std::abs(near->y() - far->y()), probe > 0 ? (u - top->x()) / probe : 0.0, *g};
 }
 
 double distance(const std::optional<RowSums::Stats>& a, const std::optional<RowSums::Stats>& b) {

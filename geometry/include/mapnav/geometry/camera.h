@@ -97,6 +97,11 @@ class Camera {
 /// coefficients for the model, non-finite values, height ≤ 0).
 std::unique_ptr<Camera> createCamera(LensModel model, const CameraIntrinsics& intrinsics, const CameraMount& mount);
 
+/// How wide something of radius `radius_m` standing on the ground at `ground_point` (vehicle frame)
+/// looks at its foot: the image distance, px, between the two ground points `radius_m` to either
+/// side of it across the line of sight from the optical centre. Nothing when either is not imaged.
+std::optional<double> groundWidthPx(const Camera& camera, const Vec2& ground_point, double radius_m);
+
 /// The ground region the camera sees between `near_m` and `far_m` ahead of the optical centre
 /// (vehicle-frame x distance), as a counter-clockwise polygon in the vehicle frame: the paper's
 /// trapezoid for a pin-hole, a curved region for a fish-eye (its outline sampled along the image
