@@ -79,12 +79,21 @@ Json predictionPayload(const PredictionToken& p) {
     }
     relations.push_back(std::move(j));
   }
+  Json landmarks = Json::array();
+  for (const PredictedLandmark& l : p.view.landmarks) {
+    landmarks.push_back({{"id", l.id},
+                         {"kind", l.kind},
+                         {"vehicle", point(l.vehicle, m4)},
+                         {"image_base", point(l.image_base, px)},
+                         {"width_px", px(l.width_px)}});
+  }
   return Json{{"made_for", pose(p.made_for)},
               {"pose_covariance", upperTriangle(p.view.pose_covariance)},
               {"footprint", points(p.view.footprint, m4)},
               {"regions", std::move(regions)},
               {"segments", std::move(segments)},
-              {"relations", std::move(relations)}};
+              {"relations", std::move(relations)},
+              {"landmarks", std::move(landmarks)}};
 }
 
 Json detectionPayload(const DetectedObject& d) {
@@ -96,12 +105,25 @@ Json detectionPayload(const DetectedObject& d) {
                      {"image", segment(l.image, px)},
                      {"vehicle", segment(l.vehicle, m4)}});
   }
+  Json landmarks = Json::array();
+  for (const DetectedLandmark& l : d.landmarks) {
+    Json j{{"id", l.id}, {"found", l.found}};
+    if (l.found) {
+      j["image_base"] = point(l.image_base, px);
+      j["sigma_px"] = Json::array({sig(std::sqrt(l.covariance(0, 0))), sig(std::sqrt(l.covariance(1, 1)))});
+      j["score"] = fixed(l.score, 1e4);
+    } else {
+      j["reason"] = l.reason;
+    }
+    landmarks.push_back(std::move(j));
+  }
   return Json{{"status", d.status == DetectedObject::Status::Ok ? "ok" : "failed"},
               {"reason", d.reason},
               {"confidence", fixed(d.confidence, 1e4)},
               {"lines", std::move(lines)},
               {"region_image", points(d.region_image, px)},
-              {"centerline", d.centerline_vehicle ? segment(*d.centerline_vehicle, m4) : Json(nullptr)}};
+              {"centerline", d.centerline_vehicle ? segment(*d.centerline_vehicle, m4) : Json(nullptr)},
+              {"landmarks", std::move(landmarks)}};
 }
 
 Json positionPayload(const CurrentPosition& p) {

@@ -40,7 +40,9 @@ MissionRun runAvenue(const fs::path& root, bool with_landmarks) {
                         {"world", {{"seed", 4}, {"shadow_density", 0.15}}},
                         {"odometry", {{"seed", 3}, {"scale_error", -0.015}, {"gyro_bias_deg_s", 0.05}}}};
   writeFileAtomic(dir / "mission.json", mission.dump(2));
-  return runClosedLoop(loadMission(dir / "mission.json"));
+  RunOptions options;
+  options.trace = dir / "trace.jsonl";
+  return runClosedLoop(loadMission(dir / "mission.json"), options);
 }
 
 // The largest |along-road error| of the frames whose true position is at least `from_x` along.
@@ -72,6 +74,19 @@ TEST(LandmarkAvenue, LandmarksHoldTheAlongRoadPositionWhereOdometryDrifts) {
   std::size_t by_landmark = 0;
   for (const FrameRecord& f : with.frames) by_landmark += f.along_cue == AlongCue::Landmark ? 1 : 0;
   EXPECT_GE(by_landmark, 8u);  // at least one frame per landmark passed
+  // The trace lists each frame's predicted landmarks and what Vision found of them: every
+  // observation the filter used was a find.
+  const std::string trace = readFile(root / "with/trace.jsonl");
+  std::size_t used = 0, found = 0, predicted = 0;
+  for (const FrameRecord& f : with.frames) used += static_cast<std::size_t>(f.landmarks_used);
+  for (std::size_t at = trace.find("\"found\":true"); at != std::string::npos; at = trace.find("\"found\":true", at + 1)) ++found;
+  for (std::size_t at = trace.find("\"kind\":\"tree\",\"vehicle\""); at != std::string::npos;
+       at = trace.find("\"kind\":\"tree\",\"vehicle\"", at + 1)) {
+    ++predicted;
+  }
+  EXPECT_GE(found, used);
+  EXPECT_GE(used, 8u);
+  EXPECT_GE(predicted, 5u);  // trees among the predicted landmarks of five frames at least
   EXPECT_NEAR(with.odometry_scale, 1 / 0.985, 0.005) << "the landmarks estimate the odometry's scale";
 }
 
