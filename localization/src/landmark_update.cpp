@@ -45,6 +45,7 @@ RangeBearing predictRangeBearing(const LandmarkObservation& o, const Pose2& pose
 
 LandmarkUpdateResult PoseFilter::updateLandmarks(const std::vector<LandmarkObservation>& observations) {
   LandmarkUpdateResult result;
+  step_.reset();
   const double limit = boost::math::quantile(boost::math::chi_squared_distribution<double>(2), options_.gate_probability);
   for (const LandmarkObservation& o : observations) {
     requireObservation(o);

@@ -31,6 +31,7 @@ void LocalizeOptions::validate() const {
   require(std::isfinite(edge_sigma_px) && edge_sigma_px >= 0, "edge_sigma_px", edge_sigma_px, "finite and >= 0");
   require(std::isfinite(landmark_sigma_px) && landmark_sigma_px >= 0, "landmark_sigma_px", landmark_sigma_px,
           "finite and >= 0");
+  require(std::isfinite(step_sigma_m) && step_sigma_m >= 0, "step_sigma_m", step_sigma_m, "finite and >= 0");
 }
 
 std::optional<LandmarkObservation> landmarkObservation(const Camera& camera, const std::string& id, const Vec2& image_base,
@@ -125,9 +126,15 @@ CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, cons
                          const Camera* camera, double dt_s) {
   options.validate();
   filter.predict(motion, dt_s);
+  // The ground's step first: it measures the step predict() just took (PoseFilter::updateStep).
+  const bool stepped = options.use_ground_step && detected.step && detected.step->found &&
+                       filter.updateStep(detected.step->distance_m,
+                                         std::pow(detected.step->sigma_m, 2) + std::pow(options.step_sigma_m, 2));
   const double t = detected.timestamp;
   if (detected.status != DetectedObject::Status::Ok) {
-    return filter.current(t, "vision failed (" + detected.reason + "): odometry only");
+    CurrentPosition out = filter.current(t, "vision failed (" + detected.reason + "): odometry only");
+    out.step_used = stepped;
+    return out;
   }
   std::vector<LineCorrespondence> lines =
       map != nullptr && options.curve_piece_m > 0
@@ -163,6 +170,7 @@ CurrentPosition localize(PoseFilter& filter, const MotionIncrement& motion, cons
   if (camera != nullptr) {
     addLandmarks(filter, landmarkObservations(prediction, detected, *camera, options.landmark_sigma_px), out);
   }
+  out.step_used = stepped;
   return out;
 }
 

@@ -85,12 +85,18 @@ void PoseFilter::resetPoseCovariance(const Mat3& covariance) {
   full_.bottomLeftCorner<2, 3>().setZero();
   full_.topLeftCorner<3, 3>() = covariance;
   covariance_ = covariance;
+  step_.reset();
+}
+
+MotionIncrement PoseFilter::corrected(const MotionIncrement& motion, double dt_s) const {
+  return MotionIncrement{(1 + scale_error_) * motion.distance_m, motion.dheading_rad - gyro_bias_ * dt_s};
 }
 
 void PoseFilter::predict(const MotionIncrement& motion, double dt_s) {
   if (!(std::isfinite(dt_s) && dt_s >= 0)) throw InvalidInput(strprintf("PoseFilter::predict: dt_s = %g must be finite and >= 0", dt_s));
   // The reading corrected by the estimated systematic errors.
-  const double d = (1 + scale_error_) * motion.distance_m, dh = motion.dheading_rad - gyro_bias_ * dt_s;
+  const MotionIncrement c_motion = corrected(motion, dt_s);
+  const double d = c_motion.distance_m, dh = c_motion.dheading_rad;
   const double hm = pose_.heading() + 0.5 * dh;  // the mid-step heading
   const double c = std::cos(hm), s = std::sin(hm);
   Mat5 f = Mat5::Identity();  // d(new state) / d(state)
@@ -115,6 +121,34 @@ void PoseFilter::predict(const MotionIncrement& motion, double dt_s) {
   full_ = 0.5 * (full_ + full_.transpose());
   covariance_ = full_.topLeftCorner<3, 3>();
   pose_ = Pose2(pose_.x() + d * c, pose_.y() + d * s, pose_.heading() + dh);
+  step_ = Step{motion.distance_m, var_d, g.col(0)};
+}
+
+bool PoseFilter::updateStep(double measured_m, double variance) {
+  if (!std::isfinite(measured_m) || !(std::isfinite(variance) && variance > 0)) {
+    throw InvalidInput(strprintf("PoseFilter::updateStep: measured %g m with variance %g: both must be finite, the variance > 0",
+                                 measured_m, variance));
+  }
+  if (!step_) return false;
+  const Step step = *step_;
+  step_.reset();
+  // z = (1 + e) reading + w: w, the step's random distance error, moved the state by effect * w.
+  Eigen::Matrix<double, 5, 1> h = Eigen::Matrix<double, 5, 1>::Zero();
+  h(3) = step.reading_m;
+  const Eigen::Matrix<double, 5, 1> cross = full_ * h + step.effect * step.variance;  // Cov(state, z)
+  const double s = h.dot(full_ * h) + 2 * h.dot(step.effect) * step.variance + step.variance + variance;
+  const double innovation = measured_m - (1 + scale_error_) * step.reading_m;
+  const double limit = boost::math::quantile(boost::math::chi_squared_distribution<double>(1), options_.gate_probability);
+  if (!(innovation * innovation / s <= limit)) return false;
+  const Eigen::Matrix<double, 5, 1> k = cross / s;
+  full_ -= k * cross.transpose();
+  full_ = 0.5 * (full_ + full_.transpose());
+  covariance_ = full_.topLeftCorner<3, 3>();
+  const Eigen::Matrix<double, 5, 1> change = k * innovation;
+  pose_ = Pose2(pose_.x() + change(0), pose_.y() + change(1), pose_.heading() + change(2));
+  scale_error_ += change(3);
+  gyro_bias_ += change(4);
+  return true;
 }
 
 CurrentPosition PoseFilter::current(double timestamp, std::string reason) const {
@@ -138,6 +172,7 @@ std::string joined(const std::vector<std::string>& ids) {
 }  // namespace
 
 CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines, double timestamp) {
+  step_.reset();
   const LineMatchOptions& mo = options_.match;
   if (lines.empty()) return current(timestamp, "no usable lines: odometry only");
 

@@ -99,6 +99,7 @@ void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odom
     prediction_ = std::move(nothing);
   }
   prediction_.view.timestamp = t;
+  prediction_.view.motion = filter_.corrected(pending_, pending_dt_s_);
   // In the vehicle's frame (forward, left).
   prediction_.view.pose_covariance = rotatePoseCovariance(predicted.covariance(), predicted.pose().rotation().transpose());
   board.post(Module::Map, PredictionToken{prediction_.view, predicted.pose()});
@@ -231,6 +232,10 @@ const DetectedObject& VisionModule::see(Blackboard& board, const VisionFrame& fr
       detected_ = DetectedObject::failed(std::string("the pipeline failed: ") + e.what());
     }
   }
+  detected_.step = measureStep(frame, prediction);
+  previous_rgb_.assign(frame.rgb, frame.rgb + static_cast<std::size_t>(frame.width) * frame.height * 3);
+  previous_ = frame;
+  previous_.rgb = previous_rgb_.data();
   detected_.timestamp = t;
   board.post(Module::Vision, detected_);
   if (detected_.status != DetectedObject::Status::Ok) {
@@ -242,6 +247,18 @@ const DetectedObject& VisionModule::see(Blackboard& board, const VisionFrame& fr
     board.post(Module::Vision, halt);
   }
   return detected_;
+}
+
+std::optional<MeasuredStep> VisionModule::measureStep(const VisionFrame& frame, const PredictedObject* prediction) const {
+  const StepMeasurer measure = stepMeasurer();
+  if (!measure || previous_.rgb == nullptr || prediction == nullptr || !prediction->motion) return std::nullopt;
+  try {
+    return measure(previous_, frame, *prediction->motion);
+  } catch (const std::exception& e) {
+    MeasuredStep failed;
+    failed.reason = std::string("the step measurer failed: ") + e.what();
+    return failed;
+  }
 }
 
 void VisionModule::reset() { pipeline_->reset(); }

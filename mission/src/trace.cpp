@@ -96,6 +96,12 @@ Json predictionPayload(const PredictionToken& p) {
               {"landmarks", std::move(landmarks)}};
 }
 
+Json stepPayload(const MeasuredStep& s) {
+  if (!s.found) return Json{{"found", false}, {"reason", s.reason}};
+  return Json{{"found", true}, {"distance_m", m4(s.distance_m)}, {"sigma_m", m4(s.sigma_m)}, {"left_m", m4(s.left_m)},
+              {"peak", fixed(s.peak, 1e4)}};
+}
+
 Json detectionPayload(const DetectedObject& d) {
   Json lines = Json::array();
   for (const DetectedLine& l : d.lines) {
@@ -123,7 +129,8 @@ Json detectionPayload(const DetectedObject& d) {
               {"lines", std::move(lines)},
               {"region_image", points(d.region_image, px)},
               {"centerline", d.centerline_vehicle ? segment(*d.centerline_vehicle, m4) : Json(nullptr)},
-              {"landmarks", std::move(landmarks)}};
+              {"landmarks", std::move(landmarks)},
+              {"step", d.step ? stepPayload(*d.step) : Json(nullptr)}};
 }
 
 Json positionPayload(const CurrentPosition& p) {
@@ -142,6 +149,7 @@ Json positionPayload(const CurrentPosition& p) {
               {"lines_used", p.lines_used},
               {"landmarks_used", p.landmarks_used},
               {"landmarks_rejected", p.landmarks_rejected},
+              {"step_used", p.step_used},
               {"along_cue", toString(p.along_cue)},
               {"outliers", p.outliers},
               {"mahalanobis_d2", sig(p.mahalanobis_d2)},

@@ -123,6 +123,56 @@ TEST(MatchingFilter, AnAlongFixCorrectsTheScaleEstimate) {
   EXPECT_LT(filter.fullCovariance()(3, 3), 0.25 * p(3, 3));
 }
 
+// The ground's step (issue 28): a measured distance observes the scale error as a scalar Kalman
+// filter with the step's random distance variance added to the measurement's, so that steps
+// fused one after another give the batch (closed-form) posterior of e.
+TEST(GroundStepUpdate, SequentialStepsGiveTheBatchPosteriorOfTheScaleError) {
+  FilterOptions o;
+  const double sigma_e = o.motion.scale_sigma, r = 0.01 * 0.01;
+  PoseFilter filter(Pose2(0, 0, 0), diagonalCovariance(0.01, 0.5), o);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> reading(0.4, 1.2);
+  std::normal_distribution<double> noise(0, 0.01);
+  double information = 1 / (sigma_e * sigma_e), weighted = 0;  // the batch posterior's terms
+  for (int k = 0; k < 25; ++k) {
+    const double d = reading(rng), z = 1.015 * d + noise(rng);
+    filter.predict({d, 0.0});
+    const double var = std::pow(o.motion.distance_sigma_per_m * (1 + filter.scaleError()) * d, 2) + r;
+    // Each step's variance uses the e the prediction was made with: the batch is over the same
+    // (known) variances.
+    ASSERT_TRUE(filter.updateStep(z, r));
+    information += d * d / var;
+    weighted += d * (z - d) / var;
+  }
+  EXPECT_NEAR(filter.scaleError(), weighted / information, 2e-4);
+  EXPECT_NEAR(filter.scaleError(), 0.015, 0.004);
+  EXPECT_NEAR(filter.fullCovariance()(3, 3), 1 / information, 0.05 / information);
+}
+
+// One step from a known position: with a near-exact measurement the position lands where the
+// measured step puts it (the step's own random error, not just the scale, is observed), and the
+// scale moves by the share of the innovation its variance claims.
+TEST(GroundStepUpdate, AnExactStepMovesThePositionToTheMeasuredDistance) {
+  FilterOptions o;
+  PoseFilter filter(Pose2(3, 4, degToRad(30)), diagonalCovariance(1e-6, 1e-6), o);
+  filter.predict({0.8, 0.0});
+  const Mat5 p = filter.fullCovariance();
+  const double var_d = std::pow(o.motion.distance_sigma_per_m * 0.8, 2);
+  ASSERT_TRUE(filter.updateStep(0.83, 1e-10));
+  const Vec2 moved = filter.pose().translation() - Vec2(3, 4);
+  EXPECT_NEAR(moved.norm(), 0.83, 1e-4);
+  EXPECT_NEAR(std::atan2(moved.y(), moved.x()), degToRad(30), 1e-3);
+  const double s = 0.8 * 0.8 * p(3, 3) + var_d + 1e-10;
+  EXPECT_NEAR(filter.scaleError(), 0.8 * p(3, 3) / s * 0.03, 1e-9);
+  // Only right after a predict; a gross step is beyond the gate; NaN is refused.
+  EXPECT_FALSE(filter.updateStep(0.83, 1e-4));
+  filter.predict({0.8, 0.0});
+  EXPECT_FALSE(filter.updateStep(1.6, 1e-4));
+  filter.predict({0.8, 0.0});
+  EXPECT_THROW(filter.updateStep(std::nan(""), 1e-4), InvalidInput);
+  EXPECT_THROW(filter.updateStep(0.8, 0.0), InvalidInput);
+}
+
 TEST(MatchingFilter, AGatedOutlierMeasurementIsRejectedAndReported) {
   // The filter is at the truth with a 5 cm / 1 degree covariance; the lines say the vehicle is 1 m
   // to the left.

@@ -1,8 +1,9 @@
 // Issue 28: along the road, not only at intersections. A straight concrete avenue with no
 // intersection for 230 m, a tree or a lamp post beside it every 24-35 m (testing::landmarkAvenue):
-// closed loop with odometry 1.5 % short, the landmarks keep the along-road error within 0.15 m once
-// two of them have given the odometry's scale; the same avenue without them drifts with the
-// odometry (1.5 % of 215 m is 3.2 m).
+// closed loop with odometry 1.5 % short. The ground's step (Vision's measured distance driven) and
+// the landmarks keep the along-road error within 0.15 m over the whole run; the landmarks alone
+// once two of them have given the odometry's scale; with neither it drifts with the odometry (1.5 %
+// of 215 m is 3.2 m).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,9 +24,9 @@ namespace mapnav {
 namespace {
 namespace fs = std::filesystem;
 
-MissionRun runAvenue(const fs::path& root, bool with_landmarks) {
+MissionRun runAvenue(const fs::path& root, bool with_landmarks, bool ground_step) {
   registerBuiltinPipelines();
-  const fs::path dir = root / (with_landmarks ? "with" : "without");
+  const fs::path dir = root / ((with_landmarks ? "with" : "without") + std::string(ground_step ? "" : "-no-step"));
   fs::create_directories(dir);
   saveMap(testing::landmarkAvenue(with_landmarks), dir / "map.json");
   const Json mission = {{"format", "mapnav-mission/1"},
@@ -42,6 +43,7 @@ MissionRun runAvenue(const fs::path& root, bool with_landmarks) {
   writeFileAtomic(dir / "mission.json", mission.dump(2));
   RunOptions options;
   options.trace = dir / "trace.jsonl";
+  options.map.localize.use_ground_step = ground_step;
   return runClosedLoop(loadMission(dir / "mission.json"), options);
 }
 
@@ -54,40 +56,50 @@ double alongMaxFrom(const MissionRun& run, double from_x) {
   return worst;
 }
 
-TEST(LandmarkAvenue, LandmarksHoldTheAlongRoadPositionWhereOdometryDrifts) {
+// Counts the occurrences of `what` in `text`.
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(LandmarkAvenue, LandmarksAndTheGroundsStepHoldTheAlongRoadPositionWhereOdometryDrifts) {
   const fs::path root = testing::freshTempDir();
-  const MissionRun with = runAvenue(root, true);
-  const MissionRun without = runAvenue(root, false);
-  std::printf("along-road error: with landmarks max %.3f m (from x = 45 m: %.3f m), RMS %.3f m; without: max %.3f m, "
-              "RMS %.3f m; odometry alone max %.3f m\n",
-              with.metrics.estimate.along_max_m, alongMaxFrom(with, 45.0), with.metrics.estimate.along_rms_m,
-              without.metrics.estimate.along_max_m, without.metrics.estimate.along_rms_m, with.metrics.odometry_only.along_max_m);
+  const MissionRun with = runAvenue(root, true, true);
+  const MissionRun landmarks_only = runAvenue(root, true, false);
+  const MissionRun neither = runAvenue(root, false, false);
+  std::printf("along-road error max / RMS: landmarks and the ground's step %.3f / %.3f m; landmarks alone %.3f / %.3f m "
+              "(from x = 45 m: %.3f m); neither %.3f / %.3f m; odometry alone max %.3f m\n",
+              with.metrics.estimate.along_max_m, with.metrics.estimate.along_rms_m, landmarks_only.metrics.estimate.along_max_m,
+              landmarks_only.metrics.estimate.along_rms_m, alongMaxFrom(landmarks_only, 45.0),
+              neither.metrics.estimate.along_max_m, neither.metrics.estimate.along_rms_m, with.metrics.odometry_only.along_max_m);
   // Odometry alone: 1.5 % of the 215 m driven; with nothing along the road, the estimate too.
   EXPECT_GT(with.metrics.odometry_only.along_max_m, 2.0);
-  EXPECT_GT(without.metrics.estimate.along_max_m, 2.0);
-  // From the second landmark on (P2 at 52 m, seen from 40 m: two sightings give the scale),
-  // within 0.15 m; over the whole run a quarter of the drift's RMS at most.
-  EXPECT_LE(alongMaxFrom(with, 45.0), 0.15) << with.outcome;
-  EXPECT_LE(with.metrics.estimate.along_rms_m, 0.25 * without.metrics.estimate.along_rms_m);
-  EXPECT_TRUE(with.metrics.reached_goal) << with.outcome;
-  EXPECT_TRUE(with.metrics.stayedOnPath());
-  std::size_t by_landmark = 0;
-  for (const FrameRecord& f : with.frames) by_landmark += f.along_cue == AlongCue::Landmark ? 1 : 0;
-  EXPECT_GE(by_landmark, 8u);  // at least one frame per landmark passed
-  // The trace lists each frame's predicted landmarks and what Vision found of them: every
-  // observation the filter used was a find.
-  const std::string trace = readFile(root / "with/trace.jsonl");
-  std::size_t used = 0, found = 0, predicted = 0;
-  for (const FrameRecord& f : with.frames) used += static_cast<std::size_t>(f.landmarks_used);
-  for (std::size_t at = trace.find("\"found\":true"); at != std::string::npos; at = trace.find("\"found\":true", at + 1)) ++found;
-  for (std::size_t at = trace.find("\"kind\":\"tree\",\"vehicle\""); at != std::string::npos;
-       at = trace.find("\"kind\":\"tree\",\"vehicle\"", at + 1)) {
-    ++predicted;
+  EXPECT_GT(neither.metrics.estimate.along_max_m, 2.0);
+  // With both, within 0.15 m over the whole run: the ground's step gives the scale from the start.
+  EXPECT_LE(with.metrics.estimate.along_max_m, 0.15) << with.outcome;
+  // Landmarks alone: from the second one on (P2 at 52 m, seen from 40 m: two sightings give the
+  // scale), within 0.15 m; over the whole run a quarter of the drift's RMS at most.
+  EXPECT_LE(alongMaxFrom(landmarks_only, 45.0), 0.15) << landmarks_only.outcome;
+  EXPECT_LE(landmarks_only.metrics.estimate.along_rms_m, 0.25 * neither.metrics.estimate.along_rms_m);
+  for (const MissionRun* run : {&with, &landmarks_only}) {
+    EXPECT_TRUE(run->metrics.reached_goal) << run->outcome;
+    EXPECT_TRUE(run->metrics.stayedOnPath());
+    EXPECT_NEAR(run->odometry_scale, 1 / 0.985, 0.005) << "the scale estimated";
+    std::size_t by_landmark = 0;
+    for (const FrameRecord& f : run->frames) by_landmark += f.along_cue == AlongCue::Landmark ? 1 : 0;
+    EXPECT_GE(by_landmark, 8u);  // at least one frame per landmark passed
   }
-  EXPECT_GE(found, used);
+  // The trace lists each frame's predicted landmarks and what Vision found of them (every
+  // observation the filter used was a find), and the ground's step measured and fused.
+  const std::string trace = readFile(root / "with/trace.jsonl");
+  std::size_t used = 0;
+  for (const FrameRecord& f : with.frames) used += static_cast<std::size_t>(f.landmarks_used);
+  EXPECT_GE(count(trace, "\"found\":true,\"image_base\""), used);
   EXPECT_GE(used, 8u);
-  EXPECT_GE(predicted, 5u);  // trees among the predicted landmarks of five frames at least
-  EXPECT_NEAR(with.odometry_scale, 1 / 0.985, 0.005) << "the landmarks estimate the odometry's scale";
+  EXPECT_GE(count(trace, "\"kind\":\"tree\",\"vehicle\""), 5u);  // trees among the predicted landmarks of five frames at least
+  EXPECT_GE(count(trace, "\"step_used\":true"), with.frames.size() * 9 / 10);
+  EXPECT_EQ(count(readFile(root / "with-no-step/trace.jsonl"), "\"step_used\":true"), 0u);
 }
 
 }  // namespace

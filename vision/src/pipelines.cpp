@@ -20,6 +20,7 @@
 #include "mapnav/vision/cluster_perceptron.h"  // cluster-perceptron
 #include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/edge_tracker.h"  // edge-tracker
+#include "mapnav/vision/ground_step.h"
 #include "mapnav/vision/landmarks.h"
 #include "mapnav/vision/line_labelling.h"
 #include "mapnav/vision/overlay.h"
@@ -653,6 +654,9 @@ void registerBuiltinPipelines() {
   static std::once_flag once;
   std::call_once(once, [] {
     registerLandmarkFinder([](const VisionFrame& frame, const PredictedObject& prediction) { return findLandmarks(frame, prediction); });
+    registerStepMeasurer([](const VisionFrame& previous, const VisionFrame& current, const MotionIncrement& predicted) {
+      return measureGroundStep(previous, current, predicted);
+    });
     registerPipeline({"blue-band",
                       "Threshold on the blue band (Wallace 1985, 3.6.3, the Warp runs): road is on the predicted road's side of "
                       "Otsu's threshold (bright against grass, dark against pavements) and within band_sigma of the predicted "

@@ -16,6 +16,7 @@ struct Registry {
   std::map<std::string, PipelineInfo> pipelines;
   std::vector<std::string> order;  // registration order: built-ins first, then plug-ins
   LandmarkFinder landmark_finder;
+  StepMeasurer step_measurer;
 };
 
 Registry& registry() {
@@ -32,17 +33,29 @@ void registerPipeline(PipelineInfo info) {
   r.pipelines[info.name] = std::move(info);
 }
 
-void registerLandmarkFinder(LandmarkFinder finder) {
+namespace {
+
+// The steps the Vision module runs after every pipeline (the landmark finder, the step measurer).
+template <class Hook>
+void setHook(Hook Registry::*member, Hook hook) {
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
-  r.landmark_finder = std::move(finder);
+  r.*member = std::move(hook);
 }
 
-LandmarkFinder landmarkFinder() {
+template <class Hook>
+Hook getHook(Hook Registry::*member) {
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
-  return r.landmark_finder;
+  return r.*member;
 }
+
+}  // namespace
+
+void registerLandmarkFinder(LandmarkFinder finder) { setHook(&Registry::landmark_finder, std::move(finder)); }
+LandmarkFinder landmarkFinder() { return getHook(&Registry::landmark_finder); }
+void registerStepMeasurer(StepMeasurer measurer) { setHook(&Registry::step_measurer, std::move(measurer)); }
+StepMeasurer stepMeasurer() { return getHook(&Registry::step_measurer); }
 
 std::vector<PipelineInfo> listPipelines() {
   Registry& r = registry();

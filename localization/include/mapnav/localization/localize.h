@@ -44,6 +44,14 @@ struct LocalizeOptions {
   /// lean, seen from the camera), px. 1 px: a pole's base seen 10 m ahead by the Terregator camera is
   /// 1-2 cm across and 5-7 cm along the line of sight per pixel.
   double landmark_sigma_px = 1.0;
+  /// Fuse the ground's step (DetectedObject::step, issue 28; PoseFilter::updateStep). False: the
+  /// odometry's scale is learnt from lines and landmarks alone (to compare, or where the ground is
+  /// known to move: a conveyor, a ferry's deck).
+  bool use_ground_step = true;
+  /// The ground's step: Vision's 1-sigma is widened by this, m,
+  /// in quadrature: the camera's pitch and height as the vehicle rocks and the ground's slope move
+  /// the patch Vision registers. 5 mm: half Vision's own (GroundStepOptions::sigma_m).
+  double step_sigma_m = 0.005;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;

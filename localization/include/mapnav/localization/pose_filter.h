@@ -8,6 +8,7 @@
 //
 // State and covariance are in world coordinates (x, y in m, heading in rad; then e, relative, and
 // b, rad/s), the pose's heading wrapped into (-pi, pi]; differences of headings are wrapped before use.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,9 @@ class PoseFilter {
   double gyroBias() const { return gyro_bias_; }
   const FilterOptions& options() const { return options_; }
 
+  /// `motion`, the odometry's reading over `dt_s` seconds, corrected by the estimated scale and bias.
+  MotionIncrement corrected(const MotionIncrement& motion, double dt_s = 0) const;
+
   /// Dead reckoning: correct `motion` (the odometry's reading over `dt_s` seconds) by the estimated
   /// scale and bias, move by it (along the mid-step heading) and grow the covariance.
   void predict(const MotionIncrement& motion, double dt_s = 0);
@@ -144,6 +148,15 @@ class PoseFilter {
   /// definite or a non-finite measurement.
   LandmarkUpdateResult updateLandmarks(const std::vector<LandmarkObservation>& observations);
 
+  /// Fuses a measurement of the distance driven over the last predict() (the ground's step, issue
+  /// 28: independent of the wheels), m, with its variance, m²: it observes the scale error e, and
+  /// through the step's own random distance error (MotionNoiseOptions::distance_sigma_per_m) the
+  /// position, exactly as the step moved it. Call it right after predict(), before any other
+  /// update; false when there is no such step (none since the last update) or the measurement is
+  /// beyond the gate (Mahalanobis, 1 degree of freedom). Throws InvalidInput for a non-finite
+  /// measurement or a variance that is not > 0.
+  bool updateStep(double measured_m, double variance);
+
   /// The filter's state as a CurrentPosition (status OdometryOnly, nothing observed).
   CurrentPosition current(double timestamp, std::string reason) const;
 
@@ -154,6 +167,13 @@ class PoseFilter {
   double scale_error_ = 0;
   double gyro_bias_ = 0;
   FilterOptions options_;
+  // The last predict()'s distance reading, its random error's variance and that error's effect on
+  // the state (updateStep); cleared by every update.
+  struct Step {
+    double reading_m = 0, variance = 0;
+    Eigen::Matrix<double, 5, 1> effect = Eigen::Matrix<double, 5, 1>::Zero();
+  };
+  std::optional<Step> step_;
 };
 
 /// A pose covariance (x, y, heading) with its position block expressed in other axes: R P Rᵀ for

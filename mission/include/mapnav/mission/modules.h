@@ -140,7 +140,9 @@ class VisionModule {
   /// VisionFailure and a Halt: "the Vision system halts and signals the blackboard so that another
   /// module (or person) [can] take control". An empty PredictedObject (no road in view) is not
   /// looked for: the DetectedObject is Ok with nothing in it. The landmarks the prediction lists
-  /// are looked for too (the registered LandmarkFinder), unless the pipeline reported them itself.
+  /// are looked for too (the registered LandmarkFinder), unless the pipeline reported them itself,
+  /// and the step from the previous frame is measured against the ground (the registered
+  /// StepMeasurer, from the prediction's motion), whatever the pipeline found.
   const DetectedObject& see(Blackboard& board, const VisionFrame& frame);
 
   /// Forgets what the pipeline learnt (a new scene: the start, or after a halt).
@@ -149,9 +151,14 @@ class VisionModule {
   const DetectedObject& detected() const { return detected_; }
 
  private:
+  std::optional<MeasuredStep> measureStep(const VisionFrame& frame, const PredictedObject* prediction) const;
+
   std::unique_ptr<VisionPipeline> pipeline_;
   HaltPolicy halt_;
   DetectedObject detected_;
+  // The previous frame's pixels, for the ground's step.
+  std::vector<std::uint8_t> previous_rgb_;
+  VisionFrame previous_;
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -49,6 +49,7 @@ struct CurrentPosition {
   int lines_used = 0;                   ///< correspondences fused
   int landmarks_used = 0;               ///< landmark observations fused
   std::vector<std::string> landmarks_rejected;  ///< landmark observations beyond the gate
+  bool step_used = false;               ///< the ground's step since the last frame was fused (issue 28)
   AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position, if anything
   std::vector<std::string> outliers;    ///< correspondences the robust fit rejected
   double mahalanobis_d2 = 0;            ///< the gate's statistic (0 when there was no measurement)

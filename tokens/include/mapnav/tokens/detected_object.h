@@ -31,6 +31,19 @@ struct DetectedLandmark {
   double score = 0;                    ///< how sure, 0..1
 };
 
+/// How far the vehicle drove since the previous frame, measured from the ground itself
+/// (ground-plane visual odometry, issue 28): the ground ahead in the previous frame, moved by the
+/// Map's predicted motion (PredictedObject::motion), registered onto this frame's. Independent of
+/// the wheels, it observes the odometry's scale error wherever the ground has texture.
+struct MeasuredStep {
+  bool found = false;     ///< false: the ground did not tell (no texture, no previous frame in view)
+  std::string reason;     ///< why not found
+  double distance_m = 0;  ///< driven along the heading since the previous frame, m
+  double sigma_m = 0;     ///< its 1-sigma, m
+  double left_m = 0;      ///< the sideways residual against the predicted motion, m (diagnostic)
+  double peak = 0;        ///< the registration's phase-correlation peak, 0..1 (how sure)
+};
+
 struct DetectedObject {
   double timestamp = 0;
   enum class Status { Ok, Failed };
@@ -42,6 +55,7 @@ struct DetectedObject {
   std::vector<DetectedLine> lines;
   std::optional<Segment2> centerline_vehicle;  ///< when the pipeline finds one
   std::vector<DetectedLandmark> landmarks;     ///< the predicted landmarks looked for, in their order
+  std::optional<MeasuredStep> step;            ///< when the motion since the previous frame was measured
   /// The road region found, per pixel and holes and all (a car on the road is not road), when the
   /// frame wants it (VisionFrame::want_masks) and the pipeline gives one; else empty: region_image
   /// is its outline. 1 channel, the frame's size, 255 inside. For scoring, not for the mission loop.

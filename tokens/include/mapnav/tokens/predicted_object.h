@@ -3,9 +3,11 @@
 // hiding: it carries only vehicle- and image-frame geometry and appearance. No world coordinates,
 // no pose, no route, nothing of the map beyond what is in view: Vision "does not know where the
 // vehicle is" (2.1.1). It knows how sure the Map is, in its own frame: the pose covariance.
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/geometry/types.h"
 
@@ -63,6 +65,10 @@ struct PredictedObject {
   /// Landmarks whose ground contact point lies in the footprint and projects into the image,
   /// nearest first.
   std::vector<PredictedLandmark> landmarks;
+  /// The vehicle's motion since the previous frame as the Map predicts it (the odometry corrected
+  /// by its estimated scale and gyro bias); none on the first frame. Vision measures it against the
+  /// ground (DetectedObject::step).
+  std::optional<MotionIncrement> motion;
   /// How uncertain the pose this view was predicted from is, in the vehicle frame: the covariance of
   /// (x forward m, y left m, heading rad). Zero when unknown (a bootstrap, an eval). Line labelling
   /// widens its gate with it: a predicted line's place in the vehicle frame is that uncertain.

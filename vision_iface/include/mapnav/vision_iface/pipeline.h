@@ -66,6 +66,15 @@ using LandmarkFinder = std::function<std::vector<DetectedLandmark>(const VisionF
 void registerLandmarkFinder(LandmarkFinder finder);
 /// The landmark finder registered; empty when none is (landmarks are then not looked for).
 LandmarkFinder landmarkFinder();
+/// Measures the vehicle's step from the previous frame to the current one against the ground,
+/// starting from the Map's predicted motion (issue 28: DetectedObject::step). The Vision module
+/// runs it on every frame after the first, whatever the pipeline.
+using StepMeasurer =
+    std::function<MeasuredStep(const VisionFrame& previous, const VisionFrame& current, const MotionIncrement& predicted)>;
+/// Sets the step measurer (registerBuiltinPipelines sets the built-in one; a plug-in may replace it).
+void registerStepMeasurer(StepMeasurer measurer);
+/// The step measurer registered; empty when none is (the step is then not measured).
+StepMeasurer stepMeasurer();
 
 /// Loads a plug-in: a shared library exporting `extern "C" int mapnav_register_pipelines(void)`
 /// (see examples/); returns how many pipelines it registered. Throws IoError / InvalidInput naming

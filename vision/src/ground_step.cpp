@@ -1,0 +1,182 @@
+// How far the vehicle drove between two frames, measured from the ground (ground_step.h).
+#include "mapnav/vision/ground_step.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mapnav/core/error.h"
+#include "mapnav/core/options.h"
+#include "mapnav/core/strprintf.h"
+#include "mapnav/geometry/pose2.h"
+
+namespace mapnav {
+
+void GroundStepOptions::validate() const {
+  auto require = [](bool ok, const char* field, double value, const char* rule) {
+    requireOption(ok, "GroundStepOptions", field, value, rule);
+  };
+  require(std::isfinite(near_m) && near_m > 0, "near_m", near_m, "finite and > 0");
+  require(std::isfinite(far_m) && far_m > near_m && far_m <= 100, "far_m", far_m, "finite, > near_m and <= 100");
+  require(std::isfinite(half_width_m) && half_width_m > 0 && half_width_m <= 50, "half_width_m", half_width_m,
+          "finite, > 0 and <= 50");
+  require(std::isfinite(cell_m) && cell_m > 0, "cell_m", cell_m, "finite and > 0");
+  // At least 16 cells each way for a peak, at most 1024 for the cost.
+  const double rows = (far_m - near_m) / cell_m, cols = 2 * half_width_m / cell_m;
+  require(rows >= 16 && rows <= 1024 && cols >= 16 && cols <= 1024, "cell_m", cell_m,
+          "giving 16-1024 cells along (far_m - near_m) and across (2 half_width_m)");
+  require(std::isfinite(min_texture) && min_texture >= 0, "min_texture", min_texture, "finite and >= 0");
+  require(std::isfinite(min_peak) && min_peak >= 0 && min_peak <= 1, "min_peak", min_peak, "in [0, 1]");
+  require(std::isfinite(min_peak_ratio) && min_peak_ratio >= 1, "min_peak_ratio", min_peak_ratio, "finite and >= 1");
+  require(std::isfinite(clear_m) && clear_m >= cell_m, "clear_m", clear_m, "finite and >= cell_m");
+  require(std::isfinite(max_residual_m) && max_residual_m > 0, "max_residual_m", max_residual_m, "finite and > 0");
+  require(std::isfinite(sigma_m) && sigma_m > 0, "sigma_m", sigma_m, "finite and > 0");
+}
+
+namespace {
+
+void requireFrame(const VisionFrame& f, const char* which) {
+  if (f.rgb == nullptr || f.camera == nullptr || f.width <= 0 || f.height <= 0) {
+    throw InvalidInput(strprintf("measureGroundStep: the %s frame needs its pixels and its camera", which));
+  }
+}
+
+// The patch's ground points, cell centres in the vehicle frame, moved by `motion` (the current
+// vehicle's pose in the frame the patch is seen from), looked up in the frame's pixels: the maps
+// cv::remap reads. False when a cell does not project into the image.
+bool patchMaps(const Camera& camera, const GroundStepOptions& o, const Pose2& motion, cv::Mat& map_u, cv::Mat& map_v) {
+  const int rows = static_cast<int>(std::lround((o.far_m - o.near_m) / o.cell_m));
+  const int cols = static_cast<int>(std::lround(2 * o.half_width_m / o.cell_m));
+  map_u.create(rows, cols, CV_32F);
+  map_v.create(rows, cols, CV_32F);
+  for (int i = 0; i < rows; ++i) {  // row i: ahead, the far end first (as the image has it)
+    for (int j = 0; j < cols; ++j) {  // column j: from left to right
+      const Vec2 p(o.far_m - (i + 0.5) * o.cell_m, o.half_width_m - (j + 0.5) * o.cell_m);
+      const auto px = camera.projectGround(motion.transform(p));
+      if (!px || px->x() < 0 || px->y() < 0 || px->x() > camera.width() - 1 || px->y() > camera.height() - 1) return false;
+      map_u.at<float>(i, j) = static_cast<float>(px->x());
+      map_v.at<float>(i, j) = static_cast<float>(px->y());
+    }
+  }
+  return true;
+}
+
+// The patch as the frame sees it: the sum of the three channels, bilinear.
+cv::Mat patch(const VisionFrame& f, const cv::Mat& map_u, const cv::Mat& map_v) {
+  const cv::Mat rgb(f.height, f.width, CV_8UC3, const_cast<std::uint8_t*>(f.rgb));
+  cv::Mat sampled, grey;
+  cv::remap(rgb, sampled, map_u, map_v, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  sampled.convertTo(sampled, CV_32FC3);
+  cv::transform(sampled, grey, cv::Matx13f(1, 1, 1));
+  grey.convertTo(grey, CV_64F);
+  return grey;
+}
+
+// Phase correlation (Kuglin & Hines 1975): the shift s (cells, x across, y down the patch) with
+// b(p) = a(p - s), the correlation surface's peak (1: the same picture moved) and the highest value
+// more than `clear` cells from it in either direction — a second candidate, or the peak's own
+// ridge where the ground has texture in one direction only (a kerb along the road).
+struct Registration {
+  cv::Point2d shift;
+  double peak = 0, runner_up = 0;
+};
+
+Registration phaseCorrelation(const cv::Mat& a, const cv::Mat& b, int clear) {
+  cv::Mat window, fa, fb, cross, surface;
+  cv::createHanningWindow(window, a.size(), CV_64F);
+  const int rows = cv::getOptimalDFTSize(a.rows), cols = cv::getOptimalDFTSize(a.cols);
+  auto spectrum = [&](const cv::Mat& m, cv::Mat& out) {
+    cv::Mat padded;
+    cv::copyMakeBorder((m - cv::mean(m)[0]).mul(window), padded, 0, rows - m.rows, 0, cols - m.cols, cv::BORDER_CONSTANT, 0);
+    cv::dft(padded, out, cv::DFT_COMPLEX_OUTPUT);
+  };
+  spectrum(a, fa);
+  spectrum(b, fb);
+  cv::mulSpectrums(fb, fa, cross, 0, true);
+  std::vector<cv::Mat> parts;
+  cv::split(cross, parts);
+  cv::Mat magnitude;
+  cv::magnitude(parts[0], parts[1], magnitude);
+  magnitude += 1e-12;
+  parts[0] /= magnitude;
+  parts[1] /= magnitude;
+  cv::merge(parts, cross);
+  cv::idft(cross, surface, cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
+  cv::Point at;
+  Registration r;
+  cv::minMaxLoc(surface, nullptr, &r.peak, nullptr, &at);
+  auto value = [&](int y, int x) { return surface.at<double>((y + rows) % rows, (x + cols) % cols); };
+  auto vertex = [](double m, double c, double p) {  // a parabola's vertex through (-1, m), (0, c), (1, p)
+    const double d = m - 2 * c + p;
+    return d < 0 ? std::clamp(0.5 * (m - p) / d, -0.5, 0.5) : 0.0;
+  };
+  const double sx = at.x + vertex(value(at.y, at.x - 1), r.peak, value(at.y, at.x + 1));
+  const double sy = at.y + vertex(value(at.y - 1, at.x), r.peak, value(at.y + 1, at.x));
+  r.shift = cv::Point2d(sx > cols / 2 ? sx - cols : sx, sy > rows / 2 ? sy - rows : sy);
+  for (int y = 0; y < rows; ++y) {
+    for (int x = 0; x < cols; ++x) {
+      const int dy = std::min((y - at.y + rows) % rows, (at.y - y + rows) % rows);
+      const int dx = std::min((x - at.x + cols) % cols, (at.x - x + cols) % cols);
+      if (dx > clear || dy > clear) r.runner_up = std::max(r.runner_up, surface.at<double>(y, x));
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+MeasuredStep measureGroundStep(const VisionFrame& previous, const VisionFrame& current, const MotionIncrement& predicted,
+                               const GroundStepOptions& o) {
+  o.validate();
+  requireFrame(previous, "previous");
+  requireFrame(current, "current");
+  if (previous.width != current.width || previous.height != current.height) {
+    throw InvalidInput(strprintf("measureGroundStep: the frames differ in size (%dx%d, %dx%d)", previous.width,
+                                 previous.height, current.width, current.height));
+  }
+  MeasuredStep out;
+  if (!std::isfinite(predicted.distance_m) || !std::isfinite(predicted.dheading_rad)) {
+    out.reason = "no finite predicted motion";
+    return out;
+  }
+  // The current vehicle's pose in the previous vehicle's frame: the step along the mid-step heading.
+  const double d = predicted.distance_m, dh = predicted.dheading_rad;
+  const Pose2 motion(d * std::cos(0.5 * dh), d * std::sin(0.5 * dh), dh);
+  cv::Mat cu, cv_, pu, pv;
+  if (!patchMaps(*current.camera, o, Pose2(), cu, cv_) || !patchMaps(*previous.camera, o, motion, pu, pv)) {
+    out.reason = "the ground patch is not in view of both frames";
+    return out;
+  }
+  const cv::Mat now = patch(current, cu, cv_), before = patch(previous, pu, pv);
+  cv::Scalar mean, spread;
+  cv::meanStdDev(now, mean, spread);
+  if (!(spread[0] >= o.min_texture)) {
+    out.reason = strprintf("the ground has no texture (spread %.1f < %.1f levels)", spread[0], o.min_texture);
+    return out;
+  }
+  // `before` holds the ground the odometry says is at each cell; if the vehicle drove r further,
+  // that ground is now r nearer: `before` is `now` moved r ahead (up the patch, rows decreasing).
+  const int clear = static_cast<int>(std::ceil(o.clear_m / o.cell_m));
+  const Registration r = phaseCorrelation(now, before, clear);
+  out.peak = r.peak;
+  const double ahead = -r.shift.y * o.cell_m, left = -r.shift.x * o.cell_m;
+  if (!(r.peak >= o.min_peak && r.peak >= o.min_peak_ratio * r.runner_up)) {
+    out.reason = strprintf("the ground did not register (peak %.3f, next %.3f beyond %.2f m)", r.peak, r.runner_up, o.clear_m);
+    return out;
+  }
+  if (!(std::abs(ahead) <= o.max_residual_m && std::abs(left) <= o.max_residual_m)) {
+    out.reason = strprintf("registered %.3f m ahead, %.3f m left of the predicted motion: beyond %.2f m", ahead, left,
+                           o.max_residual_m);
+    return out;
+  }
+  out.found = true;
+  out.distance_m = d + ahead;
+  out.left_m = left;
+  out.sigma_m = o.sigma_m;
+  return out;
+}
+
+}  // namespace mapnav
