@@ -141,6 +141,13 @@ TEST_F(GroundStepOnTheAvenue, AUniformGroundDoesNotRegisterAndAWrongPredictionIs
   const MeasuredStep ridge = measureGroundStep(visionFrame(sa, *camera_), visionFrame(sb, *camera_), {0.8, 0});
   EXPECT_FALSE(ridge.found) << ridge.distance_m;
   EXPECT_NE(ridge.reason.find("did not register"), std::string::npos) << ridge.reason;
+  // A car's camera (KITTI's, 1.66 m up, looking ahead) sees the ground from 7 m on, too shallow.
+  const auto car = loadCamera(testing::mapPath("cameras/kitti_raw_2011_09_26_cam02.json"));
+  Frame car_frame;
+  car_frame.rgb = Image(car->width(), car->height(), 3);
+  const MeasuredStep shallow = measureGroundStep(visionFrame(car_frame, *car), visionFrame(car_frame, *car), {1.2, 0});
+  EXPECT_FALSE(shallow.found);
+  EXPECT_NE(shallow.reason.find("too shallow"), std::string::npos) << shallow.reason;
   // A frame without its camera is the caller's error.
   VisionFrame no_camera = visionFrame(a, *camera_);
   no_camera.camera = nullptr;

@@ -33,7 +33,10 @@ void GroundStepOptions::validate() const {
   require(std::isfinite(min_peak_ratio) && min_peak_ratio >= 1, "min_peak_ratio", min_peak_ratio, "finite and >= 1");
   require(std::isfinite(clear_m) && clear_m >= cell_m, "clear_m", clear_m, "finite and >= cell_m");
   require(std::isfinite(max_residual_m) && max_residual_m > 0, "max_residual_m", max_residual_m, "finite and > 0");
+  require(std::isfinite(max_ground_per_px_m) && max_ground_per_px_m > 0, "max_ground_per_px_m", max_ground_per_px_m,
+          "finite and > 0");
   require(std::isfinite(sigma_m) && sigma_m > 0, "sigma_m", sigma_m, "finite and > 0");
+  require(std::isfinite(pitch_sigma_deg) && pitch_sigma_deg >= 0, "pitch_sigma_deg", pitch_sigma_deg, "finite and >= 0");
 }
 
 namespace {
@@ -44,17 +47,25 @@ void requireFrame(const VisionFrame& f, const char* which) {
   }
 }
 
-// The patch's ground points, cell centres in the vehicle frame, moved by `motion` (the current
-// vehicle's pose in the frame the patch is seen from), looked up in the frame's pixels: the maps
-// cv::remap reads. False when a cell does not project into the image.
-bool patchMaps(const Camera& camera, const GroundStepOptions& o, const Pose2& motion, cv::Mat& map_u, cv::Mat& map_v) {
+// Where the patch starts: near_m ahead, or just beyond the nearest ground the camera sees straight
+// ahead (its bottom row's middle, and 10 % more) when that is further (a car's camera).
+double patchStart(const Camera& camera, const GroundStepOptions& o) {
+  const auto nearest = camera.backproject(Vec2(0.5 * (camera.width() - 1), camera.height() - 1));
+  return nearest && nearest->x() > 0 ? std::max(o.near_m, 1.1 * nearest->x()) : o.near_m;
+}
+
+// The patch's ground points, cell centres in the vehicle frame from `start` ahead, moved by
+// `motion` (the current vehicle's pose in the frame the patch is seen from), looked up in the
+// frame's pixels: the maps cv::remap reads. False when a cell does not project into the image.
+bool patchMaps(const Camera& camera, const GroundStepOptions& o, double start, const Pose2& motion, cv::Mat& map_u,
+               cv::Mat& map_v) {
   const int rows = static_cast<int>(std::lround((o.far_m - o.near_m) / o.cell_m));
   const int cols = static_cast<int>(std::lround(2 * o.half_width_m / o.cell_m));
   map_u.create(rows, cols, CV_32F);
   map_v.create(rows, cols, CV_32F);
   for (int i = 0; i < rows; ++i) {  // row i: ahead, the far end first (as the image has it)
     for (int j = 0; j < cols; ++j) {  // column j: from left to right
-      const Vec2 p(o.far_m - (i + 0.5) * o.cell_m, o.half_width_m - (j + 0.5) * o.cell_m);
+      const Vec2 p(start + (o.far_m - o.near_m) - (i + 0.5) * o.cell_m, o.half_width_m - (j + 0.5) * o.cell_m);
       const auto px = camera.projectGround(motion.transform(p));
       if (!px || px->x() < 0 || px->y() < 0 || px->x() > camera.width() - 1 || px->y() > camera.height() - 1) return false;
       map_u.at<float>(i, j) = static_cast<float>(px->x());
@@ -146,7 +157,16 @@ MeasuredStep measureGroundStep(const VisionFrame& previous, const VisionFrame& c
   const double d = predicted.distance_m, dh = predicted.dheading_rad;
   const Pose2 motion(d * std::cos(0.5 * dh), d * std::sin(0.5 * dh), dh);
   cv::Mat cu, cv_, pu, pv;
-  if (!patchMaps(*current.camera, o, Pose2(), cu, cv_) || !patchMaps(*previous.camera, o, motion, pu, pv)) {
+  const double start = patchStart(*current.camera, o), end = start + (o.far_m - o.near_m);
+  const Camera& camera = *current.camera;
+  const auto far = camera.projectGround(Vec2(end, 0)), beyond = camera.projectGround(Vec2(end + 0.01, 0));
+  const double per_px = far && beyond ? 0.01 / std::max(1e-9, (*far - *beyond).norm()) : HUGE_VAL;
+  if (!(per_px <= o.max_ground_per_px_m)) {
+    out.reason = strprintf("the ground is seen too shallow: a pixel spans %.3f m along the road %.1f m ahead (at most %.3f)",
+                           per_px, end, o.max_ground_per_px_m);
+    return out;
+  }
+  if (!patchMaps(*current.camera, o, start, Pose2(), cu, cv_) || !patchMaps(*previous.camera, o, start, motion, pu, pv)) {
     out.reason = "the ground patch is not in view of both frames";
     return out;
   }
@@ -175,7 +195,11 @@ MeasuredStep measureGroundStep(const VisionFrame& previous, const VisionFrame& c
   out.found = true;
   out.distance_m = d + ahead;
   out.left_m = left;
-  out.sigma_m = o.sigma_m;
+  // The pitch's share: the patch's middle, seen from the camera's height at depression angle a.
+  const Vec3 c = camera.center();
+  const double a = std::atan2(c.z(), std::max(1e-6, 0.5 * (start + end) - c.x()));
+  const double pitch = std::abs(out.distance_m) * 2 / std::sin(2 * a) * degToRad(o.pitch_sigma_deg);
+  out.sigma_m = std::hypot(o.sigma_m, pitch);
   return out;
 }
 

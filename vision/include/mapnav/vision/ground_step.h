@@ -18,7 +18,9 @@ struct GroundStepOptions {
   /// The patch of ground compared, vehicle frame: from near_m to far_m ahead and half_width_m to
   /// either side, m. 3-7 m and ±0.8 m: the Terregator camera (1.5 m up, 22° down, 32° across) sees
   /// the ground from 2 m ahead and 1.7 m wide at 3 m; a step of 1 m keeps 3/4 of the patch in both
-  /// frames, and beyond 7 m a pixel spans more than 4 cm of ground along the road.
+  /// frames, and beyond 7 m a pixel spans more than 4 cm of ground along the road. A camera that
+  /// sees no ground that near (a car's, looking ahead) has the patch, as long, moved out to 10 %
+  /// beyond the nearest ground it sees straight ahead.
   double near_m = 3.0;
   double far_m = 7.0;
   double half_width_m = 0.8;
@@ -39,8 +41,19 @@ struct GroundStepOptions {
   /// 0.25 m is 25 % of a 1 m step, ten times the odometry's scale error; a larger one is a wrong
   /// registration (a sidewalk's joints every 1.5 m), not the wheels.
   double max_residual_m = 0.25;
-  /// The measured distance's 1-sigma, m.
+  /// Looked at only where a pixel spans at most this much ground along the road at the patch's
+  /// far end (seen straight ahead), m: a shallow view (a car's camera, the ground beyond 7 m) turns
+  /// the camera's pitch into the step's length. 0.05: the Terregator camera's 3.8 cm at 7 m; KITTI's
+  /// car camera sees 9 cm per pixel at the 10 m its patch would reach, and is refused.
+  double max_ground_per_px_m = 0.05;
+  /// The measured distance's 1-sigma, m: the registration's, with the camera's pitch added: a pitch
+  /// error of p radians scales the ground seen at depression angle a by 2 p / sin(2 a) (3.6 p at the
+  /// Terregator patch's middle), and the step with it.
   double sigma_m = 0.01;
+  /// The camera's pitch uncertainty as the vehicle rocks, deg (the mount's calibration is assumed
+  /// good: a static pitch error biases every step alike, as a wheel's scale error does). 0.2: a
+  /// small vehicle's pitch on smooth paving; 0.8 cm on a 0.8 m step of the Terregator camera.
+  double pitch_sigma_deg = 0.2;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
