@@ -126,6 +126,7 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
   into.min_path_clearance_m = std::numeric_limits<double>::infinity();
   into.left_path_frames = 0;
   into.lost_frames = 0;
+  into.ground_steps_used = 0;
   std::vector<double> latency, vision;
   latency.reserve(frames.size());
   vision.reserve(frames.size());
@@ -134,6 +135,7 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
     vision.push_back(f.vision_ms);
     if (!f.vision_ok) ++into.vision_failures;
     if (f.status == PositionStatus::Lost) ++into.lost_frames;
+    if (f.step_used) ++into.ground_steps_used;
     if (!f.truth) continue;
     into.has_truth = true;
     into.max_offset_from_centre_m = std::max(into.max_offset_from_centre_m, f.offset_from_centre_m);

@@ -197,6 +197,7 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   r.observed_heading = position.observed_heading;
   r.lines_used = position.lines_used;
   r.landmarks_used = position.landmarks_used;
+  r.step_used = position.step_used;
   r.along_cue = position.along_cue;
   r.odometry_only = odometry_only_.pose();
   r.gnss = frame.gnss;

@@ -553,7 +553,8 @@ std::string metricsTable(const MissionRun& run) {
   row("loop latency (" + std::to_string(run.image_width) + "x" + std::to_string(run.image_height) + ")",
       strprintf("median %.2f ms", m.latency_ms_median) + strprintf(", p99 %.2f ms", m.latency_ms_p99),
       strprintf("Vision alone: median %.2f ms", m.vision_ms_median));
-  row("odometry scale", strprintf("%.4f", run.odometry_scale));
+  row("odometry scale", strprintf("%.4f", run.odometry_scale),
+      strprintf("the distance driven measured from the ground on %zu of %zu frames", m.ground_steps_used, m.frames));
   out += "</table>\n";
   return out;
 }

@@ -86,6 +86,7 @@ std::string runToJson(const MissionRun& run) {
          {"latency_ms_max", roundTo(m.latency_ms_max, 1e3)},
          {"vision_ms_median", roundTo(m.vision_ms_median, 1e3)},
          {"odometry_scale", roundTo(run.odometry_scale, 1e6)},
+         {"ground_steps_used", m.ground_steps_used},
          {"image_size", std::to_string(run.image_width) + "x" + std::to_string(run.image_height)},
          {"duration_s", roundTo(run.duration_s, 1e3)},
          {"distance_m", roundTo(run.distance_m, 1e3)},

@@ -100,6 +100,8 @@ TEST(LandmarkAvenue, LandmarksAndTheGroundsStepHoldTheAlongRoadPositionWhereOdom
   EXPECT_GE(count(trace, "\"kind\":\"tree\",\"vehicle\""), 5u);  // trees among the predicted landmarks of five frames at least
   EXPECT_GE(count(trace, "\"step_used\":true"), with.frames.size() * 9 / 10);
   EXPECT_EQ(count(readFile(root / "with-no-step/trace.jsonl"), "\"step_used\":true"), 0u);
+  EXPECT_EQ(with.metrics.ground_steps_used, count(trace, "\"step_used\":true"));
+  EXPECT_EQ(landmarks_only.metrics.ground_steps_used, 0u);
 }
 
 }  // namespace

@@ -225,9 +225,13 @@ TEST(ReportHtml, SaysWhatFixedTheAlongRoadPositionInTheSummaryAndUnderTheErrorPl
   run.frames[1].along_cue = AlongCue::Intersection;
   run.frames[3].along_cue = AlongCue::Landmark;
   run.frames[4].along_cue = AlongCue::Landmark;
+  run.metrics.ground_steps_used = 5;
   const std::string html = reportHtml(run, map, {}, "");
   EXPECT_NE(html.find("<tr><th>along-road position fixed by</th><td>1 frames by intersections, 2 by landmarks, 3 by "
                       "neither (odometry)</td><td></td></tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("the distance driven measured from the ground on 5 of " + std::to_string(run.metrics.frames) +
+                      " frames</td></tr>"),
             std::string::npos);
   // The ticks: two of the landmark colour (#c87800), one of the intersections' (#5a5a5a), in the position plot.
   const std::size_t a = html.find("id=\"plot-position\""), b = html.find("id=\"plot-heading\"");

@@ -39,6 +39,7 @@ struct FrameRecord {
   bool observed_lateral = false, observed_along = false, observed_heading = false;
   int lines_used = 0;
   int landmarks_used = 0;
+  bool step_used = false;               ///< the ground's step was fused (CurrentPosition::step_used)
   AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position (issue 28)
   Pose2 odometry_only;            ///< dead reckoning alone from the start, same motion model
   /// A GNSS fix the log recorded with this frame (world frame, m) and its 1-sigma error: drawn in the
@@ -170,6 +171,9 @@ struct MissionMetrics {
   /// times the estimate was re-localised.
   std::size_t lost_frames = 0;
   std::size_t relocalisations = 0;
+  /// Frames whose distance driven since the previous one was measured from the ground and fused
+  /// (issue 28: the ground's step observes the odometry's scale).
+  std::size_t ground_steps_used = 0;
   LogFaultCounts log_faults;      ///< replay: the log's faults met, by kind (MissionRun::faults)
   double latency_ms_median = 0, latency_ms_p99 = 0, latency_ms_max = 0;
   double vision_ms_median = 0;    ///< the Vision module's part (the pipeline)
