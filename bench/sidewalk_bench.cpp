@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mapnav/map/predict.h"
+#include "mapnav/vision/ground_step.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
 #include "mapnav/scenes/sidewalk_scene.h"  // the scene `mapnav bench` times too
@@ -46,6 +47,24 @@ void BM_SidewalkFrameEveryPixel(benchmark::State& state) { runSidewalk(state, R"
 void BM_SidewalkFrameReference(benchmark::State& state) { runSidewalk(state, R"({"reference": true})", false); }
 void BM_SidewalkPredictAndFrame(benchmark::State& state) { runSidewalk(state, "{}", true); }
 
+// The ground's step between consecutive frames (issue 28), which the Vision module adds to every
+// pipeline; "found" is the share of pairs that registered.
+void BM_GroundStep(benchmark::State& state) {
+  const auto& s = scene();
+  std::size_t k = 0, found = 0;
+  for (auto _ : state) {
+    const std::size_t i = k++ % (s.frames.size() - 1);
+    const mapnav::Image &a = s.frames[i].rgb, &b = s.frames[i + 1].rgb;
+    const mapnav::Pose2 step = s.poses[i].inverse() * s.poses[i + 1];
+    const mapnav::VisionFrame before{a.width, a.height, a.data.data(), s.camera.get(), 0.0};
+    const mapnav::VisionFrame after{b.width, b.height, b.data.data(), s.camera.get(), 1.0};
+    const mapnav::MeasuredStep m = mapnav::measureGroundStep(before, after, {step.translation().norm(), step.heading()});
+    found += m.found ? 1 : 0;
+    benchmark::DoNotOptimize(m.distance_m);
+  }
+  state.counters["found"] = static_cast<double>(found) / static_cast<double>(k);
+}
+
 void BM_SidewalkMemcpy(benchmark::State& state) {
   const auto& s = scene();
   std::vector<std::uint8_t> dst(s.frames.front().rgb.data.size());
@@ -64,4 +83,5 @@ BENCHMARK(BM_SidewalkFrame)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SidewalkFrameEveryPixel)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SidewalkFrameReference)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SidewalkPredictAndFrame)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GroundStep)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SidewalkMemcpy)->Unit(benchmark::kMicrosecond);

@@ -63,10 +63,12 @@ bool patchMaps(const Camera& camera, const GroundStepOptions& o, double start, c
   const int cols = static_cast<int>(std::lround(2 * o.half_width_m / o.cell_m));
   map_u.create(rows, cols, CV_32F);
   map_v.create(rows, cols, CV_32F);
+  const Mat2 rotation = motion.rotation();
+  const Vec2 translation = motion.translation();
   for (int i = 0; i < rows; ++i) {  // row i: ahead, the far end first (as the image has it)
     for (int j = 0; j < cols; ++j) {  // column j: from left to right
       const Vec2 p(start + (o.far_m - o.near_m) - (i + 0.5) * o.cell_m, o.half_width_m - (j + 0.5) * o.cell_m);
-      const auto px = camera.projectGround(motion.transform(p));
+      const auto px = camera.projectGround(rotation * p + translation);
       if (!px || px->x() < 0 || px->y() < 0 || px->x() > camera.width() - 1 || px->y() > camera.height() - 1) return false;
       map_u.at<float>(i, j) = static_cast<float>(px->x());
       map_v.at<float>(i, j) = static_cast<float>(px->y());
