@@ -179,6 +179,9 @@ const OptionTable<ClusterPerceptronPipelineOptions>& clusterPerceptronPipelineOp
                  "with normalized_color: a training whose prediction puts a shoulder within this distance of the "
                  "road's colour in normalised colour (255 (R, G, B) / (R + G + B)) is done in log colour instead "
                  "(gravel beside asphalt: 11; dirt 37, grass 55); 0: never")
+          .field("retrain_on_failure", &O::retrain_on_failure,
+                 "beyond the paper: a frame the model of an earlier frame fails on is trained on (bootstrapped from "
+                 "the prediction) and tried again instead of failing")
           .field("retrain_on_new_surface", &O::retrain_on_new_surface,
                  "beyond the paper: train again on the first frame whose prediction names a surface (the road's or "
                  "a shoulder's beside an edge in view) the last training's frame did not: the surroundings changed "
@@ -282,34 +285,18 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     // training or the scoring's region, not on every frame of the loop.
     std::set<std::string> surfaces = surfacesInView(prediction);
     const bool retrain = retrainOn(h, surfaces);
-    const Image outline = retrain || frame.want_masks ? bootstrapOutline(prediction, cam) : Image();
-    if (retrain) {
-      ClusterPerceptronOptions o = opts_;
-      // Grey frames' texture features are not colours: normalised, their texture would be gone (and
-      // a log would squeeze the high texture levels that part asphalt from grass), and the gate's
-      // feature distance barely parts them: the classes are balanced instead.
-      if (pixels != frame.rgb) {
-        o.normalized_color = false;
-        o.log_color = false;
-        o.balance_classes = o.balance_classes || opts_.grey_balance_classes;
-      } else if (o.normalized_color && normalisedSeparation(prediction) < opts_.min_normalised_separation) {
-        // A shoulder the road's chromaticity (gravel beside asphalt): in log colour, which keeps brightness.
-        o.normalized_color = false;
-        o.log_color = true;
-      }
-      train(o, pixels, w, h, outline, cam);
-      trained_surfaces_ = std::move(surfaces);
-      // A street (the paper's bootstrap could not part the road from the rest): again in log colour.
-      street_ = opts_.log_color_when_gated && finder_.nonroadGated() && pixels == frame.rgb && !o.normalized_color &&
-                !o.log_color;
-      if (street_) {
-        o.log_color = true;
-        train(o, pixels, w, h, outline, cam);
-      }
-    }
+    Image outline = retrain || frame.want_masks ? bootstrapOutline(prediction, cam) : Image();
+    if (retrain) trainOn(pixels, frame, prediction, outline, surfaces);
     std::optional<Segment2> prior;
     if (opts_.prior_px > 0) prior = maskCentreLine(predictedRoadMask(prediction, cam));
-    const RoadFinding f = finder_.track(pixels, w, h, frame.want_masks, prior);
+    RoadFinding f = finder_.track(pixels, w, h, frame.want_masks, prior);
+    // Beyond the paper: a frame that the model of an earlier frame fails on is trained on and tried
+    // again, rather than failed (a halted vehicle sees the same frame again and again).
+    if (!f.ok && !retrain && opts_.retrain_on_failure) {
+      if (outline.data.empty()) outline = bootstrapOutline(prediction, cam);
+      trainOn(pixels, frame, prediction, outline, surfaces);
+      f = finder_.track(pixels, w, h, frame.want_masks, prior);
+    }
     if (!f.ok) {
       DetectedObject d = DetectedObject::failed(f.reason);
       d.timestamp = frame.timestamp;
@@ -356,6 +343,36 @@ class ClusterPerceptronPipeline : public VisionPipeline {
   }
 
  private:
+  // Clusters and perceptron trained on the frame's `pixels` (its colours, or a grey frame's texture
+  // features) from the bootstrap `outline`; `surfaces` (surfacesInView()) are what it was trained with.
+  void trainOn(const std::uint8_t* pixels, const VisionFrame& frame, const PredictedObject& prediction,
+               const Image& outline, const std::set<std::string>& surfaces) {
+    const int w = frame.width, h = frame.height;
+    const Camera& cam = *frame.camera;
+    ClusterPerceptronOptions o = opts_;
+    // Grey frames' texture features are not colours: normalised, their texture would be gone (and
+    // a log would squeeze the high texture levels that part asphalt from grass), and the gate's
+    // feature distance barely parts them: the classes are balanced instead.
+    if (pixels != frame.rgb) {
+      o.normalized_color = false;
+      o.log_color = false;
+      o.balance_classes = o.balance_classes || opts_.grey_balance_classes;
+    } else if (o.normalized_color && normalisedSeparation(prediction) < opts_.min_normalised_separation) {
+      // A shoulder the road's chromaticity (gravel beside asphalt): in log colour, which keeps brightness.
+      o.normalized_color = false;
+      o.log_color = true;
+    }
+    train(o, pixels, w, h, outline, cam);
+    trained_surfaces_ = surfaces;
+    // A street (the paper's bootstrap could not part the road from the rest): again in log colour.
+    street_ = opts_.log_color_when_gated && finder_.nonroadGated() && pixels == frame.rgb && !o.normalized_color &&
+              !o.log_color;
+    if (street_) {
+      o.log_color = true;
+      train(o, pixels, w, h, outline, cam);
+    }
+  }
+
   // A new finder with options `o`, its clusters and perceptron trained on the frame's pixels.
   void train(const ClusterPerceptronOptions& o, const std::uint8_t* pixels, int w, int h, const Image& outline,
              const Camera& cam) {

@@ -375,6 +375,10 @@ struct ClusterPerceptronPipelineOptions : ClusterPerceptronOptions {
   /// R2's dirt shoulder in the 15 m hairpin for road and the arc model halted there for good
   /// (docs/measurements.md, park loop).
   bool retrain_on_new_surface = true;
+  /// Beyond the paper: a frame that the model trained on an earlier frame fails on is trained on
+  /// (bootstrapped from the prediction) and tried again, instead of failing: a halted vehicle sees the
+  /// same frame again and again, and a frozen model fails it for good (park_loop's 15 m hairpin).
+  bool retrain_on_failure = true;
   /// Beyond the paper: with normalized_color, a training whose prediction puts a shoulder's mean colour
   /// within this distance of the road's in normalised colour (255 (R, G, B) / (R + G + B)) is done in
   /// log colour (log_color) instead, which keeps the brightness that parts them. The park's gravel is
