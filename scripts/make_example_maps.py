@@ -10,6 +10,9 @@ the rules of docs/map-format.md that `mapnav map validate` enforces beyond the J
 references, end points at their intersections, no repeated points, no self-intersections, no
 crossings away from shared intersections, kinds matching degrees, connectivity, ...): the script
 fails with an AssertionError rather than write a map the validator would reject or warn about.
+The park's landmarks (PARK_FURNITURE: lamp posts, trees, benches, manholes, jittered by a fixed seed)
+are checked not to stand on any road's paved area nor more than 10 m from their road, the two
+warnings `mapnav map validate` gives for landmarks.
 The campus map is also checked to hold the dialogue of Wallace et al. 1985, section 2 ("Robot is at
 road R1, 3 meters from I1. Navigate to R3, 2 meters from I3." / "Drive on it 2.5 meters and turn to
 right 90 degrees"): the shortest route takes a 90 degree right turn at the cross intersection I1.

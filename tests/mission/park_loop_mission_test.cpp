@@ -47,12 +47,11 @@ void expectTheGoalOnThePath(const MissionRun& run) {
 constexpr const char* kCurved = R"({"preset": "park-shadows"})";
 
 // The curved model through the hairpin: the model of R1's grass retrained when the prediction names
-// the dirt shoulder (and again when a frame fails), in log colour beside R4's gravel.
+// the dirt shoulder (and again when a frame fails), in log colour beside R4's gravel. On two worlds
+// (the mission's, 1993, and 4); not on every one (seeds 1, 2, 3 and 5: docs/measurements.md).
 TEST(ParkLoopMission, TheCurvedModelReachesTheGoalOnThePath) { expectTheGoalOnThePath(runParkLoop(kCurved, std::nullopt)); }
 
-TEST(ParkLoopMission, TheCurvedModelReachesTheGoalOnThePathOnSeed1993) {
-  expectTheGoalOnThePath(runParkLoop(kCurved, 1993));
-}
+TEST(ParkLoopMission, TheCurvedModelReachesTheGoalOnThePathOnSeedFour) { expectTheGoalOnThePath(runParkLoop(kCurved, 4)); }
 
 // NOT the goal on this seed: four frames of heavy shadow in R4's 40 m bend (log colour, beside the
 // gravel) give centre lines 0.4-2.5 m off; the Map takes one after widening its covariance and a
