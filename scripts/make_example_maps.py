@@ -10,6 +10,9 @@ the rules of docs/map-format.md that `mapnav map validate` enforces beyond the J
 references, end points at their intersections, no repeated points, no self-intersections, no
 crossings away from shared intersections, kinds matching degrees, connectivity, ...): the script
 fails with an AssertionError rather than write a map the validator would reject or warn about.
+The park's landmarks (PARK_FURNITURE: lamp posts, trees, benches, manholes, jittered by a fixed seed)
+are checked not to stand on any road's paved area nor more than 10 m from their road, the two
+warnings `mapnav map validate` gives for landmarks.
 The campus map is also checked to hold the dialogue of Wallace et al. 1985, section 2 ("Robot is at
 road R1, 3 meters from I1. Navigate to R3, 2 meters from I3." / "Drive on it 2.5 meters and turn to
 right 90 degrees"): the shortest route takes a 90 degree right turn at the cross intersection I1.
@@ -20,6 +23,7 @@ import heapq
 import json
 import math
 import os
+import random
 import sys
 
 FORMAT = "mapnav-map/1"
@@ -61,6 +65,29 @@ def dist(a, b):
 
 def polyline_length(pts):
     return sum(dist(pts[i], pts[i + 1]) for i in range(len(pts) - 1))
+
+
+def point_segment_distance(p, a, b):
+    ax, ay = b[0] - a[0], b[1] - a[1]
+    L2 = ax * ax + ay * ay
+    t = 0.0 if L2 == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * ax + (p[1] - a[1]) * ay) / L2))
+    return dist(p, (a[0] + t * ax, a[1] + t * ay))
+
+
+def polyline_distance(p, pts):
+    return min(point_segment_distance(p, pts[i], pts[i + 1]) for i in range(len(pts) - 1))
+
+
+def point_beside(pts, s, offset):
+    """The point `offset` m to the left (negative: right) of polyline `pts` at arc length `s`."""
+    for i in range(len(pts) - 1):
+        seg = dist(pts[i], pts[i + 1])
+        if s <= seg or i == len(pts) - 2:
+            t = min(max(s / seg, 0.0), 1.0)
+            ux, uy = (pts[i + 1][0] - pts[i][0]) / seg, (pts[i + 1][1] - pts[i][1]) / seg
+            return (pts[i][0] + t * seg * ux - offset * uy, pts[i][1] + t * seg * uy + offset * ux)
+        s -= seg
+    raise AssertionError("unreachable")
 
 
 def cross(o, a, b):
@@ -726,6 +753,7 @@ def make_park_path():
                       "left": left, "right": right})
     m = finish_map("Schenley Park path", {"lat": 40.4365, "lon": -79.9465, "alt": 275.0}, inters, roads)
     assert_valid(m)
+    add_park_landmarks(m)
     total = sum(polyline_length(r["centerline"]) for r in m["roads"])
     assert 950 <= total <= 1100, total
     min_r = min(circumradius(cl[i - 1], cl[i], cl[i + 1])
@@ -735,6 +763,63 @@ def make_park_path():
         cl = r["centerline"]
         assert max(dist(cl[i], cl[i + 1]) for i in range(len(cl) - 1)) <= 80.0
     return m, total, min(radii), max(radii), min_r
+
+
+# A real park's furniture along each road (arc lengths from the road's `from` end, m): lamp posts at
+# the paving's edge every 25-40 m on the lit stretches, trees 1-2 m off the edge in groups, a few
+# benches on grass shoulders, a manhole cover in the paving now and then (issue 28). Side +1 is the
+# left as seen walking from `from` to `to`, -1 the right.
+PARK_FURNITURE = {
+    "R1": {"pole": (-1, [18, 50, 83, 112, 146, 180, 212]), "tree": (1, [56, 62, 70, 121, 128, 176]),
+           "bench": (1, [34, 150]), "manhole": [27, 138]},
+    "R2": {"pole": (1, [14, 48, 80, 115, 151, 187, 221]), "tree": (-1, [31, 200]), "bench": (1, [62]),
+           "manhole": [101]},
+    "R3": {"tree": (-1, [18, 44, 67, 95, 121, 148, 171, 197]), "bench": (-1, [108]), "manhole": [72, 158]},
+    "R4": {"pole": (-1, [16, 47, 80, 113, 143, 176, 207]), "tree": (1, [38, 46, 153]), "bench": (1, [95]),
+           "manhole": [121]},
+    "R5": {"pole": (1, [11, 43, 74]), "bench": (1, [58]), "manhole": [35]},
+}
+BENCH_DEPTH = 0.5  # m, as the map's kBenchDepthM
+LANDMARK_REACH = {"pole": 0.10, "tree": 0.15, "bench": BENCH_DEPTH / 2}  # the kinds' default radii
+
+
+def add_park_landmarks(m):
+    """Place PARK_FURNITURE beside the park's roads, jittered by a fixed seed, numbered along the
+    path per kind (P1, T1, B1, M1, ...); asserts what `mapnav map validate` warns about: nothing
+    standing within its reach of any road's paved area, nothing more than 10 m from its road."""
+    rng = random.Random(28)
+    count = {"pole": 0, "tree": 0, "bench": 0, "manhole": 0}
+    landmarks = []
+    for road in m["roads"]:
+        plan, pts, half = PARK_FURNITURE[road["id"]], road["centerline"], road["width"] / 2
+        placed = []
+        for kind in ("pole", "tree", "bench", "manhole"):
+            if kind not in plan:
+                continue
+            side, stations = plan[kind] if kind != "manhole" else (0, plan[kind])
+            for s in stations:
+                if kind == "pole":
+                    off = side * (half + rng.uniform(0.35, 0.5))
+                elif kind == "tree":
+                    off = side * (half + rng.uniform(1.0, 2.0))
+                elif kind == "bench":
+                    assert road["left" if side > 0 else "right"] == "grass", (road["id"], s)
+                    off = side * (half + BENCH_DEPTH / 2 + rng.uniform(0.08, 0.12))
+                else:
+                    off = rng.uniform(-0.7, 0.7)
+                placed.append((s + rng.uniform(-1.5, 1.5), kind, off))
+        for s, kind, off in sorted(placed):
+            count[kind] += 1
+            p = rp(point_beside(pts, s, off))
+            near = min(polyline_distance(p, r["centerline"]) - r["width"] / 2 for r in m["roads"])
+            if kind == "manhole":
+                assert polyline_distance(p, pts) <= half - 0.3, (kind, road["id"], s)
+            else:
+                assert near >= LANDMARK_REACH[kind] + 0.05, (kind, road["id"], s, near)
+            assert polyline_distance(p, pts) - half <= 10.0
+            landmarks.append({"id": f"{kind[0].upper()}{count[kind]}", "kind": kind, "position": p,
+                              "road": road["id"]})
+    m["landmarks"] = landmarks
 
 
 def main():
@@ -756,6 +841,7 @@ def main():
         what = "straight" if abs(t) < 10 else ("left" if t > 0 else "right") + f" {abs(t):.0f} deg"
         print(f"  at {n} ({kind}): {a} -> {b}: {what}")
     print(f"park_path: {len(park['intersections'])} intersections, {len(park['roads'])} roads, "
+          f"{len(park['landmarks'])} landmarks, "
           f"{park_len:.1f} m, arc radii {r_min:.0f}-{r_max:.0f} m "
           f"(smallest measured on the written points: {park_min_r:.1f} m)")
     return 0

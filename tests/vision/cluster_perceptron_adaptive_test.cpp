@@ -119,7 +119,7 @@ TEST(ClusterPerceptron, AdaptiveClustersRetrainOnASceneChange) {
 // costs nothing.
 TEST(ClusterPerceptron, AdaptiveClustersAddOneForANewColour) {
   const World before(park(), parkWorld());
-  MapData data = park().data();
+  MapData data = parkScenery().data();
   data.surfaces.emplace_back("flowers", Appearance{Vec3(40, 45, 110), Vec3(8, 8, 10)});
   drivenRoad(data).left = "flowers";
   const Map changed(data, "park with a flower bed");
@@ -142,7 +142,7 @@ TEST(ClusterPerceptron, AdaptiveClustersAddOneForANewColour) {
 // surfaces and shadows), so their error is a multiple of the training error; against the recent
 // frames' median it stays well inside the threshold, and nothing is retrained.
 TEST(ClusterPerceptron, AdaptiveTriggerQuietOnAnUnchangedWorld) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const std::size_t frames = 20;
   const SceneChangeRun run = runSceneChange(world, world, frames, frames);
   double vs_training = 0, vs_reference = 0;
@@ -165,7 +165,7 @@ TEST(ClusterPerceptron, AdaptiveTriggerQuietOnAnUnchangedWorld) {
 // first new frame on.
 TEST(ClusterPerceptron, AdaptiveClustersKeepAPathThatTurnsToBrick) {
   const World before(park(), parkWorld());
-  MapData data = park().data();
+  MapData data = parkScenery().data();
   drivenRoad(data).surface = "brick";
   const Map changed(data, "park with a brick path");
   const World after(changed, parkWorld());

@@ -69,7 +69,7 @@ struct ArcVsLine {
 /// With `bootstrap_s`, each road's models are trained on the frame at that arc length of the road (on
 /// its centre line, looking along it) instead of on the road's first pose.
 /// `world_options`: the renderer's; `arc_options`: the arc model's (road_model set to Arc here).
-ArcVsLine arcVsLine(const std::vector<RoadPose>& poses, const Map& map = park(),
+ArcVsLine arcVsLine(const std::vector<RoadPose>& poses, const Map& map = parkScenery(),
                     std::optional<double> bootstrap_s = std::nullopt, const WorldOptions& world_options = parkWorld(),
                     ClusterPerceptronOptions arc_options = {});
 

@@ -179,7 +179,7 @@ TEST(ClusterPerceptron, ArcModelInNormalisedColourWithinTwoPixelsAndOneDegreeOnE
 }
 
 TEST(ClusterPerceptron, ArcModelFastPathEqualsReference) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const auto poses = curvePoses(3.0);
   ClusterPerceptronOptions o;
   o.road_model = RoadModel::Arc;

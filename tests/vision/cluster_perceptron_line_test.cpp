@@ -40,7 +40,7 @@ std::pair<double, double> truthLine(const RoadPose& sp) {
 // truth, and its angle within 1 degree, on every straight frame. The offset at the bottom row is
 // printed too: where the road fills the image's width there, it is extrapolated from the rows above.
 TEST(ClusterPerceptron, HoughCentreLineOnStraightStretches) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const auto poses = straightPoses(4.0);
   ASSERT_GE(poses.size(), 40u);
   double worst_top = 0, worst_bot = 0, worst_deg = 0, sum_top = 0, sum_deg = 0;

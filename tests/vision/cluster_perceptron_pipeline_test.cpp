@@ -42,7 +42,7 @@ TEST(ClusterPerceptron, ParkPipelineRegisteredAndFindsTheCentreLine) {
   EXPECT_NO_THROW(createPipeline("cluster-perceptron", R"({"arc": true, "subpixel_edges": true})"));
   EXPECT_THROW(p->configure(R"({"subpixel_edges": 2})"), InvalidInput);
   EXPECT_THROW(p->configure(R"({"normalized_color": 1})"), InvalidInput);
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const auto poses = straightPoses(6.0);
   for (std::size_t i = 0; i < std::min<std::size_t>(poses.size(), 8); ++i) {
     const Frame f = world.render(cam(), poses[i].pose, static_cast<double>(i));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "eval_common.h"
@@ -15,6 +16,19 @@
 namespace mapnav::visiontest {
 
 inline const Camera& cam() { return visiontest::pinhole(); }
+
+/// The park without its map landmarks (issue 28), the world the road finder's frame-by-frame
+/// figures below were measured in: they score the road against its shoulders and the seeded tree
+/// shadows. What the landmarks (a lamp post's shadow across the path, a bench or a tree trunk at the
+/// edge) do to them is in docs/measurements.md; the closed loops drive the park with its landmarks.
+inline const Map& parkScenery() {
+  static const Map map = [] {
+    MapData data = park().data();
+    data.landmarks.clear();
+    return Map(std::move(data), "park_path.json without landmarks");
+  }();
+  return map;
+}
 
 inline WorldOptions parkWorld() {
   WorldOptions wo;

@@ -20,7 +20,7 @@ namespace {
 using namespace visiontest;
 
 TEST(ClusterPerceptron, ReconstructionErrorFallsAndConverges) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const auto poses = straightPoses(10.0);
   ASSERT_FALSE(poses.empty());
   for (int clusters : {5, 12, 30}) {
@@ -50,7 +50,7 @@ TEST(ClusterPerceptron, ReconstructionErrorFallsAndConverges) {
 }
 
 TEST(ClusterPerceptron, PerceptronLearnsTheBootstrapOutline) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const auto poses = straightPoses(10.0);
   const Frame f = world.render(cam(), poses.front().pose, 0.0);
   const Prediction pred = predictView(park(), poses.front().pose, cam());
@@ -75,7 +75,7 @@ TEST(ClusterPerceptron, PerceptronLearnsTheBootstrapOutline) {
 }
 
 TEST(ClusterPerceptron, ParkRoadMaskIoU) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const std::vector<Pose2> poses = visiontest::roadPoses(park(), 12.0);
   ASSERT_GE(poses.size(), 20u);
   // Each road is a new scene (its own shoulder surfaces): the finder is retrained (reset()) on the
@@ -119,7 +119,7 @@ TEST(ClusterPerceptron, ParkRoadMaskIoU) {
 // Beyond the paper (§9): the perceptron on raw R, G, B. On the park, asphalt is bluer than grass,
 // dirt and their shadows, which one linear unit separates well; its lookup table is exact too.
 TEST(ClusterPerceptron, RawRgbPerceptronLearnsTheRoadAndItsTableIsExact) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const auto poses = straightPoses(10.0);
   ClusterPerceptronOptions o;
   o.raw_rgb = true;
@@ -197,7 +197,7 @@ TEST(ClusterPerceptron, NormalisedColourClassifiesAShadedViewAsTheSunlitOne) {
 // for raw_rgb's. And a colour and its double have the same normalised colour to the bit, so the same
 // output.
 TEST(ClusterPerceptron, NormalisedAndLogColourTablesAreExactForEveryColour) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const Pose2 pose = straightPoses(10.0).front().pose;
   const int w = cam().width(), h = cam().height();
   const std::uint32_t per_frame = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
@@ -251,7 +251,7 @@ TEST(ClusterPerceptron, NormalisedAndLogColourTablesAreExactForEveryColour) {
 }
 
 TEST(ClusterPerceptron, FastPathEqualsReferenceOn100Frames) {
-  const World world(park(), parkWorld());
+  const World world(parkScenery(), parkWorld());
   const std::vector<Pose2> poses = visiontest::roadPoses(park(), 5.0);
   ASSERT_GE(poses.size(), 100u);
   ClusterPerceptron fast = trainedOn(world, straightPoses(10.0).front().pose, 0.0);

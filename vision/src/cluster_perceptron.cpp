@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -171,6 +172,20 @@ const OptionTable<ClusterPerceptronPipelineOptions>& clusterPerceptronPipelineOp
                  "beyond the paper: every frame clusters its colours and retrains the perceptron on its own bootstrap "
                  "(the prediction, else the trapezoid); false = train on the first frame and freeze (the paper), "
                  "except after a training under the non-road gate, which is redone on every frame")
+          .field("chord_tolerance_m", &O::chord_tolerance_m, above(0),
+                 "arc model: the centre line reported is the chord of the curve's near part within this of the "
+                 "curve (the Map takes a centre line for straight), m")
+          .field("min_normalised_separation", &O::min_normalised_separation, atLeast(0),
+                 "with normalized_color: a training whose prediction puts a shoulder within this distance of the "
+                 "road's colour in normalised colour (255 (R, G, B) / (R + G + B)) is done in log colour instead "
+                 "(gravel beside asphalt: 11; dirt 37, grass 55); 0: never")
+          .field("retrain_on_failure", &O::retrain_on_failure,
+                 "beyond the paper: a frame the model of an earlier frame fails on is trained on (bootstrapped from "
+                 "the prediction) and tried again instead of failing")
+          .field("retrain_on_new_surface", &O::retrain_on_new_surface,
+                 "beyond the paper: train again on the first frame whose prediction names a surface (the road's or "
+                 "a shoulder's beside an edge in view) the last training's frame did not: the surroundings changed "
+                 "(park_loop's dirt shoulder after R1's grass)")
           .field("log_color_when_gated", &O::log_color_when_gated,
                  "beyond the paper: when the non-road gate was needed (the paper's bootstrap could not part the road "
                  "from the rest: a street, its road and pavements running on beyond the outline in sun and shade), "
@@ -196,6 +211,46 @@ void ClusterPerceptronPipelineOptions::validate() const {
 
 namespace {
 
+/// The smallest distance, in normalised colour (255 (R, G, B) / (R + G + B)), between the mean colour
+/// of a paved region in `prediction` and that of a surface beside one of its interest segments that
+/// is not paved there; infinity when the prediction names no such pair.
+double normalisedSeparation(const PredictedObject& prediction) {
+  const auto normalised = [](const Vec3& rgb) { return Vec3(255.0 * rgb / std::max(1.0, rgb.sum())); };
+  std::set<std::string> paved;
+  for (const PredictedRegion& r : prediction.regions) paved.insert(r.surface);
+  double best = std::numeric_limits<double>::infinity();
+  for (const PredictedRegion& r : prediction.regions) {
+    for (const InterestSegment& s : prediction.segments) {
+      for (const auto& [surface, rgb] : {std::pair{&s.left_surface, &s.left_rgb}, std::pair{&s.right_surface, &s.right_rgb}}) {
+        if (!paved.contains(*surface)) best = std::min(best, (normalised(*rgb) - normalised(r.rgb)).norm());
+      }
+    }
+  }
+  return best;
+}
+
+/// The arc model's centre line for the Map, which takes a detected centre line for straight: the
+/// chord from the curve's nearest point on the ground (`curve` in the image, far to near) to its
+/// farthest point such that the curve between them stays within `tolerance_m` of the chord. The whole
+/// curve's chord (2 to 12 m ahead) is a chord of the bend, not the tangent piece the Map compares
+/// with its own near chord: in R2's 15 m hairpin of park_loop it turned the estimate's heading 7-29
+/// degrees off (docs/measurements.md, park loop). Nothing when under two points reach the ground.
+std::optional<Segment2> nearChord(const Camera& cam, const std::vector<Vec2>& curve, double tolerance_m) {
+  std::vector<Vec2> ground;
+  for (auto it = curve.rbegin(); it != curve.rend(); ++it)
+    if (const auto g = cam.backproject(*it)) ground.push_back(*g);
+  if (ground.size() < 2) return std::nullopt;
+  std::size_t far = 1;
+  for (std::size_t j = 2; j < ground.size(); ++j) {
+    const Segment2 chord{ground.front(), ground[j]};
+    bool within = true;
+    for (std::size_t k = 1; k < j && within; ++k) within = chord.distanceTo(ground[k]) <= tolerance_m;
+    if (!within) break;
+    far = j;
+  }
+  return Segment2{ground.front(), ground[far]};
+}
+
 class ClusterPerceptronPipeline : public VisionPipeline {
  public:
   ClusterPerceptronPipeline() { reset(); }
@@ -206,6 +261,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
   }
   void reset() override {
     street_ = false;
+    trained_surfaces_.clear();
     finder_ = ClusterPerceptron(opts_);
     ground_camera_ = nullptr;
   }
@@ -227,30 +283,20 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     }
     // The bootstrap (§4): the predicted road outline, else the default trapezoid; drawn only for a
     // training or the scoring's region, not on every frame of the loop.
-    const bool retrain = retrainOn(h);
-    const Image outline = retrain || frame.want_masks ? bootstrapOutline(prediction, cam) : Image();
-    if (retrain) {
-      ClusterPerceptronOptions o = opts_;
-      // Grey frames' texture features are not colours: normalised, their texture would be gone (and
-      // a log would squeeze the high texture levels that part asphalt from grass), and the gate's
-      // feature distance barely parts them: the classes are balanced instead.
-      if (pixels != frame.rgb) {
-        o.normalized_color = false;
-        o.log_color = false;
-        o.balance_classes = o.balance_classes || opts_.grey_balance_classes;
-      }
-      train(o, pixels, w, h, outline, cam);
-      // A street (the paper's bootstrap could not part the road from the rest): again in log colour.
-      street_ = opts_.log_color_when_gated && finder_.nonroadGated() && pixels == frame.rgb && !o.normalized_color &&
-                !o.log_color;
-      if (street_) {
-        o.log_color = true;
-        train(o, pixels, w, h, outline, cam);
-      }
-    }
+    std::set<std::string> surfaces = surfacesInView(prediction);
+    const bool retrain = retrainOn(h, surfaces);
+    Image outline = retrain || frame.want_masks ? bootstrapOutline(prediction, cam) : Image();
+    if (retrain) trainOn(pixels, frame, prediction, outline, surfaces);
     std::optional<Segment2> prior;
     if (opts_.prior_px > 0) prior = maskCentreLine(predictedRoadMask(prediction, cam));
-    const RoadFinding f = finder_.track(pixels, w, h, frame.want_masks, prior);
+    RoadFinding f = finder_.track(pixels, w, h, frame.want_masks, prior);
+    // Beyond the paper: a frame that the model of an earlier frame fails on is trained on and tried
+    // again, rather than failed (a halted vehicle sees the same frame again and again).
+    if (!f.ok && !retrain && opts_.retrain_on_failure) {
+      if (outline.data.empty()) outline = bootstrapOutline(prediction, cam);
+      trainOn(pixels, frame, prediction, outline, surfaces);
+      f = finder_.track(pixels, w, h, frame.want_masks, prior);
+    }
     if (!f.ok) {
       DetectedObject d = DetectedObject::failed(f.reason);
       d.timestamp = frame.timestamp;
@@ -285,6 +331,10 @@ class ClusterPerceptronPipeline : public VisionPipeline {
     for (const Vec2& p : d.region_image)
       if (const auto g = cam.backproject(p)) rv.push_back(*g);
     if (rv.size() == d.region_image.size()) d.region_vehicle = rv;
+    if (opts_.road_model == RoadModel::Arc) {
+      d.centerline_vehicle = nearChord(cam, f.centerline_curve, opts_.chord_tolerance_m);
+      return d;
+    }
     // The centre line on the ground: its far end moved down to the first row below the horizon.
     std::optional<Vec2> ga, gb = cam.backproject(cl.b);
     for (int k = 0; k <= 64 && !ga; ++k) ga = cam.backproject(cl.a + (cl.b - cl.a) * (k / 64.0));
@@ -293,6 +343,36 @@ class ClusterPerceptronPipeline : public VisionPipeline {
   }
 
  private:
+  // Clusters and perceptron trained on the frame's `pixels` (its colours, or a grey frame's texture
+  // features) from the bootstrap `outline`; `surfaces` (surfacesInView()) are what it was trained with.
+  void trainOn(const std::uint8_t* pixels, const VisionFrame& frame, const PredictedObject& prediction,
+               const Image& outline, const std::set<std::string>& surfaces) {
+    const int w = frame.width, h = frame.height;
+    const Camera& cam = *frame.camera;
+    ClusterPerceptronOptions o = opts_;
+    // Grey frames' texture features are not colours: normalised, their texture would be gone (and
+    // a log would squeeze the high texture levels that part asphalt from grass), and the gate's
+    // feature distance barely parts them: the classes are balanced instead.
+    if (pixels != frame.rgb) {
+      o.normalized_color = false;
+      o.log_color = false;
+      o.balance_classes = o.balance_classes || opts_.grey_balance_classes;
+    } else if (o.normalized_color && normalisedSeparation(prediction) < opts_.min_normalised_separation) {
+      // A shoulder the road's chromaticity (gravel beside asphalt): in log colour, which keeps brightness.
+      o.normalized_color = false;
+      o.log_color = true;
+    }
+    train(o, pixels, w, h, outline, cam);
+    trained_surfaces_ = surfaces;
+    // A street (the paper's bootstrap could not part the road from the rest): again in log colour.
+    street_ = opts_.log_color_when_gated && finder_.nonroadGated() && pixels == frame.rgb && !o.normalized_color &&
+              !o.log_color;
+    if (street_) {
+      o.log_color = true;
+      train(o, pixels, w, h, outline, cam);
+    }
+  }
+
   // A new finder with options `o`, its clusters and perceptron trained on the frame's pixels.
   void train(const ClusterPerceptronOptions& o, const std::uint8_t* pixels, int w, int h, const Image& outline,
              const Camera& cam) {
@@ -307,9 +387,26 @@ class ClusterPerceptronPipeline : public VisionPipeline {
   /// retrain_each_frame, and the next one after a perceptron that the non-road gate trained (a model
   /// of one frame's colours, trained where the paper's bootstrap could not separate), in RGB or,
   /// on a street, in log colour (which may separate without the gate).
-  bool retrainOn(int h) const {
+  /// With retrain_on_new_surface, also the first whose prediction names a surface the last
+  /// training's did not (`surfaces`, surfacesInView()).
+  bool retrainOn(int h, const std::set<std::string>& surfaces) const {
+    const bool new_surface = opts_.retrain_on_new_surface &&
+                             !std::includes(trained_surfaces_.begin(), trained_surfaces_.end(), surfaces.begin(), surfaces.end());
     return opts_.retrain_each_frame || !finder_.trained() || static_cast<int>(finder_.rowWidths().size()) != h ||
-           finder_.nonroadGated() || street_;
+           finder_.nonroadGated() || street_ || new_surface;
+  }
+
+  /// The surfaces the prediction names: its regions' and, on either side of each interest segment,
+  /// the shoulders'.
+  static std::set<std::string> surfacesInView(const PredictedObject& prediction) {
+    std::set<std::string> out;
+    for (const PredictedRegion& r : prediction.regions) out.insert(r.surface);
+    for (const InterestSegment& s : prediction.segments) {
+      out.insert(s.left_surface);
+      out.insert(s.right_surface);
+    }
+    out.erase("");
+    return out;
   }
 
   /// The bootstrap outline of a frame (1 channel, 255 inside): the prediction's road region in the
@@ -346,6 +443,7 @@ class ClusterPerceptronPipeline : public VisionPipeline {
   ClusterPerceptronPipelineOptions opts_;
   ClusterPerceptron finder_;
   bool street_ = false;  // the last training needed the gate in RGB and was redone in log colour
+  std::set<std::string> trained_surfaces_;  ///< surfacesInView() of the last training's frame
   const Camera* ground_camera_ = nullptr;  ///< the camera ground_ was computed for
   Image ground_;                           ///< where it sees the ground (groundMask())
 };

