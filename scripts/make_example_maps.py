@@ -10,8 +10,8 @@ the rules of docs/map-format.md that `mapnav map validate` enforces beyond the J
 references, end points at their intersections, no repeated points, no self-intersections, no
 crossings away from shared intersections, kinds matching degrees, connectivity, ...): the script
 fails with an AssertionError rather than write a map the validator would reject or warn about.
-The park's landmarks (PARK_FURNITURE: lamp posts, trees, benches, manholes, jittered by a fixed seed)
-are checked not to stand on any road's paved area nor more than 10 m from their road, the two
+The landmarks (CAMPUS_FURNITURE, PARK_FURNITURE: lamp posts, trees, benches, manholes, jittered by a
+fixed seed) are checked not to stand on any road's paved area nor more than 10 m from their road, the two
 warnings `mapnav map validate` gives for landmarks.
 The campus map is also checked to hold the dialogue of Wallace et al. 1985, section 2 ("Robot is at
 road R1, 3 meters from I1. Navigate to R3, 2 meters from I3." / "Drive on it 2.5 meters and turn to
@@ -623,6 +623,7 @@ def make_cmu_campus():
     assert all(1.5 <= r["width"] <= 3.0 for r in m["roads"])
     assert point_in_polygon(I["I14"]["position"], I["I14"]["shape"]) and polygon_is_simple(I["I14"]["shape"])
     check_angles(m)
+    add_landmarks(m, CAMPUS_FURNITURE, 0.3)
     return m
 
 
@@ -753,7 +754,7 @@ def make_park_path():
                       "left": left, "right": right})
     m = finish_map("Schenley Park path", {"lat": 40.4365, "lon": -79.9465, "alt": 275.0}, inters, roads)
     assert_valid(m)
-    add_park_landmarks(m)
+    add_landmarks(m, PARK_FURNITURE, 0.7)
     total = sum(polyline_length(r["centerline"]) for r in m["roads"])
     assert 950 <= total <= 1100, total
     min_r = min(circumradius(cl[i - 1], cl[i], cl[i + 1])
@@ -783,15 +784,48 @@ BENCH_DEPTH = 0.5  # m, as the map's kBenchDepthM
 LANDMARK_REACH = {"pole": 0.10, "tree": 0.15, "bench": BENCH_DEPTH / 2}  # the kinds' default radii
 
 
-def add_park_landmarks(m):
-    """Place PARK_FURNITURE beside the park's roads, jittered by a fixed seed, numbered along the
-    path per kind (P1, T1, B1, M1, ...); asserts what `mapnav map validate` warns about: nothing
-    standing within its reach of any road's paved area, nothing more than 10 m from its road."""
+# A campus's: lamp posts every 25-40 m on one side of each walk, a manhole cover (a utility vault,
+# a drain) in each walk's paving, now and then a tree or two and a bench on a lawn (issue 28).
+# Drawn once (seed 28) by that rule; the arc lengths are the map's.
+CAMPUS_FURNITURE = {
+    "R1": {"pole": (1, [13]), "tree": (-1, [13, 36]), "bench": (-1, [14]), "manhole": [29]},
+    "R2": {"pole": (1, [12]), "tree": (-1, [14, 35]), "manhole": [19]},
+    "R3": {"pole": (1, [9]), "manhole": [20]},
+    "R4": {"pole": (1, [14]), "manhole": [8]},
+    "R5": {"pole": (-1, [12, 41]), "tree": (1, [32]), "manhole": [38]},
+    "R6": {"pole": (1, [11, 36]), "tree": (-1, [43, 44]), "manhole": [36]},
+    "R7": {"pole": (1, [10, 39]), "manhole": [30]},
+    "R8": {"pole": (1, [9]), "manhole": [17]},
+    "R9": {"pole": (-1, [9]), "tree": (1, [27]), "manhole": [18]},
+    "R10": {"pole": (-1, [9]), "manhole": [19]},
+    "R11": {"pole": (-1, [11]), "tree": (1, [18, 30]), "manhole": [13]},
+    "R12": {"pole": (1, [13, 44]), "manhole": [17]},
+    "R13": {"pole": (-1, [9, 36]), "tree": (1, [8, 35]), "bench": (1, [35]), "manhole": [28]},
+    "R14": {"pole": (1, [11, 41]), "manhole": [33]},
+    "R15": {"pole": (-1, [11]), "tree": (1, [22, 33]), "manhole": [23]},
+    "R16": {"pole": (1, [14]), "manhole": [24]},
+    "R17": {"pole": (-1, [14]), "manhole": [18]},
+    "R18": {"pole": (1, [9]), "tree": (-1, [23]), "manhole": [27]},
+    "R19": {"pole": (1, [11, 40]), "tree": (-1, [19, 24]), "manhole": [35]},
+    "R20": {"pole": (1, [13]), "manhole": [24]},
+    "R21": {"pole": (1, [8]), "manhole": [17]},
+    "R22": {"pole": (-1, [9]), "manhole": [21]},
+    "R23": {"pole": (-1, [12, 45]), "tree": (1, [15, 21]), "manhole": [34]},
+    "R24": {"pole": (-1, [14]), "bench": (1, [17]), "manhole": [18]},
+    "R25": {"pole": (1, [14]), "manhole": [6]},
+}
+
+
+def add_landmarks(m, furniture, manhole_offset):
+    """Place `furniture` beside the map's roads, jittered by a fixed seed, numbered along the roads
+    per kind (P1, T1, B1, M1, ...), a manhole cover up to `manhole_offset` m off the centre line;
+    asserts what `mapnav map validate` warns about: nothing standing within its reach of any road's
+    paved area, nothing more than 10 m from its road."""
     rng = random.Random(28)
     count = {"pole": 0, "tree": 0, "bench": 0, "manhole": 0}
     landmarks = []
     for road in m["roads"]:
-        plan, pts, half = PARK_FURNITURE[road["id"]], road["centerline"], road["width"] / 2
+        plan, pts, half = furniture[road["id"]], road["centerline"], road["width"] / 2
         placed = []
         for kind in ("pole", "tree", "bench", "manhole"):
             if kind not in plan:
@@ -806,7 +840,7 @@ def add_park_landmarks(m):
                     assert road["left" if side > 0 else "right"] == "grass", (road["id"], s)
                     off = side * (half + BENCH_DEPTH / 2 + rng.uniform(0.08, 0.12))
                 else:
-                    off = rng.uniform(-0.7, 0.7)
+                    off = rng.uniform(-manhole_offset, manhole_offset)
                 placed.append((s + rng.uniform(-1.5, 1.5), kind, off))
         for s, kind, off in sorted(placed):
             count[kind] += 1
