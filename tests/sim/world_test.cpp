@@ -14,6 +14,7 @@
 #include "mapnav/image/png.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/sim/world_io.h"
+#include "mapnav/testing/landmarks.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -44,8 +45,9 @@ std::unique_ptr<Camera> fisheye512() {
   return createCamera(LensModel::PaperFisheye, in, mount);
 }
 
+// Without its landmarks (testing::withoutLandmarks): the world's own tests render roads and shadows.
 const Map& campus() {
-  static const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  static const Map map = testing::withoutLandmarks(testing::mapPath("cmu_campus.json"));
   return map;
 }
 

@@ -22,11 +22,7 @@ inline const Camera& cam() { return visiontest::pinhole(); }
 /// shadows. What the landmarks (a lamp post's shadow across the path, a bench or a tree trunk at the
 /// edge) do to them is in docs/measurements.md; the closed loops drive the park with its landmarks.
 inline const Map& parkScenery() {
-  static const Map map = [] {
-    MapData data = park().data();
-    data.landmarks.clear();
-    return Map(std::move(data), "park_path.json without landmarks");
-  }();
+  static const Map map = testing::withoutLandmarks(testing::mapPath("park_path.json"));
   return map;
 }
 

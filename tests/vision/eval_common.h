@@ -10,12 +10,14 @@
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/map.h"
 #include "mapnav/map/map_io.h"
+#include "mapnav/testing/landmarks.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav::visiontest {
 
+/// The campus without its landmarks (testing::withoutLandmarks).
 inline const Map& campus() {
-  static const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  static const Map map = testing::withoutLandmarks(testing::mapPath("cmu_campus.json"));
   return map;
 }
 

@@ -2,12 +2,14 @@
 // Comparing landmarks (issue 28) in the tests of the modules that read and write them, and a map
 // to look for them on. Header-only:
 // the support library itself does not link the map module.
+#include <filesystem>
 #include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "mapnav/map/map.h"
+#include "mapnav/map/map_io.h"
 
 namespace mapnav::testing {
 
@@ -32,6 +34,15 @@ inline ::testing::AssertionResult landmarkNear(const Landmark& actual, const Lan
   }
   if (diff.str().empty()) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "landmark " << expected.id << ":" << diff.str();
+}
+
+/// The example map at `path` without its landmarks, named "<file> without landmarks": the scene
+/// the frame-by-frame tests of the renderer and the pipelines chose their figures in, before the
+/// maps had landmarks (what the landmarks do to those figures: docs/measurements.md).
+inline Map withoutLandmarks(const std::filesystem::path& path) {
+  MapData data = loadMap(path).data();
+  data.landmarks.clear();
+  return Map(std::move(data), path.filename().string() + " without landmarks");
 }
 
 /// A straight avenue with no intersection for 230 m: A (0, 0) to B (230, 0), 2.5 m of concrete
