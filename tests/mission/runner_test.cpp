@@ -398,6 +398,9 @@ TEST(RunnerCampusDialogue, ReplayAndClosedLoopReachTheGoalWithinTheTargets) {
     EXPECT_LE(m.estimate.lateral_rms_m, 0.05);
     EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
     EXPECT_LE(m.along_after_intersection_max_m, 0.15);
+    // Over the whole run (issue 28: the campus's landmarks and the ground's step).
+    EXPECT_LE(m.estimate.along_max_m, 0.10);
+    EXPECT_LE(m.estimate.along_rms_m, 0.04);
     EXPECT_EQ(m.intersections_checked, 4u);
     EXPECT_GT(m.odometry_only.max_error_m, 1.0);  // odometry alone drifts past 1 m
     EXPECT_EQ(m.replans, 0u);
