@@ -20,12 +20,6 @@ using testing::runCli;
 
 constexpr const char* kChromium = "/usr/bin/chromium";
 
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
 // Chromium headless on `page` with a fresh profile and nothing that phones home; `mode` is
 // "--screenshot=FILE" or "--dump-dom". Killed after two minutes.
 testing::CommandResult chromium(const fs::path& page, const std::string& mode, const fs::path& profile) {
@@ -110,18 +104,18 @@ TEST(Report, ReplayWritesAReportThatChromiumShowsWithEveryPart) {
   }
   // Trajectories on the map: the route, truth, estimate and odometry polylines after the map's own.
   const std::size_t map_start = html.find("<svg id=\"map-svg\""), map_end = html.find("</svg>", map_start);
-  EXPECT_GE(count(html.substr(map_start, map_end - map_start), "<polyline"), 4u);
+  EXPECT_GE(testing::occurrences(html.substr(map_start, map_end - map_start), "<polyline"), 4u);
   for (const char* key : {"planned route", "true", "estimate (Map module)", "odometry only"}) {
     EXPECT_NE(html.find(std::string("</svg>") + key + "</span>"), std::string::npos) << key;
   }
   // The strip: between half the bound and the bound, with the black frame marked as a failure.
-  const std::size_t thumbs = count(html, "<figure class=\"thumb");
+  const std::size_t thumbs = testing::occurrences(html, "<figure class=\"thumb");
   EXPECT_GE(thumbs, 9u);
   EXPECT_LE(thumbs, 24u);
-  EXPECT_EQ(count(html, "data:image/png;base64,iVBORw0KGgo"), thumbs);
+  EXPECT_EQ(testing::occurrences(html, "data:image/png;base64,iVBORw0KGgo"), thumbs);
   EXPECT_NE(html.find("<figure class=\"thumb failed\" id=\"frame-20\">"), std::string::npos);
   EXPECT_NE(html.find("<li>frame 20 (t 10.0 s): "), std::string::npos);
-  EXPECT_GT(count(html, "class=\"matched\""), thumbs);  // the frames' lines matched to the map
+  EXPECT_GT(testing::occurrences(html, "class=\"matched\""), thumbs);  // the frames' lines matched to the map
   // The dialogue, as `mapnav trace show` says it.
   EXPECT_NE(html.find("User: Robot is at road R2, 30 meters from I1."), std::string::npos);
   EXPECT_NE(html.find("Navigator: Drive on R2 10.0 meters and go straight through I2."), std::string::npos);
@@ -139,7 +133,7 @@ TEST(Report, RunWritesTheReportToo) {
   EXPECT_FALSE(fs::exists(dir / "r" / "trace.jsonl"));  // the report reads the trace given
   const std::string html = readFile(dir / "r" / "report.html");
   EXPECT_NE(html.find("mapnav closed-loop: short crossing"), std::string::npos);
-  EXPECT_EQ(count(html, "<figure class=\"thumb"), 6u);
+  EXPECT_EQ(testing::occurrences(html, "<figure class=\"thumb"), 6u);
   EXPECT_TRUE(fs::is_regular_file(dir / "r" / "trajectories.geojson"));
 }
 

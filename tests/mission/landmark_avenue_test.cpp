@@ -56,13 +56,6 @@ double alongMaxFrom(const MissionRun& run, double from_x) {
   return worst;
 }
 
-// Counts the occurrences of `what` in `text`.
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
 TEST(LandmarkAvenue, LandmarksAndTheGroundsStepHoldTheAlongRoadPositionWhereOdometryDrifts) {
   const fs::path root = testing::freshTempDir();
   const MissionRun with = runAvenue(root, true, true);
@@ -95,12 +88,12 @@ TEST(LandmarkAvenue, LandmarksAndTheGroundsStepHoldTheAlongRoadPositionWhereOdom
   const std::string trace = readFile(root / "with/trace.jsonl");
   std::size_t used = 0;
   for (const FrameRecord& f : with.frames) used += static_cast<std::size_t>(f.landmarks_used);
-  EXPECT_GE(count(trace, "\"found\":true,\"image_base\""), used);
+  EXPECT_GE(testing::occurrences(trace, "\"found\":true,\"image_base\""), used);
   EXPECT_GE(used, 8u);
-  EXPECT_GE(count(trace, "\"kind\":\"tree\",\"vehicle\""), 5u);  // trees among the predicted landmarks of five frames at least
-  EXPECT_GE(count(trace, "\"step_used\":true"), with.frames.size() * 9 / 10);
-  EXPECT_EQ(count(readFile(root / "with-no-step/trace.jsonl"), "\"step_used\":true"), 0u);
-  EXPECT_EQ(with.metrics.ground_steps_used, count(trace, "\"step_used\":true"));
+  EXPECT_GE(testing::occurrences(trace, "\"kind\":\"tree\",\"vehicle\""), 5u);  // trees among the predicted landmarks of five frames at least
+  EXPECT_GE(testing::occurrences(trace, "\"step_used\":true"), with.frames.size() * 9 / 10);
+  EXPECT_EQ(testing::occurrences(readFile(root / "with-no-step/trace.jsonl"), "\"step_used\":true"), 0u);
+  EXPECT_EQ(with.metrics.ground_steps_used, testing::occurrences(trace, "\"step_used\":true"));
   EXPECT_EQ(landmarks_only.metrics.ground_steps_used, 0u);
 }
 

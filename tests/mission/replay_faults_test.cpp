@@ -42,12 +42,6 @@ std::vector<std::string> splitLines(const std::string& text) {
   return lines;
 }
 
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
 // A simulated log of the first 12 frames of the short crossing, copied fresh for every test to damage.
 class DamagedLog : public ::testing::Test {
  protected:
@@ -122,7 +116,7 @@ class DamagedLog : public ::testing::Test {
     EXPECT_NE(summaryText(run).find("log faults skipped or repaired: 1 (" + toString(kind) + " 1)"), std::string::npos)
         << summaryText(run);
     const std::string trace = readFile(dir_ / "trace.jsonl");
-    EXPECT_EQ(count(trace, "\"type\":\"LogFault\""), 1u);
+    EXPECT_EQ(testing::occurrences(trace, "\"type\":\"LogFault\""), 1u);
     EXPECT_NE(trace.find("\"kind\":\"" + toString(kind) + "\",\"line\":" + std::to_string(line)), std::string::npos);
     const std::string dialogue = traceDialogue(trace, "trace.jsonl");
     EXPECT_NE(dialogue.find("Sensors: frames.jsonl line " + std::to_string(line) + ": " + toString(kind)),
@@ -143,7 +137,7 @@ TEST_F(DamagedLog, UndamagedHasNoFaults) {
   EXPECT_EQ(run.frames.size(), kFrames);
   EXPECT_NEAR(run.distance_m, odometrySum(), 1e-9);
   EXPECT_EQ(summaryText(run).find("log faults"), std::string::npos);
-  EXPECT_EQ(count(readFile(dir_ / "trace.jsonl"), "LogFault"), 0u);
+  EXPECT_EQ(testing::occurrences(readFile(dir_ / "trace.jsonl"), "LogFault"), 0u);
 }
 
 TEST_F(DamagedLog, MissingFrameIsSkippedAndItsOdometryGoesToTheNext) {
@@ -279,15 +273,15 @@ TEST_F(DamagedLog, EveryFaultAtOnceIsCountedByKindAndListedInTheReport) {
     EXPECT_TRUE(std::isfinite(f.estimate.x()) && std::isfinite(f.estimate.y()) && std::isfinite(f.estimate.heading()));
   }
   const std::string trace = readFile(dir_ / "trace.jsonl");
-  EXPECT_EQ(count(trace, "\"type\":\"LogFault\""), 7u);
+  EXPECT_EQ(testing::occurrences(trace, "\"type\":\"LogFault\""), 7u);
   EXPECT_NE(trace.find("\"log_faults\":7"), std::string::npos);
   EXPECT_NE(traceDialogue(trace, "trace.jsonl").find("7 faults of the log skipped or repaired"), std::string::npos);
 
   const std::string html = reportHtml(run, loadMap(shortCrossing().map), {}, "");
   EXPECT_NE(html.find("<section id=\"log-faults\">"), std::string::npos);
-  EXPECT_EQ(count(html, "<li class=\"time_order\">"), 2u);
+  EXPECT_EQ(testing::occurrences(html, "<li class=\"time_order\">"), 2u);
   for (const char* kind : {"missing_image", "corrupt_image", "image_size", "odometry_spike", "truncated"}) {
-    EXPECT_EQ(count(html, std::string("<li class=\"") + kind + "\">"), 1u) << kind;
+    EXPECT_EQ(testing::occurrences(html, std::string("<li class=\"") + kind + "\">"), 1u) << kind;
   }
   EXPECT_NE(html.find("frames.jsonl line 12"), std::string::npos);
   // Strict: the first fault in file order.

@@ -211,13 +211,6 @@ TEST(ReportHtml, TheSummaryHasTheFilterConsistency) {
   EXPECT_EQ(reportHtml(run, map, {}, "").find("true error within 2 sigma"), std::string::npos);
 }
 
-// Counts `needle` in `text`.
-std::size_t occurrences(const std::string& text, const std::string& needle) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
-  return n;
-}
-
 TEST(ReportHtml, SaysWhatFixedTheAlongRoadPositionInTheSummaryAndUnderTheErrorPlot) {
   const Map map = loadMap(testing::mapPath("cmu_campus.json"));
   MissionRun run = handMadeRun();
@@ -238,8 +231,8 @@ TEST(ReportHtml, SaysWhatFixedTheAlongRoadPositionInTheSummaryAndUnderTheErrorPl
   ASSERT_NE(a, std::string::npos);
   ASSERT_NE(b, std::string::npos);
   const std::string plot = html.substr(a, b - a);
-  EXPECT_EQ(occurrences(plot, "stroke=\"#c87800\""), 2u);
-  EXPECT_EQ(occurrences(plot, "stroke=\"#5a5a5a\""), 1u);
+  EXPECT_EQ(testing::occurrences(plot, "stroke=\"#c87800\""), 2u);
+  EXPECT_EQ(testing::occurrences(plot, "stroke=\"#5a5a5a\""), 1u);
 }
 
 TEST(ReportGeoJson, TheTrajectoriesReadBackToThePosesThroughTheMapsOrigin) {

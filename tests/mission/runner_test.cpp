@@ -26,12 +26,6 @@ namespace fs = std::filesystem;
 
 MissionFile shortCrossing() { return loadMission(testing::fixturePath("missions/short_crossing.json")); }
 
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
 // One simulated log of the short crossing, shared by the tests of this suite: under ctest the one
 // the fixture MissionFixture.SimulateShortCrossingLog wrote with `mapnav simulate` (each ctest test is
 // a process of its own; tests/mission/CMakeLists.txt), read only; run by hand, simulated here.
@@ -111,11 +105,11 @@ TEST_F(ReplayShortCrossing, ReplayingTheSameLogTwiceGivesByteIdenticalTraces) {
   EXPECT_EQ(a, b);
   // One line per token, framed by the mission, the route, the frames and the summary.
   EXPECT_EQ(a.rfind("{\"t\":0.0,\"frame\":null,\"module\":\"User\",\"type\":\"Mission\"", 0), 0u);
-  EXPECT_EQ(count(a, "\"type\":\"Frame\""), count(a, "\"type\":\"PredictedObject\""));
-  EXPECT_EQ(count(a, "\"type\":\"Frame\""), count(a, "\"type\":\"CurrentPosition\""));
-  EXPECT_EQ(count(a, "\"type\":\"Frame\""), count(a, "\"type\":\"MotionCommand\""));
-  EXPECT_EQ(count(a, "\"type\":\"Summary\""), 1u);
-  EXPECT_EQ(count(a, "\"latency"), 0u);  // wall-clock figures stay out of the trace
+  EXPECT_EQ(testing::occurrences(a, "\"type\":\"Frame\""), testing::occurrences(a, "\"type\":\"PredictedObject\""));
+  EXPECT_EQ(testing::occurrences(a, "\"type\":\"Frame\""), testing::occurrences(a, "\"type\":\"CurrentPosition\""));
+  EXPECT_EQ(testing::occurrences(a, "\"type\":\"Frame\""), testing::occurrences(a, "\"type\":\"MotionCommand\""));
+  EXPECT_EQ(testing::occurrences(a, "\"type\":\"Summary\""), 1u);
+  EXPECT_EQ(testing::occurrences(a, "\"latency"), 0u);  // wall-clock figures stay out of the trace
 }
 
 TEST_F(ReplayShortCrossing, TheTracesSummaryHasTheRunsFilterConsistency) {
@@ -192,9 +186,9 @@ TEST_F(ReplayShortCrossing, ABlackFrameHaltsAndTheMissionResumesAfterTheConfigur
   EXPECT_EQ(run.frames[23].command, CommandKind::Drive);
   EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
   const std::string trace = readFile(options.trace);
-  EXPECT_EQ(count(trace, "\"type\":\"VisionFailure\""), 1u);
-  EXPECT_EQ(count(trace, "\"type\":\"Halt\""), 1u);
-  EXPECT_EQ(count(trace, "\"type\":\"Resume\""), 1u);
+  EXPECT_EQ(testing::occurrences(trace, "\"type\":\"VisionFailure\""), 1u);
+  EXPECT_EQ(testing::occurrences(trace, "\"type\":\"Halt\""), 1u);
+  EXPECT_EQ(testing::occurrences(trace, "\"type\":\"Resume\""), 1u);
   EXPECT_NE(trace.find("{\"t\":11.5,\"frame\":23,\"module\":\"User\",\"type\":\"Resume\",\"payload\":{\"frames_halted\":3}}"),
             std::string::npos);
   const std::string text = traceDialogue(trace, "black.jsonl");
@@ -215,7 +209,7 @@ TEST_F(ReplayShortCrossing, ABlackFrameEndsTheMissionWhenNothingResumesIt) {
   EXPECT_EQ(run.frames.size(), 21u);
   EXPECT_NE(run.outcome.find("halted at frame 20"), std::string::npos) << run.outcome;
   const std::string trace = readFile(options.trace);
-  EXPECT_EQ(count(trace, "\"type\":\"Halt\""), 1u);
+  EXPECT_EQ(testing::occurrences(trace, "\"type\":\"Halt\""), 1u);
   EXPECT_NE(trace.find("\"resume_after_frames\":null"), std::string::npos);
   EXPECT_NE(trace.find("\"ended_by_halt\":true"), std::string::npos);
   EXPECT_NE(traceDialogue(trace, "x").find("and the mission ends"), std::string::npos);

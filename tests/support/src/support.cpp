@@ -24,6 +24,12 @@ fs::path realDataPath(const std::string& name) { return sourceDir().parent_path(
                                           "(../shared/data/real/README.md)";
 }
 
+std::size_t occurrences(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
 fs::path freshTempDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = "mapnav-test-" + std::to_string(::getpid());

@@ -1,5 +1,6 @@
 #pragma once
 // Helpers shared by every test program.
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -36,6 +37,9 @@ inline constexpr bool kUnderSanitizers =
 
 /// A fresh empty folder under the system temp dir, unique to the running test.
 std::filesystem::path freshTempDir();
+
+/// How many times `what` occurs in `text` (overlapping occurrences counted).
+std::size_t occurrences(const std::string& text, const std::string& what);
 
 ::testing::AssertionResult vecNear(const Vec2& actual, const Vec2& expected, double tolerance);
 ::testing::AssertionResult poseNear(const Pose2& actual, const Pose2& expected, double tolerance);
