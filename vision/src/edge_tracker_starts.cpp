@@ -95,14 +95,23 @@ std::optional<EdgeStart> startFromSegment(const InterestSegment& s, const Camera
 /// is then left empty.
 bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w, int h, const EdgeTrackerOptions& o,
                           std::vector<EdgeStart>& left, std::vector<EdgeStart>& right) {
+  // The road: the nearest of those with both edges in the image, else the nearest. Past the end of
+  // a road its last few metres of one edge can be the nearest thing in view, beside the next road
+  // (park_loop's I2): tracing that stub alone loses the frame.
   const InterestSegment* nearest = nullptr;
   double best = std::numeric_limits<double>::infinity();
+  bool both = false;
   for (const InterestSegment& s : pred.segments) {
     if (s.side != "left" && s.side != "right") continue;
     const double d = s.vehicle.distanceTo(Vec2::Zero());
-    if (d < best && startFromSegment(s, cam, w, h, o)) {
+    if (!(d < best || !both) || !startFromSegment(s, cam, w, h, o)) continue;
+    const bool pair = std::any_of(pred.segments.begin(), pred.segments.end(), [&](const InterestSegment& t) {
+      return t.owner == s.owner && (t.side == "left" || t.side == "right") && t.side != s.side && startFromSegment(t, cam, w, h, o);
+    });
+    if ((pair && !both) || (pair == both && d < best)) {
       best = d;
       nearest = &s;
+      both = pair;
     }
   }
   if (nearest == nullptr) return false;
