@@ -212,6 +212,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
     out.status = PositionStatus::Rejected;
     out.mahalanobis_d2 = d2;
     out.outliers = fit->outliers;
+    out.rejected_fit = fit->pose;
     return out;
   }
 

@@ -30,7 +30,11 @@ const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
                  "park mode: widen the covariance after this many consecutive frames the gate rejected (0: never)")
           .field("park_reset_sigma_m", &O::park_reset_sigma_m, above(0), "park mode's widened position sigma, m")
           .field("park_reset_heading_sigma_deg", &O::park_reset_heading_sigma_deg, above(0),
-                 "park mode's widened heading sigma, degrees");
+                 "park mode's widened heading sigma, degrees")
+          .field("park_reset_agreement_m", &O::park_reset_agreement_m, above(0),
+                 "park mode widens only when the rejected frames' fits agree within this across the road, m")
+          .field("park_reset_agreement_deg", &O::park_reset_agreement_deg, above(0),
+                 "... and within this in heading, degrees");
   return table;
 }
 
@@ -130,15 +134,22 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
       std::none_of(prediction_.view.relations.begin(), prediction_.view.relations.end(),
                    [](const SegmentRelation& r) { return r.type == SegmentRelation::Type::Crossing; });
   const bool park = centerline_only || no_crossing;
-  park_rejections_ = park && position_.status == PositionStatus::Rejected ? park_rejections_ + 1 : 0;
-  if (options_.park_reset_after_rejections > 0 && park_rejections_ >= options_.park_reset_after_rejections) {
-    // The gate has refused the centre line or the road edges too often: the filter is surer than it
-    // should be.
+  if (park && position_.status == PositionStatus::Rejected && position_.rejected_fit && options_.park_reset_after_rejections > 0) {
+    const Pose2 change = position_.pose.inverse() * *position_.rejected_fit;
+    park_rejections_.emplace_back(change.x(), change.y(), change.heading());
+    if (static_cast<int>(park_rejections_.size()) > options_.park_reset_after_rejections) park_rejections_.pop_front();
+  } else {
+    park_rejections_.clear();
+  }
+  if (options_.park_reset_after_rejections > 0 &&
+      static_cast<int>(park_rejections_.size()) == options_.park_reset_after_rejections && rejectionsAgree()) {
+    // The gate has refused the centre line or the road edges too often, the same way each time:
+    // the filter is surer than it should be.
     const double s = options_.park_reset_sigma_m, h = degToRad(options_.park_reset_heading_sigma_deg);
     filter_.resetPoseCovariance(Vec3(s * s, s * s, h * h).asDiagonal());
     position_ = mapnav::localize(filter_, MotionIncrement{}, prediction_, *detected, options_.localize, &map_, &camera_);
-    position_.reason += " (after " + std::to_string(park_rejections_) + " rejected frames, the covariance widened)";
-    park_rejections_ = 0;
+    position_.reason += " (after " + std::to_string(park_rejections_.size()) + " rejected frames, the covariance widened)";
+    park_rejections_.clear();
   }
   recover(*detected, t);
   position_.timestamp = t;
@@ -147,6 +158,15 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
   last_t_ = t;
   board.post(Module::Map, position_);
   return position_;
+}
+
+bool MapModule::rejectionsAgree() const {
+  double lo_y = 1e9, hi_y = -1e9, lo_h = 1e9, hi_h = -1e9;
+  for (const Vec3& c : park_rejections_) {
+    lo_y = std::min(lo_y, c.y()), hi_y = std::max(hi_y, c.y());
+    lo_h = std::min(lo_h, c.z()), hi_h = std::max(hi_h, c.z());
+  }
+  return hi_y - lo_y <= options_.park_reset_agreement_m && hi_h - lo_h <= degToRad(options_.park_reset_agreement_deg);
 }
 
 void MapModule::recover(const DetectedObject& detected, double t) {

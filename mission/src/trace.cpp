@@ -153,6 +153,7 @@ Json positionPayload(const CurrentPosition& p) {
               {"along_cue", toString(p.along_cue)},
               {"outliers", p.outliers},
               {"mahalanobis_d2", sig(p.mahalanobis_d2)},
+              {"rejected_fit", p.rejected_fit ? pose(*p.rejected_fit) : Json()},
               {"region_agreement", p.region_agreement ? Json(sig(*p.region_agreement)) : Json()}};
 }
 

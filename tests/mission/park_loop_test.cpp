@@ -155,6 +155,31 @@ TEST(ParkMapModule, WidensItsCovarianceAfterRejectedCentreLinesAndTakesThem) {
   });
 }
 
+// Centre lines that disagree with the estimate and with one another (a pipeline misreading a curve's
+// shadows, not an estimate gone wrong): 1.5 m left, then 1.5 m right, then 1.5 m left. All three are
+// rejected and the covariance is kept: the rejected fits do not agree (park_reset_agreement_m).
+TEST(ParkMapModule, KeepsItsCovarianceWhenTheRejectedCentreLinesDisagree) {
+  const auto camera = testing::terregatorPinhole();
+  const Polyline2& line = parkMap().road("R1").centerline;
+  const Pose2 start(line.pointAt(10), std::atan2(line.tangentAt(10).y(), line.tangentAt(10).x()));
+  MapModule map(parkMap(), *camera, start, MapModuleOptions{});
+  Blackboard board;
+  for (int frame = 1; frame <= 3; ++frame) {
+    const double t = frame;
+    map.predict(board, t, MotionIncrement{});
+    DetectedObject seen;
+    const double left = frame % 2 == 1 ? 1.5 : -1.5;
+    seen.centerline_vehicle = Segment2{Vec2(2, left), Vec2(12, left)};
+    seen.timestamp = t;
+    board.post(Module::Vision, seen);
+    const CurrentPosition& p = map.localize(board, t);
+    EXPECT_EQ(p.status, PositionStatus::Rejected) << frame << ": " << p.reason;
+    ASSERT_TRUE(p.rejected_fit.has_value());
+    EXPECT_NEAR((start.inverse() * *p.rejected_fit).y(), -left, 0.2);  // the road 1.5 m left: the vehicle 1.5 m right of it
+    EXPECT_NEAR((p.pose.translation() - start.translation()).norm(), 0, 1e-6);
+  }
+}
+
 // The edge tracker's answer: R1's two road edges, labelled with the predicted segments and placed
 // where the truth sees them, no centre line and no crossing line in view.
 TEST(ParkMapModule, WidensItsCovarianceAfterRejectedRoadEdgesAndTakesThem) {

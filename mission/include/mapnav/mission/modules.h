@@ -14,6 +14,7 @@
 // Each module's step is callable on its own (tests), and the runners (runner.h) call them in the
 // paper's order once a frame.
 #include <cstddef>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -65,6 +66,13 @@ struct MapModuleOptions {
   int park_reset_after_rejections = 3;
   double park_reset_sigma_m = 0.5;            ///< m (> 0)
   double park_reset_heading_sigma_deg = 10.0; ///< degrees (> 0)
+  /// ... and only when the poses those rejected frames' lines give (CurrentPosition::rejected_fit),
+  /// seen from the estimate, agree within this across the road (m, > 0) and in heading (degrees,
+  /// > 0): an estimate gone wrong is refused the same way frame after frame, while a pipeline
+  /// misreading a curve's shadows gives a different wrong line each frame (park_loop's R4, seed 2:
+  /// centre lines 1.6 m left, then 1.7 m left, then 18 degrees right).
+  double park_reset_agreement_m = 0.3;
+  double park_reset_agreement_deg = 3.0;
   /// Recovery: when Vision's road region disagrees with the map seen from the estimate, pose
   /// hypotheses around it are tried against the region (relocalize.h). The first frame with a clear
   /// winner makes the position Lost (the Navigator stops); the next frame's search, the vehicle
@@ -115,13 +123,18 @@ class MapModule {
   double last_t_ = 0;        // the previous frame's time (the start: 0), s
   Prediction prediction_;
   CurrentPosition position_;
-  int park_rejections_ = 0; // consecutive park-mode frames the gate rejected
+  /// Consecutive park-mode frames the gate rejected: what their lines' fits would have changed of
+  /// the estimate, in the vehicle's frame (forward m, left m, heading rad), oldest first; at most
+  /// park_reset_after_rejections.
+  std::deque<Vec3> park_rejections_;
   /// Recovery: the last search's clear winner, as an offset from the estimate it was searched
   /// around (the vehicle's own frame: it moves with the odometry as the estimate does).
   std::optional<Pose2> candidate_;
   std::size_t relocalisations_ = 0;
   int lost_frames_ = 0;             ///< consecutive Lost frames
   bool search_suspended_ = false;   ///< the search gave up: until lines are fused or the region agrees
+  /// Whether the rejected frames' fits (park_rejections_) agree (park_reset_agreement_*).
+  bool rejectionsAgree() const;
   /// Recovery after this frame's localisation: the region's agreement, the search, Lost or re-localised.
   void recover(const DetectedObject& detected, double t);
 };

@@ -53,6 +53,9 @@ struct CurrentPosition {
   AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position, if anything
   std::vector<std::string> outliers;    ///< correspondences the robust fit rejected
   double mahalanobis_d2 = 0;            ///< the gate's statistic (0 when there was no measurement)
+  /// When the gate rejected the lines: the pose they alone give (world frame), which the estimate
+  /// was not moved to. Park mode widens its covariance only after several such fits agree.
+  std::optional<Pose2> rejected_fit;
   /// IoU on the ground of Vision's road region and the predicted paved area (regionAgreement);
   /// nothing when there was no region to compare.
   std::optional<double> region_agreement;
