@@ -300,20 +300,8 @@ struct FlatRoad {
   WorldOptions options;
 };
 FlatRoad flatRoad(int paved_edge_samples) {
-  MapData data;
-  data.name = "flat road";
+  MapData data = testing::straightRoad("flat road", 80, 3.0, "asphalt", "grass");
   data.surfaces = loadMap(testing::mapPath("park_path.json")).data().surfaces;
-  data.intersections.push_back({"A", IntersectionKind::End, Vec2(0, 0), std::nullopt});
-  data.intersections.push_back({"B", IntersectionKind::End, Vec2(80, 0), std::nullopt});
-  Road road;
-  road.id = "R";
-  road.from = "A";
-  road.to = "B";
-  road.centerline = Polyline2({Vec2(0, 0), Vec2(80, 0)});
-  road.width = 3.0;
-  road.surface = "asphalt";
-  road.left = road.right = "grass";
-  data.roads.push_back(road);
   WorldOptions o;
   o.pavement_noise = o.ground_noise = o.crack_density = o.dust = o.shadow_density = o.leaf_density = 0;
   o.slab_spacing_m = o.illumination_drift = o.white_balance_drift = o.haze_distance_m = o.noise_sigma = 0;

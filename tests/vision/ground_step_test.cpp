@@ -15,19 +15,13 @@
 #include "mapnav/sim/world.h"
 #include "mapnav/testing/landmarks.h"
 #include "mapnav/testing/support.h"
+#include "sim_frame.h"
 #include "mapnav/vision/ground_step.h"
 
 namespace mapnav {
 namespace {
 
-VisionFrame visionFrame(const Frame& frame, const Camera& camera) {
-  VisionFrame f;
-  f.width = frame.rgb.width;
-  f.height = frame.rgb.height;
-  f.rgb = frame.rgb.data.data();
-  f.camera = &camera;
-  return f;
-}
+using testing::visionFrame;
 
 // The current vehicle's pose in the previous one's frame for a step of `d` m turning `dh` rad, as
 // measureGroundStep reads a MotionIncrement: along the mid-step heading.

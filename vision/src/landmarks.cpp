@@ -2,6 +2,7 @@
 #include "mapnav/vision/landmarks.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -20,8 +21,12 @@ void LandmarkFinderOptions::validate() const {
   require(std::isfinite(max_search_px) && max_search_px >= min_search_px && max_search_px <= 500, "max_search_px",
           max_search_px, "finite, >= min_search_px and <= 500");
   require(std::isfinite(probe_height_m) && probe_height_m > 0, "probe_height_m", probe_height_m, "finite and > 0");
+  require(std::isfinite(min_probe_in_frame) && min_probe_in_frame > 0 && min_probe_in_frame <= 1, "min_probe_in_frame",
+          min_probe_in_frame, "in (0, 1]");
   require(std::isfinite(side_px) && side_px >= 1 && side_px <= 50, "side_px", side_px, "in [1, 50]");
   require(std::isfinite(below_px) && below_px >= 1 && below_px <= 50, "below_px", below_px, "in [1, 50]");
+  require(std::isfinite(rim_step_px) && rim_step_px >= 0.5 && rim_step_px <= 10, "rim_step_px", rim_step_px, "in [0.5, 10]");
+  require(std::isfinite(min_peak_ratio) && min_peak_ratio >= 1, "min_peak_ratio", min_peak_ratio, "finite and >= 1");
   require(std::isfinite(min_contrast) && min_contrast >= 0, "min_contrast", min_contrast, "finite and >= 0");
   require(std::isfinite(base_sigma_u_px) && base_sigma_u_px > 0, "base_sigma_u_px", base_sigma_u_px, "finite and > 0");
   require(std::isfinite(base_sigma_v_px) && base_sigma_v_px > 0, "base_sigma_v_px", base_sigma_v_px, "finite and > 0");
@@ -120,43 +125,98 @@ double distance(const std::optional<RowSums::Stats>& a, const std::optional<RowS
   return a && b ? (a->mean - b->mean).norm() : -std::numeric_limits<double>::infinity();
 }
 
-// How well an upright landmark with its base's visible front edge at (u, v) explains the frame: the
-// least of its colour's distances from the strips beside it and from the ground in front of it,
-// less the difference between its upper and lower halves. Something standing is the same colour
-// all the way up (its shading runs across it, not up it); a strip across a slanting boundary
-// between two surfaces differs from both sides too, but holds more of one surface at the top than
-// at the bottom. Its strips lean as the vertical through it does.
+// How well an upright landmark with its base's visible front edge at (u, v) explains the frame, in
+// colour levels: the least of
+// - in each third of its probed height, its colour's distance from the strips on either side (a
+//   blob of shade or a tuft of grass differs from its sides over part of that height, not all);
+// - its lowest rows' distance from the ground just in front of its base (its foot: higher up the
+//   body, the rows below are the body again);
+// less the most its thirds differ from one another: something standing is the same colour all the
+// way up (its shading runs across it, not up it), while a strip across a slanting boundary between
+// two surfaces holds more of one surface at the top than at the bottom. Its strips lean as the
+// vertical through it does. All of it and its side strips must be in the frame, and at least
+// min_probe_in_frame of its probed height: a landmark cut by the frame's side edge cannot be told
+// from the ground beside it, nor its centre found.
 double uprightScore(const RowSums& in, int u, int v, const RowShape& s, const LandmarkFinderOptions& o) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   const double hw = std::max(1.0, s.width / 2);
-  const int probe = std::max(2, static_cast<int>(std::lround(s.probe))), mid = v - probe / 2;
-  // All of it and its side strips in the frame, and at least half its probed height: a landmark cut
-  // by the frame's edge cannot be told from the ground beside it, nor its centre found.
+  const int probe = std::min(v, std::max(3, static_cast<int>(std::lround(s.probe))));  // what the frame holds of it
   const double reach = hw + o.side_px + std::abs(s.lean) * probe;
-  if (u - reach < 0 || u + reach > in.width() || v + o.below_px > in.height() || v - probe / 2 < 0) {
-    return -std::numeric_limits<double>::infinity();
+  if (u - reach < 0 || u + reach > in.width() || v + o.below_px > in.height() || probe < 3 ||
+      probe < o.min_probe_in_frame * s.probe) {
+    return -kInf;
   }
-  const auto body = in.strip(u - hw, u + hw, v - probe, v, s.lean, v);
-  const double d = std::min({distance(body, in.strip(u - hw - o.side_px, u - hw, v - probe, v, s.lean, v)),
-                             distance(body, in.strip(u + hw, u + hw + o.side_px, v - probe, v, s.lean, v)),
-                             distance(body, in.strip(u - hw, u + hw, v, v + static_cast<int>(o.below_px), 0.0, v))});
-  const double halves = distance(in.strip(u - hw, u + hw, v - probe, mid, s.lean, v), in.strip(u - hw, u + hw, mid, v, s.lean, v));
-  return std::isfinite(halves) ? d - halves : d;
+  double score = kInf, spread = 0;
+  std::optional<RowSums::Stats> thirds[3];
+  const double e = std::min(o.side_px, hw);  // the strips either side of each of its sides
+  for (int k = 0; k < 3; ++k) {
+    const int top = v - probe + k * probe / 3, bottom = k == 2 ? v : v - probe + (k + 1) * probe / 3;
+    thirds[k] = in.strip(u - hw, u + hw, top, bottom, s.lean, v);
+    score = std::min({score,
+                      distance(in.strip(u - hw, u - hw + e, top, bottom, s.lean, v), in.strip(u - hw - o.side_px, u - hw, top, bottom, s.lean, v)),
+                      distance(in.strip(u + hw - e, u + hw, top, bottom, s.lean, v), in.strip(u + hw, u + hw + o.side_px, top, bottom, s.lean, v))});
+  }
+  const int foot = std::max(2, probe / 6);
+  score = std::min(score, distance(in.strip(u - hw, u + hw, v - foot, v, s.lean, v),
+                                   in.strip(u - hw, u + hw, v, v + static_cast<int>(o.below_px), 0.0, v)));
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a + 1; b < 3; ++b) spread = std::max(spread, distance(thirds[a], thirds[b]));
+  }
+  return score - spread;
 }
 
-// The same for a flat mark centred at (u, v): its inner part against the strips all round it.
-double flatScore(const RowSums& in, int u, int v, const RowShape& s, const LandmarkFinderOptions& o) {
-  const double hu = std::max(1.0, 0.35 * s.width), ou = 0.5 * s.width + 1;
-  const int hv = std::max(1, static_cast<int>(std::lround(0.35 * s.depth))), ov = static_cast<int>(std::lround(0.5 * s.depth)) + 1;
-  const int side = static_cast<int>(o.side_px);
-  if (u - ou - side < 0 || u + ou + side > in.width() || v - ov - side < 0 || v + ov + side > in.height()) {
-    return -std::numeric_limits<double>::infinity();  // all of it and the paving round it in the frame
+// A flat landmark (a manhole cover) is found by its rim: the circle on the ground seen as an ellipse,
+// with the colour just inside it against just outside at kRimPoints places round it. Offsets are
+// from the projection of its centre, px; pixel centres at integers.
+constexpr int kRimPoints = 32;
+struct Rim {
+  std::array<Vec2, kRimPoints> inner, outer;
+};
+
+// The rim of a cover of radius r centred on the ground at g, its samples step_px inside and outside.
+std::optional<Rim> rimAt(const Camera& camera, const Vec2& g, double r, double step_px) {
+  const auto c = camera.projectGround(g);
+  if (!c) return std::nullopt;
+  Rim rim;
+  for (int k = 0; k < kRimPoints; ++k) {
+    const Vec2 dir = unitVector(2 * kPi * k / kRimPoints);
+    const auto p = camera.projectGround(g + r * dir), out = camera.projectGround(g + (r + 0.01) * dir);
+    if (!p || !out || (*out - *p).norm() < 1e-9) return std::nullopt;
+    const Vec2 n = (*out - *p).normalized();
+    rim.inner[k] = *p - *c - step_px * n;
+    rim.outer[k] = *p - *c + step_px * n;
   }
-  const auto body = in.strip(u - hu, u + hu, v - hv, v + hv + 1, 0.0, v);
-  const double d = std::min({distance(body, in.strip(u - ou - o.side_px, u - ou, v - hv, v + hv + 1, 0.0, v)),
-                             distance(body, in.strip(u + ou, u + ou + o.side_px, v - hv, v + hv + 1, 0.0, v)),
-                             distance(body, in.strip(u - hu, u + hu, v - ov - side, v - ov, 0.0, v)),
-                             distance(body, in.strip(u - hu, u + hu, v + ov + 1, v + ov + 1 + side, 0.0, v))});
-  return body ? d - body->spread : d;
+  return rim;
+}
+
+// The frame's colour at a point (pixel centres at integers), bilinear; the caller keeps it inside.
+Vec3 colourAt(const VisionFrame& f, const Vec2& p) {
+  const int u = static_cast<int>(std::floor(p.x())), v = static_cast<int>(std::floor(p.y()));
+  const double a = p.x() - u, b = p.y() - v;
+  const std::uint8_t* row0 = f.rgb + (static_cast<std::size_t>(v) * f.width + u) * 3;
+  const std::uint8_t* row1 = row0 + static_cast<std::size_t>(f.width) * 3;
+  Vec3 out;
+  for (int ch = 0; ch < 3; ++ch) {
+    out[ch] = (1 - b) * ((1 - a) * row0[ch] + a * row0[3 + ch]) + b * ((1 - a) * row1[ch] + a * row1[3 + ch]);
+  }
+  return out;
+}
+
+// How well a cover's rim placed about the centre q explains the frame: the colour step across it
+// that all but the weakest fifth of the rim shows (a shadow's edge or a crack shows one only along
+// part of it), levels; -infinity when the rim leaves the frame.
+double rimScore(const VisionFrame& f, const Vec2& q, const Rim& rim) {
+  std::array<double, kRimPoints> step{};
+  for (int k = 0; k < kRimPoints; ++k) {
+    const Vec2 a = q + rim.inner[k], b = q + rim.outer[k];
+    if (std::min({a.x(), a.y(), b.x(), b.y()}) < 0 || std::max(a.x(), b.x()) > f.width - 1.001 ||
+        std::max(a.y(), b.y()) > f.height - 1.001) {
+      return -std::numeric_limits<double>::infinity();
+    }
+    step[k] = (colourAt(f, a) - colourAt(f, b)).norm();
+  }
+  std::nth_element(step.begin(), step.begin() + kRimPoints / 5, step.end());
+  return step[kRimPoints / 5];
 }
 
 // The offset of a parabola's vertex through (-1, a), (0, b), (1, c) from 0, within ±0.5.
@@ -202,62 +262,167 @@ double refinedMiddleColumn(const RowSums& in, int u, int v, const RowShape& s) {
   return 0.5 * (edgeNear(u - hw) + edgeNear(u + hw)) - 0.5;
 }
 
-DetectedLandmark findOne(const RowSums& sums, const Camera& camera, const PredictedLandmark& l, const Mat3& pose_covariance,
-                         const LandmarkFinderOptions& o) {
-  DetectedLandmark out;
-  out.id = l.id;
-  const bool upright = l.height_m > 0;
-  const Vec2 sigma = basePixelSigma(camera, l, pose_covariance);
-  const int ru = static_cast<int>(std::ceil(std::clamp(o.gate_sigma * sigma.x(), o.min_search_px, o.max_search_px)));
-  const int rv = static_cast<int>(std::ceil(std::clamp(o.gate_sigma * sigma.y(), o.min_search_px, o.max_search_px)));
-  const int u0 = static_cast<int>(std::lround(l.image_base.x())), v0 = static_cast<int>(std::lround(l.image_base.y()));
-  // Where the frame's side edge may cut it off, part of it could be taken for all of it.
-  const double half = l.width_px / 2 + o.side_px;
-  if (u0 - ru - half < 0 || u0 + ru + half > camera.width()) {
-    out.reason = "too near the frame's side edge to be told whole";
-    return out;
-  }
-  std::vector<double> score(static_cast<std::size_t>(2 * ru + 3) * (2 * rv + 3), -std::numeric_limits<double>::infinity());
-  auto at = [&](int du, int dv) -> double& { return score[static_cast<std::size_t>(dv + rv + 1) * (2 * ru + 3) + (du + ru + 1)]; };
-  double best = -std::numeric_limits<double>::infinity();
-  int bu = 0, bv = 0;
-  for (int dv = -rv - 1; dv <= rv + 1; ++dv) {
-    const auto shape = shapeAt(camera, l, u0, v0 + dv, o.probe_height_m);
-    if (!shape) continue;
-    for (int du = -ru - 1; du <= ru + 1; ++du) {
-      const double s = upright ? uprightScore(sums, u0 + du, v0 + dv, *shape, o) : flatScore(sums, u0 + du, v0 + dv, *shape, o);
-      at(du, dv) = s;
-      if (std::abs(du) <= ru && std::abs(dv) <= rv && s > best) best = s, bu = du, bv = dv;
+// The scores of the places searched about the predicted base (u0, v0): ±ru columns and ±rv rows,
+// with a border of one more each way so that the best place's neighbours are known. NaN: not scored.
+class SearchGrid {
+ public:
+  SearchGrid(int u0, int v0, int ru, int rv)
+      : u0_(u0), v0_(v0), ru_(ru), rv_(rv), s_(static_cast<std::size_t>(2 * ru + 3) * (2 * rv + 3), kNaN) {}
+
+  /// Scores the places with score(du, dv): every second one each way, then every one within 3 of
+  /// the best three of those that lie more than 3 apart (a landmark's score falls by a third 1 px
+  /// off its peak: the best of the coarse places can be a lesser peak, or one the frame's edge cuts).
+  template <class Score>
+  void fill(Score&& score) {
+    std::vector<std::pair<double, Eigen::Vector2i>> coarse;
+    for (int dv = -rv_ - 1; dv <= rv_ + 1; dv += 2) {
+      for (int du = -ru_ - 1; du <= ru_ + 1; du += 2) {
+        at(du, dv) = score(du, dv);
+        if (std::abs(du) <= ru_ && std::abs(dv) <= rv_ && at(du, dv) > -kInf) coarse.emplace_back(at(du, dv), Eigen::Vector2i(du, dv));
+      }
+    }
+    std::sort(coarse.begin(), coarse.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<Eigen::Vector2i> refined;
+    for (const auto& [value, b] : coarse) {
+      if (refined.size() == 3) break;
+      if (std::any_of(refined.begin(), refined.end(), [&](const Eigen::Vector2i& r) { return (r - b).cwiseAbs().maxCoeff() <= 3; })) continue;
+      refined.push_back(b);
+      for (int dv = std::max(-rv_ - 1, b.y() - 3); dv <= std::min(rv_ + 1, b.y() + 3); ++dv) {
+        for (int du = std::max(-ru_ - 1, b.x() - 3); du <= std::min(ru_ + 1, b.x() + 3); ++du) {
+          if (std::isnan(at(du, dv))) at(du, dv) = score(du, dv);
+        }
+      }
     }
   }
+  double& at(int du, int dv) { return s_[static_cast<std::size_t>(dv + rv_ + 1) * (2 * ru_ + 3) + (du + ru_ + 1)]; }
+  int u0() const { return u0_; }
+  int v0() const { return v0_; }
+  int ru() const { return ru_; }
+  int rv() const { return rv_; }
+
+  /// The best place within the search (not its border), as (du, dv), and its score.
+  std::pair<Eigen::Vector2i, double> best() {
+    double best = -kInf;
+    Eigen::Vector2i b(0, 0);
+    for (int dv = -rv_; dv <= rv_; ++dv) {
+      for (int du = -ru_; du <= ru_; ++du) {
+        if (at(du, dv) > best) best = at(du, dv), b = Eigen::Vector2i(du, dv);
+      }
+    }
+    return {b, best};
+  }
+  /// The best score more than clear_u columns or clear_v rows from (du, dv) within the search.
+  double runnerUp(int du, int dv, int clear_u, int clear_v) {
+    double best = -kInf;
+    for (int j = -rv_; j <= rv_; ++j) {
+      for (int i = -ru_; i <= ru_; ++i) {
+        if ((std::abs(i - du) > clear_u || std::abs(j - dv) > clear_v) && at(i, j) > best) best = at(i, j);
+      }
+    }
+    return best;
+  }
+  /// Whether every neighbour of (du, dv) could be scored: a peak, not the edge of what could be (the
+  /// frame's border cutting it off there).
+  bool peak(int du, int dv) {
+    return std::isfinite(at(du - 1, dv)) && std::isfinite(at(du + 1, dv)) && std::isfinite(at(du, dv - 1)) &&
+           std::isfinite(at(du, dv + 1));
+  }
+
+ private:
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  int u0_, v0_, ru_, rv_;
+  std::vector<double> s_;
+};
+
+DetectedLandmark notFound(DetectedLandmark out, const char* reason) {
+  out.reason = reason;
+  return out;
+}
+
+// Something standing: its base's front edge searched for with uprightScore, then refined.
+DetectedLandmark findUpright(const RowSums& sums, const Camera& camera, const PredictedLandmark& l, SearchGrid& grid,
+                             const LandmarkFinderOptions& o, DetectedLandmark out) {
+  std::vector<std::optional<RowShape>> shapes;  // each row's, by dv + rv + 1
+  for (int dv = -grid.rv() - 1; dv <= grid.rv() + 1; ++dv) shapes.push_back(shapeAt(camera, l, grid.u0(), grid.v0() + dv, o.probe_height_m));
+  grid.fill([&](int du, int dv) {
+    const auto& shape = shapes[static_cast<std::size_t>(dv + grid.rv() + 1)];
+    return shape ? uprightScore(sums, grid.u0() + du, grid.v0() + dv, *shape, o) : -std::numeric_limits<double>::infinity();
+  });
+  const auto [b, best] = grid.best();
   out.score = std::clamp(best / (2 * o.min_contrast), 0.0, 1.0);
-  // A peak, not the edge of what could be scored (the frame's border cutting it off there).
-  const bool peak = std::isfinite(at(bu - 1, bv)) && std::isfinite(at(bu + 1, bv)) && std::isfinite(at(bu, bv - 1)) &&
-                    std::isfinite(at(bu, bv + 1));
-  if (!(best >= o.min_contrast) || !peak) {
-    out.reason = upright ? "nothing standing out from the ground beside it near its prediction"
-                         : "no patch differing from the paving all round it near its prediction";
-    return out;
+  if (!(best >= o.min_contrast) || !grid.peak(b.x(), b.y())) {
+    return notFound(out, "nothing standing out from the ground beside it near its prediction");
   }
-  Vec2 found(u0 + bu + vertex(at(bu - 1, bv), at(bu, bv), at(bu + 1, bv)) - 0.5,
-             v0 + bv + vertex(at(bu, bv - 1), at(bu, bv), at(bu, bv + 1)) - 0.5);  // pixel centres at integers
-  if (upright) {
-    if (const auto best_shape = shapeAt(camera, l, u0 + bu, v0 + bv, o.probe_height_m)) {
-      found.y() = refinedBaseRow(sums, u0 + bu, v0 + bv, *best_shape);
-      found.x() = refinedMiddleColumn(sums, u0 + bu, v0 + bv, *best_shape);
-    }
+  const int u = grid.u0() + b.x(), v = grid.v0() + b.y();
+  const auto best_shape = shapeAt(camera, l, u, v, o.probe_height_m);
+  if (!best_shape) return notFound(out, "its place found is not on the ground");
+  const int clear_u = std::max(3, static_cast<int>(best_shape->width)), clear_v = std::max(3, static_cast<int>(best_shape->probe / 3));
+  if (best < o.min_peak_ratio * grid.runnerUp(b.x(), b.y(), clear_u, clear_v)) {
+    return notFound(out, "as much like it elsewhere near its prediction: ambiguous");
   }
+  const Vec2 found(refinedMiddleColumn(sums, u, v, *best_shape), refinedBaseRow(sums, u, v, *best_shape));
   const auto shape = shapeAt(camera, l, found.x(), found.y(), o.probe_height_m);
-  if (!shape) return out;
+  if (!shape) return notFound(out, "its place found is not on the ground");
+  // The row found is its base's front edge: the centre is a radius further away.
+  const Vec2 sight = (shape->ground - camera.center().head<2>()).normalized();
+  const auto centre = camera.projectGround(shape->ground + sight * l.radius_m);
+  if (!centre) return notFound(out, "its place found is not on the ground");
   out.found = true;
-  out.image_base = found;
-  if (upright) {  // the row found is its base's front edge: the centre is a radius further away
-    const Vec2 sight = (shape->ground - camera.center().head<2>()).normalized();
-    if (const auto centre = camera.projectGround(shape->ground + sight * l.radius_m)) out.image_base = *centre;
-  }
+  out.image_base = *centre;
   const double su = std::hypot(o.base_sigma_u_px, 0.25 * shape->width);
   out.covariance = Vec2(su * su, o.base_sigma_v_px * o.base_sigma_v_px).asDiagonal();
   return out;
+}
+
+// A cover: the centre whose rim (rimAt) shows the strongest colour step all round. The search
+// reuses the rim drawn at the middle of each block of 8 columns of a row (a cover seen from the side
+// slants); the best place's neighbourhood is then scored again with each place's own rim.
+DetectedLandmark findCover(const VisionFrame& f, const Camera& camera, const PredictedLandmark& l, SearchGrid& grid,
+                           const LandmarkFinderOptions& o, DetectedLandmark out) {
+  auto exactScore = [&](const Vec2& q) {
+    const auto g = camera.backproject(q);
+    const auto rim = g ? rimAt(camera, *g, l.radius_m, o.rim_step_px) : std::nullopt;
+    return rim ? rimScore(f, q, *rim) : -std::numeric_limits<double>::infinity();
+  };
+  const int blocks = (2 * grid.ru() + 3 + 7) / 8;
+  std::vector<std::optional<std::optional<Rim>>> rims(static_cast<std::size_t>(blocks) * (2 * grid.rv() + 3));
+  grid.fill([&](int du, int dv) {
+    const int block = (du + grid.ru() + 1) / 8;
+    auto& rim = rims[static_cast<std::size_t>(dv + grid.rv() + 1) * blocks + block];
+    if (!rim) {
+      const auto g = camera.backproject(Vec2(grid.u0() - grid.ru() - 1 + 8 * block + 4, grid.v0() + dv));
+      rim = g ? rimAt(camera, *g, l.radius_m, o.rim_step_px) : std::nullopt;
+    }
+    return *rim ? rimScore(f, Vec2(grid.u0() + du, grid.v0() + dv), **rim) : -std::numeric_limits<double>::infinity();
+  });
+  auto [b, best] = grid.best();
+  for (int i = -1; i <= 1; ++i) {  // the neighbourhood with each place's own rim
+    for (int j = -1; j <= 1; ++j) grid.at(b.x() + i, b.y() + j) = exactScore(Vec2(grid.u0() + b.x() + i, grid.v0() + b.y() + j));
+  }
+  best = grid.at(b.x(), b.y());
+  out.score = std::clamp(best / (2 * o.min_contrast), 0.0, 1.0);
+  if (!(best >= o.min_contrast) || !grid.peak(b.x(), b.y())) {
+    return notFound(out, "no rim differing from the paving all round it near its prediction");
+  }
+  out.found = true;
+  out.image_base = Vec2(grid.u0() + b.x() + vertex(grid.at(b.x() - 1, b.y()), best, grid.at(b.x() + 1, b.y())),
+                        grid.v0() + b.y() + vertex(grid.at(b.x(), b.y() - 1), best, grid.at(b.x(), b.y() + 1)));
+  out.covariance = Vec2(o.base_sigma_u_px * o.base_sigma_u_px, o.base_sigma_v_px * o.base_sigma_v_px).asDiagonal();
+  return out;
+}
+
+DetectedLandmark findOne(const VisionFrame& f, const RowSums& sums, const PredictedLandmark& l, const Mat3& pose_covariance,
+                         const LandmarkFinderOptions& o) {
+  DetectedLandmark out;
+  out.id = l.id;
+  const Camera& camera = *f.camera;
+  const Vec2 sigma = basePixelSigma(camera, l, pose_covariance);
+  const int ru = static_cast<int>(std::ceil(std::clamp(o.gate_sigma * sigma.x(), o.min_search_px, o.max_search_px)));
+  const int rv = static_cast<int>(std::ceil(std::clamp(o.gate_sigma * sigma.y(), o.min_search_px, o.max_search_px)));
+  SearchGrid grid(static_cast<int>(std::lround(l.image_base.x())), static_cast<int>(std::lround(l.image_base.y())), ru, rv);
+  if (l.height_m <= 0) return findCover(f, camera, l, grid, o, out);
+  return findUpright(sums, camera, l, grid, o, out);
 }
 
 }  // namespace
@@ -272,7 +437,7 @@ std::vector<DetectedLandmark> findLandmarks(const VisionFrame& frame, const Pred
   if (prediction.landmarks.empty()) return out;
   const RowSums sums(frame);
   for (const PredictedLandmark& l : prediction.landmarks) {
-    out.push_back(findOne(sums, *frame.camera, l, prediction.pose_covariance, options));
+    out.push_back(findOne(frame, sums, l, prediction.pose_covariance, options));
   }
   return out;
 }

@@ -1,12 +1,13 @@
 #pragma once
 // Finding the predicted landmarks in a frame (issue 28): each is looked for near where the Map
-// predicts its base, within the pose's uncertainty seen in the image. Something that stands (a
-// pole, a trunk, a bollard, a bench) is a band of its predicted width whose colour differs from
-// the ground on both sides of it and from the ground just in front of its base; a manhole cover is
-// a patch of its predicted size that differs from the paving all round it. The best place is kept
-// when it stands out enough (its base row and its sides then refined at the strongest colour
-// steps near them); otherwise,
-// and where the frame's side may cut it off, the landmark is reported as not there.
+// predicts its base, within the pose's uncertainty seen in the image (every second place, then
+// every place about the best three of those). Something that stands (a pole, a trunk, a bollard,
+// a bench) is a band of its predicted width, leaning as a vertical there does, with a colour step
+// at both its sides all the way up its lower part and one at its foot against the ground in front;
+// it is kept only when it stands out clearly from the next best place (its base row and its sides
+// then refined at the strongest colour steps near them). A manhole cover is the ellipse its circle
+// projects to, with a colour step across that rim all round it. Otherwise, and where the frame's
+// edge cuts it, the landmark is reported as not there.
 //
 // Frames: the image (u right, v down, px). Colours: 8-bit RGB levels.
 #include <vector>
@@ -23,23 +24,35 @@ struct LandmarkFinderOptions {
   /// max_search_px in each direction, px.
   double gate_sigma = 3.0;
   double min_search_px = 6.0;
-  double max_search_px = 60.0;
+  double max_search_px = 150.0;
   /// How much of something standing is compared with its sides: from its base up this far (or its
   /// height, if less), m. 0.6: a bench's seat, most of a bollard, and a trunk or post below the
-  /// parked bicycles and hedges that hide the rest.
-  double probe_height_m = 0.3;
-  /// The strips beside it (and, for a manhole, all round it) that must differ from it, px.
+  /// parked bicycles and hedges that hide the rest; 0.3 took the lit half of a bollard standing in
+  /// shaded grass for all of it, and a post's shadow for the post.
+  double probe_height_m = 0.6;
+  /// At least this much of that height must be in the frame (a landmark far ahead stands at the
+  /// frame's top edge), as a fraction.
+  double min_probe_in_frame = 0.25;
+  /// The strips beside it that must differ from it, px.
   double side_px = 4.0;
   /// The ground in front of its base compared with it, px below the base.
   double below_px = 4.0;
-  /// Found when its colour differs from each side and from the ground in front by at least this
-  /// much (Euclidean distance of the mean RGB colours), levels. 20: a dark grey post on concrete
-  /// differs by 60-100, a brown trunk on grass by 30-60, sensor noise averages to under 2.
-  double min_contrast = 20.0;
+  /// A manhole cover's rim is where the colour 1.5 px inside it differs from 1.5 px outside, px.
+  double rim_step_px = 1.5;
+  /// Found when the colour steps at its sides and foot (or all round a cover's rim) are at least
+  /// this (Euclidean distance of mean RGB colours), levels. 12: a dark grey post on concrete steps
+  /// by 60-100, a brown trunk on grass by 30-60, a shaded bollard's dark side on shaded grass by
+  /// 15-25; sensor noise averages to under 2.
+  double min_contrast = 12.0;
+  /// Something standing is found only where it explains the frame this many times better than the
+  /// best place more than its width across or a third of its probed height up or down from it: a
+  /// shadow's edge across a bollard, or the patch of shade at a trunk's foot, can look as much like
+  /// it as it does.
+  double min_peak_ratio = 1.25;
   /// The standard deviation of a found base across (u) and up the image (v), px, at least: what
   /// the covariance of DetectedLandmark::image_base says (a quarter of the width is added across).
   /// 2 px: on the simulator's frames with shadows the median error is 0.3 px, but a few are off by
-  /// 3-8 px (a cylinder's shaded side merges with shaded ground); 30 of 31 within 3 sigma.
+  /// 3-8 px (a cylinder's shaded side merges with shaded ground); 61 of 61 within 3 sigma.
   double base_sigma_u_px = 2.0;
   double base_sigma_v_px = 2.0;
 

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -45,23 +47,37 @@ inline Map withoutLandmarks(const std::filesystem::path& path) {
   return Map(std::move(data), path.filename().string() + " without landmarks");
 }
 
-/// A straight avenue with no intersection for 230 m: A (0, 0) to B (230, 0), 2.5 m of concrete
-/// between lawns; with landmarks, a tree or a lamp post beside it every 24-35 m, alternating sides,
-/// trees 1.2 m and posts 0.45 m beyond the paving (the kind's default size).
-inline MapData landmarkAvenue(bool with_landmarks) {
+/// A straight road R1 from A (0, 0) to B (length_m, 0), width_m of `surface` with `shoulder` on both
+/// sides; no surfaces' colours (the caller's), no landmarks.
+inline MapData straightRoad(const std::string& name, double length_m, double width_m, const std::string& surface,
+                            const std::string& shoulder) {
   MapData m;
-  m.name = with_landmarks ? "avenue with landmarks" : "avenue";
-  m.surfaces = {{"concrete", {Vec3(178, 176, 168), Vec3(10, 10, 10)}}, {"grass", {Vec3(70, 120, 50), Vec3(14, 18, 12)}}};
-  m.intersections = {{"A", IntersectionKind::End, Vec2(0, 0), std::nullopt}, {"B", IntersectionKind::End, Vec2(230, 0), std::nullopt}};
+  m.name = name;
+  m.intersections = {{"A", IntersectionKind::End, Vec2(0, 0), std::nullopt},
+                     {"B", IntersectionKind::End, Vec2(length_m, 0), std::nullopt}};
   Road r;
   r.id = "R1";
   r.from = "A";
   r.to = "B";
-  r.centerline = Polyline2({Vec2(0, 0), Vec2(230, 0)});
-  r.width = 2.5;
-  r.surface = "concrete";
-  r.left = r.right = "grass";
+  r.centerline = Polyline2({Vec2(0, 0), Vec2(length_m, 0)});
+  r.width = width_m;
+  r.surface = surface;
+  r.left = r.right = shoulder;
   m.roads = {r};
+  return m;
+}
+
+/// Concrete and grass, as the campus has them: the colours of straightRoad's surfaces.
+inline std::vector<std::pair<std::string, Appearance>> concreteAndGrass() {
+  return {{"concrete", {Vec3(178, 176, 168), Vec3(10, 10, 10)}}, {"grass", {Vec3(70, 120, 50), Vec3(14, 18, 12)}}};
+}
+
+/// A straight avenue with no intersection for 230 m: A (0, 0) to B (230, 0), 2.5 m of concrete
+/// between lawns; with landmarks, a tree or a lamp post beside it every 24-35 m, alternating sides,
+/// trees 1.2 m and posts 0.45 m beyond the paving (the kind's default size).
+inline MapData landmarkAvenue(bool with_landmarks) {
+  MapData m = straightRoad(with_landmarks ? "avenue with landmarks" : "avenue", 230, 2.5, "concrete", "grass");
+  m.surfaces = concreteAndGrass();
   if (!with_landmarks) return m;
   const double at[] = {24, 52, 80, 104, 139, 165, 190, 218};  // gaps of 24-35 m
   for (int i = 0; i < 8; ++i) {
