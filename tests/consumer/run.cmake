@@ -3,13 +3,7 @@
 # Inputs: -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... [-DSANITIZERS=address,undefined]
 # Or, given PREFIX (an installed tree: tests/package/deb.cmake's unpacked .deb), only the consumer
 # and plug-in builds against it, in WORK_DIR.
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT code EQUAL 0)
-    message(FATAL_ERROR "failed (${code}): ${ARGN}\n${out}\n${err}")
-  endif()
-  set(last_output "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../support/run_steps.cmake)
 if(NOT PREFIX)
   file(REMOVE_RECURSE "${WORK_DIR}")
   set(PREFIX "${WORK_DIR}/prefix")

@@ -3,19 +3,7 @@
 # and tests/consumer and the example plug-in build against its CMake package (consumer/run.cmake).
 # Inputs: -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DVERSION=... -DPYTHON=... -DCPACK=...
 file(REMOVE_RECURSE "${WORK_DIR}")
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT code EQUAL 0)
-    message(FATAL_ERROR "failed (${code}): ${ARGN}\n${out}\n${err}")
-  endif()
-  set(last_output "${out}" PARENT_SCOPE)
-endfunction()
-function(expect pattern what)
-  if(NOT last_output MATCHES "${pattern}")
-    message(FATAL_ERROR "${what}: expected ${pattern}, got: ${last_output}")
-  endif()
-  message(STATUS "${what}: ${last_output}")
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../support/run_steps.cmake)
 
 run("${CPACK}" -G DEB --config "${BUILD_DIR}/CPackConfig.cmake" -B "${WORK_DIR}")
 set(deb "${WORK_DIR}/mapnav_${VERSION}_amd64.deb")
