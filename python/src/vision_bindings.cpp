@@ -51,14 +51,14 @@ void bindDetection(py::module_& m) {
       });
 }
 
-// The frame read in place and the pipeline run without the GIL.
+// The frame read in place. The GIL stays held: a pipeline is not safe to share between threads, and
+// two Python threads calling one pipeline's detect then take turns instead of racing.
 DetectedObject detectIn(VisionPipeline& pipeline, const py::array& image, const PyPrediction& p, double t, bool masks) {
   if (!std::isfinite(t)) throw InvalidInput("timestamp: must be finite");
   const RgbView rgb = rgbView(image, "image");
   checkCameraFrame("image", rgb.width, rgb.height, 3, *p.camera);
   VisionFrame frame{rgb.width, rgb.height, rgb.data, p.camera.get(), t};
   frame.want_masks = masks;
-  py::gil_scoped_release unlocked;
   return pipeline.detect(frame, p.prediction.view);
 }
 
