@@ -36,14 +36,14 @@ def arrows(doc):
 
 def modules(root):
     """The folders of the tree that are modules: their CMakeLists calls mapnav_module() or adds a
-    library named mapnav_... (apps/: the CLI's library). tests/, bench/ and examples/ may include
+    library named mapnav_... (apps/: the CLI's library; python/: the Python module). tests/, bench/ and examples/ may include
     any module."""
     found = set()
     for name in sorted(os.listdir(root)):
         if name in ('tests', 'bench', 'examples'):
             continue
         cm = os.path.join(root, name, 'CMakeLists.txt')
-        if os.path.isfile(cm) and re.search(r'^\s*(mapnav_module\(|add_library\(mapnav_)',
+        if os.path.isfile(cm) and re.search(r'^\s*(mapnav_module\(|add_library\(mapnav_|pybind11_add_module\(mapnav_)',
                                             open(cm, encoding='utf-8').read(), re.M):
             found.add(name)
     return found

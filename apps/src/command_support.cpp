@@ -12,7 +12,6 @@
 #include "mapnav/core/interrupt.h"
 #include "mapnav/core/io.h"
 #include "mapnav/map/geojson.h"
-#include "mapnav/map/map_io.h"
 
 namespace mapnav::cli {
 
@@ -27,30 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 }  // namespace
 
-static bool isGeoJson(const std::string& file) {
-  const std::string ext = fs::path(file).extension().string();
-  return ext == ".geojson" || ext == ".GEOJSON";
-}
-
 void printIssues(const Issues& issues, const std::string& file, std::ostream& out) {
   for (const Issue& issue : issues) out << formatIssue(issue, file) << "\n";
-}
-
-// Reads a map file (native or GeoJSON, by extension) through both passes. Every issue found is
-// appended, with pointers into `file` itself.
-std::optional<Map> readAndValidate(const std::string& file, Issues& issues) {
-  const std::string text = readFile(file);
-  if (!isGeoJson(file)) {
-    auto data = parseMap(text, issues);
-    return data ? buildMap(std::move(*data), file, issues) : std::nullopt;
-  }
-  auto imported = importGeoJson(text, issues);
-  if (!imported) return std::nullopt;
-  Issues found;
-  auto map = buildMap(imported->map, file, found);
-  for (Issue& issue : found) issue.where = imported->toFeaturePointer(issue.where);
-  issues.insert(issues.end(), found.begin(), found.end());
-  return map;
 }
 
 // Runs a command body, turning every exception into the message and exit code the CLI promises.
@@ -92,7 +69,7 @@ int guarded(std::ostream& err, const std::function<int()>& body) {
 int withMap(const std::string& file, std::ostream& err, const std::function<int(const Map&)>& body) {
   return guarded(err, [&] {
     Issues issues;
-    auto map = readAndValidate(file, issues);
+    auto map = readMapFile(file, issues);
     if (!map) {
       printIssues(issues, file, err);
       err << "mapnav: error: " << file << ": not a valid map (" << countSeverity(issues, Severity::Error)

@@ -31,10 +31,6 @@ std::string fixedOr(const std::optional<double>& v, int digits, const std::strin
 /// `FILE:/pointer: severity: check: message`, one per line.
 void printIssues(const Issues& issues, const std::string& file, std::ostream& out);
 
-/// Reads a map file (native JSON, or GeoJSON by its .geojson extension) through both passes,
-/// appending every issue with pointers into `file` itself. Nothing when it has errors.
-std::optional<Map> readAndValidate(const std::string& file, Issues& issues);
-
 /// Runs a command body, turning every exception into a message on `err` and an exit code:
 /// invalid input 1, I/O and anything unexpected 2.
 int guarded(std::ostream& err, const std::function<int()>& body);

@@ -8,11 +8,11 @@
 #include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
-#include "mapnav/core/json.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/mission/image_region.h"
+#include "mapnav/vision/detection_io.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision_iface/pipeline.h"
 #include "pipelines_command.h"
@@ -33,41 +33,13 @@ Detection run(const Map* map, const DetectConfig& config) {
   const auto camera = loadCamera(config.camera);
   Detection d;
   d.image = readPng(config.image);
-  if (d.image.channels != 3) throw InvalidInput(config.image + ": a camera frame must be an RGB image");
-  if (d.image.width != camera->width() || d.image.height != camera->height()) {
-    throw InvalidInput(config.image + ": the image is " + std::to_string(d.image.width) + "x" + std::to_string(d.image.height) +
-                       " but the camera's is " + std::to_string(camera->width()) + "x" + std::to_string(camera->height()));
-  }
+  checkCameraFrame(config.image, d.image.width, d.image.height, d.image.channels, *camera);
   d.prediction = map != nullptr ? predictView(*map, config.at ? toPose(*map, *config.at) : *config.pose, *camera)
                                 : predictionFromImageRegion(config.train_region, *camera);
   const auto pipeline = createPipeline(config.pipeline, config.options_json);
   d.detected = pipeline->detect(VisionFrame{d.image.width, d.image.height, d.image.data.data(), camera.get(), 0.0},
                                 d.prediction.view);
   return d;
-}
-
-Json points(const Polygon2& ring) {
-  Json out = Json::array();
-  for (const Vec2& p : ring) out.push_back(Json::array({std::round(p.x() * 1000) / 1000, std::round(p.y() * 1000) / 1000}));
-  return out;
-}
-
-std::string toJson(const DetectedObject& d) {
-  Json lines = Json::array();
-  for (const DetectedLine& l : d.lines) {
-    lines.push_back({{"label", l.label ? Json(*l.label) : Json(nullptr)},
-                     {"score", std::round(l.score * 1000) / 1000},
-                     {"frame_edge", l.frame_edge},
-                     {"image", points({l.image.a, l.image.b})},
-                     {"vehicle", points({l.vehicle.a, l.vehicle.b})}});
-  }
-  Json j = {{"status", d.status == DetectedObject::Status::Ok ? "ok" : "failed"},
-            {"reason", d.reason},
-            {"confidence", std::round(d.confidence * 1000) / 1000},
-            {"region", {{"image", points(d.region_image)}, {"vehicle", points(d.region_vehicle)}}},
-            {"lines", lines},
-            {"centerline", d.centerline_vehicle ? points({d.centerline_vehicle->a, d.centerline_vehicle->b}) : Json(nullptr)}};
-  return dumpJson(j);
 }
 
 }  // namespace
@@ -77,7 +49,7 @@ int runDetect(const DetectConfig& config, std::ostream& out, std::ostream& err) 
     const Detection d = run(&map, config);
     if (!config.output.empty()) writePng(drawDetection(d.image, d.prediction.view, d.detected), config.output);
     if (config.json) {
-      out << toJson(d.detected);
+      out << detectionToJson(d.detected);
     } else {
       std::size_t labelled = 0;
       for (const DetectedLine& l : d.detected.lines) labelled += l.label ? 1 : 0;

@@ -44,7 +44,7 @@ int runValidate(const ValidateConfig& config, std::ostream& out, std::ostream& e
   for (const std::string& file : config.files) {
     const int code = guarded(err, [&] {
       Issues issues;
-      const bool valid = readAndValidate(file, issues).has_value();
+      const bool valid = readMapFile(file, issues).has_value();
       printIssues(issues, file, out);
       if (!config.quiet) {
         const auto errors = countSeverity(issues, Severity::Error), warnings = countSeverity(issues, Severity::Warning);

@@ -1,5 +1,6 @@
 #pragma once
 // GeoJSON (RFC 7946) import and export, for maps drawn in QGIS or geojson.io (docs/map-format.md).
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -51,6 +52,14 @@ std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues
 /// (Point features with a `landmark` property), with a `mapnav` foreign member holding name, origin
 /// and surfaces. Throws InvalidInput when neither `origin` nor the map has an origin.
 std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& origin = std::nullopt);
+
+/// Both passes on a map file in either format: GeoJSON when `geojson` options are given or the
+/// extension is `.geojson` (importGeoJson, its issues' pointers translated into the GeoJSON file),
+/// else mapnav-map/1 JSON. Appends every issue, warnings too, to `issues`; nothing when there is an
+/// error. Throws IoError when the file cannot be read. What `mapnav map validate`, every command
+/// that takes --map and the Python module's Map.load read with.
+std::optional<Map> readMapFile(const std::filesystem::path& path, Issues& issues,
+                               const std::optional<GeoJsonImportOptions>& geojson = std::nullopt);
 
 /// The surfaces used when a GeoJSON file carries none (concrete, asphalt, brick, gravel, grass, dirt).
 std::vector<std::pair<std::string, Appearance>> standardSurfaces();
