@@ -104,7 +104,7 @@ bool startsFromPrediction(const PredictedObject& pred, const Camera& cam, int w,
   for (const InterestSegment& s : pred.segments) {
     if (s.side != "left" && s.side != "right") continue;
     const double d = s.vehicle.distanceTo(Vec2::Zero());
-    if (!(d < best || !both) || !startFromSegment(s, cam, w, h, o)) continue;
+    if ((both && d >= best) || !startFromSegment(s, cam, w, h, o)) continue;  // no better than the road found
     const bool pair = std::any_of(pred.segments.begin(), pred.segments.end(), [&](const InterestSegment& t) {
       return t.owner == s.owner && (t.side == "left" || t.side == "right") && t.side != s.side && startFromSegment(t, cam, w, h, o);
     });

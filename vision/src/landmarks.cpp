@@ -101,10 +101,10 @@ Vec2 basePixelSigma(const Camera& camera, const PredictedLandmark& l, const Mat3
   return Vec2(std::sqrt(std::max(0.0, px(0, 0))), std::sqrt(std::max(0.0, px(1, 1))));
 }
 
-// What a landmark whose base is seen at image row `v` (column u) looks like there: its width, the
-// height of its probed part, and (flat) its vertical extent, px; and the ground point under it.
+// What something standing whose base is seen at image row `v` (column u) looks like there: its
+// width and the height of its probed part, px; and the ground point under it.
 struct RowShape {
-  double width = 0, probe = 0, depth = 0;
+  double width = 0, probe = 0;
   double lean = 0;  ///< du/dv of the vertical through the base, seen in the image
   Vec2 ground = Vec2::Zero();
 };
@@ -112,13 +112,11 @@ struct RowShape {
 std::optional<RowShape> shapeAt(const Camera& camera, const PredictedLandmark& l, double u, double v, double probe_m) {
   const auto g = camera.backproject(Vec2(u, v));
   if (!g) return std::nullopt;
-  const Vec2 sight = (*g - camera.center().head<2>()).normalized();
   const auto width = groundWidthPx(camera, *g, l.radius_m);
-  const auto near = camera.projectGround(*g - sight * l.radius_m), far = camera.projectGround(*g + sight * l.radius_m);
   const auto top = camera.project(Vec3(g->x(), g->y(), std::min(probe_m, l.height_m)));
-  if (!width || !near || !far || !top) return std::nullopt;
+  if (!width || !top) return std::nullopt;
   const double probe = v - top->y();
-  return RowShape{*width, probe, std::abs(near->y() - far->y()), probe > 0 ? (u - top->x()) / probe : 0.0, *g};
+  return RowShape{*width, probe, probe > 0 ? (u - top->x()) / probe : 0.0, *g};
 }
 
 double distance(const std::optional<RowSums::Stats>& a, const std::optional<RowSums::Stats>& b) {
