@@ -380,6 +380,22 @@ TEST(EdgeTracker, StartsAgainFromTheNextPredictedSegmentWhenTheEdgeIsLostAtTheIm
   for (const DetectedLine& l : r.detected.lines) EXPECT_EQ(l.label, std::optional<std::string>("R4.right.31"));
 }
 
+// Just past R1's end at I2 (park_loop, frame 112 of the mission's run at 7724cc9's parent): the last
+// metres of R1's right edge are the nearest edge in view, at the image's right side, beside both
+// edges of R2. Traced alone, that stub had lost the frame ("left: not predicted in the image"); the
+// tracker starts from R2, the nearest road with both edges in view.
+TEST(EdgeTracker, StartsFromTheRoadWithBothEdgesInViewPastTheEndOfTheLast) {
+  const Pose2 truth(Vec2(185.2585, 76.7698), -30.0429 * kDeg), estimate(Vec2(185.2593, 76.7632), -29.6827 * kDeg);
+  EdgeTracker tracker;
+  const TrackRun r = runAt(parkLoopWorld(), truth, estimate, 224.0, tracker);
+  const auto& segments = r.prediction.view.segments;
+  ASSERT_TRUE(std::any_of(segments.begin(), segments.end(), [](const InterestSegment& s) { return s.id.rfind("R1.right", 0) == 0; }));
+  ASSERT_EQ(r.detected.status, DetectedObject::Status::Ok) << r.detected.reason;
+  ASSERT_TRUE(r.report.left.label && r.report.right.label);
+  EXPECT_EQ(r.report.left.label->rfind("R2.", 0), 0u) << *r.report.left.label;
+  EXPECT_EQ(r.report.right.label->rfind("R2.", 0), 0u) << *r.report.right.label;
+}
+
 TEST(EdgeTracker, FollowsBothEdgesOfACurvingPathToTheTop) {
   // shadow_density 0.2 puts no tree shadow in these views; 0.4 shades about a tenth of the ground in
   // the views 0 and 4 m into the curve (and 40 % further on: see HeavyShadowFailsRatherThanMisleads).
