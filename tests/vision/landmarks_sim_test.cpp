@@ -2,7 +2,8 @@
 // avenue with tree shadows and the landmarks' own, each predicted from a pose off the truth by the
 // filter's typical error (0.3 m along, 5 cm across, 1 degree), scored against the prediction from
 // the true pose. The Terregator camera sees landmarks beside the path near its frame's top and
-// sides; those the frame cuts off are not to be found.
+// sides; those the frame cuts off are not to be found. And the bar for the landmarks near the
+// vehicle, on a lane with one of each kind every 7-11 m (NearLandmarksAreFoundWithinThreePixels).
 #include <gtest/gtest.h>
 
 #include <algorithm>
