@@ -64,7 +64,7 @@ TEST_F(GroundStepOnTheAvenue, MeasuredStepsAreWithinThreeSigmaOfTheTruth) {
   std::mt19937_64 rng(28);
   std::uniform_real_distribution<double> along(5, 200), across(-0.4, 0.4), heading(-degToRad(4), degToRad(4)),
       step(0.5, 1.2), turn(-degToRad(3), degToRad(3)), scale(-0.03, 0.03), gyro(-degToRad(0.3), degToRad(0.3));
-  const int pairs = 100;
+  const int pairs = testing::kUnderSanitizers ? 40 : 100;  // the sanitizer stage: the same code on fewer frames
   int found = 0, within_3_sigma = 0;
   std::vector<double> errors, predicted_errors, peaks;
   for (int k = 0; k < pairs; ++k) {
