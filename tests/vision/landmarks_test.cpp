@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "mapnav/core/error.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/testing/support.h"
+#include "../../vision/src/subpixel.h"
 
 namespace mapnav {
 namespace {
@@ -124,6 +126,21 @@ TEST(FindLandmarks, ALandmarkThatIsNotThereIsReportedAsNotThere) {
   ASSERT_EQ(found.size(), 1u);
   EXPECT_FALSE(found[0].found);
   EXPECT_FALSE(found[0].reason.empty());
+}
+
+// The sub-pixel peak the finder, the ground's step and the edge tracker share: the vertex of a
+// parabola sampled at -1, 0, 1, exact for a parabola, clamped to half a sample, and 0 where the
+// samples do not bend down or are not finite.
+TEST(ParabolaPeak, FindsTheVertexOfASampledParabolaAndNothingElse) {
+  for (const double x0 : {-0.45, -0.2, 0.0, 0.3, 0.5}) {
+    const auto y = [&](double x) { return 7.0 - 2.5 * (x - x0) * (x - x0); };
+    EXPECT_NEAR(parabolaPeak(y(-1), y(0), y(1)), x0, 1e-12) << x0;
+  }
+  EXPECT_EQ(parabolaPeak(0.0, 1.0, 1.9), 0.5);  // the vertex 9.5 samples right: clamped
+  EXPECT_EQ(parabolaPeak(1.0, 1.0, 1.0), 0.0);  // flat
+  EXPECT_EQ(parabolaPeak(2.0, 1.0, 2.0), 0.0);  // a valley
+  EXPECT_EQ(parabolaPeak(-std::numeric_limits<double>::infinity(), 1.0, 0.5), 0.0);
+  EXPECT_EQ(parabolaPeak(std::nan(""), 1.0, 0.5), 0.0);
 }
 
 TEST(LandmarkFinderOptions, DefaultsAreValidAndBadFieldsAreNamed) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "edge_tracker_internal.h"
+#include "subpixel.h"
 #include "mapnav/vision/edge_tracker.h"
 
 namespace mapnav {
@@ -111,9 +112,7 @@ EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& d
     // Sub-pixel position: parabola through the neighbouring scores.
     double frac = 0;
     if (kbest > 0 && kbest + 1 < W && !std::isnan(scores[kbest - 1]) && !std::isnan(scores[kbest + 1])) {
-      const double a = scores[kbest - 1], b = scores[kbest], c = scores[kbest + 1];
-      const double den = a - 2 * b + c;
-      if (den < 0) frac = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+      frac = parabolaPeak(scores[kbest - 1], scores[kbest], scores[kbest + 1]);
     }
     const double pos = kbest - 0.5 + frac - (W - 1) / 2.0;
     best.found = true;

@@ -12,6 +12,7 @@
 #include "mapnav/core/options.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/geometry/pose2.h"
+#include "subpixel.h"
 
 namespace mapnav {
 
@@ -122,12 +123,8 @@ Registration phaseCorrelation(const cv::Mat& a, const cv::Mat& b, int clear) {
   Registration r;
   cv::minMaxLoc(surface, nullptr, &r.peak, nullptr, &at);
   auto value = [&](int y, int x) { return surface.at<double>((y + rows) % rows, (x + cols) % cols); };
-  auto vertex = [](double m, double c, double p) {  // a parabola's vertex through (-1, m), (0, c), (1, p)
-    const double d = m - 2 * c + p;
-    return d < 0 ? std::clamp(0.5 * (m - p) / d, -0.5, 0.5) : 0.0;
-  };
-  const double sx = at.x + vertex(value(at.y, at.x - 1), r.peak, value(at.y, at.x + 1));
-  const double sy = at.y + vertex(value(at.y - 1, at.x), r.peak, value(at.y + 1, at.x));
+  const double sx = at.x + parabolaPeak(value(at.y, at.x - 1), r.peak, value(at.y, at.x + 1));
+  const double sy = at.y + parabolaPeak(value(at.y - 1, at.x), r.peak, value(at.y + 1, at.x));
   r.shift = cv::Point2d(sx > cols / 2 ? sx - cols : sx, sy > rows / 2 ? sy - rows : sy);
   for (int y = 0; y < rows; ++y) {
     for (int x = 0; x < cols; ++x) {

@@ -9,6 +9,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
+#include "subpixel.h"
 
 namespace mapnav {
 
@@ -217,13 +218,6 @@ double rimScore(const VisionFrame& f, const Vec2& q, const Rim& rim) {
   return step[kRimPoints / 5];
 }
 
-// The offset of a parabola's vertex through (-1, a), (0, b), (1, c) from 0, within ±0.5.
-double vertex(double a, double b, double c) {
-  const double d = a - 2 * b + c;
-  if (!std::isfinite(d) || d >= 0) return 0;
-  return std::clamp(0.5 * (a - c) / d, -0.5, 0.5);
-}
-
 // An upright landmark's base front edge row (image coordinates, pixel centres at integers) refined
 // from the best place (u, v) of the search: the row, within 5 of v, where the colour of the middle of its
 // band changes most (3 rows above against 3 below): its foot against the ground in front, which a
@@ -239,7 +233,7 @@ double refinedBaseRow(const RowSums& in, int u, int v, const RowShape& s) {
   }
   const auto top = std::max_element(step.begin() + 1, step.end() - 1);
   const auto k = static_cast<std::size_t>(top - step.begin());
-  const double row = std::isfinite(*top) ? v - reach - 1 + double(k) + vertex(step[k - 1], step[k], step[k + 1]) : double(v);
+  const double row = std::isfinite(*top) ? v - reach - 1 + double(k) + parabolaPeak(step[k - 1], step[k], step[k + 1]) : double(v);
   return row - 0.5;
 }
 
@@ -404,8 +398,8 @@ DetectedLandmark findCover(const VisionFrame& f, const Camera& camera, const Pre
     return notFound(out, "no rim differing from the paving all round it near its prediction");
   }
   out.found = true;
-  out.image_base = Vec2(grid.u0() + b.x() + vertex(grid.at(b.x() - 1, b.y()), best, grid.at(b.x() + 1, b.y())),
-                        grid.v0() + b.y() + vertex(grid.at(b.x(), b.y() - 1), best, grid.at(b.x(), b.y() + 1)));
+  out.image_base = Vec2(grid.u0() + b.x() + parabolaPeak(grid.at(b.x() - 1, b.y()), best, grid.at(b.x() + 1, b.y())),
+                        grid.v0() + b.y() + parabolaPeak(grid.at(b.x(), b.y() - 1), best, grid.at(b.x(), b.y() + 1)));
   out.covariance = Vec2(o.base_sigma_u_px * o.base_sigma_u_px, o.base_sigma_v_px * o.base_sigma_v_px).asDiagonal();
   return out;
 }
