@@ -146,8 +146,7 @@ struct Carried {
   /// Moves them into the next vehicle frame: the odometry since the last frame as the new vehicle
   /// pose in the old vehicle frame (the mid-step heading model of PoseFilter::predict).
   void move(const LogFrame& f) {
-    const double d = f.odometry.distance_m, dh = f.odometry.dheading_rad;
-    const Pose2 motion(d * std::cos(0.5 * dh), d * std::sin(0.5 * dh), dh);
+    const Pose2 motion = stepPose(f.odometry);
     for (auto& entry : edges) entry.second = Segment2{motion.inverseTransform(entry.second.a), motion.inverseTransform(entry.second.b)};
     for (Vec2& p : region) p = motion.inverseTransform(p);
   }

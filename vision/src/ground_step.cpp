@@ -153,8 +153,8 @@ MeasuredStep measureGroundStep(const VisionFrame& previous, const VisionFrame& c
     return out;
   }
   // The current vehicle's pose in the previous vehicle's frame: the step along the mid-step heading.
-  const double d = predicted.distance_m, dh = predicted.dheading_rad;
-  const Pose2 motion(d * std::cos(0.5 * dh), d * std::sin(0.5 * dh), dh);
+  const double d = predicted.distance_m;
+  const Pose2 motion = stepPose(predicted);
   cv::Mat cu, cv_, pu, pv;
   const double start = patchStart(*current.camera, o), end = start + (o.far_m - o.near_m);
   const Camera& camera = *current.camera;

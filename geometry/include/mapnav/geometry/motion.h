@@ -4,6 +4,9 @@
 // type for a motion increment: odometry as the sensors report it (a replay log's `odometry`, the
 // simulated sensor's reading), the true motion the simulator drove, and the filter's prediction input.
 // Distances are metres, angles radians (a replay log stores degrees; its reader converts).
+#include <cmath>
+
+#include "mapnav/geometry/pose2.h"
 
 namespace mapnav {
 
@@ -14,5 +17,12 @@ struct MotionIncrement {
 
   bool operator==(const MotionIncrement&) const = default;
 };
+
+/// The vehicle's pose after `m` in its own frame before it: the distance driven along the
+/// mid-step heading, the model PoseFilter::predict uses.
+inline Pose2 stepPose(const MotionIncrement& m) {
+  const double d = m.distance_m, dh = m.dheading_rad;
+  return Pose2(d * std::cos(0.5 * dh), d * std::sin(0.5 * dh), dh);
+}
 
 }  // namespace mapnav
