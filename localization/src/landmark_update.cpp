@@ -64,14 +64,10 @@ LandmarkUpdateResult PoseFilter::updateLandmarks(const std::vector<LandmarkObser
       continue;
     }
     const Eigen::Matrix<double, 5, 2> k = full_ * h.transpose() * s.inverse();
-    const Eigen::Matrix<double, 5, 1> step = k * innovation;
+    const Eigen::Matrix<double, 5, 1> change = k * innovation;
     const Mat5 i_kh = Mat5::Identity() - k * h;
     full_ = i_kh * full_ * i_kh.transpose() + k * o.covariance * k.transpose();  // Joseph form
-    full_ = 0.5 * (full_ + full_.transpose());
-    covariance_ = full_.topLeftCorner<3, 3>();
-    pose_ = Pose2(pose_.x() + step(0), pose_.y() + step(1), pose_.heading() + step(2));
-    scale_error_ += step(3);
-    gyro_bias_ += step(4);
+    applyUpdate(change);
     result.information += predicted.jacobian.transpose() * o.covariance.inverse() * predicted.jacobian;
     result.used.push_back(o.id);
   }

@@ -142,13 +142,16 @@ bool PoseFilter::updateStep(double measured_m, double variance) {
   if (!(innovation * innovation / s <= limit)) return false;
   const Eigen::Matrix<double, 5, 1> k = cross / s;
   full_ -= k * cross.transpose();
+  applyUpdate(k * innovation);
+  return true;
+}
+
+void PoseFilter::applyUpdate(const Eigen::Matrix<double, 5, 1>& change) {
   full_ = 0.5 * (full_ + full_.transpose());
   covariance_ = full_.topLeftCorner<3, 3>();
-  const Eigen::Matrix<double, 5, 1> change = k * innovation;
   pose_ = Pose2(pose_.x() + change(0), pose_.y() + change(1), pose_.heading() + change(2));
   scale_error_ += change(3);
   gyro_bias_ += change(4);
-  return true;
 }
 
 CurrentPosition PoseFilter::current(double timestamp, std::string reason) const {

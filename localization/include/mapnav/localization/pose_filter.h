@@ -161,6 +161,10 @@ class PoseFilter {
   CurrentPosition current(double timestamp, std::string reason) const;
 
  private:
+  /// The end of a Kalman update whose posterior covariance the caller has put in full_: full_
+  /// symmetrised, covariance_ from it, the state moved by `change` (x, y, heading, e, b).
+  void applyUpdate(const Eigen::Matrix<double, 5, 1>& change);
+
   Pose2 pose_;
   Mat3 covariance_;  // full_'s top-left block
   Mat5 full_;
