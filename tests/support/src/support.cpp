@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -30,6 +32,45 @@ std::size_t occurrences(const std::string& text, const std::string& what) {
   return n;
 }
 
+namespace {
+
+// Removes the folders freshTempDir made once their test has passed, so that a suite run leaves
+// nothing behind in the temp dir (a thousand runs had filled a CI machine's disk). A failed test's
+// folders stay, named on stderr, for a look; MAPNAV_KEEP_TEST_DIRS keeps every folder. Folders made
+// outside a test (in SetUpTestSuite) go when the program ends, unless a test failed.
+class TempDirCleaner : public ::testing::EmptyTestEventListener {
+ public:
+  void add(const fs::path& dir, bool in_test) { (in_test ? test_dirs_ : program_dirs_).push_back(dir); }
+  void OnTestEnd(const ::testing::TestInfo& info) override { finish(test_dirs_, !info.result()->Failed()); }
+  void OnTestProgramEnd(const ::testing::UnitTest& unit) override { finish(program_dirs_, unit.Passed()); }
+
+ private:
+  static void finish(std::vector<fs::path>& dirs, bool passed) {
+    const bool keep = !passed || std::getenv("MAPNAV_KEEP_TEST_DIRS") != nullptr;
+    for (const fs::path& dir : dirs) {
+      std::error_code ignored;
+      if (keep) {
+        std::fprintf(stderr, "mapnav test: kept %s\n", dir.c_str());
+      } else {
+        fs::remove_all(dir, ignored);
+      }
+    }
+    dirs.clear();
+  }
+  std::vector<fs::path> test_dirs_, program_dirs_;
+};
+
+TempDirCleaner& tempDirCleaner() {
+  static TempDirCleaner* cleaner = [] {
+    auto* made = new TempDirCleaner;  // owned by GoogleTest's listener list from here on
+    ::testing::UnitTest::GetInstance()->listeners().Append(made);
+    return made;
+  }();
+  return *cleaner;
+}
+
+}  // namespace
+
 fs::path freshTempDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = "mapnav-test-" + std::to_string(::getpid());
@@ -40,6 +81,7 @@ fs::path freshTempDir() {
   const fs::path dir = fs::temp_directory_path() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
+  tempDirCleaner().add(dir, info != nullptr);
   return dir;
 }
 

@@ -35,7 +35,8 @@ inline constexpr bool kUnderSanitizers =
     false;
 #endif
 
-/// A fresh empty folder under the system temp dir, unique to the running test.
+/// A fresh empty folder under the system temp dir, unique to the running test; removed when the
+/// test passes, kept (and named on stderr) when it fails or MAPNAV_KEEP_TEST_DIRS is set.
 std::filesystem::path freshTempDir();
 
 /// How many times `what` occurs in `text` (overlapping occurrences counted).

@@ -1,0 +1,60 @@
+// The test helpers' own behaviour that other tests rely on: freshTempDir's folders go away with a
+// passing test and stay with a failing one.
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "mapnav/testing/support.h"
+
+namespace mapnav {
+namespace {
+namespace fs = std::filesystem;
+
+// Run by the tests below in a child process of this program (disabled, so never on their own):
+// each writes a file into its fresh folder and prints the folder's path.
+TEST(FreshTempDirChild, DISABLED_Passes) {
+  const fs::path dir = testing::freshTempDir();
+  std::ofstream(dir / "file.txt") << "x";
+  std::printf("dir=%s\n", dir.c_str());
+}
+TEST(FreshTempDirChild, DISABLED_Fails) {
+  const fs::path dir = testing::freshTempDir();
+  std::ofstream(dir / "file.txt") << "x";
+  std::printf("dir=%s\n", dir.c_str());
+  ADD_FAILURE() << "failing on purpose";
+}
+
+// The folder the child printed, after it has exited.
+fs::path childsFolder(const testing::CommandResult& r) {
+  const auto at = r.out.find("dir=");
+  if (at == std::string::npos) return {};
+  return fs::path(r.out.substr(at + 4, r.out.find('\n', at) - at - 4));
+}
+
+testing::CommandResult runChild(const std::string& test) {
+  return testing::runProgram(fs::read_symlink("/proc/self/exe").string(),
+                             {"--gtest_also_run_disabled_tests", "--gtest_filter=FreshTempDirChild.DISABLED_" + test});
+}
+
+TEST(FreshTempDir, APassingTestsFolderIsRemoved) {
+  const testing::CommandResult r = runChild("Passes");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const fs::path dir = childsFolder(r);
+  ASSERT_FALSE(dir.empty()) << r.out;
+  EXPECT_NE(dir.string().find("FreshTempDirChild-DISABLED_Passes"), std::string::npos) << dir;
+  EXPECT_FALSE(fs::exists(dir)) << dir << " was left behind";
+}
+
+TEST(FreshTempDir, AFailingTestsFolderIsKeptAndNamed) {
+  const testing::CommandResult r = runChild("Fails");
+  ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
+  const fs::path dir = childsFolder(r);
+  ASSERT_FALSE(dir.empty()) << r.out;
+  EXPECT_TRUE(fs::is_regular_file(dir / "file.txt")) << dir;
+  EXPECT_NE(r.err.find("mapnav test: kept " + dir.string()), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace mapnav
