@@ -216,6 +216,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
     out.mahalanobis_d2 = d2;
     out.outliers = fit->outliers;
     out.rejected_fit = fit->pose;
+    out.rejected_fit_rms_m = fit->rms_m;
     return out;
   }
 

@@ -34,7 +34,9 @@ const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
           .field("park_reset_agreement_m", &O::park_reset_agreement_m, above(0),
                  "park mode widens only when the rejected frames' fits agree within this across the road, m")
           .field("park_reset_agreement_deg", &O::park_reset_agreement_deg, above(0),
-                 "... and within this in heading, degrees");
+                 "... and within this in heading, degrees")
+          .field("park_reset_max_rms_m", &O::park_reset_max_rms_m, above(0),
+                 "... and when each rejected frame's lines fit together within this RMS distance of their map lines, m");
   return table;
 }
 
@@ -134,7 +136,9 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
       std::none_of(prediction_.view.relations.begin(), prediction_.view.relations.end(),
                    [](const SegmentRelation& r) { return r.type == SegmentRelation::Type::Crossing; });
   const bool park = centerline_only || no_crossing;
-  if (park && position_.status == PositionStatus::Rejected && position_.rejected_fit && options_.park_reset_after_rejections > 0) {
+  if (park && position_.status == PositionStatus::Rejected && position_.rejected_fit &&
+      position_.outliers.empty() && position_.rejected_fit_rms_m <= options_.park_reset_max_rms_m &&
+      options_.park_reset_after_rejections > 0) {
     const Pose2 change = position_.pose.inverse() * *position_.rejected_fit;
     park_rejections_.emplace_back(change.x(), change.y(), change.heading());
     if (static_cast<int>(park_rejections_.size()) > options_.park_reset_after_rejections) park_rejections_.pop_front();

@@ -154,6 +154,7 @@ Json positionPayload(const CurrentPosition& p) {
               {"outliers", p.outliers},
               {"mahalanobis_d2", sig(p.mahalanobis_d2)},
               {"rejected_fit", p.rejected_fit ? pose(*p.rejected_fit) : Json()},
+              {"rejected_fit_rms_m", p.rejected_fit ? Json(sig(p.rejected_fit_rms_m)) : Json()},
               {"region_agreement", p.region_agreement ? Json(sig(*p.region_agreement)) : Json()}};
 }
 

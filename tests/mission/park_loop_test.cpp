@@ -180,24 +180,55 @@ TEST(ParkMapModule, KeepsItsCovarianceWhenTheRejectedCentreLinesDisagree) {
   }
 }
 
-// The edge tracker's answer: R1's two road edges, labelled with the predicted segments and placed
-// where the truth sees them, no centre line and no crossing line in view.
+// R1's two road edges, labelled with the predicted segments and placed where the truth sees them,
+// the right ones moved `right_inward_m` to the left (0: the edge tracker's answer); no centre line and
+// no crossing line in view.
+DetectedObject roadEdgesSeenFrom(const Prediction& prediction, const Pose2& truth, double right_inward_m = 0) {
+  for (const SegmentRelation& r : prediction.view.relations) EXPECT_NE(r.type, SegmentRelation::Type::Crossing);
+  DetectedObject seen;
+  for (std::size_t i = 0; i < prediction.view.segments.size(); ++i) {
+    const InterestSegment& s = prediction.view.segments[i];
+    if (s.side != "left" && s.side != "right") continue;
+    const Vec2 shift(0, s.side == "right" ? right_inward_m : 0);
+    DetectedLine l;
+    l.label = s.id;
+    l.vehicle = {truth.inverseTransform(prediction.segments_world[i].a) + shift,
+                 truth.inverseTransform(prediction.segments_world[i].b) + shift};
+    seen.lines.push_back(l);
+  }
+  EXPECT_GE(seen.lines.size(), 2u);
+  return seen;
+}
+
 TEST(ParkMapModule, WidensItsCovarianceAfterRejectedRoadEdgesAndTakesThem) {
   expectTheResetTakesTheThirdFrame([](const Prediction& prediction, const Pose2& truth) {
-    for (const SegmentRelation& r : prediction.view.relations) EXPECT_NE(r.type, SegmentRelation::Type::Crossing);
-    DetectedObject seen;
-    for (std::size_t i = 0; i < prediction.view.segments.size(); ++i) {
-      const InterestSegment& s = prediction.view.segments[i];
-      if (s.side != "left" && s.side != "right") continue;
-      DetectedLine l;
-      l.label = s.id;
-      l.vehicle = {truth.inverseTransform(prediction.segments_world[i].a),
-                   truth.inverseTransform(prediction.segments_world[i].b)};
-      seen.lines.push_back(l);
-    }
-    EXPECT_GE(seen.lines.size(), 2u);
-    return seen;
+    return roadEdgesSeenFrom(prediction, truth);
   });
+}
+
+// The same edges but the right ones 0.6 m inside the road (a tree shadow's edge taken for it: random
+// campus 15), the same way every frame: the rejected fits agree, but their lines do not fit together
+// (park_reset_max_rms_m), and the covariance is kept.
+TEST(ParkMapModule, KeepsItsCovarianceWhenTheRejectedEdgesDoNotFitTogether) {
+  const auto camera = testing::terregatorPinhole();
+  const Polyline2& line = parkMap().road("R1").centerline;
+  const double road = std::atan2(line.tangentAt(10).y(), line.tangentAt(10).x());
+  const Pose2 truth(line.pointAt(10), road);
+  const Pose2 wrong(truth.translation(), road + 6 * kPi / 180);
+  MapModule map(parkMap(), *camera, wrong, MapModuleOptions{});
+  Blackboard board;
+  for (int frame = 1; frame <= 5; ++frame) {
+    const double t = frame;
+    map.predict(board, t, MotionIncrement{});
+    DetectedObject detected = roadEdgesSeenFrom(map.prediction(), truth, 0.6);
+    detected.timestamp = t;
+    board.post(Module::Vision, detected);
+    const CurrentPosition& p = map.localize(board, t);
+    EXPECT_EQ(p.status, PositionStatus::Rejected) << frame << ": " << p.reason;
+    EXPECT_TRUE(p.rejected_fit_rms_m > MapModuleOptions{}.park_reset_max_rms_m || !p.outliers.empty())
+        << frame << ": RMS " << p.rejected_fit_rms_m;
+    EXPECT_NEAR(p.pose.heading(), wrong.heading(), 1e-3) << frame;
+  }
 }
 
 // The first kStretchFrames frames of park_loop (2 m apart at 1 m/s and 0.5 Hz) in closed loop: the

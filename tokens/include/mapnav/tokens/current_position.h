@@ -56,6 +56,9 @@ struct CurrentPosition {
   /// When the gate rejected the lines: the pose they alone give (world frame), which the estimate
   /// was not moved to. Park mode widens its covariance only after several such fits agree.
   std::optional<Pose2> rejected_fit;
+  /// ... and how well those lines fit together there: the RMS distance of their end points from
+  /// their map lines at rejected_fit, m (0 when there is no rejected fit).
+  double rejected_fit_rms_m = 0;
   /// IoU on the ground of Vision's road region and the predicted paved area (regionAgreement);
   /// nothing when there was no region to compare.
   std::optional<double> region_agreement;
