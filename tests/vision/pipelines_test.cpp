@@ -9,6 +9,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/sim/world.h"
+#include "mapnav/testing/landmarks.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision/segmentation_eval.h"
@@ -144,16 +145,18 @@ TEST(BlueBand, FixedThresholdOption) {
   EXPECT_EQ(p->detect(f, pred.view).status, DetectedObject::Status::Ok);
 }
 
-// Where the detected road region's outline crosses the vehicle-frame line y = `lateral`: the
-// nearest and farthest crossing ahead, or nothing when the region does not reach that line.
-std::optional<std::pair<double, double>> regionSpan(const DetectedObject& d, double lateral) {
+// Where the detected road region's outline crosses the vehicle-frame line on which coordinate `axis`
+// (0: x, ahead; 1: y, left) is `at`: the least and the greatest of the other coordinate there, or
+// nothing when the region does not reach that line.
+std::optional<std::pair<double, double>> regionCrossings(const DetectedObject& d, int axis, double at) {
   std::optional<std::pair<double, double>> span;
   const Polygon2& ring = d.region_vehicle;
+  const int other = 1 - axis;
   for (std::size_t i = 0; i < ring.size(); ++i) {
     const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
-    if ((a.y() > lateral) == (b.y() > lateral)) continue;
-    const double x = a.x() + (lateral - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
-    span = span ? std::make_pair(std::min(span->first, x), std::max(span->second, x)) : std::make_pair(x, x);
+    if ((a[axis] > at) == (b[axis] > at)) continue;
+    const double c = a[other] + (at - a[axis]) / (b[axis] - a[axis]) * (b[other] - a[other]);
+    span = span ? std::make_pair(std::min(span->first, c), std::max(span->second, c)) : std::make_pair(c, c);
   }
   return span;
 }
@@ -181,7 +184,7 @@ TEST(ConcreteRoadPastABrickBranch, TheBrickRoadIsRoadAndItsEdgesAreLabelled) {
   }
   // From x = 107, 1.5 m to the left (y = 118.5) is brick only, from R22's east edge (x = 101.5,
   // 5.5 m ahead) to its west edge (x = 98.5, 8.5 m ahead). A concrete-only road class saw none of it.
-  const auto span = regionSpan(d, 1.5);
+  const auto span = regionCrossings(d, 1, 1.5);
   ASSERT_TRUE(span.has_value());
   EXPECT_NEAR(span->first, 5.5, 0.1);
   EXPECT_NEAR(span->second, 8.5, 0.1);
@@ -191,6 +194,57 @@ TEST(ConcreteRoadPastABrickBranch, TheBrickRoadIsRoadAndItsEdgesAreLabelled) {
   }
   EXPECT_TRUE(labels.contains("R22.left.0"));
   EXPECT_TRUE(labels.contains("R22.right.0"));
+}
+
+// A 2 m brick path between dirt shoulders (random campus 18's S3): in rg the brick's grey mortar
+// spreads the road class over the dirt's colour, within 8 sigma of the road, so beyond the gate of a
+// prediction from a guessed pose (an eval's photo, no pose covariance: nonroad_gate_sigma) nothing
+// trains non-road and the dirt is taken for road. From the Map's estimate (a pose covariance: the
+// mission's case, nonroad_gate_sigma_mapped) the dirt trains non-road and the region is the path.
+// Ten frames 1 m apart along the path, the sidewalk pipeline adaptive as in a mission.
+TEST(SidewalkNonroadGate, ABrickPathBetweenDirtShouldersIsFoundFromTheMapsEstimate) {
+  MapData data = testing::straightRoad("brick between dirt", 60, 2.0, "brick", "dirt");
+  data.surfaces = {{"brick", {Vec3(150, 84, 62), Vec3(14, 14, 14)}},
+                   {"dirt", {Vec3(122, 96, 66), Vec3(16, 16, 16)}},
+                   {"grass", {Vec3(72, 122, 52), Vec3(16, 16, 16)}}};
+  const Map map(std::move(data), "brick between dirt");
+  WorldOptions wo;  // the random-campus suite's world
+  wo.seed = 18;
+  wo.shadow_density = 0.05;
+  wo.leaf_density = 0.02;
+  wo.noise_sigma = 2.0;
+  const World world(map, wo);
+  registerBuiltinPipelines();
+  for (const bool mapped : {false, true}) {
+    SCOPED_TRACE(mapped ? "from the Map's estimate" : "from a guessed pose");
+    auto pipeline = createPipeline("sidewalk");
+    DetectedObject d;
+    for (int k = 0; k < 10; ++k) {
+      const Pose2 pose(5 + k, 0, 0);
+      const Frame frame = world.render(pinhole(), pose, k);
+      Prediction pred = predictView(map, pose, pinhole());
+      if (mapped) pred.view.pose_covariance = Vec3(0.05 * 0.05, 0.02 * 0.02, degToRad(0.3) * degToRad(0.3)).asDiagonal();
+      VisionFrame f{frame.rgb.width, frame.rgb.height, frame.rgb.data.data(), &pinhole(), static_cast<double>(k)};
+      d = pipeline->detect(f, pred.view);
+      ASSERT_EQ(d.status, DetectedObject::Status::Ok) << k << ": " << d.reason;
+    }
+    const auto width = regionCrossings(d, 0, 6.0);  // the path spans y = -1 .. 1
+    ASSERT_TRUE(width.has_value());
+    std::set<std::string> labels;
+    for (const DetectedLine& l : d.lines) {
+      if (l.label) labels.insert(l.label->substr(0, l.label->rfind('.')));
+    }
+    if (mapped) {
+      EXPECT_NEAR(width->first, -1.0, 0.1);
+      EXPECT_NEAR(width->second, 1.0, 0.1);
+      EXPECT_TRUE(labels.contains("R1.left"));
+      EXPECT_TRUE(labels.contains("R1.right"));
+    } else {
+      // The dirt on one side at least (in this world the right one, out to the view's edge at -1.73).
+      EXPECT_GT(std::max(-1.0 - width->first, width->second - 1.0), 0.5) << width->first << " .. " << width->second;
+      EXPECT_FALSE(labels.contains("R1.left") && labels.contains("R1.right"));
+    }
+  }
 }
 
 // Blue-band takes road to be on the predicted road's side of its threshold: the sunny frame with its

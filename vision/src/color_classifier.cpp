@@ -221,7 +221,11 @@ void ColorClassifier::reset() {
 }
 
 ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, int width, int height,
-                                                      const std::uint8_t* road, const std::uint8_t* nonroad) {
+                                                      const std::uint8_t* road, const std::uint8_t* nonroad,
+                                                      std::optional<double> nonroad_gate_sigma) {
+  const double gate_sigma = nonroad_gate_sigma.value_or(options_.nonroad_gate_sigma);
+  requireOption(std::isfinite(gate_sigma) && gate_sigma >= 0, "ColorClassifier::update", "nonroad_gate_sigma",
+                gate_sigma, ">= 0");
   Accum ar, an;
   const int s = options_.stride;
   const Features features = featuresOf(options_);
@@ -235,9 +239,9 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
   // Non-road: the labelled pixels, or with a gate only those far in colour from the road (this
   // frame's estimate when it is usable, else the model).
   const GaussianClass gate_road = ar.n >= options_.min_pixels ? ar.estimate(options_) : road_;
-  const bool gated = options_.nonroad_gate_sigma > 0 && gate_road.valid;
+  const bool gated = gate_sigma > 0 && gate_road.valid;
   const Mat3 gate_inv = gated ? Mat3(gate_road.cov.inverse()) : Mat3::Identity();
-  const double gate2 = options_.nonroad_gate_sigma * options_.nonroad_gate_sigma;
+  const double gate2 = gate_sigma * gate_sigma;
   each([&](std::size_t i) {
     if (road[i] != 0 || nonroad[i] == 0) return;
     const Vec3 x = feature(features, rgb + 3 * i);

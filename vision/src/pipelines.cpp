@@ -429,6 +429,10 @@ class ClassifierPipeline : public BasePipeline {
       rings.insert(rings.end(), r.vehicle.begin(), r.vehicle.end());
     }
     if (!options_.adaptive) reset();
+    // The map's paving seen from an estimated pose (a mission) leaves less road outside it than a
+    // guessed outline on a photo (an eval, no pose covariance).
+    const bool mapped = !prediction.pose_covariance.isZero();
+    const double gate = mapped ? options_.nonroad_gate_sigma_mapped : options_.nonroad_gate_sigma;
     std::vector<float> best;
     std::string unusable;  // why the last surface's classifier was not used
     for (const auto& [surface, rings] : by_surface) {
@@ -447,7 +451,7 @@ class ClassifierPipeline : public BasePipeline {
       cv::Mat road_view = view(road_lab);
       erode(view(own), road_view);
       ColorClassifier& classifier = classifiers_.try_emplace(surface, classifierOptions()).first->second;
-      const std::string note = train(classifier, frame, road_lab, non_lab);
+      const std::string note = train(classifier, frame, road_lab, non_lab, gate);
       if (!classifier.trained()) {
         unusable = "no colour model: " + note;
         continue;
@@ -497,8 +501,10 @@ class ClassifierPipeline : public BasePipeline {
   // Updates one surface's classifier from its labels, read at every kTrainingStride-th cell of every
   // kTrainingStride-th row (gathered first, so that the outlier test and the update touch only those);
   // adaptive: keeping only the labelled cells the current model does not strongly contradict.
-  // Returns the update's note (why an estimate was refused).
-  std::string train(ColorClassifier& classifier, const GridFrame& frame, const Image& road_lab, const Image& non_lab) {
+  // Non-road beyond `nonroad_gate_sigma` of the road's colour. Returns the update's note (why an
+  // estimate was refused).
+  std::string train(ColorClassifier& classifier, const GridFrame& frame, const Image& road_lab, const Image& non_lab,
+                    double nonroad_gate_sigma) {
     const int w = frame.width, h = frame.height, s = kTrainingStride;
     const int sw = (w + s - 1) / s, sh = (h + s - 1) / s;
     const std::size_t m = static_cast<std::size_t>(sw) * sh;
@@ -531,7 +537,7 @@ class ClassifierPipeline : public BasePipeline {
         if (sample_non_[i] != 0 && l > out) sample_non_[i] = 0;
       }
     }
-    return classifier.update(sample_rgb_.data(), sw, sh, sample_road_.data(), sample_non_.data()).note;
+    return classifier.update(sample_rgb_.data(), sw, sh, sample_road_.data(), sample_non_.data(), nonroad_gate_sigma).note;
   }
 
   /// Training reads one cell in four (about one pixel in 16 at grid_px 2; the reference, one in four).

@@ -85,6 +85,12 @@ const OptionTable<ColorPipelineOptions>& colorPipelineOptionTable() {
                  "sigma (Mahalanobis) from the frame's road colour: on real roads the rest of the view is mostly road; "
                  "until a frame shows such cells, non-road is flat (road is what the road colour explains); "
                  "0 = every cell outside")
+          .field("nonroad_gate_sigma_mapped", &O::nonroad_gate_sigma_mapped, inRange(0, 1e6),
+                 "the same gate where the prediction comes from a pose estimate (its pose covariance given: a "
+                 "mission's Map), whose predicted road is the map's paving seen from a known pose, so that the rest "
+                 "of the view is mostly not road: a shoulder close to the road's colour (dirt beside brick, shaded grass "
+                 "beside a carriageway) then trains non-road, where within the photos' 8 sigma it was taken for road; "
+                 "0 = every cell outside")
           .field("brightness_sigma", &O::brightness_sigma, inRange(0, 10),
                  "the spread in log brightness added to every class (0.1 = 10 %), so that a road learnt in even light "
                  "keeps its shades; sidewalk: the log brightness is a third feature (rg alone takes grey cars, walls and "

@@ -9,6 +9,7 @@
 // more than N sigma, or rests on too few pixels, is refused (the class keeps its old model).
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -94,9 +95,10 @@ class ColorClassifier {
     std::string note;  ///< why an estimate was refused
   };
   /// Estimates both classes from labelled pixels (`road`, `nonroad`: w × h, non-zero = labelled)
-  /// and blends them into the models (first call: takes them as they are).
+  /// and blends them into the models (first call: takes them as they are). `nonroad_gate_sigma`:
+  /// this update's gate (>= 0) in place of options().nonroad_gate_sigma.
   UpdateResult update(const std::uint8_t* rgb, int width, int height, const std::uint8_t* road,
-                      const std::uint8_t* nonroad);
+                      const std::uint8_t* nonroad, std::optional<double> nonroad_gate_sigma = std::nullopt);
   /// log p(x | road) − log p(x | non-road) + log P(road)/P(non-road) for every pixel (row-major);
   /// only where `where` is non-zero (nullptr: everywhere), 0 elsewhere. Requires trained().
   /// The fast path: the two quadratic forms folded into one, centred between the class means,

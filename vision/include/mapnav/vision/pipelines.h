@@ -72,6 +72,7 @@ struct ColorPipelineOptions : RegionPipelineOptions {
   int min_training_pixels = 400;      ///< refuse an estimate from fewer labelled training cells
   int label_erosion_px = 6;           ///< training labels: the predicted road and the rest eroded by this
   double nonroad_gate_sigma = 8;      ///< non-road trains only on cells this many sigma from the road colour
+  double nonroad_gate_sigma_mapped = 3;  ///< ... where the prediction comes from a pose estimate (a mission)
   double brightness_sigma = 0.1;      ///< spread in log brightness added to every class; sidewalk: 0 = rg only
   double brightness_separation = 5;   ///< sidewalk: the brightness only while rg separates the classes by less
   double noise_sigma = 3;             ///< the camera's noise, levels per channel, added to every class's spread
