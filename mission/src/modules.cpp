@@ -36,7 +36,8 @@ const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
           .field("park_reset_agreement_deg", &O::park_reset_agreement_deg, above(0),
                  "... and within this in heading, degrees")
           .field("park_reset_max_rms_m", &O::park_reset_max_rms_m, above(0),
-                 "... and when each rejected frame's lines fit together within this RMS distance of their map lines, m");
+                 "... and when each rejected frame's lines fit together: no outlier, within this RMS distance of their "
+                 "map lines, m");
   return table;
 }
 

@@ -73,9 +73,9 @@ struct MapModuleOptions {
   /// centre lines 1.6 m left, then 1.7 m left, then 18 degrees right).
   double park_reset_agreement_m = 0.3;
   double park_reset_agreement_deg = 3.0;
-  /// ... and only when each of those frames' lines fit together: put where their fit puts the
-  /// vehicle, their end points lie within this RMS distance of their map lines (m, > 0;
-  /// CurrentPosition::rejected_fit_rms_m). Correct lines refusing a wrong estimate fit together to
+  /// ... and only when each of those frames' lines fit together: none is an outlier of their fit,
+  /// and put where their fit puts the vehicle, their end points lie within this RMS distance of
+  /// their map lines (m, > 0; CurrentPosition::rejected_fit_rms_m). Correct lines refusing a wrong estimate fit together to
   /// their noise (one line exactly); a misread line among correct ones cannot lie on its map line
   /// with them (random campus 15: a tree shadow's edge 0.6 m inside a 4 m road, taken for its right
   /// edge four frames in a row, fits at 0.09-0.13 m and, taken, moved a right estimate 1 m sideways
