@@ -109,11 +109,8 @@ EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& d
     }
     if (kbest < 0 || sbest <= best_score) continue;
     best_score = sbest;
-    // Sub-pixel position: parabola through the neighbouring scores.
-    double frac = 0;
-    if (kbest > 0 && kbest + 1 < W && !std::isnan(scores[kbest - 1]) && !std::isnan(scores[kbest + 1])) {
-      frac = parabolaPeak(scores[kbest - 1], scores[kbest], scores[kbest + 1]);
-    }
+    // Sub-pixel position: parabola through the neighbouring scores (0 beside a NaN: parabolaPeak).
+    const double frac = kbest > 0 && kbest + 1 < W ? parabolaPeak(scores[kbest - 1], scores[kbest], scores[kbest + 1]) : 0.0;
     const double pos = kbest - 0.5 + frac - (W - 1) / 2.0;
     best.found = true;
     best.point = centre + pos * n;
