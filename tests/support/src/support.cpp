@@ -35,7 +35,7 @@ std::size_t occurrences(const std::string& text, const std::string& what) {
 namespace {
 
 // Removes the folders freshTempDir made once their test has passed, so that a suite run leaves
-// nothing behind in the temp dir (a thousand runs had filled a CI machine's disk). A failed test's
+// nothing behind in the temp dir (about 1 GB a run had filled a CI machine's disk). A failed test's
 // folders stay, named on stderr, for a look; MAPNAV_KEEP_TEST_DIRS keeps every folder. Folders made
 // outside a test (in SetUpTestSuite) go when the program ends, unless a test failed.
 class TempDirCleaner : public ::testing::EmptyTestEventListener {

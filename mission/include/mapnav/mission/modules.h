@@ -75,11 +75,11 @@ struct MapModuleOptions {
   double park_reset_agreement_deg = 3.0;
   /// ... and only when each of those frames' lines fit together: none is an outlier of their fit,
   /// and put where their fit puts the vehicle, their end points lie within this RMS distance of
-  /// their map lines (m, > 0; CurrentPosition::rejected_fit_rms_m). Correct lines refusing a wrong estimate fit together to
-  /// their noise (one line exactly); a misread line among correct ones cannot lie on its map line
-  /// with them (random campus 15: a tree shadow's edge 0.6 m inside a 4 m road, taken for its right
-  /// edge four frames in a row, fits at 0.09-0.13 m and, taken, moved a right estimate 1 m sideways
-  /// and 5 degrees).
+  /// their map lines (m, > 0; CurrentPosition::rejected_fit_rms_m). Correct lines refusing a wrong
+  /// estimate fit together to their noise (one line exactly); a misread line among correct ones
+  /// cannot lie on its map line with them (random campus 15: a tree shadow's edge 0.6 m inside a
+  /// 4 m road, taken for its right edge four frames in a row, fits at 0.09-0.13 m and, taken, moved
+  /// a right estimate 1 m sideways and 5 degrees).
   double park_reset_max_rms_m = 0.05;
   /// Recovery: when Vision's road region disagrees with the map seen from the estimate, pose
   /// hypotheses around it are tried against the region (relocalize.h). The first frame with a clear
