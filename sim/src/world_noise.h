@@ -15,7 +15,7 @@ namespace mapnav::world_detail {
 // ---------------------------------------------------------------------------------------------
 // Hashing and noise.
 
-inline std::uint64_t mix64(std::uint64_t x) {
+[[gnu::always_inline]] inline std::uint64_t mix64(std::uint64_t x) {
   x ^= x >> 30;
   x *= 0xbf58476d1ce4e5b9ULL;
   x ^= x >> 27;
@@ -28,9 +28,9 @@ inline std::uint64_t mix64(std::uint64_t x) {
                (static_cast<std::uint64_t>(b) * 0xC2B2AE3D27D4EB4FULL));
 }
 /// [0, 1)
-inline float unit01(std::uint64_t h) { return static_cast<float>(h >> 40) * (1.0f / 16777216.0f); }
+[[gnu::always_inline]] inline float unit01(std::uint64_t h) { return static_cast<float>(h >> 40) * (1.0f / 16777216.0f); }
 /// [-1, 1)
-inline float unitSigned(std::uint64_t h) { return unit01(h) * 2.0f - 1.0f; }
+[[gnu::always_inline]] inline float unitSigned(std::uint64_t h) { return unit01(h) * 2.0f - 1.0f; }
 
 /// The last lattice cell one noise channel (one salt, one octave) looked up, with its four corner
 /// values. Neighbouring pixels mostly fall in the same cell (every pixel of a frame does for the
@@ -70,6 +70,25 @@ inline std::uint64_t hash2(std::uint64_t salt, std::int64_t a, std::int64_t b, H
 /// A channel's memos, or nullptr without a cache.
 inline NoiseMemo* channelOf(NoiseCache* cache, int k) { return cache != nullptr ? cache->channel(k) : nullptr; }
 
+/// std::floor(x), inline (without SSE4.1 the library's is a call): the truncation, one less below a
+/// negative non-whole x. Exact for |x| < 2^52; beyond, x is whole and the library answers.
+[[gnu::always_inline]] inline double floorInline(double x) {
+  if (!(std::abs(x) < 0x1p52)) return std::floor(x);
+  const auto t = static_cast<double>(static_cast<std::int64_t>(x));
+  return t > x ? t - 1.0 : t;
+}
+
+/// x − std::round(x) as |·|: the distance from x to its nearest whole number, inline. std::round
+/// rounds half away from zero; the truncation t leaves x − t exact (Sterbenz), and |x − t| ≥ 0.5 takes
+/// the next whole number away from zero, as std::round does. (The sign of a zero t does not change
+/// |x − t|.) Exact for |x| < 2^52; beyond, x is whole.
+[[gnu::always_inline]] inline double distanceToWhole(double x) {
+  if (!(std::abs(x) < 0x1p52)) return std::abs(x - std::round(x));
+  const auto t = static_cast<double>(static_cast<std::int64_t>(x));
+  const double r = std::abs(x - t);
+  return r >= 0.5 ? std::abs(x - (x < 0 ? t - 1.0 : t + 1.0)) : r;
+}
+
 /// Smooth value noise in [-1, 1], unit lattice. `memo` (may be nullptr) keeps the last cell's corners.
 [[gnu::always_inline]] inline float valueNoise(std::uint64_t salt, double x, double y, NoiseMemo* memo = nullptr) {
   const double fx = std::floor(x), fy = std::floor(y);
@@ -89,7 +108,7 @@ inline NoiseMemo* channelOf(NoiseCache* cache, int k) { return cache != nullptr 
 }
 
 /// How much of a pattern of `freq` cycles/m survives a pixel `footprint` m wide.
-inline float filterWeight(double freq, double footprint) {
+[[gnu::always_inline]] inline float filterWeight(double freq, double footprint) {
   return static_cast<float>(std::clamp(2.0 - 4.0 * freq * footprint, 0.0, 1.0));
 }
 
@@ -164,7 +183,7 @@ inline std::uint8_t toByte(float v, float lo) {
 /// world_noise_batch.cpp).
 void bytesRow(const float* v, const float* noise, float sigma, std::size_t n, float lo, std::uint8_t* out);
 
-inline float smoothstep(float e0, float e1, float x) {
+[[gnu::always_inline]] inline float smoothstep(float e0, float e1, float x) {
   const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
 }
@@ -191,8 +210,11 @@ inline float crackCoverage(std::uint64_t salt, const Vec2& p, double footprint, 
   // the fade, is the same +0).
   if ((std::abs(static_cast<double>(n0)) - 0.3000001) / (2.4 * kFreq) > (width + std::max(footprint, 1e-4)) / 2 + 1e-9)
     return 0.0f;
-  const double n = n0 + 0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5, at(1)) +
-                   0.08 * valueNoise(salt + 9, p.x() * kFreq * 23, p.y() * kFreq * 23, at(2));
+  const double n01 = n0 + 0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5, at(1));
+  // The same test with the two coarse octaves: the finest moves n by at most 0.08 (most pixels stop
+  // here, before the finest octave's lattice, whose cells change every few pixels).
+  if ((std::abs(n01) - 0.0800001) / (2.4 * kFreq) > (width + std::max(footprint, 1e-4)) / 2 + 1e-9) return 0.0f;
+  const double n = n01 + 0.08 * valueNoise(salt + 9, p.x() * kFreq * 23, p.y() * kFreq * 23, at(2));
   // |grad| of the noise is ~2.4 × freq per unit: distance to the zero line in metres.
   const double d = std::abs(n) / (2.4 * kFreq);
   return lineCoverage(d, width, footprint) * (1.0f - static_cast<float>(footprint / 0.08));
@@ -201,10 +223,10 @@ inline float crackCoverage(std::uint64_t salt, const Vec2& p, double footprint, 
 struct C3 {
   float r = 0, g = 0, b = 0;
 };
-inline C3 operator+(C3 a, C3 b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
-inline C3 operator*(C3 a, float k) { return {a.r * k, a.g * k, a.b * k}; }
-inline C3 operator*(C3 a, C3 b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
-inline C3 lerp(C3 a, C3 b, float t) { return a + (b + a * -1.0f) * t; }
+[[gnu::always_inline]] inline C3 operator+(C3 a, C3 b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
+[[gnu::always_inline]] inline C3 operator*(C3 a, float k) { return {a.r * k, a.g * k, a.b * k}; }
+[[gnu::always_inline]] inline C3 operator*(C3 a, C3 b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
+[[gnu::always_inline]] inline C3 lerp(C3 a, C3 b, float t) { return a + (b + a * -1.0f) * t; }
 inline C3 fromVec(const Vec3& v) {
   return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
 }

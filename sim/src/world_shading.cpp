@@ -40,13 +40,13 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
       if (options.slab_spacing_m > 0) {
         const double sp = options.slab_spacing_m;
         const double qu = slab_u / sp;
-        slab_i = static_cast<std::int64_t>(std::floor(qu));
-        const double du = std::abs(qu - std::round(qu)) * sp;
+        slab_i = static_cast<std::int64_t>(floorInline(qu));
+        const double du = distanceToWhole(qu) * sp;
         gap = lineCoverage(du, options.slab_gap_width_m, fp);
         if (!along_road) {
           const double qv = slab_v / sp;
-          slab_j = static_cast<std::int64_t>(std::floor(qv));
-          const double dv = std::abs(qv - std::round(qv)) * sp;
+          slab_j = static_cast<std::int64_t>(floorInline(qv));
+          const double dv = distanceToWhole(qv) * sp;
           gap = std::max(gap, lineCoverage(dv, options.slab_gap_width_m, fp));
         }
       }
@@ -244,8 +244,8 @@ C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, flo
       const float cover = static_cast<float>(density * kPi * kRadius * kRadius * 1.6 / (kLeafCell * kLeafCell));
       c = lerp(c, C3{150, 96, 42}, std::min(cover, 1.0f));
     } else {
-      const auto ix = static_cast<std::int64_t>(std::floor(p.x() / kLeafCell));
-      const auto iy = static_cast<std::int64_t>(std::floor(p.y() / kLeafCell));
+      const auto ix = static_cast<std::int64_t>(floorInline(p.x() / kLeafCell));
+      const auto iy = static_cast<std::int64_t>(floorInline(p.y() / kLeafCell));
       const std::uint64_t h = hash2(leaf_salt, ix, iy, nc != nullptr ? &nc->leaf : nullptr);
       if (unit01(h) < density) {
         const std::uint64_t h2 = mix64(h);

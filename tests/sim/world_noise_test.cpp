@@ -160,5 +160,34 @@ TEST(WorldNoiseVector, BytesRowEqualsToByte) {
   EXPECT_EQ(out, (std::vector<std::uint8_t>{3, 2, 0, 255, 255, 36, 38, 0, 100}));
 }
 
+// The inline floor and distance to the nearest whole number (the slabs' and the leaves' cells)
+// give std::floor's and |x − std::round(x)|'s values bit for bit: around every whole number and
+// half (just below, on, just above), negative and positive, tiny, large and beyond 2^52.
+TEST(WorldNoiseInline, FloorAndDistanceToWholeEqualTheLibrarysBitForBit) {
+  std::vector<double> xs{0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994, -0.49999999999999994,
+                         1e-300, -1e-300, 4503599627370495.5, -4503599627370495.5, 0x1p52, -0x1p52, 0x1p53 + 2,
+                         -0x1p60, 1e300, -1e300};
+  for (int k = -50; k <= 50; ++k)
+    for (const double f : {0.0, 0.5, 1.0})
+      for (const double d : {-1e-12, 0.0, 1e-12}) xs.push_back(k + f + d);
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> wide(-1e7, 1e7), near(-3.0, 3.0);
+  for (int i = 0; i < 100000; ++i) xs.push_back(i % 2 == 0 ? wide(rng) : near(rng));
+  const auto bits = [](double x) {
+    std::uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  };
+  int differing = 0;
+  for (const double x : xs) {
+    // The floor's sign of a zero may differ (−0 below zero): every use takes it to an integer.
+    if (floorInline(x) != std::floor(x) && ++differing <= 5) ADD_FAILURE() << "floor of " << x;
+    const double expected = std::abs(x - std::round(x));
+    if (bits(distanceToWhole(x)) != bits(expected) && ++differing <= 5)
+      ADD_FAILURE() << "distance of " << x << ": " << distanceToWhole(x) << " vs " << expected;
+  }
+  EXPECT_EQ(differing, 0);
+}
+
 }  // namespace
 }  // namespace mapnav::world_detail
