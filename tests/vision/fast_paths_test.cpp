@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "../../vision/src/binary_morph.h"
+#include "../../vision/src/cluster_perceptron_internal.h"
 #include "eval_common.h"
 #include "mapnav/geometry/simplify.h"
 #include "mapnav/map/predict.h"
@@ -369,12 +370,14 @@ TEST(SidewalkFastPaths, AFrameThatWantsNoRegionGetsTheSameLinesWithoutTheOutline
   }
 }
 
-// The park finder's fast path (ClusterPerceptron: lookup table, and where the CPU has AVX2 with blocks
-// a multiple of 8 pixels, one vector pass per row for the certainties, block sums and road count)
-// against the per-pixel reference, on noisy synthetic frames of widths that leave every kind of row
-// tail (not a multiple of 16, a last row without 8 bytes beyond it) and block sizes of both paths:
-// the same certainties, mask, Hough answer and confidence (which sums the block sums), to the bit.
-TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBlock) {
+// The park finder's fast path (ClusterPerceptron: lookup table, and where the CPU has AVX2 or AVX-512
+// (VBMI, GFNI) with blocks a multiple of 8 pixels, one vector pass per row for the certainties, block
+// sums and road count) against the per-pixel reference, on noisy synthetic frames of widths that leave
+// every kind of row tail (not a multiple of 16 or 64, a last row without 8 bytes beyond it) and block
+// sizes of both paths: the same certainties, mask, Hough answer and confidence (which sums the block
+// sums), to the bit. Run with the vector code capped at `cap` (each level the CPU has is tested).
+void expectParkFastPathEqualsReference(ParkSimd cap) {
+  setParkSimdCap(cap);
   struct Case {
     int width, height, block;
   };
@@ -430,6 +433,14 @@ TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBl
   }
   EXPECT_EQ(cases, 18);
   EXPECT_GE(found, 12);
+  setParkSimdCap(ParkSimd::Avx512);
+}
+
+TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBlock) {
+  for (const ParkSimd cap : {ParkSimd::Avx512, ParkSimd::Avx2, ParkSimd::Portable}) {
+    SCOPED_TRACE("vector code at most " + std::to_string(static_cast<int>(cap)) + " (0 portable, 1 AVX2, 2 AVX-512)");
+    expectParkFastPathEqualsReference(cap);
+  }
 }
 
 }  // namespace
