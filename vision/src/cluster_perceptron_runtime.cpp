@@ -250,6 +250,16 @@ __attribute__((target("avx2"))) long long classifySumRowAvx2(const std::uint8_t*
 #if defined(MAPNAV_CP_AVX2)
 #define MAPNAV_CP_AVX512 1
 #define MAPNAV_CP_AVX512_TARGET "avx512f,avx512bw,avx512vbmi,gfni"
+/// lookup64Avx512()'s byte picks: pixel k of the 16-pixel group g (bytes 48g + 3k.. of the 192) from
+/// the 128 bytes v0:v1 (groups 0, 1) or v1:v2 (groups 2, 3), its R, G, B to bytes 4k..4k+2.
+constexpr auto kPicks = [] {
+  std::array<std::array<std::uint8_t, 64>, 4> t{};
+  for (int g = 0; g < 4; ++g)
+    for (int k = 0; k < 16; ++k)
+      for (int j = 0; j < 4; ++j) t[g][4 * k + j] = static_cast<std::uint8_t>(48 * g - (g < 2 ? 0 : 64) + 3 * k + std::min(j, 2));
+  return t;
+}();
+
 /// The cell indices of the 16 pixels whose 48 bytes `pick` takes from the 128 bytes (a, b) (bit 6 of
 /// a byte of `pick`: from b), pixel k's R, G, B to bytes 4k..4k+2 (byte 4k+3 weighs nothing).
 __attribute__((target(MAPNAV_CP_AVX512_TARGET), always_inline)) inline __m512i cells16Avx512(__m512i a, __m512i b,
@@ -266,14 +276,6 @@ __attribute__((target(MAPNAV_CP_AVX512_TARGET), always_inline)) inline __m512i c
 /// pixel order. Ambiguous cells stay 255.
 __attribute__((target(MAPNAV_CP_AVX512_TARGET), always_inline)) inline __m512i lookup64Avx512(const std::uint8_t* p,
                                                                                             const std::uint8_t* lut) {
-  // Pixel k of group g (bytes 48g + 3k..) from v0:v1 (groups 0, 1) or v1:v2 (groups 2, 3).
-  static constexpr auto picks = [] {
-    std::array<std::array<std::uint8_t, 64>, 4> t{};
-    for (int g = 0; g < 4; ++g)
-      for (int k = 0; k < 16; ++k)
-        for (int j = 0; j < 4; ++j) t[g][4 * k + j] = static_cast<std::uint8_t>(48 * g - (g < 2 ? 0 : 64) + 3 * k + std::min(j, 2));
-    return t;
-  }();
   static constexpr auto low_bytes = [] {  // byte j: byte 4j of a (j < 16) or 4(j − 16) of b (j < 32), twice
     std::array<std::uint8_t, 64> t{};
     for (int j = 0; j < 64; ++j) t[j] = static_cast<std::uint8_t>(j % 32 < 16 ? 4 * (j % 32) : 64 + 4 * (j % 32 - 16));
@@ -284,18 +286,43 @@ __attribute__((target(MAPNAV_CP_AVX512_TARGET), always_inline)) inline __m512i l
   const auto gather = [lut](__m512i cells) __attribute__((target(MAPNAV_CP_AVX512_TARGET))) {
     return _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), 0xFFFF, cells, lut, 1);
   };
-  const __m512i q0 = gather(cells16Avx512(v0, v1, _mm512_loadu_si512(picks[0].data())));
-  const __m512i q1 = gather(cells16Avx512(v0, v1, _mm512_loadu_si512(picks[1].data())));
-  const __m512i q2 = gather(cells16Avx512(v1, v2, _mm512_loadu_si512(picks[2].data())));
-  const __m512i q3 = gather(cells16Avx512(v1, v2, _mm512_loadu_si512(picks[3].data())));
+  const __m512i q0 = gather(cells16Avx512(v0, v1, _mm512_loadu_si512(kPicks[0].data())));
+  const __m512i q1 = gather(cells16Avx512(v0, v1, _mm512_loadu_si512(kPicks[1].data())));
+  const __m512i q2 = gather(cells16Avx512(v1, v2, _mm512_loadu_si512(kPicks[2].data())));
+  const __m512i q3 = gather(cells16Avx512(v1, v2, _mm512_loadu_si512(kPicks[3].data())));
   const __m512i low = _mm512_loadu_si512(low_bytes.data());
   const __m512i q01 = _mm512_permutex2var_epi8(q0, low, q1), q23 = _mm512_permutex2var_epi8(q2, low, q3);
   return _mm512_mask_shuffle_i64x2(q01, 0xFF, q01, q23, 0x44);  // q01's low 32 bytes, then q23's (masked: see gather)
 }
 
+/// The certainties `q` of the 64 pixels at `p` (lookup64Avx512()) with those of the ambiguous cells
+/// (255, lanes `amb`) from their cells' exact 8³ tables, as exactCertainty(): per 16 pixels, the
+/// cells' table offsets and then the colours' bytes by masked gathers (the tables have 3 bytes of
+/// padding). Not inlined: a vector in six holds such a pixel (the park scene at 1024 x 1024).
+__attribute__((target(MAPNAV_CP_AVX512_TARGET), noinline)) __m512i exactAvx512(const std::uint8_t* p, __m512i q,
+                                                                             std::uint64_t amb, const LutView& t) {
+  const __m512i v[3] = {_mm512_loadu_si512(p), _mm512_loadu_si512(p + 64), _mm512_loadu_si512(p + 128)};
+  for (int g = 0; g < 4; ++g) {
+    const auto m = static_cast<__mmask16>(amb >> (16 * g));
+    if (m == 0) continue;
+    const __m512i a = v[g < 2 ? 0 : 1], b = v[g < 2 ? 1 : 2], pick = _mm512_loadu_si512(kPicks[g].data());
+    // The colour's place in its cell's table: (R & 7)·64 + (G & 7)·8 + (B & 7).
+    const __m512i low3 = _mm512_and_si512(_mm512_permutex2var_epi8(a, pick, b), _mm512_set1_epi8(7));
+    const __m512i at = _mm512_madd_epi16(_mm512_maddubs_epi16(low3, _mm512_set1_epi32(0x00010840)),
+                                         _mm512_set1_epi32(0x00010001));
+    const __m512i zero = _mm512_setzero_si512();
+    const __m512i offset = _mm512_mask_i32gather_epi32(zero, m, cells16Avx512(a, b, pick), t.sub_offset, 4);
+    const __m512i exact = _mm512_mask_i32gather_epi32(zero, m, _mm512_add_epi32(offset, at), t.sub, 1);
+    // The 16 low bytes to every 16-byte lane, kept in group g's lanes where ambiguous.
+    const __m512i bytes = _mm512_maskz_broadcast_i32x4(0xFFFF, _mm512_maskz_cvtepi32_epi8(0xFFFF, exact));  // (masked: see gather)
+    q = _mm512_mask_mov_epi8(q, static_cast<__mmask64>(m) << (16 * g), bytes);
+  }
+  return q;
+}
+
 /// classifyRow() and blockSums() of one row, 64 pixels at a time with AVX-512 (VBMI, GFNI): the
-/// certainties from the table (lookup64Avx512()), the ambiguous cells (255) classified one by one as
-/// classifyRow() does, each 8 pixels' sum (sum of absolute differences) added to `groups` (per 8
+/// certainties from the table (lookup64Avx512()), the ambiguous cells' (255) from their exact tables
+/// (exactAvx512()), each 8 pixels' sum (sum of absolute differences) added to `groups` (per 8
 /// pixels of the row, summed over the band's rows; blocks of a multiple of 8 pixels add them up),
 /// and the road pixels (the bytes' top bits) counted. Pixels beyond the last 64 go to their block in
 /// `sums` directly. The same bytes, sums and count as classifyRow() and blockSums().
@@ -307,14 +334,9 @@ __attribute__((target(MAPNAV_CP_AVX512_TARGET))) long long classifySumRowAvx512(
   int u = 0;
   for (; u + 64 <= width; u += 64, p += 192) {
     __m512i q = lookup64Avx512(p, t.lut);
+    if (const std::uint64_t amb = _mm512_cmpeq_epi8_mask(q, ambiguous); amb != 0) [[unlikely]]
+      q = exactAvx512(p, q, amb, t);
     _mm512_storeu_si512(c + u, q);
-    if (std::uint64_t amb = _mm512_cmpeq_epi8_mask(q, ambiguous); amb != 0) [[unlikely]] {
-      for (; amb != 0; amb &= amb - 1) {
-        const int k = __builtin_ctzll(amb);
-        c[u + k] = exactCertainty(p + 3 * k, t.sub_offset, t.sub);
-      }
-      q = _mm512_loadu_si512(c + u);
-    }
     road += __builtin_popcountll(_mm512_movepi8_mask(q));
     std::uint64_t* const g = groups + u / 8;
     _mm512_storeu_si512(g, _mm512_add_epi64(_mm512_loadu_si512(g), _mm512_sad_epu8(q, zero)));
