@@ -66,32 +66,52 @@ void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, st
 namespace {
 
 /// What edgeSupport() computes per candidate that the consensus's hypotheses share (their rows v0, v1
-/// and arc basis are the Hough model's; only the coefficients differ): the row's t and arc offset, and
-/// the candidate's edge offset from the centre (∓ half the row's width).
+/// and arc basis are the Hough model's; only the coefficients differ), in arrays that vectorise: the
+/// row's t and arc offset, the candidate's column and edge offset from the centre (∓ half the row's
+/// width), its side's bit (1 left, 2 right) and whether it opens its row (the candidates are in row
+/// order).
 struct SupportTerms {
-  std::vector<double> t, arc, side;
+  std::vector<double> t, arc, u, side;
+  std::vector<std::uint8_t> bit, opens;
   SupportTerms(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m) {
+    int last_v = -1;
     for (const EdgeCandidate& e : cands) {
       t.push_back(m.t(e.v));
       arc.push_back(m.arc.x ? m.arc(e.v) : 0.0);
+      u.push_back(e.u);
       side.push_back((e.left ? -0.5 : 0.5) * widths[e.v]);
+      bit.push_back(e.left ? 1 : 2);
+      opens.push_back(e.v != last_v);
+      last_v = e.v;
     }
   }
 };
 
 /// How many candidates lie within `tol` pixels of the road edges the model with coefficients `p` puts
-/// at centre ∓ width/2 (each row counts a left and a right edge at most once). The same arithmetic as
-/// CentreModel::u() on the shared terms, so the same count.
-int edgeSupport(const std::vector<EdgeCandidate>& cands, const SupportTerms& terms, const Vec3& p, bool arc,
-                double tol) {
-  const EdgeCandidate* const first = cands.data();
-  return rowSideSupport(
-      cands, [](const EdgeCandidate& e) { return e.left; },
-      [&](const EdgeCandidate& e) {
-        const std::size_t i = static_cast<std::size_t>(&e - first);
-        const double u = p[0] + terms.t[i] * p[1] + (arc ? p[2] * terms.arc[i] : 0.0);
-        return !(std::abs(e.u - (u + terms.side[i])) > tol);
-      });
+/// at centre ∓ width/2 (each row counts a left and a right edge at most once: rowSideSupport()'s count).
+/// The same arithmetic as CentreModel::u() on the shared terms, so the same count; first every
+/// candidate's test in a loop that vectorises (it was most of the consensus's time), then the count.
+int edgeSupport(const SupportTerms& terms, const Vec3& p, bool arc, double tol) {
+  thread_local std::vector<std::uint8_t> near;
+  const std::size_t n = terms.t.size();
+  near.resize(n);
+  const double a = p[0], b = p[1], k = p[2];
+  const double *t = terms.t.data(), *g = terms.arc.data(), *u = terms.u.data(), *side = terms.side.data();
+  std::uint8_t* const hit = near.data();
+  if (arc) {
+    for (std::size_t i = 0; i < n; ++i) hit[i] = !(std::abs(u[i] - ((a + t[i] * b + k * g[i]) + side[i])) > tol);
+  } else {
+    for (std::size_t i = 0; i < n; ++i) hit[i] = !(std::abs(u[i] - ((a + t[i] * b + 0.0) + side[i])) > tol);
+  }
+  int count = 0;
+  unsigned seen = 0;  // the sides of the current row that hold a near candidate
+  for (std::size_t i = 0; i < n; ++i) {
+    seen = terms.opens[i] ? 0u : seen;
+    const unsigned bit = hit[i] ? terms.bit[i] : 0u;
+    count += (bit & ~seen) != 0;
+    seen |= bit;
+  }
+  return count;
 }
 
 /// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
@@ -103,7 +123,7 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
   CentreModel best = model;
   const SupportTerms terms(cands, widths, model);
   const bool arc = model.arc.x != nullptr;
-  int best_n = edgeSupport(cands, terms, model.p, arc, tol);
+  int best_n = edgeSupport(terms, model.p, arc, tol);
   if (cands.size() < static_cast<std::size_t>(degree + 1)) return best;
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<std::size_t> pick(0, cands.size() - 1);
@@ -127,7 +147,7 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
     h.p = Vec3::Zero();
     h.p.head(m) = A.topLeftCorner(m, m).partialPivLu().solve(rhs.head(m));
     if (!h.p.allFinite() || std::abs(h.p[2]) > max_curvature || !allowed(h)) continue;
-    const int n = edgeSupport(cands, terms, h.p, arc, tol);
+    const int n = edgeSupport(terms, h.p, arc, tol);
     if (n > best_n) {
       best_n = n;
       best = h;
