@@ -6,12 +6,14 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <functional>
 #include <random>
 #include <vector>
 
 #include <Eigen/Dense>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "cluster_perceptron_internal.h"
 
@@ -42,24 +44,45 @@ bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreMod
   return true;
 }
 
+namespace {
+
+/// Bit j: pixel u0 + j of the row is road (certainty > 127, the byte's top bit), for the 32 pixels
+/// from u0 ≥ 0; the pixels at or beyond `width` read as not road (nothing is read past the row).
+std::uint32_t roadBits32(const std::uint8_t* row, int width, int u0) {
+  const std::uint8_t* p = row + u0;
+  std::array<std::uint8_t, 32> tail{};
+  if (u0 + 32 > width) {
+    std::copy(p, row + width, tail.begin());
+    p = tail.data();
+  }
+#ifdef __SSE2__
+  const auto half = [](const std::uint8_t* q) {
+    return static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q))));
+  };
+  return half(p) | half(p + 16) << 16;
+#else
+  std::uint32_t bits = 0;
+  for (int j = 0; j < 32; ++j) bits |= static_cast<std::uint32_t>(p[j] >> 7) << j;
+  return bits;
+#endif
+}
+
+}  // namespace
+
 void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, std::vector<EdgeCandidate>& out) {
-  auto road = [row](int u) { return row[u] > 127; };
+  // A candidate at u: the class changes between u − 1 and u, and not between u − 3 and u − 1 nor
+  // between u and u + 2. 27 columns per 32 pixels' bits (bit j: column base − 3 + j, j in 3..29).
   const int u0 = std::max(3, lo), u1 = std::min(width - 3, hi);
-  for (int u = u0; u <= u1; ++u) {
-    // Eight pixels from u − 1 of one class hold no change: skip them.
-    if (u + 7 <= width) {
-      std::uint64_t word;
-      std::memcpy(&word, row + u - 1, 8);
-      const std::uint64_t top = word & 0x8080808080808080ULL;
-      if (top == 0 || top == 0x8080808080808080ULL) {
-        u += 6;
-        continue;
-      }
+  for (int base = u0; base <= u1; base += 27) {
+    const std::uint32_t road = roadBits32(row, width, base - 3);
+    const std::uint32_t change = road ^ (road << 1);  // bit j: pixels j − 1 and j differ (j ≥ 1)
+    const int last = std::min(29, u1 - base + 3);
+    const std::uint32_t window = (0xFFFFFFFFu >> (31 - last)) & ~7u;  // bits 3..last
+    for (std::uint32_t c = change & ~(change << 1) & ~(change << 2) & ~(change >> 1) & ~(change >> 2) & window; c != 0;
+         c &= c - 1) {
+      const int k = __builtin_ctz(c);
+      out.push_back({v, base - 3 + k - 0.5, ((road >> k) & 1u) != 0});
     }
-    const bool now = road(u);
-    if (road(u - 1) == now) continue;
-    if (road(u - 3) != now && road(u - 2) != now && road(u + 1) == now && (u + 2 >= width || road(u + 2) == now))
-      out.push_back({v, u - 0.5, now});
   }
 }
 
@@ -68,11 +91,11 @@ namespace {
 /// What edgeSupport() computes per candidate that the consensus's hypotheses share (their rows v0, v1
 /// and arc basis are the Hough model's; only the coefficients differ), in arrays that vectorise: the
 /// row's t and arc offset, the candidate's column and edge offset from the centre (∓ half the row's
-/// width), its side's bit (1 left, 2 right) and whether it opens its row (the candidates are in row
-/// order).
+/// width), its side's bit (1 left, 2 right) and the sides' bits it keeps from the candidate before
+/// (none where it opens a row: the candidates are in row order).
 struct SupportTerms {
   std::vector<double> t, arc, u, side;
-  std::vector<std::uint8_t> bit, opens;
+  std::vector<std::uint8_t> bit, keep;
   SupportTerms(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m) {
     int last_v = -1;
     for (const EdgeCandidate& e : cands) {
@@ -81,7 +104,7 @@ struct SupportTerms {
       u.push_back(e.u);
       side.push_back((e.left ? -0.5 : 0.5) * widths[e.v]);
       bit.push_back(e.left ? 1 : 2);
-      opens.push_back(e.v != last_v);
+      keep.push_back(e.v != last_v ? 0 : 3);
       last_v = e.v;
     }
   }
@@ -92,22 +115,22 @@ struct SupportTerms {
 /// The same arithmetic as CentreModel::u() on the shared terms, so the same count; first every
 /// candidate's test in a loop that vectorises (it was most of the consensus's time), then the count.
 int edgeSupport(const SupportTerms& terms, const Vec3& p, bool arc, double tol) {
-  thread_local std::vector<std::uint8_t> near;
+  thread_local std::vector<std::int64_t> near;  // all ones where near (a compare's mask: vectorises)
   const std::size_t n = terms.t.size();
   near.resize(n);
   const double a = p[0], b = p[1], k = p[2];
   const double *t = terms.t.data(), *g = terms.arc.data(), *u = terms.u.data(), *side = terms.side.data();
-  std::uint8_t* const hit = near.data();
+  std::int64_t* const hit = near.data();
   if (arc) {
-    for (std::size_t i = 0; i < n; ++i) hit[i] = !(std::abs(u[i] - ((a + t[i] * b + k * g[i]) + side[i])) > tol);
+    for (std::size_t i = 0; i < n; ++i) hit[i] = -static_cast<std::int64_t>(!(std::abs(u[i] - ((a + t[i] * b + k * g[i]) + side[i])) > tol));
   } else {
-    for (std::size_t i = 0; i < n; ++i) hit[i] = !(std::abs(u[i] - ((a + t[i] * b + 0.0) + side[i])) > tol);
+    for (std::size_t i = 0; i < n; ++i) hit[i] = -static_cast<std::int64_t>(!(std::abs(u[i] - ((a + t[i] * b + 0.0) + side[i])) > tol));
   }
   int count = 0;
   unsigned seen = 0;  // the sides of the current row that hold a near candidate
   for (std::size_t i = 0; i < n; ++i) {
-    seen = terms.opens[i] ? 0u : seen;
-    const unsigned bit = hit[i] ? terms.bit[i] : 0u;
+    seen &= terms.keep[i];
+    const unsigned bit = static_cast<unsigned>(hit[i]) & terms.bit[i];
     count += (bit & ~seen) != 0;
     seen |= bit;
   }
