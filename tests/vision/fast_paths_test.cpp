@@ -9,6 +9,7 @@
 #include <random>
 #include <set>
 
+#include <Eigen/Dense>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -440,6 +441,46 @@ TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBl
   for (const ParkSimd cap : {ParkSimd::Avx512, ParkSimd::Avx2, ParkSimd::Portable}) {
     SCOPED_TRACE("vector code at most " + std::to_string(static_cast<int>(cap)) + " (0 portable, 1 AVX2, 2 AVX-512)");
     expectParkFastPathEqualsReference(cap);
+  }
+}
+
+// fitCentreModel() sums the weighted normal equations in plain arrays; here they are summed with Eigen's
+// outer products as before that change (A += w·φφᵀ, rhs += w·φ·(u − fixed part), then LDLT): the
+// same coefficients to the bit, for the line and the arc model (degree 1 and 2) and Huber weights
+// that bite.
+TEST(ParkFinderFastPath, CentreModelFitSumsAsEigensOuterProducts) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-3.0, 3.0);
+  std::vector<double> row_x(400), row_b(400);
+  for (int v = 0; v < 400; ++v) row_x[v] = 2.0 + 4000.0 / (v + 40.0), row_b[v] = 0.5 * (v + 40.0);
+  for (const int degree : {1, 2}) {
+    CentreModel start;
+    start.v0 = 100;
+    start.v1 = 399;
+    start.arc = ArcBasis(row_x, row_b, start.v0, start.v1);
+    start.p = Vec3(200.0, 15.0, 0.01);
+    std::vector<Vec2> vu;
+    for (int v = 100; v < 400; v += 2) vu.emplace_back(v, start.u(v) + noise(rng) + (v % 37 == 0 ? 40.0 : 0.0));
+    CentreModel fast = start, eigen = start;
+    ASSERT_TRUE(fitCentreModel(vu, degree, 0.6, fast));
+    const int m = degree + 1;
+    for (int it = 0; it < 8; ++it) {
+      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+      Vec3 rhs = Vec3::Zero();
+      for (const Vec2& s : vu) {
+        const double r = std::abs(s.y() - eigen.u(s.x()));
+        const double w = r <= 0.6 ? 1.0 : 0.6 / r;
+        const Vec3 phi = eigen.basis(s.x());
+        A.topLeftCorner(m, m) += w * phi.head(m) * phi.head(m).transpose();
+        rhs.head(m) += w * phi.head(m) * (s.y() - (m < 3 ? eigen.p[2] * phi[2] : 0.0));
+      }
+      Vec3 p = Vec3(0.0, 0.0, m < 3 ? eigen.p[2] : 0.0);
+      p.head(m) = Eigen::LDLT<Eigen::MatrixXd>(A.topLeftCorner(m, m)).solve(rhs.head(m));
+      const double change = (p - eigen.p).cwiseAbs().maxCoeff();
+      eigen.p = p;
+      if (change < 1e-3) break;
+    }
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(fast.p[i], eigen.p[i]) << "degree " << degree << ", coefficient " << i;
   }
 }
 
