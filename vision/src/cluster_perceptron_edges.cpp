@@ -110,21 +110,29 @@ namespace {
 /// What edgeSupport() computes per candidate that the consensus's hypotheses share (their rows v0, v1
 /// and arc basis are the Hough model's; only the coefficients differ), in arrays that vectorise: the
 /// row's t and arc offset, the candidate's column and edge offset from the centre (∓ half the row's
-/// width), its side's bit (1 left, 2 right) and the sides' bits it keeps from the candidate before
-/// (none where it opens a row: the candidates are in row order).
+/// width); and the row sides (the candidates are in row order): 1 in `first` for the first candidate
+/// of its row side, and for the others (`later`, in order) the first of their side.
 struct SupportTerms {
   std::vector<double> t, arc, u, side;
-  std::vector<std::uint8_t> bit, keep;
+  std::vector<std::int64_t> first;
+  std::vector<std::uint8_t> left;
+  std::vector<std::pair<int, int>> later;  // (candidate, the first candidate of its row side)
   SupportTerms(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m) {
     int last_v = -1;
+    std::array<int, 2> opens{-1, -1};  // the current row's first left and right candidate
     for (const EdgeCandidate& e : cands) {
+      const int i = static_cast<int>(t.size());
       t.push_back(m.t(e.v));
       arc.push_back(m.arc.x ? m.arc(e.v) : 0.0);
       u.push_back(e.u);
       side.push_back((e.left ? -0.5 : 0.5) * widths[e.v]);
-      bit.push_back(e.left ? 1 : 2);
-      keep.push_back(e.v != last_v ? 0 : 3);
+      left.push_back(e.left);
+      if (e.v != last_v) opens = {-1, -1};
       last_v = e.v;
+      int& open = opens[e.left ? 0 : 1];
+      first.push_back(open < 0);
+      if (open >= 0) later.emplace_back(i, open);
+      if (open < 0) open = i;
     }
   }
 };
@@ -154,15 +162,17 @@ int edgeSupport(const SupportTerms& terms, const Vec3& p, bool arc, double tol) 
   near.resize(n);
   const std::int64_t* const hit = near.data();
   nearTests(terms, p[0], p[1], p[2], arc, tol, near.data());
-  int count = 0;
-  unsigned seen = 0;  // the sides of the current row that hold a near candidate
-  for (std::size_t i = 0; i < n; ++i) {
-    seen &= terms.keep[i];
-    const unsigned bit = static_cast<unsigned>(hit[i]) & terms.bit[i];
-    count += (bit & ~seen) != 0;
-    seen |= bit;
+  // A row side counts once: its first candidate when near, else the first near one after it (few
+  // rows hold two candidates on a side).
+  std::int64_t count = 0;
+  for (std::size_t i = 0; i < n; ++i) count += hit[i] & terms.first[i];
+  for (const auto& [i, open] : terms.later) {
+    if (hit[i] == 0) continue;
+    bool earlier = false;
+    for (int j = open; j < i && !earlier; ++j) earlier = terms.left[j] == terms.left[i] && hit[j] != 0;
+    count += !earlier;
   }
-  return count;
+  return static_cast<int>(count);
 }
 
 /// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
