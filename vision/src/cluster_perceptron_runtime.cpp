@@ -507,7 +507,8 @@ std::vector<std::int32_t> kernelSums(const HoughGrid& g, double& max_possible) {
     for (int x = 0; x < ext; ++x) {
       const int centre = x - cols;
       const int lo = std::clamp(centre - k / 2, 0, cols), hi = std::clamp(centre - k / 2 + k, 0, cols);
-      S[i * ext + x] = roundToInt((prefix[hi] - prefix[lo]) / k * 1024.0);  // rows weigh the same
+      // Rows weigh the same. A kernel wholly off the image sums 0 (two thirds of the range): no division.
+      S[i * ext + x] = lo == hi ? 0 : roundToInt((prefix[hi] - prefix[lo]) / k * 1024.0);
     }
   }
   return S;
