@@ -9,10 +9,12 @@
 #include <random>
 #include <set>
 
+#include <Eigen/Dense>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "../../vision/src/binary_morph.h"
+#include "../../vision/src/cluster_perceptron_internal.h"
 #include "eval_common.h"
 #include "mapnav/geometry/simplify.h"
 #include "mapnav/map/predict.h"
@@ -369,12 +371,14 @@ TEST(SidewalkFastPaths, AFrameThatWantsNoRegionGetsTheSameLinesWithoutTheOutline
   }
 }
 
-// The park finder's fast path (ClusterPerceptron: lookup table, and where the CPU has AVX2 with blocks
-// a multiple of 8 pixels, one vector pass per row for the certainties, block sums and road count)
-// against the per-pixel reference, on noisy synthetic frames of widths that leave every kind of row
-// tail (not a multiple of 16, a last row without 8 bytes beyond it) and block sizes of both paths:
-// the same certainties, mask, Hough answer and confidence (which sums the block sums), to the bit.
-TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBlock) {
+// The park finder's fast path (ClusterPerceptron: lookup table, and where the CPU has AVX2 or AVX-512
+// (VBMI, GFNI) with blocks a multiple of 8 pixels, one vector pass per row for the certainties, block
+// sums and road count) against the per-pixel reference, on noisy synthetic frames of widths that leave
+// every kind of row tail (not a multiple of 16 or 64, a last row without 8 bytes beyond it) and block
+// sizes of both paths: the same certainties, mask, Hough answer and confidence (which sums the block
+// sums), to the bit. Run with the vector code capped at `cap` (each level the CPU has is tested).
+void expectParkFastPathEqualsReference(ParkSimd cap) {
+  setParkSimdCap(cap);
   struct Case {
     int width, height, block;
   };
@@ -430,6 +434,54 @@ TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBl
   }
   EXPECT_EQ(cases, 18);
   EXPECT_GE(found, 12);
+  setParkSimdCap(ParkSimd::Avx512);
+}
+
+TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBlock) {
+  for (const ParkSimd cap : {ParkSimd::Avx512, ParkSimd::Avx2, ParkSimd::Portable}) {
+    SCOPED_TRACE("vector code at most " + std::to_string(static_cast<int>(cap)) + " (0 portable, 1 AVX2, 2 AVX-512)");
+    expectParkFastPathEqualsReference(cap);
+  }
+}
+
+// fitCentreModel() sums the weighted normal equations in plain arrays; here they are summed with Eigen's
+// outer products as before that change (A += w·φφᵀ, rhs += w·φ·(u − fixed part), then LDLT): the
+// same coefficients to the bit, for the line and the arc model (degree 1 and 2) and Huber weights
+// that bite.
+TEST(ParkFinderFastPath, CentreModelFitSumsAsEigensOuterProducts) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-3.0, 3.0);
+  std::vector<double> row_x(400), row_b(400);
+  for (int v = 0; v < 400; ++v) row_x[v] = 2.0 + 4000.0 / (v + 40.0), row_b[v] = 0.5 * (v + 40.0);
+  for (const int degree : {1, 2}) {
+    CentreModel start;
+    start.v0 = 100;
+    start.v1 = 399;
+    start.arc = ArcBasis(row_x, row_b, start.v0, start.v1);
+    start.p = Vec3(200.0, 15.0, 0.01);
+    std::vector<Vec2> vu;
+    for (int v = 100; v < 400; v += 2) vu.emplace_back(v, start.u(v) + noise(rng) + (v % 37 == 0 ? 40.0 : 0.0));
+    CentreModel fast = start, eigen = start;
+    ASSERT_TRUE(fitCentreModel(vu, degree, 0.6, fast));
+    const int m = degree + 1;
+    for (int it = 0; it < 8; ++it) {
+      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+      Vec3 rhs = Vec3::Zero();
+      for (const Vec2& s : vu) {
+        const double r = std::abs(s.y() - eigen.u(s.x()));
+        const double w = r <= 0.6 ? 1.0 : 0.6 / r;
+        const Vec3 phi = eigen.basis(s.x());
+        A.topLeftCorner(m, m) += w * phi.head(m) * phi.head(m).transpose();
+        rhs.head(m) += w * phi.head(m) * (s.y() - (m < 3 ? eigen.p[2] * phi[2] : 0.0));
+      }
+      Vec3 p = Vec3(0.0, 0.0, m < 3 ? eigen.p[2] : 0.0);
+      p.head(m) = Eigen::LDLT<Eigen::MatrixXd>(A.topLeftCorner(m, m)).solve(rhs.head(m));
+      const double change = (p - eigen.p).cwiseAbs().maxCoeff();
+      eigen.p = p;
+      if (change < 1e-3) break;
+    }
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(fast.p[i], eigen.p[i]) << "degree " << degree << ", coefficient " << i;
+  }
 }
 
 }  // namespace

@@ -6,12 +6,14 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <functional>
 #include <random>
 #include <vector>
 
 #include <Eigen/Dense>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "cluster_perceptron_internal.h"
 
@@ -20,15 +22,34 @@ namespace mapnav {
 bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreModel& model) {
   const int m = degree + 1;
   if (static_cast<int>(vu.size()) < 4 * m) return false;
+  // The samples' basis (1, t, arc) once: it does not depend on the coefficients (model.u() is
+  // p[0] + t·p[1] + κ·arc, the same doubles from it).
+  thread_local std::vector<Vec3> basis;
+  basis.clear();
+  for (const Vec2& s : vu) basis.push_back(model.basis(s.x()));
+  const bool arc = model.arc.x != nullptr;
   for (int it = 0; it < 8; ++it) {
+    // The weighted normal equations in plain arrays (Eigen's run-time-sized blocks cost more than the
+    // sums): element by element the products and sums of A += w·φφᵀ and rhs += w·φ·(u − fixed part).
+    std::array<std::array<double, 3>, 3> a{};
+    std::array<double, 3> b{};
+    for (std::size_t i = 0; i < vu.size(); ++i) {
+      const Vec3& phi = basis[i];
+      const double y = vu[i].y();
+      const double r = std::abs(y - (model.p[0] + phi[1] * model.p[1] + (arc ? model.p[2] * phi[2] : 0.0)));
+      const double w = r <= k ? 1.0 : k / r;
+      const double rest = y - (m < 3 ? model.p[2] * phi[2] : 0.0);
+      for (int row = 0; row < m; ++row) {
+        const double wphi = w * phi[row];
+        for (int col = 0; col < m; ++col) a[row][col] += wphi * phi[col];
+        b[row] += wphi * rest;
+      }
+    }
     Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
     Vec3 rhs = Vec3::Zero();
-    for (const Vec2& s : vu) {
-      const double r = std::abs(s.y() - model.u(s.x()));
-      const double w = r <= k ? 1.0 : k / r;
-      const Vec3 phi = model.basis(s.x());
-      A.topLeftCorner(m, m) += w * phi.head(m) * phi.head(m).transpose();
-      rhs.head(m) += w * phi.head(m) * (s.y() - (m < 3 ? model.p[2] * phi[2] : 0.0));
+    for (int row = 0; row < m; ++row) {
+      for (int col = 0; col < m; ++col) A(row, col) = a[row][col];
+      rhs[row] = b[row];
     }
     Vec3 p = Vec3(0.0, 0.0, m < 3 ? model.p[2] : 0.0);
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(A.topLeftCorner(m, m));
@@ -42,56 +63,116 @@ bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreMod
   return true;
 }
 
+namespace {
+
+/// Bit j: pixel u0 + j of the row is road (certainty > 127, the byte's top bit), for the 32 pixels
+/// from u0 ≥ 0; the pixels at or beyond `width` read as not road (nothing is read past the row).
+std::uint32_t roadBits32(const std::uint8_t* row, int width, int u0) {
+  const std::uint8_t* p = row + u0;
+  std::array<std::uint8_t, 32> tail{};
+  if (u0 + 32 > width) {
+    std::copy(p, row + width, tail.begin());
+    p = tail.data();
+  }
+#ifdef __SSE2__
+  const auto half = [](const std::uint8_t* q) {
+    return static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q))));
+  };
+  return half(p) | half(p + 16) << 16;
+#else
+  std::uint32_t bits = 0;
+  for (int j = 0; j < 32; ++j) bits |= static_cast<std::uint32_t>(p[j] >> 7) << j;
+  return bits;
+#endif
+}
+
+}  // namespace
+
 void rowCandidates(const std::uint8_t* row, int width, int v, int lo, int hi, std::vector<EdgeCandidate>& out) {
-  auto road = [row](int u) { return row[u] > 127; };
+  // A candidate at u: the class changes between u − 1 and u, and not between u − 3 and u − 1 nor
+  // between u and u + 2. 27 columns per 32 pixels' bits (bit j: column base − 3 + j, j in 3..29).
   const int u0 = std::max(3, lo), u1 = std::min(width - 3, hi);
-  for (int u = u0; u <= u1; ++u) {
-    // Eight pixels from u − 1 of one class hold no change: skip them.
-    if (u + 7 <= width) {
-      std::uint64_t word;
-      std::memcpy(&word, row + u - 1, 8);
-      const std::uint64_t top = word & 0x8080808080808080ULL;
-      if (top == 0 || top == 0x8080808080808080ULL) {
-        u += 6;
-        continue;
-      }
+  for (int base = u0; base <= u1; base += 27) {
+    const std::uint32_t road = roadBits32(row, width, base - 3);
+    const std::uint32_t change = road ^ (road << 1);  // bit j: pixels j − 1 and j differ (j ≥ 1)
+    const int last = std::min(29, u1 - base + 3);
+    const std::uint32_t window = (0xFFFFFFFFu >> (31 - last)) & ~7u;  // bits 3..last
+    for (std::uint32_t c = change & ~(change << 1) & ~(change << 2) & ~(change >> 1) & ~(change >> 2) & window; c != 0;
+         c &= c - 1) {
+      const int k = __builtin_ctz(c);
+      out.push_back({v, base - 3 + k - 0.5, ((road >> k) & 1u) != 0});
     }
-    const bool now = road(u);
-    if (road(u - 1) == now) continue;
-    if (road(u - 3) != now && road(u - 2) != now && road(u + 1) == now && (u + 2 >= width || road(u + 2) == now))
-      out.push_back({v, u - 0.5, now});
   }
 }
 
 namespace {
 
 /// What edgeSupport() computes per candidate that the consensus's hypotheses share (their rows v0, v1
-/// and arc basis are the Hough model's; only the coefficients differ): the row's t and arc offset, and
-/// the candidate's edge offset from the centre (∓ half the row's width).
+/// and arc basis are the Hough model's; only the coefficients differ), in arrays that vectorise: the
+/// row's t and arc offset, the candidate's column and edge offset from the centre (∓ half the row's
+/// width); and the row sides (the candidates are in row order): 1 in `first` for the first candidate
+/// of its row side, and for the others (`later`, in order) the first of their side.
 struct SupportTerms {
-  std::vector<double> t, arc, side;
+  std::vector<double> t, arc, u, side;
+  std::vector<std::int64_t> first;
+  std::vector<std::uint8_t> left;
+  std::vector<std::pair<int, int>> later;  // (candidate, the first candidate of its row side)
   SupportTerms(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths, const CentreModel& m) {
+    int last_v = -1;
+    std::array<int, 2> opens{-1, -1};  // the current row's first left and right candidate
     for (const EdgeCandidate& e : cands) {
+      const int i = static_cast<int>(t.size());
       t.push_back(m.t(e.v));
       arc.push_back(m.arc.x ? m.arc(e.v) : 0.0);
+      u.push_back(e.u);
       side.push_back((e.left ? -0.5 : 0.5) * widths[e.v]);
+      left.push_back(e.left);
+      if (e.v != last_v) opens = {-1, -1};
+      last_v = e.v;
+      int& open = opens[e.left ? 0 : 1];
+      first.push_back(open < 0);
+      if (open >= 0) later.emplace_back(i, open);
+      if (open < 0) open = i;
     }
   }
 };
 
+/// edgeSupport()'s near tests: all ones in `hit` where candidate i lies within `tol` of its edge under
+/// the coefficients (a, b, k). Built for AVX-512 too where the processor has it, with the products
+/// and sums kept apart (no fused multiply-add: the same doubles as CentreModel::u()).
+__attribute__((target_clones("avx512f", "default"), optimize("fp-contract=off"))) void nearTests(
+    const SupportTerms& terms, double a, double b, double k, bool arc, double tol, std::int64_t* __restrict hit) {
+  const std::size_t n = terms.t.size();
+  const double *__restrict t = terms.t.data(), *__restrict g = terms.arc.data(), *__restrict u = terms.u.data(),
+               *__restrict side = terms.side.data();
+  if (arc) {
+    for (std::size_t i = 0; i < n; ++i) hit[i] = std::abs(u[i] - ((a + t[i] * b + k * g[i]) + side[i])) > tol ? 0 : -1;
+  } else {
+    for (std::size_t i = 0; i < n; ++i) hit[i] = std::abs(u[i] - ((a + t[i] * b + 0.0) + side[i])) > tol ? 0 : -1;
+  }
+}
+
 /// How many candidates lie within `tol` pixels of the road edges the model with coefficients `p` puts
-/// at centre ∓ width/2 (each row counts a left and a right edge at most once). The same arithmetic as
-/// CentreModel::u() on the shared terms, so the same count.
-int edgeSupport(const std::vector<EdgeCandidate>& cands, const SupportTerms& terms, const Vec3& p, bool arc,
-                double tol) {
-  const EdgeCandidate* const first = cands.data();
-  return rowSideSupport(
-      cands, [](const EdgeCandidate& e) { return e.left; },
-      [&](const EdgeCandidate& e) {
-        const std::size_t i = static_cast<std::size_t>(&e - first);
-        const double u = p[0] + terms.t[i] * p[1] + (arc ? p[2] * terms.arc[i] : 0.0);
-        return !(std::abs(e.u - (u + terms.side[i])) > tol);
-      });
+/// at centre ∓ width/2 (each row counts a left and a right edge at most once: rowSideSupport()'s count).
+/// The same arithmetic as CentreModel::u() on the shared terms, so the same count; first every
+/// candidate's test (nearTests(), vectorised: it was most of the consensus's time), then the count.
+int edgeSupport(const SupportTerms& terms, const Vec3& p, bool arc, double tol) {
+  thread_local std::vector<std::int64_t> near;  // all ones where near
+  const std::size_t n = terms.t.size();
+  near.resize(n);
+  const std::int64_t* const hit = near.data();
+  nearTests(terms, p[0], p[1], p[2], arc, tol, near.data());
+  // A row side counts once: its first candidate when near, else the first near one after it (few
+  // rows hold two candidates on a side).
+  std::int64_t count = 0;
+  for (std::size_t i = 0; i < n; ++i) count += hit[i] & terms.first[i];
+  for (const auto& [i, open] : terms.later) {
+    if (hit[i] == 0) continue;
+    bool earlier = false;
+    for (int j = open; j < i && !earlier; ++j) earlier = terms.left[j] == terms.left[i] && hit[j] != 0;
+    count += !earlier;
+  }
+  return static_cast<int>(count);
 }
 
 /// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
@@ -103,7 +184,7 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
   CentreModel best = model;
   const SupportTerms terms(cands, widths, model);
   const bool arc = model.arc.x != nullptr;
-  int best_n = edgeSupport(cands, terms, model.p, arc, tol);
+  int best_n = edgeSupport(terms, model.p, arc, tol);
   if (cands.size() < static_cast<std::size_t>(degree + 1)) return best;
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<std::size_t> pick(0, cands.size() - 1);
@@ -127,7 +208,7 @@ CentreModel edgeConsensus(const std::vector<EdgeCandidate>& cands, const std::ve
     h.p = Vec3::Zero();
     h.p.head(m) = A.topLeftCorner(m, m).partialPivLu().solve(rhs.head(m));
     if (!h.p.allFinite() || std::abs(h.p[2]) > max_curvature || !allowed(h)) continue;
-    const int n = edgeSupport(cands, terms, h.p, arc, tol);
+    const int n = edgeSupport(terms, h.p, arc, tol);
     if (n > best_n) {
       best_n = n;
       best = h;

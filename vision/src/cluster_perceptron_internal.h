@@ -27,6 +27,13 @@ inline std::uint8_t certaintyOf(double y) {
 }
 constexpr std::uint8_t kAmbiguous = 255;  // LUT cell spanning a cluster boundary: classify exactly
 
+/// The widest vector code the fast path's classification may use, in order; the processor's best is
+/// used, at most the cap (setParkSimdCap()), so that tests can compare every path with the reference.
+enum class ParkSimd { Portable, Avx2, Avx512 };
+/// Caps the vector code of every later find() (default: none, ParkSimd::Avx512). Not for use while
+/// another thread runs find().
+void setParkSimdCap(ParkSimd cap);
+
 // --- The image centre model -----------------------------------------------------------------------------
 
 /// The arc model's offset per unit curvature (pixels per 1/m) of the rows: the column of the ground

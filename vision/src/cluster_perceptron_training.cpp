@@ -445,6 +445,7 @@ void ClusterPerceptron::buildLut() {
     sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
     for (int i = 0; i < 512; ++i) sub_.push_back(exact(8 * r + (i >> 6), 8 * g + ((i >> 3) & 7), 8 * b + (i & 7)));
   }
+  sub_.resize(sub_.size() + 3, 0);  // 3 bytes beyond the last colour: the AVX-512 runtime reads 4 from one
 }
 
 void ClusterPerceptron::setRowWidths(std::vector<double> widths) {
