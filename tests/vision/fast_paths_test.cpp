@@ -484,5 +484,79 @@ TEST(ParkFinderFastPath, CentreModelFitSumsAsEigensOuterProducts) {
   }
 }
 
+// rowCandidates() (32 pixels' road bits at a time) against its rule pixel by pixel: a candidate at
+// u in [max(3, lo), min(width − 3, hi)] where pixels u − 3 … u − 1 are of one class and u … u + 2 of
+// the other. Random rows of every width the 32-bit words split differently, runs of one class
+// from 1 to 12 pixels (isolated pixels are no edge), random windows.
+TEST(ParkFinderEdges, RowCandidatesFollowTheRulePixelByPixel) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> run(1, 12), value(0, 255);
+  int differing = 0, found = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int width = 6 + trial % 97;
+    std::vector<std::uint8_t> row(static_cast<std::size_t>(width));
+    bool road = rng() % 2 == 0;
+    for (int u = 0; u < width;) {
+      for (int k = run(rng); k > 0 && u < width; --k, ++u)
+        row[static_cast<std::size_t>(u)] = static_cast<std::uint8_t>(road ? 128 + value(rng) / 2 : value(rng) / 2);
+      road = !road;
+    }
+    const int lo = static_cast<int>(rng() % 8), hi = width - static_cast<int>(rng() % 8);
+    std::vector<EdgeCandidate> got;
+    rowCandidates(row.data(), width, trial, lo, hi, got);
+    std::vector<EdgeCandidate> want;
+    const auto isRoad = [&](int u) { return row[static_cast<std::size_t>(u)] > 127; };
+    for (int u = std::max(3, lo); u <= std::min(width - 3, hi); ++u) {
+      const bool now = isRoad(u);
+      if (isRoad(u - 1) != now && isRoad(u - 2) != now && isRoad(u - 3) != now && isRoad(u + 1) == now &&
+          (u + 2 >= width || isRoad(u + 2) == now))
+        want.push_back({trial, u - 0.5, now});
+    }
+    found += static_cast<int>(want.size());
+    bool same = got.size() == want.size();
+    for (std::size_t i = 0; same && i < got.size(); ++i)
+      same = got[i].v == want[i].v && got[i].u == want[i].u && got[i].left == want[i].left;
+    if (!same && ++differing <= 3) ADD_FAILURE() << "row " << trial << " (width " << width << "): " << got.size()
+                                                 << " candidates, " << want.size() << " by the rule";
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(found, 2000);  // the rows hold edges, not only runs too short to be one
+}
+
+// edgeSupportCount() (every candidate's test in one loop, then each row side counted once) against
+// rowSideSupport() of CentreModel::u()'s test one candidate at a time, on random rows of 0 to 4
+// candidates near and far from the edges, for the line and the arc model.
+TEST(ParkFinderEdges, EdgeSupportCountsEachRowSideOnceAsRowSideSupport) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> off(-4.0, 4.0);
+  std::vector<double> row_x(300), row_b(300), widths(300);
+  for (int v = 0; v < 300; ++v) row_x[v] = 2.0 + 3000.0 / (v + 30.0), row_b[v] = 0.4 * (v + 30.0), widths[v] = 0.8 * v;
+  int differing = 0, supported = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    CentreModel model;
+    model.v0 = 60;
+    model.v1 = 299;
+    if (trial % 2 == 1) model.arc = ArcBasis(row_x, row_b, model.v0, model.v1);
+    model.p = Vec3(150.0 + off(rng), 10.0 * off(rng), trial % 2 == 1 ? 0.02 * off(rng) : 0.0);
+    std::vector<EdgeCandidate> cands;
+    for (int v = 60; v < 300; v += 3)
+      for (int k = static_cast<int>(rng() % 5); k > 0; --k) {
+        const bool left = rng() % 2 == 0;
+        cands.push_back({v, model.u(v) + (left ? -0.5 : 0.5) * widths[v] + off(rng), left});
+      }
+    const Vec3 p = model.p + Vec3(off(rng) / 4, off(rng) / 4, 0.0);
+    CentreModel at = model;
+    at.p = p;
+    const int want = rowSideSupport(
+        cands, [](const EdgeCandidate& e) { return e.left; },
+        [&](const EdgeCandidate& e) { return !(std::abs(e.u - (at.u(e.v) + (e.left ? -0.5 : 0.5) * widths[e.v])) > 2.0); });
+    const int got = edgeSupportCount(cands, widths, model, p, 2.0);
+    supported += want;
+    if (got != want && ++differing <= 3) ADD_FAILURE() << "trial " << trial << ": " << got << " vs " << want;
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(supported, 0);
+}
+
 }  // namespace
 }  // namespace mapnav

@@ -175,6 +175,15 @@ int edgeSupport(const SupportTerms& terms, const Vec3& p, bool arc, double tol) 
   return static_cast<int>(count);
 }
 
+}  // namespace
+
+int edgeSupportCount(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths,
+                     const CentreModel& model, const Vec3& p, double tol) {
+  return edgeSupport(SupportTerms(cands, widths, model), p, model.arc.x != nullptr, tol);
+}
+
+namespace {
+
 /// Edge consensus (RANSAC, seeded): models through the centres implied by `degree + 1` random edge
 /// candidates in different rows, kept when more candidates support them than support `model` and
 /// `allowed` admits them.

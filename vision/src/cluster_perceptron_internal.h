@@ -106,6 +106,12 @@ int rowSideSupport(const std::vector<Edge>& edges, IsLeft isLeft, Near near) {
   return n;
 }
 
+/// How many row sides of `cands` (in row order) hold a candidate within `tol` pixels of the road edge
+/// that `model` with coefficients `p` puts at centre ∓ widths[v]/2: rowSideSupport() of that test, as
+/// the edge consensus counts it for each hypothesis (vectorised there; exposed for its test).
+int edgeSupportCount(const std::vector<EdgeCandidate>& cands, const std::vector<double>& widths,
+                     const CentreModel& model, const Vec3& p, double tol);
+
 /// The image edge refinement of find() (beyond the paper): the Hough's `model` (its `degree + 1`
 /// coefficients) moved to the model most edge candidates support (edge consensus; `admits` the prior's
 /// window), for the arc model the place to start the ground fit from.
