@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -40,7 +41,11 @@ namespace {
 // outside a test (in SetUpTestSuite) go when the program ends, unless a test failed.
 class TempDirCleaner : public ::testing::EmptyTestEventListener {
  public:
-  void add(const fs::path& dir, bool in_test) { (in_test ? test_dirs_ : program_dirs_).push_back(dir); }
+  /// A folder asked for again (the same test's name) is listed once.
+  void add(const fs::path& dir, bool in_test) {
+    std::vector<fs::path>& dirs = in_test ? test_dirs_ : program_dirs_;
+    if (std::find(dirs.begin(), dirs.end(), dir) == dirs.end()) dirs.push_back(dir);
+  }
   void OnTestEnd(const ::testing::TestInfo& info) override { finish(test_dirs_, !info.result()->Failed()); }
   void OnTestProgramEnd(const ::testing::UnitTest& unit) override { finish(program_dirs_, unit.Passed()); }
 
