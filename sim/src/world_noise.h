@@ -204,16 +204,17 @@ inline float crackCoverage(std::uint64_t salt, const Vec2& p, double footprint, 
   constexpr double kFreq = 0.9;
   if (footprint > 0.08) return 0.0f;
   const auto at = [memo](int i) { return memo != nullptr ? memo + i : nullptr; };
+  // Whether the sum so far, `n`, leaves the line out of the pixel's reach whatever the finer octaves
+  // add (they move n by at most `rest`: their values are within [−1, 1]); lineCoverage's 0, times
+  // the fade, is then the same +0.
+  const auto outOfReach = [&](double n, double rest) {
+    return (std::abs(n) - rest) / (2.4 * kFreq) > (width + std::max(footprint, 1e-4)) / 2 + 1e-9;
+  };
   const float n0 = valueNoise(salt, p.x() * kFreq, p.y() * kFreq, at(0));
-  // The finer octaves move n by at most 0.3 (their values are within [−1, 1]): a coarse octave that
-  // far from 0 leaves the line out of the pixel's reach whatever they add (lineCoverage's 0, times
-  // the fade, is the same +0).
-  if ((std::abs(static_cast<double>(n0)) - 0.3000001) / (2.4 * kFreq) > (width + std::max(footprint, 1e-4)) / 2 + 1e-9)
-    return 0.0f;
+  if (outOfReach(n0, 0.3000001)) return 0.0f;
   const double n01 = n0 + 0.22 * valueNoise(salt + 7, p.x() * kFreq * 5, p.y() * kFreq * 5, at(1));
-  // The same test with the two coarse octaves: the finest moves n by at most 0.08 (most pixels stop
-  // here, before the finest octave's lattice, whose cells change every few pixels).
-  if ((std::abs(n01) - 0.0800001) / (2.4 * kFreq) > (width + std::max(footprint, 1e-4)) / 2 + 1e-9) return 0.0f;
+  // Most pixels stop here, before the finest octave's lattice, whose cells change every few pixels.
+  if (outOfReach(n01, 0.0800001)) return 0.0f;
   const double n = n01 + 0.08 * valueNoise(salt + 9, p.x() * kFreq * 23, p.y() * kFreq * 23, at(2));
   // |grad| of the noise is ~2.4 × freq per unit: distance to the zero line in metres.
   const double d = std::abs(n) / (2.4 * kFreq);
