@@ -22,12 +22,11 @@ namespace mapnav {
 bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreModel& model) {
   const int m = degree + 1;
   if (static_cast<int>(vu.size()) < 4 * m) return false;
-  // The samples' basis (1, t, arc) once: it does not depend on the coefficients (model.u() is
-  // p[0] + t·p[1] + κ·arc, the same doubles from it).
+  // The samples' basis (1, t, arc) once: it does not depend on the coefficients (model.uAt() of it
+  // is model.u()).
   thread_local std::vector<Vec3> basis;
   basis.clear();
   for (const Vec2& s : vu) basis.push_back(model.basis(s.x()));
-  const bool arc = model.arc.x != nullptr;
   for (int it = 0; it < 8; ++it) {
     // The weighted normal equations in plain arrays (Eigen's run-time-sized blocks cost more than the
     // sums): element by element the products and sums of A += w·φφᵀ and rhs += w·φ·(u − fixed part).
@@ -36,7 +35,7 @@ bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreMod
     for (std::size_t i = 0; i < vu.size(); ++i) {
       const Vec3& phi = basis[i];
       const double y = vu[i].y();
-      const double r = std::abs(y - (model.p[0] + phi[1] * model.p[1] + (arc ? model.p[2] * phi[2] : 0.0)));
+      const double r = std::abs(y - model.uAt(phi));
       const double w = r <= k ? 1.0 : k / r;
       const double rest = y - (m < 3 ? model.p[2] * phi[2] : 0.0);
       for (int row = 0; row < m; ++row) {

@@ -67,7 +67,9 @@ struct CentreModel {
   ArcBasis arc;
   double t(double v) const { return (v - v0) / (v1 - v0); }
   Vec3 basis(double v) const { return Vec3(1.0, t(v), arc.x ? arc(v) : 0.0); }
-  double u(double v) const { return p[0] + t(v) * p[1] + (arc.x ? p[2] * arc(v) : 0.0); }
+  /// The centre's column at a row of basis b (basis()).
+  double uAt(const Vec3& b) const { return p[0] + b[1] * p[1] + (arc.x ? p[2] * b[2] : 0.0); }
+  double u(double v) const { return uAt(basis(v)); }
 };
 
 /// Least-squares fit of the model's `degree + 1` coefficients to (v, u) samples with Huber
