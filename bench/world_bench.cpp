@@ -21,9 +21,10 @@ const mapnav::Map& campusMap() {
 }
 
 // A width × height frame from the Terregator pin-hole (f scaled with the width; 512 × 480 is the
-// camera of maps/cameras/), moving along R1; the third argument is WorldOptions::paved_edge_samples
-// (1: point sampling; 4: the pixels the paved area's edge crosses area-sampled 4 × 4), so that its
-// cost is a ratio in the same run.
+// camera of maps/cameras/), moving along R1 0.1 m a frame; the third argument is
+// WorldOptions::paved_edge_samples (1: point sampling; 4: the pixels the paved area's edge crosses
+// area-sampled 4 × 4), the fourth 1 for the texel cache (the default) and 0 for the per-pixel
+// renderer (texel_cache_mib 0), so that their costs are ratios in the same run.
 void BM_RenderFrame(benchmark::State& state) {
   const int width = static_cast<int>(state.range(0)), height = static_cast<int>(state.range(1));
   mapnav::CameraIntrinsics in;
@@ -38,6 +39,7 @@ void BM_RenderFrame(benchmark::State& state) {
   mapnav::WorldOptions options;
   options.shadow_density = 0.3;
   options.paved_edge_samples = static_cast<int>(state.range(2));
+  if (state.range(3) == 0) options.texel_cache_mib = 0;
   const mapnav::World world(campusMap(), options);
   const mapnav::RayTable rays(*camera);
   double t = 0;
@@ -48,7 +50,12 @@ void BM_RenderFrame(benchmark::State& state) {
   }
   state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_RenderFrame)->Args({512, 480, 1})->Args({512, 480, 4})->Args({512, 512, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderFrame)
+    ->Args({512, 480, 1, 1})
+    ->Args({512, 480, 1, 0})
+    ->Args({512, 480, 4, 1})
+    ->Args({512, 512, 1, 1})
+    ->Unit(benchmark::kMillisecond);
 
 // The campus with n landmarks 2.5 … 11 m ahead of the camera of BM_LandmarksInView beside R1 (and a
 // manhole cover in it): poles, trees, bollards, benches and covers in turn, the kinds' own sizes.

@@ -285,7 +285,9 @@ Json benchJson(const BenchConfig& config, const BenchResults& r) {
                    {"ms", number(r.render.ms())},
                    {"fps", number(1e3 / r.render.ms())},
                    {"memcpy_ms", number(1e3 * r.render.copy.s_per_frame)},
-                   {"memcpy_ratio", number(r.render.memcpyRatio())}};
+                   {"memcpy_ratio", number(r.render.memcpyRatio())},
+                   {"per_pixel_ms", number(1e3 * r.render.per_pixel.s_per_frame)},
+                   {"per_pixel_ratio", number(r.render.perPixelRatio())}};
   Json routes = Json::array();
   for (const RouteTimes& t : r.routes) {
     routes.push_back({{"intersections", t.intersections},
@@ -330,9 +332,11 @@ void printSummary(const BenchResults& r, std::ostream& out) {
   printParkTargets(r.rows, out);
   printPipelineTimes(r.pipelines, out);
   out << "renderer (the simulator's frames) at " << r.render.width << "x" << r.render.height
-      << " on the campus scene, one thread: " << sig(r.render.ms()) << " ms/frame (" << strprintf("%.0f", 1e3 / r.render.ms())
-      << " frames/s), memcpy_ratio " << sig(r.render.memcpyRatio()) << " (a copy of the frame's colour and mask planes: "
-      << sig(1e3 * r.render.copy.s_per_frame) << " ms)\n";
+      << " on the campus scene, one thread, driving 0.1 m a frame: " << sig(r.render.ms()) << " ms/frame ("
+      << strprintf("%.0f", 1e3 / r.render.ms()) << " frames/s), memcpy_ratio " << sig(r.render.memcpyRatio())
+      << " (a copy of the frame's colour and mask planes: " << sig(1e3 * r.render.copy.s_per_frame)
+      << " ms); per pixel (texel_cache_mib 0) " << sig(1e3 * r.render.per_pixel.s_per_frame) << " ms/frame, per_pixel_ratio "
+      << sig(r.render.perPixelRatio()) << "\n";
   for (const RouteTimes& t : r.routes) {
     out << "route query on a grid campus of " << t.intersections << " intersections: A* " << sig(1e3 * t.astar.s_per_frame)
         << " ms, Dijkstra (the reference) " << sig(1e3 * t.dijkstra.s_per_frame) << " ms, ratio "
@@ -470,13 +474,14 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
       "The park finder line repeats issue 31's two figures from the table, one thread: frames/s at 512 and\n"
       "memcpy_ratio at 1024 (targets >= 2000 and <= 5; \"park\":{\"fps_512\",\"memcpy_ratio_1024\"} in the JSON).\n"
       "Then, at 512x480 on the campus scene, one thread: the sidewalk pipeline (ms/frame, memcpy_ratio,\n"
-      "reference_ratio) and the simulator's renderer (ms/frame, memcpy_ratio = render time / a copy of the frame's\n"
-      "colour and mask planes); and route queries on grid campuses of --route-sizes intersections (32 seeded\n"
+      "reference_ratio) and the simulator's renderer on a drive of 0.1 m a frame (ms/frame, memcpy_ratio = render\n"
+      "time / a copy of the frame's colour and mask planes, per_pixel_ratio = the per-pixel renderer's time\n"
+      "(WorldOptions::texel_cache_mib 0) / the default's, > 1 = the texel cache is that much faster); and route queries on grid campuses of --route-sizes intersections (32 seeded\n"
       "queries, default turn penalties): A* and the Dijkstra reference per query, their ratio, the growth\n"
       "from the smallest to the largest (beside the ratio of their intersections: linear growth) and the\n"
       "preprocessing (graph and landmarks, once per map, seconds).\n"
       "--json prints {\"runtime\":[{\"size\",\"threads\",\"fps\",\"ms\",\"px_per_s\",\"memcpy_ratio\",\n"
-      "\"reference_ratio\",...},...],\"train_ms\",...,\"sidewalk\":{...},\"render\":{\"ms\",\"fps\",\"memcpy_ratio\",...},\n"
+      "\"reference_ratio\",...},...],\"train_ms\",...,\"sidewalk\":{...},\"render\":{\"ms\",\"fps\",\"memcpy_ratio\",\"per_pixel_ratio\",...},\n"
       "\"route\":[{\"intersections\",\"prep_s\",\"astar_ms\",\"dijkstra_ms\",\"dijkstra_ratio\"},...]}.\n"
       "Exit codes: 0 measured, 1 an invalid --map, 2 usage or I/O error.");
   bn->callback(commands.choose([bench, text](std::ostream& out, std::ostream& err) {

@@ -12,11 +12,14 @@ namespace mapnav::cli {
 
 /// World::render per frame on the sidewalk scene's map and camera (512 x 480, the default world,
 /// the scene's poses in turn, one thread), and a copy of a frame's colour and mask planes.
+/// The renderer on a drive of 0.1 m a frame at the defaults (the texel cache) and per pixel
+/// (WorldOptions::texel_cache_mib 0), beside a copy of a frame's colour and mask planes.
 struct RenderTimes {
   int width = 0, height = 0;
-  Measured render, copy;
+  Measured render, per_pixel, copy;
   double ms() const { return 1e3 * render.s_per_frame; }
   double memcpyRatio() const { return render.s_per_frame / copy.s_per_frame; }
+  double perPixelRatio() const { return per_pixel.s_per_frame / render.s_per_frame; }
 };
 RenderTimes timeRender(const SidewalkScene& scene, double min_time_s);
 

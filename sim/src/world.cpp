@@ -45,6 +45,7 @@ void WorldOptions::validate() const {
   requireOption(finiteIn(tv_chroma_gain, 0, 2), kOwner, "tv_chroma_gain", tv_chroma_gain, "in [0, 2]");
   requireOption(paved_edge_samples >= 1 && paved_edge_samples <= 16, kOwner, "paved_edge_samples",
                 paved_edge_samples, "in [1, 16]");
+  requireOption(finiteIn(texel_cache_mib, 0, 1e6), kOwner, "texel_cache_mib", texel_cache_mib, "in [0, 1e6]");
   requireOption(threads >= 0 && threads <= 256, kOwner, "threads", threads, "in [0, 256]");
   requireOption(tv_chroma_blur_px >= 0 && tv_chroma_blur_px <= 16, kOwner, "tv_chroma_blur_px", tv_chroma_blur_px,
                 "in [0, 16]");

@@ -43,6 +43,7 @@ WorldOptions parseWorldOptions(const std::string& json, const std::string& point
   }
   if (const auto v = block.number("paved_edge_samples", false, 1, 16)) o.paved_edge_samples = static_cast<int>(std::lround(*v));
   if (const auto v = block.number("tv_chroma_blur_px", false, 0, 16)) o.tv_chroma_blur_px = static_cast<int>(std::lround(*v));
+  if (const auto v = block.number("texel_cache_mib", false, 0, 1e6)) o.texel_cache_mib = *v;
   if (const auto v = block.number("threads", false, 0, 256)) o.threads = static_cast<int>(std::lround(*v));
   if (const auto v = block.boolean("tv_color_shift", false)) o.tv_color_shift = *v;
   if (const auto v = block.boolean("low_dynamic_range", false)) o.low_dynamic_range = *v;

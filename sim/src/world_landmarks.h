@@ -71,6 +71,9 @@ struct GroundMark {
   std::uint64_t salt = 0;         // an ellipse's ragged outline, a cover's pattern
 };
 
+/// Whether p lies on cover m (its disc of radius r about a).
+inline bool holdsCover(const GroundMark& m, const Vec2& p) { return (p - m.a).squaredNorm() < m.r * m.r; }
+
 /// The sun of WorldOptions: toward it (unit), the ground direction shadows fall along (unit), and
 /// a shadow's length per metre of height.
 struct Sun {
@@ -98,6 +101,9 @@ struct Landmarks {
   /// ids[0 … n); with `c`, a manhole cover there is painted on the ground colour *c and *cover
   /// (unless nullptr) set to its landmark's index, else -1.
   float marksAt(const Vec2& p, const std::uint32_t* ids, std::uint32_t n, double footprint, C3* c, int* cover) const;
+  /// The landmark index of the manhole cover among the marks ids[0 … n) that holds p, else -1
+  /// (marksAt's *cover, without the colour).
+  int coverAt(const Vec2& p, const std::uint32_t* ids, std::uint32_t n) const;
   /// The colour of a body where the unit `ray` meets it (at p), seen by a pixel `footprint` wide.
   C3 bodyColour(const Body& body, const Vec3& p, const Vec3& ray, const BodyHit& hit, double footprint) const;
   /// Sunlight on a surface of normal n: the shadow's tint (k·C, blue shift) facing away from the

@@ -102,8 +102,7 @@ bool RayTable::matches(const Camera& camera) const {
   return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
 }
 
-void World::Impl::textureSums(const RayTable& rays, int v, RowScratch& rs) const {
-  const auto w = static_cast<std::size_t>(rays.width());
+void World::Impl::textureSums(std::size_t w, RowScratch& rs) const {
   for (int m = 0; m < kMaterials; ++m) {
     const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
     if (group.empty()) continue;
@@ -115,7 +114,7 @@ void World::Impl::textureSums(const RayTable& rays, int v, RowScratch& rs) const
     for (std::size_t j = 0; j < n; ++j) {
       rs.xs[j] = rs.points[group[j]].x();
       rs.ys[j] = rs.points[group[j]].y();
-      rs.footprints[j] = rays.at(static_cast<int>(group[j]), v).footprint;
+      rs.footprints[j] = rs.fp[group[j]];
     }
     for (int k : materialChannels(static_cast<Material>(m))) {
       if (k == 0) break;
@@ -135,7 +134,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
   const auto [ch, sh, tx, ty] = pose;
   rs.ground.resize(w);
   rs.points.resize(w);
-  rs.values.resize(static_cast<std::size_t>(NoiseCache::kChannels) * w);
+  rs.fp.assign(w, 0.0f);
   for (auto& group : rs.group) group.clear();
   // The pixels that show a landmark's body are done; the others show the ground or the sky.
   const bool bodies_here = view != nullptr && view->bodies && bodyRow(rays, *view, v, rs, rgb, mask, lmask);
@@ -150,6 +149,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     if (r.kind == RayTable::Kind::Ground) {
       const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
       rs.points[u] = p;
+      rs.fp[u] = r.footprint;
       locate(p, tileLists(tiles, static_cast<int>(u) / kTileW, p), &nc, rs.ground[u]);
       mask[u] = rs.ground[u].paved ? 255 : 0;
       const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
@@ -161,30 +161,84 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     rgb[3 * u + 1] = c.g;
     rgb[3 * u + 2] = c.b;
   }
-  canopyRow(rays, v, rs);
-  textureSums(rays, v, rs);
-  // Each ground pixel's texture from those sums, then its edge, leaves, shadow and haze.
+  shadeLocated(w, rs, nc, haze, rgb, nullptr, view, lmask);
+}
+
+void World::Impl::shadeLocated(std::size_t w, RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb,
+                               float* shadows, const LandmarkView* view, std::uint8_t* lmask) const {
+  rs.values.resize(static_cast<std::size_t>(NoiseCache::kChannels) * w);
+  canopyRow(w, rs);
+  textureSums(w, rs);
+  // Each ground point's texture from those sums, then its edge, leaves, shadow and haze.
   for (const auto& group : rs.group)
     for (std::uint32_t u : group) {
-      const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
       const GroundPoint& g = rs.ground[u];
       const Vec2& p = rs.points[u];
-      C3 c = texture(g.surface, p, r.footprint, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
+      const float fp = rs.fp[u];
+      C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
       float shadow = rs.flecked[u];
       if (g.lists.n_marks > 0) {  // the landmarks' shadows and covers
         int cover = -1;
-        shadow = std::max(shadow, landmarks.marksAt(p, g.lists.marks, g.lists.n_marks, r.footprint, &c, &cover));
-        if (cover >= 0) {
+        shadow = std::max(shadow, landmarks.marksAt(p, g.lists.marks, g.lists.n_marks, fp, &c, &cover));
+        if (cover >= 0 && lmask != nullptr) {
           lmask[u] = kShowsCover;
           if (const int slot = view != nullptr ? view->slot(static_cast<std::uint32_t>(cover)) : -1; slot >= 0)
             ++rs.shown[static_cast<std::size_t>(slot)];
         }
       }
-      c = finish(p, g, c, r.footprint, haze != nullptr ? haze[u] : 0.0f, rs.tree[u], shadow, &nc);
+      if (shadows != nullptr) {
+        c = surfaceFinish(p, g, c, fp, rs.tree[u], &nc);
+        shadows[u] = shadow;
+      } else {
+        c = finish(p, g, c, fp, haze != nullptr ? haze[u] : 0.0f, rs.tree[u], shadow, &nc);
+      }
       rgb[3 * u] = c.r;
       rgb[3 * u + 1] = c.g;
       rgb[3 * u + 2] = c.b;
     }
+}
+
+void World::Impl::shadeRowTexels(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
+                                 RowScratch& rs, NoiseCache& nc, TexelReader& rd, const TexelLod* lod, const float* haze,
+                                 float* rgb, std::uint8_t* mask, const LandmarkView* view, std::uint8_t* lmask) const {
+  const auto w = static_cast<std::size_t>(rays.width());
+  const auto [ch, sh, tx, ty] = pose;
+  rs.ground.resize(w);
+  rs.points.resize(w);
+  rs.fp.assign(w, 0.0f);
+  for (auto& group : rs.group) group.clear();
+  const bool bodies_here = view != nullptr && view->bodies && bodyRow(rays, *view, v, rs, rgb, mask, lmask);
+  for (std::size_t u = 0; u < w; ++u) {
+    const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
+    if (bodies_here && rs.hit_slot[u] >= 0) continue;
+    C3 c;
+    if (r.kind == RayTable::Kind::Ground) {
+      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
+      const CellLists lists = tileLists(tiles, static_cast<int>(u) / kTileW, p);
+      const bool paved = pavedAt(p, lists) >= 0;
+      mask[u] = paved ? 255 : 0;
+      float shadow = 0;  // the canopies', from the texels, then the landmarks' (the texels lack them)
+      if ((lists.n_marks == 0 || landmarks.coverAt(p, lists.marks, lists.n_marks) < 0) &&
+          texelColour(p, lod[u], paved, rd, nc, c, shadow)) {
+        if (lists.n_marks > 0)
+          shadow = std::max(shadow, landmarks.marksAt(p, lists.marks, lists.n_marks, r.footprint, nullptr, nullptr));
+        c = hazed(shadowed(c, shadow), haze != nullptr ? haze[u] : 0.0f);
+      } else {  // on a cover or beside the paved area's edge: shaded on its own, with the row's others
+        rs.points[u] = p;
+        rs.fp[u] = r.footprint;
+        locate(p, lists, &nc, rs.ground[u]);
+        const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
+        rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
+        continue;
+      }
+    } else if (r.kind == RayTable::Kind::Sky) {
+      c = sky(r.elevation);
+    }
+    rgb[3 * u] = c.r;
+    rgb[3 * u + 1] = c.g;
+    rgb[3 * u + 2] = c.b;
+  }
+  shadeLocated(w, rs, nc, haze, rgb, nullptr, view, lmask);
 }
 
 std::shared_ptr<const RayExtras> World::Impl::rayExtras(const RayTable& rays) const {
@@ -198,6 +252,12 @@ std::shared_ptr<const RayExtras> World::Impl::rayExtras(const RayTable& rays) co
     table->haze.resize(all.size());
     for (std::size_t i = 0; i < all.size(); ++i)
       if (all[i].kind == RayTable::Kind::Ground) table->haze[i] = hazeAt(all[i].range);
+  }
+  table->any_outside = std::any_of(all.begin(), all.end(), [](const RayTable::Ray& r) { return r.kind == RayTable::Kind::None; });
+  if (texels) {
+    table->lod.resize(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (all[i].kind == RayTable::Kind::Ground) table->lod[i] = texelLod(all[i].footprint);
   }
   const int w = rays.width(), h = rays.height();
   if (landmarks.any_upright) table->dirs = rayDirections(rays);
@@ -296,8 +356,8 @@ void World::Impl::edgeSamples(const RayTable& rays, int v0, int v1, const std::a
     }
 }
 
-void World::Impl::camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf,
-                         std::uint8_t* rgb) const {
+void World::Impl::camera(const RayTable& rays, bool any_outside, int v0, int v1, const Pose2& pose, double t,
+                         float* buf, std::uint8_t* rgb) const {
   const WorldOptions& o = options;
   const int w = rays.width();
   const std::size_t i0 = static_cast<std::size_t>(v0) * w, i1 = static_cast<std::size_t>(v1) * w;
@@ -306,8 +366,10 @@ void World::Impl::camera(const RayTable& rays, int v0, int v1, const Pose2& pose
   const auto gain = static_cast<float>(1.0 + o.illumination_drift * std::sin(phase));
   const auto wb = static_cast<float>(o.white_balance_drift * std::sin(phase / 1.618));
   const std::array<float, 3> g{gain * (1 + wb), gain, gain * (1 - wb)};
-  for (std::size_t i = i0; i < i1; ++i)
-    for (int k = 0; k < 3; ++k) buf[3 * i + static_cast<std::size_t>(k)] *= g[static_cast<std::size_t>(k)];
+  std::vector<float> row_gain(3 * static_cast<std::size_t>(w));  // g repeated along a row: one vector loop
+  for (std::size_t j = 0; j < row_gain.size(); ++j) row_gain[j] = g[j % 3];
+  for (std::size_t r0 = 3 * i0; r0 < 3 * i1; r0 += row_gain.size())
+    for (std::size_t j = 0; j < row_gain.size(); ++j) buf[r0 + j] *= row_gain[j];
 
   if (o.tv_color_shift) {
     // Chroma (B − Y, R − Y) turned, scaled and smeared along rows, as by the TV link.
@@ -355,8 +417,9 @@ void World::Impl::camera(const RayTable& rays, int v0, int v1, const Pose2& pose
   for (std::size_t r0 = i0; r0 < i1; r0 += static_cast<std::size_t>(w)) {  // a row at a time
     if (sigma > 0) {
       sensorNoiseRow(frame_seed, 3 * r0, noise.size(), noise.data());
-      for (std::size_t i = r0; i < r0 + static_cast<std::size_t>(w); ++i)
-        if (rays.rays()[i].kind == RayTable::Kind::None) std::fill_n(noise.data() + 3 * (i - r0), 3, 0.0f);
+      if (any_outside)
+        for (std::size_t i = r0; i < r0 + static_cast<std::size_t>(w); ++i)
+          if (rays.rays()[i].kind == RayTable::Kind::None) std::fill_n(noise.data() + 3 * (i - r0), 3, 0.0f);
     }
     bytesRow(buf + 3 * r0, noise.data(), sigma, noise.size(), lo, rgb + 3 * r0);
   }
@@ -385,11 +448,17 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
     RowScratch scratch;
     scratch.shown.assign(view.items.size(), 0);
     RenderTiles tiles;
+    TexelReader reader(im.texels.get());
     for (int v = v0; v < v1; ++v) {
       const std::size_t row = static_cast<std::size_t>(v) * w;
       if (tiles.band != v / kTileH) im.tileRow(*extras, v / kTileH, pose4, tiles);
-      im.shadeRow(rays, v, pose4, tiles, scratch, *cache, haze != nullptr ? haze + row : nullptr, buf.data() + 3 * row,
-                  frame.mask.data.data() + row, lv, lmask + row);
+      const float* haze_row = haze != nullptr ? haze + row : nullptr;
+      if (im.texels)
+        im.shadeRowTexels(rays, v, pose4, tiles, scratch, *cache, reader, extras->lod.data() + row, haze_row, buf.data() + 3 * row,
+                          frame.mask.data.data() + row, lv, lmask + row);
+      else
+        im.shadeRow(rays, v, pose4, tiles, scratch, *cache, haze_row, buf.data() + 3 * row,
+                    frame.mask.data.data() + row, lv, lmask + row);
     }
     const std::lock_guard lock(shown_mutex);
     for (std::size_t s = 0; s < shown.size(); ++s) shown[s] += scratch.shown[s];
@@ -399,8 +468,9 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
       const auto cache = std::make_unique<NoiseCache>();
       im.edgeSamples(rays, v0, v1, pose4, frame.mask.data.data(), lv != nullptr ? lmask : nullptr, *cache, buf.data());
     }
-    im.camera(rays, v0, v1, pose, t, buf.data(), frame.rgb.data.data());
+    im.camera(rays, extras->any_outside, v0, v1, pose, t, buf.data(), frame.rgb.data.data());
   });
+  if (im.texels) im.texels->endFrame();
   if (lv != nullptr || !im.landmarks.marks.empty()) {
     for (std::uint8_t& m : frame.landmark_mask.data) m = m != 0 ? 255 : 0;
     frame.landmarks = im.landmarkTruth(rays.camera(), view, pose4, shown);

@@ -106,6 +106,9 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
   for (std::size_t k = 0; k < salts.size(); ++k) salts[k] = mix64(options.seed * 0x100000001B3ULL + k);
   shadow_everywhere = options.shadow_density >= 0.999;
   leaf_salt = mix64(options.seed ^ 0x1EAFULL);
+  if (options.texel_cache_mib > 0)
+    texels = std::make_unique<TexelCache>(
+        std::max<std::size_t>(1, static_cast<std::size_t>(options.texel_cache_mib * 1048576.0 / sizeof(TexelTile))));
   lawn = surfaceIndex(map, map.findSurface("grass") ? "grass" : "");
   if (!map.findSurface("grass")) surfaces[static_cast<std::size_t>(lawn)] = {Material::Grass, {70, 120, 50}, {14, 18, 12}};
 
@@ -363,8 +366,7 @@ void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint
   flecked_out = s;
 }
 
-void World::Impl::canopyRow(const RayTable& rays, int v, RowScratch& rs) const {
-  const auto w = static_cast<std::size_t>(rays.width());
+void World::Impl::canopyRow(std::size_t w, RowScratch& rs) const {
   rs.tree.assign(w, shadow_everywhere ? 1.0f : 0.0f);
   rs.flecked.assign(w, shadow_everywhere ? 1.0f : 0.0f);
   if (shadow_everywhere) return;
@@ -375,7 +377,7 @@ void World::Impl::canopyRow(const RayTable& rays, int v, RowScratch& rs) const {
     rs.cx.clear();
     rs.cy.clear();
     for (std::size_t u = 0; u < w; ++u)
-      if (rays.at(static_cast<int>(u), v).kind == RayTable::Kind::Ground && keep(u)) {
+      if (rs.fp[u] > 0 && keep(u)) {
         rs.cand.push_back(static_cast<std::uint32_t>(u));
         rs.cx.push_back(rs.points[u].x());
         rs.cy.push_back(rs.points[u].y());
@@ -394,7 +396,7 @@ void World::Impl::canopyRow(const RayTable& rays, int v, RowScratch& rs) const {
   noiseRow(kOutlineSalt, kOutlineFreq);
   for (std::size_t j = 0; j < rs.cand.size(); ++j) {
     const std::uint32_t u = rs.cand[j];
-    const double fp = rays.at(static_cast<int>(u), v).footprint;
+    const double fp = rs.fp[u];
     discShadow(rs.points[u], rs.ground[u].lists, fp, [&] { return canopyWobble(rs.n0[j], rs.n1[j]); },
                rs.flecked[u], rs.tree[u]);
   }
@@ -404,7 +406,7 @@ void World::Impl::canopyRow(const RayTable& rays, int v, RowScratch& rs) const {
   noiseRow(kFleckSalt, kFleckFreq);
   for (std::size_t j = 0; j < rs.cand.size(); ++j) {
     const std::uint32_t u = rs.cand[j];
-    rs.flecked[u] = flecked(rs.flecked[u], rs.n0[j] + 0.5f * rs.n1[j], rays.at(static_cast<int>(u), v).footprint);
+    rs.flecked[u] = flecked(rs.flecked[u], rs.n0[j] + 0.5f * rs.n1[j], rs.fp[u]);
   }
 }
 

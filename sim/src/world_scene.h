@@ -24,6 +24,7 @@
 #include "mapnav/sim/world.h"
 #include "world_landmarks.h"
 #include "world_noise.h"
+#include "world_texels.h"
 
 namespace mapnav {
 namespace world_detail {
@@ -31,6 +32,7 @@ namespace world_detail {
 constexpr double kCell = 3.0;      // grid cell, m
 constexpr double kEdgeBand = 1.0;  // y-band of a polygon's edge index, m
 constexpr int kTileW = 32, kTileH = 8;  // the renderer's tiles (RenderTiles), pixels
+constexpr C3 kHazeColour{196, 206, 218};  // far ground fades toward it (World::Impl::finish)
 
 // NoiseCache channels of the noise that is not a texture's (a texture's fractal sum k uses
 // channel k, its salt's key in World::Impl::texture).
@@ -139,6 +141,7 @@ struct GroundPoint {
 struct RowScratch {
   std::vector<GroundPoint> ground;
   std::vector<Vec2> points;
+  std::vector<float> fp;                        // each ground point's footprint, m (0: no ground point)
   std::vector<float> values;                    // channel k of pixel u: values[k * width + u]
   std::vector<std::uint32_t> group[kMaterials];  // the row's ground pixels by their texture's material
   std::vector<double> xs, ys;                   // one group's points, gathered
@@ -150,6 +153,21 @@ struct RowScratch {
   std::vector<BodyHit> hits;                    // the row's nearest landmark bodies (World::Impl::bodyRow)
   std::vector<int> hit_slot;                    //   their slots in the frame's LandmarkView, -1: none
   std::vector<int> shown;                       // per LandmarkView slot, the pixels that show it
+  std::vector<float> rgb, shadows;              // a texel tile's colours and shadows (World::Impl::texelTile)
+};
+
+/// A renderer thread's reads of the cache during one frame: the tiles it read, held so that no
+/// other frame's endFrame drops them, and a direct-mapped table of them by key.
+struct TexelReader {
+  static constexpr std::size_t kSlots = 1024;
+  explicit TexelReader(TexelCache* c) : cache(c) { key.fill(~std::uint64_t{0}); }
+  TexelCache* cache;
+  std::vector<std::shared_ptr<const TexelTile>> held;
+  std::array<std::uint64_t, kSlots> key{};
+  std::array<const TexelTile*, kSlots> tile{};
+  RowScratch scratch;      // for their shading
+  /// The slot of a key: its level and tile coordinates' low bits.
+  static std::size_t slot(std::uint64_t key) { return (key ^ (key >> 23) ^ (key >> 53)) & (kSlots - 1); }
 };
 
 struct Surface {
@@ -189,6 +207,8 @@ struct RayExtras {
     bool ground = false;
   };
   std::vector<float> haze;      // hazeAt of each ground pixel's range (empty without haze)
+  std::vector<TexelLod> lod;    // each ground pixel's texel levels (empty without the texel cache)
+  bool any_outside = false;     // whether some pixel lies outside the lens' field
   std::vector<TileBox> tiles;   // kTileW × kTileH pixels each, tiles_x per band of kTileH rows
   int tiles_x = 0;
   TileBox ground;               // the box of every ground point
@@ -232,9 +252,36 @@ struct Disc {
   double reach2 = 0;
 };
 
+/// The uniform grid of kCell-metre cells over the map (World::Impl::buildGrid): per cell, in CSR
+/// form, the paved polygons, centre-line segments, canopy discs and landmarks' marks that touch it.
+struct Grid {
+  Vec2 origin = Vec2::Zero();
+  int nx = 0, ny = 0;
+  std::vector<std::uint32_t> poly_start, seg_start, disc_start, mark_start;  // CSR offsets, size nx*ny+1
+  std::vector<PolyRef> cell_polys;
+  std::vector<std::uint32_t> cell_segs, cell_discs, cell_marks;
+
+  /// The grid's lists of a cell (cellIndex; empty for -1).
+  CellLists cellLists(int cell) const {
+    if (cell < 0) return {};
+    const auto c = static_cast<std::size_t>(cell);
+    return {cell_polys.data() + poly_start[c],      cell_segs.data() + seg_start[c],
+            cell_discs.data() + disc_start[c],      cell_marks.data() + mark_start[c],
+            poly_start[c + 1] - poly_start[c],      seg_start[c + 1] - seg_start[c],
+            disc_start[c + 1] - disc_start[c],      mark_start[c + 1] - mark_start[c]};
+  }
+
+  /// The cell holding p, -1 off the grid.
+  int cellIndex(const Vec2& p) const {
+    const double fx = (p.x() - origin.x()) / kCell, fy = (p.y() - origin.y()) / kCell;
+    if (!(fx >= 0 && fy >= 0 && fx < nx && fy < ny)) return -1;
+    return static_cast<int>(fy) * nx + static_cast<int>(fx);
+  }
+};
+
 }  // namespace world_detail
 
-struct [[gnu::visibility("hidden")]] World::Impl {
+struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   using C3 = world_detail::C3;
   using Surface = world_detail::Surface;
   using RoadInfo = world_detail::RoadInfo;
@@ -257,34 +304,12 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   std::uint64_t leaf_salt = 0;  // the fallen leaves' cells' (finish)
   world_detail::Landmarks landmarks;  // the map's (world_landmarks.cpp)
 
-  // Grid.
-  Vec2 origin = Vec2::Zero();
-  int nx = 0, ny = 0;
-  std::vector<std::uint32_t> poly_start, seg_start, disc_start, mark_start;  // CSR offsets, size nx*ny+1
-  std::vector<PolyRef> cell_polys;
-  std::vector<std::uint32_t> cell_segs, cell_discs, cell_marks;
-
   mutable std::mutex cache_mutex;
   mutable std::vector<std::shared_ptr<const RayTable>> cache;
   // What the last ray table gave (rayExtras), by the table's id.
   mutable std::uint64_t extras_id = 0;
   mutable std::shared_ptr<const world_detail::RayExtras> extras;
-
-  /// The grid's lists of a cell (cellIndex; empty for -1).
-  world_detail::CellLists cellLists(int cell) const {
-    if (cell < 0) return {};
-    const auto c = static_cast<std::size_t>(cell);
-    return {cell_polys.data() + poly_start[c],      cell_segs.data() + seg_start[c],
-            cell_discs.data() + disc_start[c],      cell_marks.data() + mark_start[c],
-            poly_start[c + 1] - poly_start[c],      seg_start[c + 1] - seg_start[c],
-            disc_start[c + 1] - disc_start[c],      mark_start[c + 1] - mark_start[c]};
-  }
-
-  int cellIndex(const Vec2& p) const {
-    const double fx = (p.x() - origin.x()) / world_detail::kCell, fy = (p.y() - origin.y()) / world_detail::kCell;
-    if (!(fx >= 0 && fy >= 0 && fx < nx && fy < ny)) return -1;
-    return static_cast<int>(fy) * nx + static_cast<int>(fx);
-  }
+  std::unique_ptr<world_detail::TexelCache> texels;  // options' texel_cache_mib (null: none; world_texels.h)
 
   Impl(const Map& map, const WorldOptions& opts);
   int surfaceIndex(const Map& map, const std::string& name);
@@ -317,9 +342,9 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   template <class Wobble>
   void discShadow(const Vec2& p, const world_detail::CellLists& lists, double footprint, const Wobble& wobble, float& s,
                   float& s_bare) const;
-  /// canopy of row v's located ground pixels (rs.points, rs.ground) into rs.tree (bare) and
-  /// rs.flecked, the outlines' and the flecks' noise evaluated a row at a time.
-  void canopyRow(const RayTable& rays, int v, world_detail::RowScratch& rs) const;
+  /// canopy of a row's w located ground points (rs.points, rs.ground, rs.fp) into rs.tree (bare)
+  /// and rs.flecked, the outlines' and the flecks' noise evaluated a row at a time.
+  void canopyRow(std::size_t w, world_detail::RowScratch& rs) const;
   /// The colour of ground point p seen by a pixel `footprint` wide at `range`; `paved` its class.
   /// `nc` (may be nullptr) memoizes the noise lattice between calls (the same colour either way).
   /// It is locate, texture and finish in turn.
@@ -339,21 +364,35 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
                 world_detail::RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask,
                 const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
-  /// The fractal sums of each material group of row v's ground pixels (rs.group, rs.points), channel
-  /// by channel, into rs.values.
-  void textureSums(const RayTable& rays, int v, world_detail::RowScratch& rs) const;
+  /// The fractal sums of each material group of a row's w ground points (rs.group, rs.points,
+  /// rs.fp), channel by channel, into rs.values.
+  void textureSums(std::size_t w, world_detail::RowScratch& rs) const;
+  /// A row's w located ground points (rs.points, rs.ground, rs.fp, rs.group) shaded: texture, marks,
+  /// finish, `haze` per point (nullptr: none); with `shadows`, surfaceFinish and the shadow. Covers
+  /// are marked in `lmask` (unless nullptr) and counted in rs.shown when the view lists them.
+  void shadeLocated(std::size_t w, world_detail::RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb,
+                    float* shadows, const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
   /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
   /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel). Pixels that show a
   /// landmark's body (kShowsBody in `lmask`, nullptr: none) are neither re-sampled nor an edge.
   void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,
                    const std::uint8_t* lmask, NoiseCache& nc, float* buf) const;
-  /// Rows [v0, v1) through the camera: illumination drift, TV colour shift, sensor noise, bytes.
-  void camera(const RayTable& rays, int v0, int v1, const Pose2& pose, double t, float* buf, std::uint8_t* rgb) const;
-  /// The texture `c` of located point p finished: the lawn's worn edge, leaves, shadow, haze.
+  /// Rows [v0, v1) through the camera: illumination drift, TV colour shift, sensor noise (none for
+  /// a pixel outside the lens' field; `any_outside`: some is), bytes.
+  void camera(const RayTable& rays, bool any_outside, int v0, int v1, const Pose2& pose, double t, float* buf,
+              std::uint8_t* rgb) const;
+  /// The texture `c` of located point p finished: surfaceFinish, shadowed by `flecked`, hazed.
   /// `haze`: hazeAt(the point's range).
   /// `tree`, `flecked`: canopy's shadow at p.
   C3 finish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, float haze, float tree,
             float flecked, NoiseCache* nc) const;
+  /// The texture `c` of located point p with the lawn's worn edge and the fallen leaves (`tree`:
+  /// the canopy's shadow at p, where leaves fall): what a shadow darkens.
+  C3 surfaceFinish(const Vec2& p, const world_detail::GroundPoint& g, C3 c, double footprint, float tree,
+                   NoiseCache* nc) const;
+  /// c in shadow s (0 sunlit … 1 full); c at haze `haze` (hazeAt; unchanged without haze).
+  C3 shadowed(C3 c, float s) const;
+  C3 hazed(C3 c, float haze) const;
   /// Aerial perspective: how far ground at `range` m fades toward the horizon's haze (0 … 1; with
   /// haze_distance_m > 0).
   float hazeAt(double range) const;
@@ -369,6 +408,19 @@ struct [[gnu::visibility("hidden")]] World::Impl {
   /// The lists of point p of tile `tile` in rt (its cell's own when the tile has none for it).
   world_detail::CellLists tileLists(const world_detail::RenderTiles& rt, int tile, const Vec2& p) const;
   C3 sky(double elevation) const;
+  /// Ground point p's colour before its shadow and the canopies' shadow for a pixel of texel levels
+  /// `lod`, from the texels; false when a texel read is paved and p not, or the other way round.
+  bool texelColour(const Vec2& p, world_detail::TexelLod lod, bool paved, world_detail::TexelReader& rd,
+                   NoiseCache& nc, C3& colour, float& shadow) const;
+  /// Level `level`'s tile (tx, ty) from rd's cache, shaded (without haze, shadows and marks) and
+  /// kept when the cache lacks it; rd holds it.
+  const world_detail::TexelTile* texelTile(int level, std::int64_t tx, std::int64_t ty, world_detail::TexelReader& rd,
+                                           NoiseCache& nc) const;
+  /// shadeRow with the ground's colour from the texels (`lod`: rayExtras' row v): the same masks.
+  void shadeRowTexels(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
+                      world_detail::RowScratch& rs, NoiseCache& nc, world_detail::TexelReader& rd,
+                      const world_detail::TexelLod* lod, const float* haze, float* rgb, std::uint8_t* mask,
+                      const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
 };
 
 }  // namespace mapnav

@@ -224,6 +224,10 @@ float World::Impl::hazeAt(double range) const {
 
 C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, float tree, float flecked,
                        NoiseCache* nc) const {
+  return hazed(shadowed(surfaceFinish(p, g, c, fp, tree, nc), flecked), haze);
+}
+
+C3 World::Impl::surfaceFinish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float tree, NoiseCache* nc) const {
   if (!g.paved && g.best_road >= 0 && surfaces[static_cast<std::size_t>(g.surface)].material == Material::Grass) {
     // Worn, dusty strip where the lawn meets the pavement.
     // (Beyond 0.25 m the smoothstep is 0 and the colour stays: no noise there.)
@@ -260,16 +264,23 @@ C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, flo
       }
     }
   }
-  // Tree shadow: k·C, tinted toward the skylight.
-  const double s = flecked;
+  return c;
+}
+
+C3 World::Impl::shadowed(C3 c, float s) const {
+  // k·C, tinted toward the skylight.
   if (s > 0) {
     const auto k = static_cast<float>(options.shadow_k), b = static_cast<float>(options.shadow_blue_shift);
     const C3 lit{1, 1, 1}, shadow{k * (1 - b), k, k * (1 + b)};
-    c = c * lerp(lit, shadow, static_cast<float>(s));
+    c = c * lerp(lit, shadow, s);
   }
+  return c;
+}
+
+C3 World::Impl::hazed(C3 c, float haze) const {
   // Aerial perspective: far ground fades toward the haze of the horizon.
   if (options.haze_distance_m <= 0) return c;
-  return lerp(c, C3{196, 206, 218}, haze);
+  return lerp(c, kHazeColour, haze);
 }
 
 template C3 World::Impl::texture<PointNoise>(int, const Vec2&, double, double, double, int, const PointNoise&,
