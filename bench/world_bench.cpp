@@ -23,8 +23,8 @@ const mapnav::Map& campusMap() {
 // A width × height frame from the Terregator pin-hole (f scaled with the width; 512 × 480 is the
 // camera of maps/cameras/), moving along R1 0.1 m a frame; the third argument is
 // WorldOptions::paved_edge_samples (1: point sampling; 4: the pixels the paved area's edge crosses
-// area-sampled 4 × 4), the fourth 1 for the texel cache (the default) and 0 for the per-pixel
-// renderer (texel_cache_mib 0), so that their costs are ratios in the same run.
+// area-sampled 4 × 4), the fourth 1 for the texel cache (texel_cache_mib 64) and 0 for the
+// per-pixel renderer (the default), so that their costs are ratios in the same run.
 void BM_RenderFrame(benchmark::State& state) {
   const int width = static_cast<int>(state.range(0)), height = static_cast<int>(state.range(1));
   mapnav::CameraIntrinsics in;
@@ -39,7 +39,7 @@ void BM_RenderFrame(benchmark::State& state) {
   mapnav::WorldOptions options;
   options.shadow_density = 0.3;
   options.paved_edge_samples = static_cast<int>(state.range(2));
-  if (state.range(3) == 0) options.texel_cache_mib = 0;
+  if (state.range(3) == 1) options.texel_cache_mib = 64;
   const mapnav::World world(campusMap(), options);
   const mapnav::RayTable rays(*camera);
   double t = 0;

@@ -29,10 +29,10 @@ RenderTimes timeRender(const SidewalkScene& scene, double min_time_s) {
         },
         min_time_s);
   };
-  t.render = drive(WorldOptions{});
-  WorldOptions per_pixel;
-  per_pixel.texel_cache_mib = 0;
-  t.per_pixel = drive(per_pixel);
+  WorldOptions texels;
+  texels.texel_cache_mib = 64;
+  t.render = drive(texels);
+  t.per_pixel = drive(WorldOptions{});
   const Frame& f = scene.frames.front();
   std::vector<std::uint8_t> rgb(f.rgb.data.size()), mask(f.mask.data.size());
   t.copy = measure(

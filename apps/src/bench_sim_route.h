@@ -12,8 +12,8 @@ namespace mapnav::cli {
 
 /// World::render per frame on the sidewalk scene's map and camera (512 x 480, the default world,
 /// the scene's poses in turn, one thread), and a copy of a frame's colour and mask planes.
-/// The renderer on a drive of 0.1 m a frame at the defaults (the texel cache) and per pixel
-/// (WorldOptions::texel_cache_mib 0), beside a copy of a frame's colour and mask planes.
+/// The renderer on a drive of 0.1 m a frame with the texel cache (WorldOptions::texel_cache_mib 64)
+/// and per pixel (the default), beside a copy of a frame's colour and mask planes.
 struct RenderTimes {
   int width = 0, height = 0;
   Measured render, per_pixel, copy;

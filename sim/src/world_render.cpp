@@ -128,17 +128,15 @@ void World::Impl::textureSums(std::size_t w, RowScratch& rs) const {
 }
 
 void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
-                           RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask,
-                           const LandmarkView* view, std::uint8_t* lmask) const {
+                           RowScratch& rs, NoiseCache& nc, TexelReader* texels, const TexelLod* lod, const float* haze,
+                           float* rgb, std::uint8_t* mask, const LandmarkView* view, std::uint8_t* lmask) const {
   const auto w = static_cast<std::size_t>(rays.width());
   const auto [ch, sh, tx, ty] = pose;
-  rs.ground.resize(w);
-  rs.points.resize(w);
-  rs.fp.assign(w, 0.0f);
-  for (auto& group : rs.group) group.clear();
+  rs.begin(w, 0.0f);
   // The pixels that show a landmark's body are done; the others show the ground or the sky.
   const bool bodies_here = view != nullptr && view->bodies && bodyRow(rays, *view, v, rs, rgb, mask, lmask);
-  // Where each ground pixel lies, the pixels grouped by their texture's material; the sky.
+  // The ground pixels the texels give; where each of the others lies, grouped by their texture's
+  // material; the sky.
   for (std::size_t u = 0; u < w; ++u) {
     const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
     C3 c;
@@ -148,20 +146,44 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
     }
     if (r.kind == RayTable::Kind::Ground) {
       const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
-      rs.points[u] = p;
-      rs.fp[u] = r.footprint;
-      locate(p, tileLists(tiles, static_cast<int>(u) / kTileW, p), &nc, rs.ground[u]);
-      mask[u] = rs.ground[u].paved ? 255 : 0;
-      const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
-      rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
-      continue;
+      const CellLists lists = tileLists(tiles, static_cast<int>(u) / kTileW, p);
+      if (texels == nullptr || !texelPixel(p, r, lists, lod[u], haze != nullptr ? haze[u] : 0.0f, *texels, nc, c, mask[u])) {
+        addPoint(rs, u, p, r.footprint, lists, nc);
+        mask[u] = rs.ground[u].paved ? 255 : 0;
+        continue;
+      }
+    } else if (r.kind == RayTable::Kind::Sky) {
+      c = sky(r.elevation);
     }
-    if (r.kind == RayTable::Kind::Sky) c = sky(r.elevation);
     rgb[3 * u] = c.r;
     rgb[3 * u + 1] = c.g;
     rgb[3 * u + 2] = c.b;
   }
   shadeLocated(w, rs, nc, haze, rgb, nullptr, view, lmask);
+}
+
+bool World::Impl::texelPixel(const Vec2& p, const RayTable::Ray& r, const CellLists& lists, TexelLod lod, float haze,
+                             TexelReader& texels, NoiseCache& nc, C3& c, std::uint8_t& mask) const {
+  // On a cover, or beside the paved area's edge (texels of the other class): shaded on its own.
+  const bool paved = pavedAt(p, lists) >= 0;
+  float shadow = 0;  // the canopies', from the texels, then the landmarks' (the texels lack them)
+  if ((lists.n_marks > 0 && landmarks.coverAt(p, lists.marks, lists.n_marks) >= 0) ||
+      !texelColour(p, lod, paved, texels, nc, c, shadow))
+    return false;
+  if (lists.n_marks > 0)
+    shadow = std::max(shadow, landmarks.marksAt(p, lists.marks, lists.n_marks, r.footprint, nullptr, nullptr));
+  c = hazed(shadowed(c, shadow), haze);
+  mask = paved ? 255 : 0;
+  return true;
+}
+
+void World::Impl::addPoint(RowScratch& rs, std::size_t u, const Vec2& p, float footprint, const CellLists& lists,
+                           NoiseCache& nc) const {
+  rs.points[u] = p;
+  rs.fp[u] = footprint;
+  locate(p, lists, &nc, rs.ground[u]);
+  const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
+  rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
 }
 
 void World::Impl::shadeLocated(std::size_t w, RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb,
@@ -196,49 +218,6 @@ void World::Impl::shadeLocated(std::size_t w, RowScratch& rs, NoiseCache& nc, co
       rgb[3 * u + 1] = c.g;
       rgb[3 * u + 2] = c.b;
     }
-}
-
-void World::Impl::shadeRowTexels(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
-                                 RowScratch& rs, NoiseCache& nc, TexelReader& rd, const TexelLod* lod, const float* haze,
-                                 float* rgb, std::uint8_t* mask, const LandmarkView* view, std::uint8_t* lmask) const {
-  const auto w = static_cast<std::size_t>(rays.width());
-  const auto [ch, sh, tx, ty] = pose;
-  rs.ground.resize(w);
-  rs.points.resize(w);
-  rs.fp.assign(w, 0.0f);
-  for (auto& group : rs.group) group.clear();
-  const bool bodies_here = view != nullptr && view->bodies && bodyRow(rays, *view, v, rs, rgb, mask, lmask);
-  for (std::size_t u = 0; u < w; ++u) {
-    const RayTable::Ray& r = rays.at(static_cast<int>(u), v);
-    if (bodies_here && rs.hit_slot[u] >= 0) continue;
-    C3 c;
-    if (r.kind == RayTable::Kind::Ground) {
-      const Vec2 p(ch * r.x - sh * r.y + tx, sh * r.x + ch * r.y + ty);
-      const CellLists lists = tileLists(tiles, static_cast<int>(u) / kTileW, p);
-      const bool paved = pavedAt(p, lists) >= 0;
-      mask[u] = paved ? 255 : 0;
-      float shadow = 0;  // the canopies', from the texels, then the landmarks' (the texels lack them)
-      if ((lists.n_marks == 0 || landmarks.coverAt(p, lists.marks, lists.n_marks) < 0) &&
-          texelColour(p, lod[u], paved, rd, nc, c, shadow)) {
-        if (lists.n_marks > 0)
-          shadow = std::max(shadow, landmarks.marksAt(p, lists.marks, lists.n_marks, r.footprint, nullptr, nullptr));
-        c = hazed(shadowed(c, shadow), haze != nullptr ? haze[u] : 0.0f);
-      } else {  // on a cover or beside the paved area's edge: shaded on its own, with the row's others
-        rs.points[u] = p;
-        rs.fp[u] = r.footprint;
-        locate(p, lists, &nc, rs.ground[u]);
-        const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
-        rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
-        continue;
-      }
-    } else if (r.kind == RayTable::Kind::Sky) {
-      c = sky(r.elevation);
-    }
-    rgb[3 * u] = c.r;
-    rgb[3 * u + 1] = c.g;
-    rgb[3 * u + 2] = c.b;
-  }
-  shadeLocated(w, rs, nc, haze, rgb, nullptr, view, lmask);
 }
 
 std::shared_ptr<const RayExtras> World::Impl::rayExtras(const RayTable& rays) const {
@@ -453,12 +432,9 @@ Frame World::render(const RayTable& rays, const Pose2& pose, double t) const {
       const std::size_t row = static_cast<std::size_t>(v) * w;
       if (tiles.band != v / kTileH) im.tileRow(*extras, v / kTileH, pose4, tiles);
       const float* haze_row = haze != nullptr ? haze + row : nullptr;
-      if (im.texels)
-        im.shadeRowTexels(rays, v, pose4, tiles, scratch, *cache, reader, extras->lod.data() + row, haze_row, buf.data() + 3 * row,
-                          frame.mask.data.data() + row, lv, lmask + row);
-      else
-        im.shadeRow(rays, v, pose4, tiles, scratch, *cache, haze_row, buf.data() + 3 * row,
-                    frame.mask.data.data() + row, lv, lmask + row);
+      im.shadeRow(rays, v, pose4, tiles, scratch, *cache, im.texels ? &reader : nullptr,
+                  im.texels ? extras->lod.data() + row : nullptr, haze_row, buf.data() + 3 * row,
+                  frame.mask.data.data() + row, lv, lmask + row);
     }
     const std::lock_guard lock(shown_mutex);
     for (std::size_t s = 0; s < shown.size(); ++s) shown[s] += scratch.shown[s];

@@ -154,20 +154,14 @@ struct RowScratch {
   std::vector<int> hit_slot;                    //   their slots in the frame's LandmarkView, -1: none
   std::vector<int> shown;                       // per LandmarkView slot, the pixels that show it
   std::vector<float> rgb, shadows;              // a texel tile's colours and shadows (World::Impl::texelTile)
-};
 
-/// A renderer thread's reads of the cache during one frame: the tiles it read, held so that no
-/// other frame's endFrame drops them, and a direct-mapped table of them by key.
-struct TexelReader {
-  static constexpr std::size_t kSlots = 1024;
-  explicit TexelReader(TexelCache* c) : cache(c) { key.fill(~std::uint64_t{0}); }
-  TexelCache* cache;
-  std::vector<std::shared_ptr<const TexelTile>> held;
-  std::array<std::uint64_t, kSlots> key{};
-  std::array<const TexelTile*, kSlots> tile{};
-  RowScratch scratch;      // for their shading
-  /// The slot of a key: its level and tile coordinates' low bits.
-  static std::size_t slot(std::uint64_t key) { return (key ^ (key >> 23) ^ (key >> 53)) & (kSlots - 1); }
+  /// A row of w points begun: none located (footprints `fp`), no material groups.
+  void begin(std::size_t w, float footprint) {
+    ground.resize(w);
+    points.resize(w);
+    fp.assign(w, footprint);
+    for (auto& g : group) g.clear();
+  }
 };
 
 struct Surface {
@@ -231,6 +225,21 @@ struct RenderTiles {
   std::vector<PolyRef> polys;
   std::vector<std::uint32_t> segs, discs, marks;
   std::vector<double> road_bound;    // per road, scratch of addTileCell (infinite between calls)
+};
+
+/// A renderer thread's reads of the cache during one frame: the tiles it read, held so that no
+/// other frame's endFrame drops them, and a direct-mapped table of them by key.
+struct TexelReader {
+  static constexpr std::size_t kSlots = 1024;
+  explicit TexelReader(TexelCache* c) : cache(c) { key.fill(~std::uint64_t{0}); }
+  TexelCache* cache;
+  std::vector<std::shared_ptr<const TexelTile>> held;
+  std::array<std::uint64_t, kSlots> key{};
+  std::array<const TexelTile*, kSlots> tile{};
+  RowScratch scratch;      // for their shading, with the lists of the tile's points
+  RenderTiles lists;
+  /// The slot of a key: its level and tile coordinates' low bits.
+  static std::size_t slot(std::uint64_t key) { return (key ^ (key >> 23) ^ (key >> 53)) & (kSlots - 1); }
 };
 
 struct RoadInfo {
@@ -358,15 +367,25 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
              const Noise& noise, NoiseCache* nc) const;
   /// Shades row v of a frame seen from pose (cos, sin of the heading, x, y): its pixels' colours
   /// (3 floats each, before the camera's drift and noise) and mask. The same as `shade` per pixel,
-  /// with the texture's fractal sums evaluated channel by channel over the row.
-  /// `haze`: rayExtras' row v (unread without haze); `tiles`: row v's band (tileRow); `view`: the
-  /// frame's landmarks (nullptr: none), `lmask` row v of the frame's landmark mask (kShowsBody, kShowsCover).
+  /// with the texture's fractal sums evaluated channel by channel over the row; with `texels`, the
+  /// ground pixels texelPixel gives from them (`lod`: rayExtras' row v). `haze`: rayExtras' row v
+  /// (unread without haze); `tiles`: row v's band (tileRow); `view`: the frame's landmarks
+  /// (nullptr: none), `lmask` row v of the frame's landmark mask (kShowsBody, kShowsCover).
   void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
-                world_detail::RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb, std::uint8_t* mask,
+                world_detail::RowScratch& rs, NoiseCache& nc, world_detail::TexelReader* texels,
+                const world_detail::TexelLod* lod, const float* haze, float* rgb, std::uint8_t* mask,
                 const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
+  /// Ground pixel r's colour `c` (before the camera) and `mask` at p from the texels; false (c and
+  /// mask unset) where it is to be shaded on its own: on a manhole cover, or where a texel read is
+  /// paved and p not or the other way round.
+  bool texelPixel(const Vec2& p, const RayTable::Ray& r, const world_detail::CellLists& lists, world_detail::TexelLod lod,
+                  float haze, world_detail::TexelReader& texels, NoiseCache& nc, C3& c, std::uint8_t& mask) const;
   /// The fractal sums of each material group of a row's w ground points (rs.group, rs.points,
   /// rs.fp), channel by channel, into rs.values.
   void textureSums(std::size_t w, world_detail::RowScratch& rs) const;
+  /// Point u of rs's row at p, `footprint` wide, located in `lists` and put in its material's group.
+  void addPoint(world_detail::RowScratch& rs, std::size_t u, const Vec2& p, float footprint,
+                const world_detail::CellLists& lists, NoiseCache& nc) const;
   /// A row's w located ground points (rs.points, rs.ground, rs.fp, rs.group) shaded: texture, marks,
   /// finish, `haze` per point (nullptr: none); with `shadows`, surfaceFinish and the shadow. Covers
   /// are marked in `lmask` (unless nullptr) and counted in rs.shown when the view lists them.
@@ -401,6 +420,9 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   /// Band `band` of the frame's tiles seen from pose (cos, sin of the heading, x, y) into rt.
   void tileRow(const world_detail::RayExtras& extras, int band, const std::array<double, 4>& pose,
                world_detail::RenderTiles& rt) const;
+  /// rt emptied of tiles; tile rt.first.size() − 1 added: the lists of the points of a world box.
+  void clearTiles(world_detail::RenderTiles& rt) const;
+  void addTile(const Box2& points, world_detail::RenderTiles& rt) const;
   /// The lists of grid cell `cell` for the points of a tile (a world box) into rt.
   void addTileCell(int cell, const Box2& tile, world_detail::RenderTiles& rt) const;
   /// Whether every point of the box is inside the polygon as crossingContains sees it (false when unsure).
@@ -416,11 +438,22 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   /// kept when the cache lacks it; rd holds it.
   const world_detail::TexelTile* texelTile(int level, std::int64_t tx, std::int64_t ty, world_detail::TexelReader& rd,
                                            NoiseCache& nc) const;
-  /// shadeRow with the ground's colour from the texels (`lod`: rayExtras' row v): the same masks.
-  void shadeRowTexels(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
-                      world_detail::RowScratch& rs, NoiseCache& nc, world_detail::TexelReader& rd,
-                      const world_detail::TexelLod* lod, const float* haze, float* rgb, std::uint8_t* mask,
-                      const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
 };
+
+inline World::Impl::C3 World::Impl::shadowed(C3 c, float s) const {
+  // k·C, tinted toward the skylight.
+  if (s > 0) {
+    const auto k = static_cast<float>(options.shadow_k), b = static_cast<float>(options.shadow_blue_shift);
+    const C3 lit{1, 1, 1}, shadow{k * (1 - b), k, k * (1 + b)};
+    c = c * lerp(lit, shadow, s);
+  }
+  return c;
+}
+
+inline World::Impl::C3 World::Impl::hazed(C3 c, float haze) const {
+  // Aerial perspective: far ground fades toward the haze of the horizon.
+  if (options.haze_distance_m <= 0) return c;
+  return lerp(c, world_detail::kHazeColour, haze);
+}
 
 }  // namespace mapnav

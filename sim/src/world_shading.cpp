@@ -267,22 +267,6 @@ C3 World::Impl::surfaceFinish(const Vec2& p, const GroundPoint& g, C3 c, double 
   return c;
 }
 
-C3 World::Impl::shadowed(C3 c, float s) const {
-  // k·C, tinted toward the skylight.
-  if (s > 0) {
-    const auto k = static_cast<float>(options.shadow_k), b = static_cast<float>(options.shadow_blue_shift);
-    const C3 lit{1, 1, 1}, shadow{k * (1 - b), k, k * (1 + b)};
-    c = c * lerp(lit, shadow, s);
-  }
-  return c;
-}
-
-C3 World::Impl::hazed(C3 c, float haze) const {
-  // Aerial perspective: far ground fades toward the haze of the horizon.
-  if (options.haze_distance_m <= 0) return c;
-  return lerp(c, kHazeColour, haze);
-}
-
 template C3 World::Impl::texture<PointNoise>(int, const Vec2&, double, double, double, int, const PointNoise&,
                                              NoiseCache*) const;
 template C3 World::Impl::texture<RowNoise>(int, const Vec2&, double, double, double, int, const RowNoise&,

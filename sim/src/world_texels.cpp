@@ -75,18 +75,16 @@ const TexelTile* World::Impl::texelTile(int level, std::int64_t tx, std::int64_t
     RowScratch& rs = rd.scratch;
     const double s = texelSpacing(level);
     constexpr std::size_t n = static_cast<std::size_t>(kTexelSide) * kTexelSide;
-    rs.ground.resize(n);
-    rs.points.resize(n);
-    rs.fp.assign(n, static_cast<float>(s));
-    for (auto& group : rs.group) group.clear();
+    rs.begin(n, static_cast<float>(s));
+    clearTiles(rd.lists);
+    addTile(Box2(Vec2(static_cast<double>(tx * kTexelTile) * s, static_cast<double>(ty * kTexelTile) * s),
+                 Vec2(static_cast<double>((tx + 1) * kTexelTile) * s, static_cast<double>((ty + 1) * kTexelTile) * s)),
+            rd.lists);
     for (std::size_t k = 0; k < n; ++k) {
       const auto i = static_cast<std::int64_t>(k % kTexelSide), j = static_cast<std::int64_t>(k / kTexelSide);
       const Vec2 p(static_cast<double>(tx * kTexelTile + i) * s, static_cast<double>(ty * kTexelTile + j) * s);
-      rs.points[k] = p;
-      locate(p, cellLists(cellIndex(p)), &nc, rs.ground[k]);
+      addPoint(rs, k, p, static_cast<float>(s), tileLists(rd.lists, 0, p), nc);
       rs.ground[k].lists.n_marks = 0;  // the pixels add the landmarks' marks
-      const Material m = surfaces[static_cast<std::size_t>(rs.ground[k].surface)].material;
-      rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(k));
     }
     rs.rgb.resize(3 * n);
     rs.shadows.resize(n);
@@ -107,8 +105,8 @@ const TexelTile* World::Impl::texelTile(int level, std::int64_t tx, std::int64_t
 TexelLod world_detail::texelLod(double footprint) {
   int e = 0;
   const double m = std::frexp(footprint / kTexel0, &e);  // footprint = m · 2^e · kTexel0, m in [0.5, 1)
-  // (footprint − s_L) / s_L = 2m − 1 in [0, 1); the two levels mixed over its middle half.
-  TexelLod lod{std::clamp(static_cast<float>(2 * (2 * m - 1) - 0.5), 0.0f, 1.0f), e - 1};
+  // (footprint − s_L) / s_L = 2m − 1 in [0, 1); the two levels mixed over its middle quarter.
+  TexelLod lod{std::clamp(static_cast<float>(4 * (2 * m - 1) - 1.5), 0.0f, 1.0f), e - 1};
   if (lod.level < 0) lod = {0, 0};
   if (lod.level >= kTexelLevels - 1) lod = {1, kTexelLevels - 2};
   return lod;
@@ -140,8 +138,9 @@ bool World::Impl::texelColour(const Vec2& p, TexelLod lod, bool paved, TexelRead
     const int level = lod.level + k;
     const auto i = static_cast<std::int64_t>(gx), j = static_cast<std::int64_t>(gy);  // ≥ 0: the floor
     const auto ax = static_cast<float>(gx - static_cast<double>(i)), ay = static_cast<float>(gy - static_cast<double>(j));
-    const std::int64_t tx = (i >> 5) - (std::int64_t{1} << 26), ty = (j >> 5) - (std::int64_t{1} << 26);
-    static_assert(kTexelTile == 32);
+    // floor(texel / kTexelTile) less the offset's tiles
+    const std::int64_t tx = (i >> kTexelTileBits) - (std::int64_t{1} << (31 - kTexelTileBits));
+    const std::int64_t ty = (j >> kTexelTileBits) - (std::int64_t{1} << (31 - kTexelTileBits));
     const std::uint64_t key = texelKey(level, tx, ty);
     const std::size_t l = TexelReader::slot(key);
     const TexelTile* tile = rd.key[l] == key ? rd.tile[l] : texelTile(level, tx, ty, rd, nc);

@@ -9,8 +9,8 @@
 // without the marks of the map's landmarks. A pixel of footprint f (RayTable::Ray::footprint) in
 // [s_L, 2 s_L) takes the bilinear sample of level L and of level L + 1 around its ground point,
 // mixed by where f lies in the octave (TexelLod): the texture's detail fades with the footprint as
-// the per-pixel renderer's does, without a step at a level's end, and a pixel in the outer
-// quarters of an octave reads one level only. The pixel then adds the landmarks' shadows at its
+// the per-pixel renderer's does, without a step at a level's end, and a pixel outside the middle
+// quarter of an octave reads one level only. The pixel then adds the landmarks' shadows at its
 // own point, the shadow (World::Impl::shadowed) and its haze (that depends on the range), so
 // that the marks change a frame where they lie and nowhere else, as in the per-pixel renderer.
 //
@@ -33,7 +33,8 @@
 
 namespace mapnav::world_detail {
 
-constexpr int kTexelTile = 32;              // texels a side of a tile
+constexpr int kTexelTileBits = 4;
+constexpr int kTexelTile = 1 << kTexelTileBits;  // texels a side of a tile
 constexpr int kTexelSide = kTexelTile + 1;  // grid points a side of a tile (with the next tile's first)
 constexpr double kTexel0 = 1.0 / 1024;      // level 0's texel spacing, m
 constexpr int kTexelLevels = 24;            // levels 0 … 23 (level 23: 8 km texels)
@@ -80,7 +81,7 @@ class TexelCache {
 
 /// The two levels a pixel of footprint f samples: level L with f in [s_L, 2 s_L) and level L + 1,
 /// mixed by `mix` (0: level L alone, 1: level L + 1 alone), which rises from 0 to 1 over the
-/// middle half of the octave, (f − s_L) / s_L in [1/4, 3/4] (levels clamped to 0 … kTexelLevels − 1).
+/// middle quarter of the octave, (f − s_L) / s_L in [3/8, 5/8] (levels clamped to 0 … kTexelLevels − 1).
 struct TexelLod {
   float mix = 0;
   int level = 0;

@@ -145,9 +145,7 @@ void World::Impl::addTileCell(int cell, const Box2& tile, RenderTiles& rt) const
   rt.cells.push_back(tc);
 }
 
-void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<double, 4>& pose, RenderTiles& rt) const {
-  const auto [ch, sh, tx, ty] = pose;
-  rt.band = band;
+void World::Impl::clearTiles(RenderTiles& rt) const {
   rt.cells.clear();
   rt.polys.clear();
   rt.segs.clear();
@@ -156,6 +154,27 @@ void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<do
   rt.road_bound.assign(roads.size(), std::numeric_limits<double>::infinity());
   rt.first.assign(1, 0);
   rt.sure.clear();
+}
+
+void World::Impl::addTile(const Box2& points, RenderTiles& rt) const {
+  const Box2 tile(points.min() - Vec2(kSlack, kSlack), points.max() + Vec2(kSlack, kSlack));
+  // cellIndex's quotients are monotone in the point: the box's bound every point's.
+  const double fx0 = (tile.min().x() - origin.x()) / kCell, fx1 = (tile.max().x() - origin.x()) / kCell;
+  const double fy0 = (tile.min().y() - origin.y()) / kCell, fy1 = (tile.max().y() - origin.y()) / kCell;
+  const auto cellOf = [](double f, int n) { return std::clamp(static_cast<int>(std::floor(f)), 0, n - 1); };
+  const int x0 = cellOf(fx0, nx), x1 = cellOf(fx1, nx), y0 = cellOf(fy0, ny), y1 = cellOf(fy1, ny);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) addTileCell(y * nx + x, tile, rt);
+  // Within one cell of the grid, every point's cellIndex is that cell.
+  const bool one = fx0 >= 0 && fy0 >= 0 && fx1 < nx && fy1 < ny && x0 == x1 && y0 == y1;
+  rt.sure.push_back(one && rt.cells.size() == rt.first.back() + 1 ? static_cast<int>(rt.first.back()) : -1);
+  rt.first.push_back(static_cast<std::uint32_t>(rt.cells.size()));
+}
+
+void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<double, 4>& pose, RenderTiles& rt) const {
+  const auto [ch, sh, tx, ty] = pose;
+  rt.band = band;
+  clearTiles(rt);
   for (int t = 0; t < extras.tiles_x; ++t) {
     const RayExtras::TileBox& vb = extras.tiles[static_cast<std::size_t>(band) * extras.tiles_x + t];
     if (vb.ground) {
@@ -163,21 +182,11 @@ void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<do
       Box2 tile;
       for (const Vec2& c : corners(Box2(Vec2(vb.x0, vb.y0), Vec2(vb.x1, vb.y1))))
         tile.extend(Vec2(ch * c.x() - sh * c.y() + tx, sh * c.x() + ch * c.y() + ty));
-      tile = Box2(tile.min() - Vec2(kSlack, kSlack), tile.max() + Vec2(kSlack, kSlack));
-      // cellIndex's quotients are monotone in the point: the box's bound every pixel's.
-      const double fx0 = (tile.min().x() - origin.x()) / kCell, fx1 = (tile.max().x() - origin.x()) / kCell;
-      const double fy0 = (tile.min().y() - origin.y()) / kCell, fy1 = (tile.max().y() - origin.y()) / kCell;
-      const auto cellOf = [](double f, int n) { return std::clamp(static_cast<int>(std::floor(f)), 0, n - 1); };
-      const int x0 = cellOf(fx0, nx), x1 = cellOf(fx1, nx), y0 = cellOf(fy0, ny), y1 = cellOf(fy1, ny);
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) addTileCell(y * nx + x, tile, rt);
-      // Within one cell of the grid, every pixel's cellIndex is that cell.
-      const bool one = fx0 >= 0 && fy0 >= 0 && fx1 < nx && fy1 < ny && x0 == x1 && y0 == y1;
-      rt.sure.push_back(one && rt.cells.size() == rt.first.back() + 1 ? static_cast<int>(rt.first.back()) : -1);
+      addTile(tile, rt);
     } else {
       rt.sure.push_back(-1);
+      rt.first.push_back(static_cast<std::uint32_t>(rt.cells.size()));
     }
-    rt.first.push_back(static_cast<std::uint32_t>(rt.cells.size()));
   }
 }
 

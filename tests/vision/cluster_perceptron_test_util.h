@@ -29,7 +29,6 @@ inline const Map& parkScenery() {
 inline WorldOptions parkWorld() {
   WorldOptions wo;
   wo.shadow_density = 0.4;
-  wo.texel_cache_mib = 0;  // the per-pixel renderer's frames, which these figures were measured on
   return wo;
 }
 
