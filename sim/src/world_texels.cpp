@@ -1,5 +1,5 @@
 // The ground's colour kept in world space across frames (world_texels.h): the cache, a tile's
-// shading and a pixel's trilinear sample.
+// shading and a pixel's samples of two levels.
 #include "world_texels.h"
 
 #include <algorithm>
@@ -61,6 +61,8 @@ const std::array<double, kTexelLevels> kInvSpacing = [] {
   return a;
 }();
 
+/// Texel coordinates are offset by 2^31 so that truncation is floor (|x| / s_0 < 2^31: 2000 km).
+constexpr double kTexelOffset = 2147483648.0;
 
 }  // namespace
 
@@ -111,14 +113,6 @@ TexelLod world_detail::texelLod(double footprint) {
   if (lod.level >= kTexelLevels - 1) lod = {1, kTexelLevels - 2};
   return lod;
 }
-
-namespace {
-
-
-/// Texel coordinates are offset by 2^31 so that truncation is floor (|x| / s_0 < 2^31: 2000 km).
-constexpr double kTexelOffset = 2147483648.0;
-
-}  // namespace
 
 bool World::Impl::texelColour(const Vec2& p, TexelLod lod, bool paved, TexelReader& rd, NoiseCache& nc, C3& colour,
                               float& shadow) const {

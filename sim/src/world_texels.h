@@ -1,7 +1,7 @@
 #pragma once
 // The ground's colour kept in world space across frames (internal to sim/src; World::Impl's
-// texels). A mission's consecutive frames see mostly the same ground, so the renderer shades the
-// ground once per texel rather than once per pixel and frame.
+// texels). Frames a short step apart see mostly the same ground, so the renderer shades the
+// ground once per texel rather than once per pixel and frame (WorldOptions::texel_cache_mib).
 //
 // Levels. Level L's texels lie on the world grid of spacing s_L = kTexel0 · 2^L (world frame, m;
 // texel (i, j) at (i · s_L, j · s_L)), each shaded as World::Impl::shade shades a point for a
