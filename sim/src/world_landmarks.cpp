@@ -302,21 +302,12 @@ float Landmarks::marksAt(const Vec2& p, const std::uint32_t* ids, std::uint32_t 
     if (!m.box.contains(p)) continue;  // the same answer from a cell's list and from a tile's
     if (m.kind != GroundMark::Kind::Cover) {
       s = std::max(s, markShadow(m, p, footprint));
-    } else if (c != nullptr) {
-      *c = coverColour(m, p, footprint, *c);
-      if (cover != nullptr && holdsCover(m, p)) *cover = static_cast<int>(m.landmark);
+    } else {
+      if (c != nullptr) *c = coverColour(m, p, footprint, *c);
+      if (cover != nullptr && (p - m.a).squaredNorm() < m.r * m.r) *cover = static_cast<int>(m.landmark);
     }
   }
   return s;
-}
-
-int Landmarks::coverAt(const Vec2& p, const std::uint32_t* ids, std::uint32_t n) const {
-  int cover = -1;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const GroundMark& m = marks[ids[i]];
-    if (m.kind == GroundMark::Kind::Cover && m.box.contains(p) && holdsCover(m, p)) cover = static_cast<int>(m.landmark);
-  }
-  return cover;
 }
 
 C3 Landmarks::sunlight(const Vec3& n) const {

@@ -71,9 +71,6 @@ struct GroundMark {
   std::uint64_t salt = 0;         // an ellipse's ragged outline, a cover's pattern
 };
 
-/// Whether p lies on cover m (its disc of radius r about a).
-inline bool holdsCover(const GroundMark& m, const Vec2& p) { return (p - m.a).squaredNorm() < m.r * m.r; }
-
 /// The sun of WorldOptions: toward it (unit), the ground direction shadows fall along (unit), and
 /// a shadow's length per metre of height.
 struct Sun {
@@ -98,12 +95,9 @@ struct Landmarks {
   /// The map's landmarks, seeded and lit by the options (seed, the sun, the shadows' tint).
   Landmarks(const Map& map, const WorldOptions& options);
   /// The landmarks' shadow at p (0 … 1, soft over a pixel `footprint` wide) from the marks
-  /// ids[0 … n); with `c`, a manhole cover there is painted on the ground colour *c and *cover
-  /// (unless nullptr) set to its landmark's index, else -1.
+  /// ids[0 … n); with `c`, a manhole cover there is painted on the ground colour *c; *cover (unless
+  /// nullptr) set to the landmark index of the cover holding p, else -1.
   float marksAt(const Vec2& p, const std::uint32_t* ids, std::uint32_t n, double footprint, C3* c, int* cover) const;
-  /// The landmark index of the manhole cover among the marks ids[0 … n) that holds p, else -1
-  /// (marksAt's *cover, without the colour).
-  int coverAt(const Vec2& p, const std::uint32_t* ids, std::uint32_t n) const;
   /// The colour of a body where the unit `ray` meets it (at p), seen by a pixel `footprint` wide.
   C3 bodyColour(const Body& body, const Vec3& p, const Vec3& ray, const BodyHit& hit, double footprint) const;
   /// Sunlight on a surface of normal n: the shadow's tint (k·C, blue shift) facing away from the

@@ -132,7 +132,7 @@ void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double,
                            float* rgb, std::uint8_t* mask, const LandmarkView* view, std::uint8_t* lmask) const {
   const auto w = static_cast<std::size_t>(rays.width());
   const auto [ch, sh, tx, ty] = pose;
-  rs.begin(w, 0.0f);
+  rs.begin(w);
   // The pixels that show a landmark's body are done; the others show the ground or the sky.
   const bool bodies_here = view != nullptr && view->bodies && bodyRow(rays, *view, v, rs, rgb, mask, lmask);
   // The ground pixels the texels give; where each of the others lies, grouped by their texture's
@@ -166,13 +166,11 @@ bool World::Impl::texelPixel(const Vec2& p, const RayTable::Ray& r, const CellLi
                              TexelReader& texels, NoiseCache& nc, C3& c, std::uint8_t& mask) const {
   // On a cover, or beside the paved area's edge (texels of the other class): shaded on its own.
   const bool paved = pavedAt(p, lists) >= 0;
-  float shadow = 0;  // the canopies', from the texels, then the landmarks' (the texels lack them)
-  if ((lists.n_marks > 0 && landmarks.coverAt(p, lists.marks, lists.n_marks) >= 0) ||
-      !texelColour(p, lod, paved, texels, nc, c, shadow))
-    return false;
-  if (lists.n_marks > 0)
-    shadow = std::max(shadow, landmarks.marksAt(p, lists.marks, lists.n_marks, r.footprint, nullptr, nullptr));
-  c = hazed(shadowed(c, shadow), haze);
+  int cover = -1;  // the landmarks' shadow here (the texels lack it), then the canopies' from the texels
+  const float marks = lists.n_marks > 0 ? landmarks.marksAt(p, lists.marks, lists.n_marks, r.footprint, nullptr, &cover) : 0.0f;
+  float shadow = 0;
+  if (cover >= 0 || !texelColour(p, lod, paved, texels, nc, c, shadow)) return false;
+  c = hazed(shadowed(c, std::max(shadow, marks)), haze);
   mask = paved ? 255 : 0;
   return true;
 }

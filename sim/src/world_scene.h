@@ -155,11 +155,11 @@ struct RowScratch {
   std::vector<int> shown;                       // per LandmarkView slot, the pixels that show it
   std::vector<float> rgb, shadows;              // a texel tile's colours and shadows (World::Impl::texelTile)
 
-  /// A row of w points begun: none located (footprints `fp`), no material groups.
-  void begin(std::size_t w, float footprint) {
+  /// A row of w points begun: none located (footprint 0: addPoint's), no material groups.
+  void begin(std::size_t w) {
     ground.resize(w);
     points.resize(w);
-    fp.assign(w, footprint);
+    fp.assign(w, 0.0f);
     for (auto& g : group) g.clear();
   }
 };

@@ -77,7 +77,7 @@ const TexelTile* World::Impl::texelTile(int level, std::int64_t tx, std::int64_t
     RowScratch& rs = rd.scratch;
     const double s = texelSpacing(level);
     constexpr std::size_t n = static_cast<std::size_t>(kTexelSide) * kTexelSide;
-    rs.begin(n, static_cast<float>(s));
+    rs.begin(n);
     clearTiles(rd.lists);
     addTile(Box2(Vec2(static_cast<double>(tx * kTexelTile) * s, static_cast<double>(ty * kTexelTile) * s),
                  Vec2(static_cast<double>((tx + 1) * kTexelTile) * s, static_cast<double>((ty + 1) * kTexelTile) * s)),
