@@ -12,6 +12,7 @@
 
 #include "mapnav/core/io.h"
 #include "mapnav/map/map_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -119,7 +120,7 @@ TEST(Cli, InfoPrintsCountsAndJson) {
   EXPECT_NE(text.out.find("components:    1 (connected)"), std::string::npos) << text.out;
   const auto json = runCli({"map", "info", "--json", str(testing::mapPath("cmu_campus.json"))});
   EXPECT_EQ(json.exit_code, 0);
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   EXPECT_NE(json.out.find("\"roads\": " + std::to_string(map.roads().size())), std::string::npos) << json.out;
   EXPECT_NE(json.out.find("\"plaza\": 1"), std::string::npos) << json.out;
 }
@@ -211,12 +212,12 @@ TEST(Cli, PredictAtTheDialoguesStartSeesR1WithParallelEdgesOneWidthApart) {
   std::set<std::string> ids;
   for (const auto& s : j["objects"][0]["interest_segments"]) ids.insert(s["id"]);
   EXPECT_EQ(ids, (std::set<std::string>{"R1.left.0", "R1.right.0"}));
-  const double width = loadMap(testing::mapPath("cmu_campus.json")).road("R1").width;
+  const double width = testing::campusMap().road("R1").width;
   ASSERT_EQ(j["relations"].size(), 1u);
   EXPECT_EQ(j["relations"][0]["type"], "parallel");
   EXPECT_NEAR(j["relations"][0]["separation_m"].get<double>(), width, 1e-3);
   // The pose is 3 m from I1 along R1, facing away from it.
-  const Vec2 i1 = loadMap(testing::mapPath("cmu_campus.json")).intersection("I1").position;
+  const Vec2 i1 = testing::campusMap().intersection("I1").position;
   EXPECT_NEAR(std::hypot(j["pose"]["x"].get<double>() - i1.x(), j["pose"]["y"].get<double>() - i1.y()), 3.0, 1e-3);
   EXPECT_EQ(readFile(dir / "view.png").substr(1, 3), "PNG");
 }

@@ -16,8 +16,8 @@
 #include "mapnav/localization/correspondences.h"
 #include "mapnav/localization/line_fit.h"
 #include "mapnav/map/map.h"
-#include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/tokens/detected_object.h"
 
@@ -189,7 +189,7 @@ TEST(MatchingOnCurve, PiecewiseEdgesFollowTheCurveWhereThePredictedChordsDoNot) 
   // On the campus' R5, a 35 m radius curve, the vehicle 20 m from I4 facing along the road. Vision's
   // lines are short chords of the edges (2.4 m: 2 cm from the curve, as the image polygon's 3 px
   // tolerance gives), breaking at other places than the prediction's 5 m chords (0.1 m tolerance).
-  const Map campus = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& campus = testing::campusMap();
   const Road& r5 = campus.road("R5");
   const Pose2 truth(r5.centerline.pointAt(20.0), r5.centerline.headingAt(20.0));
   const auto camera = testing::terregatorPinhole();

@@ -48,14 +48,8 @@ TEST(RegionAgreement, IsTheIoUOfTheRegionAndThePavedAreaOnTheGrid) {
 
 class RelocalizeOnTheCross : public ::testing::Test {
  protected:
-  RelocalizeOnTheCross() : map_(testing::crossOfFourRoads()), predictor_(map_) {
-    CameraIntrinsics in;
-    in.fx = in.fy = 904;
-    CameraMount mount;
-    mount.height_m = 1.5;
-    mount.tilt_rad = degToRad(22.0);
-    camera_ = createCamera(LensModel::Pinhole, in, mount);
-  }
+  RelocalizeOnTheCross()
+      : map_(testing::crossOfFourRoads()), predictor_(map_), camera_(testing::terregatorPinhole()) {}
   // What a perfect Vision finds from `truth`: the cross's paved area (four 2 m roads, 20 m each way
   // from (0, 0)) in the vehicle frame; the footprint cuts it.
   static Polygon2 roadSeenFrom(const Pose2& truth) {

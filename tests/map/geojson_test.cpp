@@ -13,7 +13,7 @@
 #include "mapnav/map/geodesy.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/validation.h"
-#include "mapnav/testing/landmarks.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -56,7 +56,7 @@ void expectSameNetwork(const MapData& a, const MapData& b, double tol) {
 }
 
 TEST(GeoJsonImport, CampusGeoJsonMatchesTheCampusMapWithinOneCentimetre) {
-  const MapData native = loadMap(testing::mapPath("cmu_campus.json")).data();
+  const MapData native = testing::campusMap().data();
   Issues issues;
   const auto imported = importGeoJson(readFile(testing::mapPath("cmu_campus.geojson")), issues);
   ASSERT_TRUE(imported);
@@ -130,7 +130,7 @@ TEST(GeoJsonExport, ARoundTripKeepsArbitraryNestedPropertiesLossless) {
 }
 
 TEST(GeoJsonExport, AMapWithoutOriginNeedsOne) {
-  MapData data = loadMap(testing::mapPath("cmu_campus.json")).data();
+  MapData data = testing::campusMap().data();
   data.origin.reset();
   EXPECT_THROW(exportGeoJson(data), InvalidInput);
   EXPECT_NO_THROW(exportGeoJson(data, GeoOrigin{40.0, -80.0, 0.0}));

@@ -7,7 +7,7 @@
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
 #include "mapnav/map/generate.h"
-#include "mapnav/map/map_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -357,7 +357,7 @@ TEST(ViewPredictor, KeepsWhatThePoseDoesNotChangeAndGivesPredictViewsAnswers) {
   // second pass takes each road's and intersection's segments from the store. Two predictors with
   // different options must each give what predictView gives with theirs. A pose every 7 m (every
   // 21 m under the sanitizers, where predicting runs 5-10 times slower).
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   PredictOptions coarse;
   coarse.simplify_tolerance_m = 0.5;
   ViewPredictor fine_predictor(map), coarse_predictor(map, coarse);

@@ -7,16 +7,13 @@
 #include <gtest/gtest.h>
 
 #include "mapnav/core/error.h"
-#include "mapnav/map/map_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
 namespace {
 
-const Map& campus() {
-  static const Map map = loadMap(testing::mapPath("cmu_campus.json"));
-  return map;
-}
+const Map& campus() { return testing::campusMap(); }
 
 // A pipeline that says what it is told and counts its calls.
 class ScriptedPipeline : public VisionPipeline {

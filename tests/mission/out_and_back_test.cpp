@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "mapnav/core/io.h"
-#include "mapnav/map/map_io.h"
 #include "mapnav/mission/modules.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/mission/simulate.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 
@@ -21,13 +21,8 @@ namespace mapnav {
 namespace {
 namespace fs = std::filesystem;
 
-const Map& outAndBackMap() {
-  static const Map map = loadMap(testing::mapPath("cmu_campus.json"));
-  return map;
-}
-
 NavigatorModule outAndBackNavigator() {
-  return NavigatorModule(outAndBackMap(), parseRoadPosition("R1@I1+10"),
+  return NavigatorModule(testing::campusMap(), parseRoadPosition("R1@I1+10"),
                          {parseRoadPosition("R1@I1+25"), parseRoadPosition("R2@I1+10")});
 }
 

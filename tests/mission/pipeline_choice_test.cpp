@@ -13,6 +13,7 @@
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/runner.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 
@@ -29,7 +30,7 @@ TEST(PipelineForSurface, SlabsCallForTheSidewalkClassifierAsphaltAndGravelForRgb
 }
 
 TEST(PipelineForRoads, TheExampleMapsDecide) {
-  const Map campus = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& campus = testing::campusMap();
   std::vector<std::string> all;
   for (const Road& r : campus.roads()) all.push_back(r.id);
   EXPECT_EQ(pipelineForRoads(campus, all, "campus"), "sidewalk");  // 24 concrete roads and a brick one

@@ -11,7 +11,7 @@
 #include "mapnav/core/io.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/geodesy.h"
-#include "mapnav/map/map_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -144,7 +144,7 @@ TEST(ReportOptions, ValidateNamesTheField) {
 }
 
 TEST(ReportHtml, IsSelfContainedWithEveryPart) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   const MissionRun run = handMadeRun();
   ReportFrames frames;
   const Image rgb = plainFrame(512, 480, 90);
@@ -172,7 +172,7 @@ TEST(ReportHtml, IsSelfContainedWithEveryPart) {
 }
 
 TEST(ReportHtml, TheSummaryHasThePathAgreement) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   MissionRun run = handMadeRun();
   PathAgreementSummary s;
   s.frames = 6;
@@ -194,7 +194,7 @@ TEST(ReportHtml, TheSummaryHasThePathAgreement) {
 }
 
 TEST(ReportHtml, TheSummaryHasTheFilterConsistency) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   MissionRun run = handMadeRun();
   run.metrics.has_truth = true;
   run.metrics.consistency.frames = 8;
@@ -212,7 +212,7 @@ TEST(ReportHtml, TheSummaryHasTheFilterConsistency) {
 }
 
 TEST(ReportHtml, SaysWhatFixedTheAlongRoadPositionInTheSummaryAndUnderTheErrorPlot) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   MissionRun run = handMadeRun();
   run.metrics.has_truth = true;
   run.frames[1].along_cue = AlongCue::Intersection;
@@ -236,7 +236,7 @@ TEST(ReportHtml, SaysWhatFixedTheAlongRoadPositionInTheSummaryAndUnderTheErrorPl
 }
 
 TEST(ReportGeoJson, TheTrajectoriesReadBackToThePosesThroughTheMapsOrigin) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   const MissionRun run = handMadeRun();
   const auto doc = nlohmann::json::parse(trajectoriesGeoJson(run, map));
   EXPECT_EQ(doc["type"], "FeatureCollection");
@@ -267,7 +267,7 @@ TEST(ReportGeoJson, TheTrajectoriesReadBackToThePosesThroughTheMapsOrigin) {
 // GNSS fixes (a real log's, every other frame here, 0.5 m off the truth to the left, sigma 0.2 m):
 // a ring each on the map with their key, and a MultiPoint in the GeoJSON; a run without has neither.
 TEST(ReportGnss, FixesAreDrawnOnTheMapAndWrittenToTheGeoJson) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   MissionRun run = handMadeRun();
   EXPECT_EQ(reportHtml(run, map, {}, "").find("GNSS fix"), std::string::npos);
   EXPECT_EQ(nlohmann::json::parse(trajectoriesGeoJson(run, map))["features"].size(), 4u);
@@ -292,7 +292,7 @@ TEST(ReportGnss, FixesAreDrawnOnTheMapAndWrittenToTheGeoJson) {
 }
 
 TEST(ReportFiles, WritesTheReportAndTheGeoJsonAndNamesABadTrace) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   const fs::path dir = testing::freshTempDir() / "report";
   const ReportFiles files = writeReport(dir, handMadeRun(), map, ReportFrames{}, "", "");
   EXPECT_EQ(files.html, dir / "report.html");

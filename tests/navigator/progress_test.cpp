@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "mapnav/core/error.h"
-#include "mapnav/map/map_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -11,7 +11,7 @@ namespace {
 
 class CampusDialogueRoute : public ::testing::Test {
  protected:
-  Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   RoadGraph graph{map};
   Route route = *graph.route(parseRoadPosition("R1@I1+3"), parseRoadPosition("R3@I3+2")).route;
 };

@@ -6,7 +6,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/map/generate.h"
-#include "mapnav/map/map_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -37,7 +37,7 @@ std::vector<std::string> describe(const Route& route) {
 // Wallace 1985, Figure 1: "Robot is at road R1, 3 meters from I1. Navigate to R3, 2 meters from
 // I3." — "Drive on it 2.5 meters and turn to right 90 degrees."
 TEST(CampusDialogue, RouteFromR1NearI1ToR3NearI3TurnsRightAtI1ThenLeftTwice) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   RoadGraph graph(map);
   const RouteResult result = graph.route(at("R1@I1+3"), at("R3@I3+2"));
   ASSERT_TRUE(result.route) << result.reason;

@@ -12,7 +12,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/map/validation.h"
 #include "mapnav/osm/osm_import.h"
-#include "mapnav/testing/landmarks.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {

@@ -10,9 +10,9 @@
 #include <cstdio>
 
 #include "mapnav/geometry/polygon.h"
-#include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/sim/world.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -86,7 +86,7 @@ double forwardIoU(const Map& map, const World& world, const Camera& cam, const P
 }
 
 TEST(RenderedMask, AgreesWithTheForwardProjectionOfTheRoadPolygons) {
-  const Map map = loadMap(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusMap();
   const World world(map);
   for (const LensModel model : {LensModel::Pinhole, LensModel::PaperFisheye}) {
     const auto cam = camera(model);

@@ -10,9 +10,9 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/image/png.h"
-#include "mapnav/map/map_io.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/sim/world_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -47,7 +47,7 @@ Landmark landmark(const std::string& id, LandmarkKind kind, Vec2 position, doubl
 Map sidewalk(std::vector<Landmark> landmarks) {
   MapData data;
   data.name = "sidewalk";
-  data.surfaces = loadMap(testing::mapPath("cmu_campus.json")).data().surfaces;
+  data.surfaces = testing::campusMap().data().surfaces;
   data.intersections.push_back({"I1", IntersectionKind::End, Vec2(-40, 0), std::nullopt});
   data.intersections.push_back({"I2", IntersectionKind::End, Vec2(120, 0), std::nullopt});
   Road road;

@@ -14,42 +14,18 @@
 #include "mapnav/image/png.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/sim/world_io.h"
-#include "mapnav/testing/landmarks.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
 namespace {
 
 // The Terregator cameras of maps/cameras/, at 512 × 512.
-std::unique_ptr<Camera> pinhole512() {
-  CameraIntrinsics in;
-  in.width = 512;
-  in.height = 512;
-  in.fx = in.fy = 904.0;
-  in.cx = in.cy = 255.5;
-  CameraMount mount;
-  mount.height_m = 1.5;
-  mount.tilt_rad = degToRad(22.0);
-  return createCamera(LensModel::Pinhole, in, mount);
-}
-
-std::unique_ptr<Camera> fisheye512() {
-  CameraIntrinsics in;
-  in.width = 512;
-  in.height = 512;
-  in.fx = in.fy = 257.0;
-  in.cx = in.cy = 255.5;
-  CameraMount mount;
-  mount.height_m = 1.5;
-  mount.tilt_rad = degToRad(20.0);
-  return createCamera(LensModel::PaperFisheye, in, mount);
-}
+std::unique_ptr<Camera> pinhole512() { return testing::terregatorCamera(LensModel::Pinhole, 512, 512); }
+std::unique_ptr<Camera> fisheye512() { return testing::terregatorCamera(LensModel::PaperFisheye, 512, 512); }
 
 // Without its landmarks (testing::withoutLandmarks): the world's own tests render roads and shadows.
-const Map& campus() {
-  static const Map map = testing::withoutLandmarks(testing::mapPath("cmu_campus.json"));
-  return map;
-}
+const Map& campus() { return testing::campusWithoutLandmarks(); }
 
 // Independent of the renderer's grid: backproject every pixel with the camera and test the map's own
 // polygons with the exact mapnav::contains. Only ground within `range` m of the vehicle counts.

@@ -15,32 +15,13 @@
 
 #include "../../sim/src/world_texels.h"
 #include "mapnav/core/error.h"
-#include "mapnav/map/map_io.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/sim/world_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
 namespace {
-
-const Map& texelsCampus() {
-  static const Map map = loadMap(testing::mapPath("cmu_campus.json"));
-  return map;
-}
-
-// The Terregator pin-hole of maps/cameras/ at width × height (f scaled with the width), 1.5 m up, 22°.
-std::unique_ptr<Camera> terregator(int width, int height) {
-  CameraIntrinsics in;
-  in.width = width;
-  in.height = height;
-  in.fx = in.fy = 904.0 * width / 512.0;
-  in.cx = (width - 1) / 2.0;
-  in.cy = (height - 1) / 2.0;
-  CameraMount mount;
-  mount.height_m = 1.5;
-  mount.tilt_rad = degToRad(22.0);
-  return createCamera(LensModel::Pinhole, in, mount);
-}
 
 WorldOptions texelsWorld(double mib) {
   WorldOptions o;
@@ -54,29 +35,29 @@ bool sameTexelFrame(const Frame& a, const Frame& b) {
 }
 
 TEST(WorldTexels, AFrameDoesNotDependOnWhatTheCacheHeld) {
-  const auto cam = terregator(160, 150);
+  const auto cam = testing::terregatorCamera(LensModel::Pinhole, 160, 150);
   const Pose2 here(53, 40, 0), there(80, 40.5, 0.3), away(20, 2, -1.2);
-  const World world(texelsCampus(), texelsWorld(64));
+  const World world(testing::campusMap(), texelsWorld(64));
   const Frame cold = world.render(*cam, here, 1.0);
   // After other frames, with the tiles of this one cached and others beside them.
   world.render(*cam, there, 2.0);
   world.render(*cam, away, 3.0);
   EXPECT_TRUE(sameTexelFrame(world.render(*cam, here, 1.0), cold));
   // A cache of one tile drops every tile as soon as the next is shaded.
-  const World tiny(texelsCampus(), texelsWorld(1e-6));
+  const World tiny(testing::campusMap(), texelsWorld(1e-6));
   tiny.render(*cam, there, 2.0);
   EXPECT_TRUE(sameTexelFrame(tiny.render(*cam, here, 1.0), cold));
   // Bands of rows on three threads share the cache and shade tiles side by side.
   WorldOptions three = texelsWorld(64);
   three.threads = 3;
-  EXPECT_TRUE(sameTexelFrame(World(texelsCampus(), three).render(*cam, here, 1.0), cold));
+  EXPECT_TRUE(sameTexelFrame(World(testing::campusMap(), three).render(*cam, here, 1.0), cold));
 }
 
 // Frames of the bench scene (a tree's, a pole's and a bench's shadows, seeded canopies) and of a
 // manhole cover, against the per-pixel renderer's.
 TEST(WorldTexels, MasksAreThePerPixelRenderersAndColoursWithinTheTexelsInterpolation) {
-  const auto cam = terregator(512, 480);
-  const World texels(texelsCampus(), texelsWorld(64)), exact(texelsCampus(), texelsWorld(0));
+  const auto cam = testing::terregatorPinhole();
+  const World texels(testing::campusMap(), texelsWorld(64)), exact(testing::campusMap(), texelsWorld(0));
   for (const Pose2& pose : {Pose2(53, 40, 0), Pose2(74, 40, 0.02), Pose2(48.5, 45, 1.5)}) {
     const Frame f = texels.render(*cam, pose, 0.0), g = exact.render(*cam, pose, 0.0);
     EXPECT_TRUE(f.mask == g.mask);

@@ -4,34 +4,17 @@
 #include <string>
 
 #include "mapnav/core/error.h"
-#include "mapnav/map/map_io.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/sim/world_io.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
 namespace {
 
-const Map& campusMap() {
-  static const Map map = loadMap(testing::mapPath("cmu_campus.json"));
-  return map;
-}
-
-// The fish-eye sees ground, sky and the black outside its circle; 97 rows do not split evenly.
-std::unique_ptr<Camera> fisheye(int width, int height) {
-  CameraIntrinsics in;
-  in.width = width;
-  in.height = height;
-  in.fx = in.fy = 257.0 * width / 512.0;
-  in.cx = (width - 1) / 2.0;
-  in.cy = (height - 1) / 2.0;
-  CameraMount mount;
-  mount.tilt_rad = degToRad(20.0);
-  return createCamera(LensModel::PaperFisheye, in, mount);
-}
-
 TEST(WorldThreads, EveryThreadCountRendersTheSameFrame) {
-  const auto cam = fisheye(160, 97);
+  // The fish-eye sees ground, sky and the black outside its circle; 97 rows do not split evenly.
+  const auto cam = testing::terregatorCamera(LensModel::PaperFisheye, 160, 97);
   WorldOptions o;
   o.seed = 5;
   o.shadow_density = 0.4;
@@ -39,13 +22,13 @@ TEST(WorldThreads, EveryThreadCountRendersTheSameFrame) {
   o.paved_edge_samples = 3;  // the edge pass reads the rows above and below a band
   o.tv_color_shift = true;   // the chroma blur runs along rows
   const Pose2 pose(53, 40, 0.3);
-  const Frame one = World(campusMap(), o).render(*cam, pose, 7.0);
+  const Frame one = World(testing::campusMap(), o).render(*cam, pose, 7.0);
   int paved = 0;
   for (std::uint8_t m : one.mask.data) paved += m == 255;
   EXPECT_GT(paved, 0);  // the frame shows the road: the bands have edges to re-sample
   for (int threads : {2, 3, 7, 0, 200}) {
     o.threads = threads;
-    const Frame f = World(campusMap(), o).render(*cam, pose, 7.0);
+    const Frame f = World(testing::campusMap(), o).render(*cam, pose, 7.0);
     EXPECT_TRUE(f.rgb == one.rgb) << threads << " threads";
     EXPECT_TRUE(f.mask == one.mask) << threads << " threads";
   }

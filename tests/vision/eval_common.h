@@ -10,16 +10,13 @@
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/map.h"
 #include "mapnav/map/map_io.h"
-#include "mapnav/testing/landmarks.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav::visiontest {
 
 /// The campus without its landmarks (testing::withoutLandmarks).
-inline const Map& campus() {
-  static const Map map = testing::withoutLandmarks(testing::mapPath("cmu_campus.json"));
-  return map;
-}
+inline const Map& campus() { return testing::campusWithoutLandmarks(); }
 
 inline const Map& park() {
   static const Map map = loadMap(testing::mapPath("park_path.json"));

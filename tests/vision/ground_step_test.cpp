@@ -13,7 +13,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/sim/world.h"
-#include "mapnav/testing/landmarks.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 #include "sim_frame.h"
 #include "mapnav/vision/ground_step.h"

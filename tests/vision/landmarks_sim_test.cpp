@@ -16,7 +16,7 @@
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/sim/world.h"
-#include "mapnav/testing/landmarks.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 #include "sim_frame.h"
 #include "mapnav/vision/landmarks.h"

@@ -9,7 +9,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/sim/world.h"
-#include "mapnav/testing/landmarks.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision/segmentation_eval.h"

@@ -7,9 +7,8 @@
 #include <vector>
 
 #include "mapnav/core/error.h"
-#include "mapnav/map/map_io.h"
 #include "mapnav/sim/world.h"
-#include "mapnav/testing/landmarks.h"
+#include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {
@@ -100,7 +99,7 @@ std::pair<EdgeFit, EdgeFit> roadEdges(const Image& rect) {
 }
 
 void expectStraightParallelEdges(const Camera& camera, const char* label) {
-  const Map map = testing::withoutLandmarks(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusWithoutLandmarks();
   const World world(map, cleanWorld());
   // On R1, 3 m past I1, looking along it (east): a 2.5 m wide straight road for 47 m.
   const Frame frame = world.render(camera, Pose2(53, 40, 0), 0.0);
@@ -132,7 +131,7 @@ TEST(Rectifier, StraightRoadEdgesAreParallelForThePapersFisheyeCamera) {
 
 TEST(Rectifier, RoadWidthInTheRectifiedImageIsTheMapsWidth) {
   const auto camera = testing::terregatorPinhole();
-  const Map map = testing::withoutLandmarks(testing::mapPath("cmu_campus.json"));
+  const Map& map = testing::campusWithoutLandmarks();
   const World world(map, cleanWorld());
   const Frame frame = world.render(*camera, Pose2(53, 40, 0), 0.0);
   const Rectifier rectifier(*camera);

@@ -107,18 +107,28 @@ fs::path freshTempDir() {
                                        << dh << ", tolerance " << tolerance;
 }
 
-std::unique_ptr<Camera> terregatorPinhole(double tilt_deg, double yaw_deg) {
+namespace {
+std::unique_ptr<Camera> terregator(LensModel lens, int width, int height, double tilt_deg, double yaw_deg) {
   CameraIntrinsics in;
-  in.width = 512;
-  in.height = 480;
-  in.fx = in.fy = 904.0;
-  in.cx = 255.5;
-  in.cy = 239.5;
+  in.width = width;
+  in.height = height;
+  in.fx = in.fy = (lens == LensModel::Pinhole ? 904.0 : 257.0) * width / 512.0;
+  in.cx = (width - 1) / 2.0;
+  in.cy = (height - 1) / 2.0;
   CameraMount mount;
   mount.height_m = 1.5;
   mount.tilt_rad = degToRad(tilt_deg);
   mount.yaw_rad = degToRad(yaw_deg);
-  return createCamera(LensModel::Pinhole, in, mount);
+  return createCamera(lens, in, mount);
+}
+}  // namespace
+
+std::unique_ptr<Camera> terregatorPinhole(double tilt_deg, double yaw_deg) {
+  return terregator(LensModel::Pinhole, 512, 480, tilt_deg, yaw_deg);
+}
+
+std::unique_ptr<Camera> terregatorCamera(LensModel lens, int width, int height) {
+  return terregator(lens, width, height, lens == LensModel::Pinhole ? 22.0 : 20.0, 0.0);
 }
 
 namespace {

@@ -51,6 +51,11 @@ std::size_t occurrences(const std::string& text, const std::string& what);
 /// principal point (255.5, 239.5), 1.5 m high, tilted `tilt_deg` down (22 in the file), yawed
 /// `yaw_deg` left.
 std::unique_ptr<Camera> terregatorPinhole(double tilt_deg = 22.0, double yaw_deg = 0.0);
+/// The Terregator cameras of maps/cameras/ at width x height, for frames smaller or squarer than
+/// the files': the focal length scaled with the width (pin-hole 904 px, 22 deg down; the paper's
+/// fish-eye 257 px, 20 deg down; per 512 px), the principal point at the centre, 1.5 m high.
+/// terregatorCamera(LensModel::Pinhole, 512, 480) is terregatorPinhole().
+std::unique_ptr<Camera> terregatorCamera(LensModel lens, int width, int height);
 
 /// What running the built `mapnav` CLI gave.
 struct CommandResult {

@@ -1,7 +1,7 @@
 #pragma once
-// Comparing landmarks (issue 28) in the tests of the modules that read and write them, and a map
-// to look for them on. Header-only:
-// the support library itself does not link the map module.
+// Maps for the tests: the example maps loaded once per test program, maps built in code (a straight
+// road, an avenue with landmarks, a cross), and comparing landmarks (issue 28). Header-only: the
+// support library itself does not link the map module.
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -12,6 +12,7 @@
 
 #include "mapnav/map/map.h"
 #include "mapnav/map/map_io.h"
+#include "mapnav/testing/support.h"
 
 namespace mapnav::testing {
 
@@ -45,6 +46,18 @@ inline Map withoutLandmarks(const std::filesystem::path& path) {
   MapData data = loadMap(path).data();
   data.landmarks.clear();
   return Map(std::move(data), path.filename().string() + " without landmarks");
+}
+
+/// maps/cmu_campus.json, loaded once per test program.
+inline const Map& campusMap() {
+  static const Map map = loadMap(mapPath("cmu_campus.json"));
+  return map;
+}
+
+/// maps/cmu_campus.json without its landmarks (withoutLandmarks), loaded once per test program.
+inline const Map& campusWithoutLandmarks() {
+  static const Map map = withoutLandmarks(mapPath("cmu_campus.json"));
+  return map;
 }
 
 /// A straight road R1 from A (0, 0) to B (length_m, 0), width_m of `surface` with `shoulder` on both
