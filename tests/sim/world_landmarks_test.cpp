@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "world_options_checks.h"
 #include "mapnav/core/error.h"
 #include "mapnav/image/png.h"
 #include "mapnav/sim/world.h"
@@ -271,12 +272,7 @@ TEST(WorldLandmarks, TheSunIsValidatedAndRead) {
   o.sun_elevation_rad = 0.05;
   EXPECT_THROW(o.validate(), InvalidInput);
   o.sun_elevation_rad = 1.6;
-  try {
-    o.validate();
-    ADD_FAILURE() << "sun_elevation_rad 1.6 accepted";
-  } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("sun_elevation_rad"), std::string::npos) << e.what();
-  }
+  EXPECT_TRUE(simtest::rejectedNaming(o, "sun_elevation_rad"));
   o = {};
   o.sun_azimuth_rad = std::nan("");
   EXPECT_THROW(o.validate(), InvalidInput);

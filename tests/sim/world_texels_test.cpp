@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../../sim/src/world_texels.h"
+#include "world_options_checks.h"
 #include "mapnav/core/error.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/sim/world_io.h"
@@ -135,19 +136,9 @@ TEST(WorldTexels, BadBudgetsAreNamed) {
   for (const double bad : {-1.0, std::nan(""), 2e6}) {
     WorldOptions o;
     o.texel_cache_mib = bad;
-    try {
-      o.validate();
-      ADD_FAILURE() << "texel_cache_mib " << bad << " accepted";
-    } catch (const InvalidInput& e) {
-      EXPECT_NE(std::string(e.what()).find("texel_cache_mib"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(simtest::rejectedNaming(o, "texel_cache_mib")) << bad;
   }
-  Issues issues;
-  EXPECT_EQ(parseWorldOptions(R"({"texel_cache_mib": 32})", "/world", issues).texel_cache_mib, 32.0);
-  EXPECT_TRUE(issues.empty());
-  parseWorldOptions(R"({"texel_cache_mib": -3})", "/world", issues);
-  ASSERT_EQ(issues.size(), 1u);
-  EXPECT_EQ(issues[0].where, "/world/texel_cache_mib");
+  EXPECT_EQ(simtest::readsGoodAndNamesBad("texel_cache_mib", "32", "-3").texel_cache_mib, 32.0);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // The test helpers' own behaviour that other tests rely on: freshTempDir's folders go away with a
-// passing test and stay with a failing one.
+// passing test and stay with a failing one; throwsInvalidInputNaming fails where a check should.
 #include <fstream>
+#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -55,6 +56,18 @@ TEST(FreshTempDir, AFailingTestsFolderIsKeptAndNamed) {
   EXPECT_TRUE(fs::is_regular_file(dir / "file.txt")) << dir;
   EXPECT_EQ(testing::occurrences(r.err, "mapnav test: kept " + dir.string() + "\n"), 1u) << r.err;
   fs::remove_all(dir);
+}
+
+TEST(ThrowsInvalidInputNaming, SucceedsOnlyOnAnInvalidInputThatNamesTheWords) {
+  const auto bad_speed = [] { throw InvalidInput("speed_mps: -1 is not positive"); };
+  EXPECT_TRUE(testing::throwsInvalidInputNaming(bad_speed, "speed_mps"));
+  const ::testing::AssertionResult other_field = testing::throwsInvalidInputNaming(bad_speed, "width");
+  EXPECT_FALSE(other_field);
+  EXPECT_EQ(std::string(other_field.message()), "the message \"speed_mps: -1 is not positive\" does not name width");
+  const ::testing::AssertionResult accepted = testing::throwsInvalidInputNaming([] {}, "speed_mps");
+  EXPECT_FALSE(accepted);
+  EXPECT_EQ(std::string(accepted.message()), "nothing thrown: accepted (speed_mps)");
+  EXPECT_THROW(testing::throwsInvalidInputNaming([] { throw IoError("disk"); }, "disk"), IoError);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mapnav/core/error.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
@@ -41,6 +42,19 @@ std::filesystem::path freshTempDir();
 
 /// How many times `what` occurs in `text` (overlapping occurrences counted).
 std::size_t occurrences(const std::string& text, const std::string& what);
+
+/// Success when calling `f` throws InvalidInput whose message contains `words` (the bad field's
+/// name, say); otherwise a failure saying what happened instead. Another exception propagates.
+template <class F>
+::testing::AssertionResult throwsInvalidInputNaming(F&& f, const std::string& words) {
+  try {
+    f();
+  } catch (const InvalidInput& e) {
+    if (std::string(e.what()).find(words) != std::string::npos) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "the message \"" << e.what() << "\" does not name " << words;
+  }
+  return ::testing::AssertionFailure() << "nothing thrown: accepted (" << words << ")";
+}
 
 ::testing::AssertionResult vecNear(const Vec2& actual, const Vec2& expected, double tolerance);
 ::testing::AssertionResult poseNear(const Pose2& actual, const Pose2& expected, double tolerance);
