@@ -10,10 +10,9 @@
 
 namespace mapnav::cli {
 
-/// World::render per frame on the sidewalk scene's map and camera (512 x 480, the default world,
-/// the scene's poses in turn, one thread), and a copy of a frame's colour and mask planes.
-/// The renderer on a drive of 0.1 m a frame with the texel cache (WorldOptions::texel_cache_mib 64)
-/// and per pixel (the default), beside a copy of a frame's colour and mask planes.
+/// World::render per frame on the sidewalk scene's map and camera (512 x 480, one thread), on a drive
+/// of 0.1 m a frame from the scene's first pose: with the texel cache (WorldOptions::texel_cache_mib
+/// 64) and per pixel (the default world), beside a copy of a frame's colour and mask planes.
 struct RenderTimes {
   int width = 0, height = 0;
   Measured render, per_pixel, copy;

@@ -124,25 +124,22 @@ bool World::Impl::texelColour(const Vec2& p, TexelLod lod, bool paved, TexelRead
   double gy = p.y() * kInvSpacing[static_cast<std::size_t>(lod.level)] + kTexelOffset;
   for (int k = 0; k < 2; ++k) {
     const float wk = k == 0 ? 1 - lod.mix : lod.mix;
-    if (wk == 0) {  // the other level alone
-      gx = 0.5 * gx + 0.5 * kTexelOffset;
-      gy = 0.5 * gy + 0.5 * kTexelOffset;
-      continue;
+    if (wk != 0) {  // else the other level alone
+      const int level = lod.level + k;
+      const auto i = static_cast<std::int64_t>(gx), j = static_cast<std::int64_t>(gy);  // ≥ 0: the floor
+      const auto ax = static_cast<float>(gx - static_cast<double>(i)), ay = static_cast<float>(gy - static_cast<double>(j));
+      // floor(texel / kTexelTile) less the offset's tiles
+      const std::int64_t tx = (i >> kTexelTileBits) - (std::int64_t{1} << (31 - kTexelTileBits));
+      const std::int64_t ty = (j >> kTexelTileBits) - (std::int64_t{1} << (31 - kTexelTileBits));
+      const std::uint64_t key = texelKey(level, tx, ty);
+      const std::size_t l = TexelReader::slot(key);
+      const TexelTile* tile = rd.key[l] == key ? rd.tile[l] : texelTile(level, tx, ty, rd, nc);
+      const Texel* a = tile->texel.data() + (j & (kTexelTile - 1)) * kTexelSide + (i & (kTexelTile - 1));
+      const Texel* c = a + kTexelSide;
+      if (!(same(a[0]) && same(a[1]) && same(c[0]) && same(c[1]))) return false;
+      const float w00 = wk * (1 - ax) * (1 - ay), w10 = wk * ax * (1 - ay), w01 = wk * (1 - ax) * ay, w11 = wk * ax * ay;
+      sum += (a[0] * w00 + a[1] * w10) + (c[0] * w01 + c[1] * w11);
     }
-    const int level = lod.level + k;
-    const auto i = static_cast<std::int64_t>(gx), j = static_cast<std::int64_t>(gy);  // ≥ 0: the floor
-    const auto ax = static_cast<float>(gx - static_cast<double>(i)), ay = static_cast<float>(gy - static_cast<double>(j));
-    // floor(texel / kTexelTile) less the offset's tiles
-    const std::int64_t tx = (i >> kTexelTileBits) - (std::int64_t{1} << (31 - kTexelTileBits));
-    const std::int64_t ty = (j >> kTexelTileBits) - (std::int64_t{1} << (31 - kTexelTileBits));
-    const std::uint64_t key = texelKey(level, tx, ty);
-    const std::size_t l = TexelReader::slot(key);
-    const TexelTile* tile = rd.key[l] == key ? rd.tile[l] : texelTile(level, tx, ty, rd, nc);
-    const Texel* a = tile->texel.data() + (j & (kTexelTile - 1)) * kTexelSide + (i & (kTexelTile - 1));
-    const Texel* c = a + kTexelSide;
-    if (!(same(a[0]) && same(a[1]) && same(c[0]) && same(c[1]))) return false;
-    const float w00 = wk * (1 - ax) * (1 - ay), w10 = wk * ax * (1 - ay), w01 = wk * (1 - ax) * ay, w11 = wk * ax * ay;
-    sum += (a[0] * w00 + a[1] * w10) + (c[0] * w01 + c[1] * w11);
     gx = 0.5 * gx + 0.5 * kTexelOffset;  // the next level's coordinates: half, offset kept
     gy = 0.5 * gy + 0.5 * kTexelOffset;
   }

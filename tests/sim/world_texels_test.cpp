@@ -15,9 +15,7 @@
 
 #include "../../sim/src/world_texels.h"
 #include "world_options_checks.h"
-#include "mapnav/core/error.h"
 #include "mapnav/sim/world.h"
-#include "mapnav/sim/world_io.h"
 #include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 

@@ -4,9 +4,7 @@
 #include <string>
 
 #include "world_options_checks.h"
-#include "mapnav/core/error.h"
 #include "mapnav/sim/world.h"
-#include "mapnav/sim/world_io.h"
 #include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 
