@@ -5,6 +5,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "cli.h"
 #include "command_line.h"
 #include "command_support.h"
 #include "json_numbers.h"

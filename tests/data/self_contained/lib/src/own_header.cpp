@@ -1,0 +1,3 @@
+#include "mapnav/lib/own_header.h"
+
+std::string ownName() { return "own"; }
