@@ -69,7 +69,8 @@ def jobs_from(build, root, exclude):
         with open(path, encoding='utf-8') as f:
             entries = json.load(f)
     except (OSError, ValueError) as e:
-        raise SystemExit(f'check_self_contained: {path}: {e} (configure the build first)')
+        print(f'check_self_contained: {path}: {e} (configure the build first)', file=sys.stderr)
+        sys.exit(2)
     kept = lambda rel: not any(rel.startswith(x) for x in exclude)
     sources, module_flags, first = [], {}, set()
     for e in entries:
