@@ -3,7 +3,7 @@
 #
 #   stage NAME COMMAND...   runs COMMAND, prints "== stage: NAME: N s, exit RC", returns RC
 #
-# The table ("== stage durations (total N s)", one line per stage) is printed by an EXIT trap that
+# The table ("== stage durations of SCRIPT (total N s)", one line per stage) is printed by an EXIT trap that
 # sourcing this file sets, so it appears however the script ends.
 stages=()
 

@@ -16,17 +16,16 @@ file(WRITE "${WORK_DIR}/compile_commands.json"
 
 execute_process(COMMAND "${PYTHON}" "${SCRIPT}" --root "${FIXTURE}" --build "${WORK_DIR}" --exclude none
   RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message(STATUS "check_self_contained.py exited ${code}:\n${out}${err}")
 if(NOT code EQUAL 1)
-  message(FATAL_ERROR "expected exit 1, got ${code}")
+  message(FATAL_ERROR "expected exit 1, got ${code}:\n${out}${err}")
 endif()
+include(${CMAKE_CURRENT_LIST_DIR}/run_steps.cmake)
+set(last_output "${out}")
 foreach(pattern
     "lib/src/uses_string.cpp: does not compile on its own:\n[^\n]*uses_string.cpp:2:[0-9]+: error: [^\n]*string"
     "lib/include/mapnav/lib/alone.h: does not compile on its own:\n[^\n]*\n[^\n]*alone.h:3:[0-9]+: error: [^\n]*vector"
     "2 sources and 1 public headers, 2 do not compile on their own")
-  if(NOT out MATCHES "${pattern}")
-    message(FATAL_ERROR "expected the output to match: ${pattern}")
-  endif()
+  expect("${pattern}" "check_self_contained.py's report")
 endforeach()
 foreach(name first.cpp own_header.cpp own_header.h)
   if(out MATCHES "${name}: does not compile")
