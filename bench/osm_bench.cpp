@@ -1,4 +1,4 @@
-// `mapnav map import-osm` on a city-sized file (issue 27): a generated OSM XML file of 10 000 and
+// `mapnav map import-osm` on a city-sized file: a generated OSM XML file of 10 000 and
 // 100 000 walkable ways — a grid of footways 40 m apart, each way bent at a middle node jittered
 // up to 3 m sideways (seeded), every grid node shared by the ways meeting there — imported as the
 // command does before it writes (importOsm, then validation by building the Map). Counters:

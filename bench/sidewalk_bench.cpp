@@ -2,7 +2,7 @@
 // reproduction, polygon fitting, line labelling) per frame at 512 x 480 on the campus scene of
 // mapnav/scenes/sidewalk_scene.h — the default (grid_px 2: 2 x 2-pixel cells, fast paths), every pixel (grid_px 1, fast
 // paths), the reference (option "reference": every pixel, reference implementations), a plain memcpy of the frame for scale, and the Map's prediction plus Vision, the two
-// costly steps of the mission loop (issue 9's latency).
+// costly steps of the mission loop.
 #include <benchmark/benchmark.h>
 
 #include <cstring>
@@ -47,7 +47,7 @@ void BM_SidewalkFrameEveryPixel(benchmark::State& state) { runSidewalk(state, R"
 void BM_SidewalkFrameReference(benchmark::State& state) { runSidewalk(state, R"({"reference": true})", false); }
 void BM_SidewalkPredictAndFrame(benchmark::State& state) { runSidewalk(state, "{}", true); }
 
-// The ground's step between consecutive frames (issue 28), which the Vision module adds to every
+// The ground's step between consecutive frames, which the Vision module adds to every
 // pipeline; "found" is the share of pairs that registered.
 void BM_GroundStep(benchmark::State& state) {
   const auto& s = scene();

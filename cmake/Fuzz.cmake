@@ -1,4 +1,4 @@
-# libFuzzer build (issue 11): -DMAPNAV_FUZZ=ON, configured with CC=clang-14 CXX=clang++-14 in a build
+# libFuzzer build: -DMAPNAV_FUZZ=ON, configured with CC=clang-14 CXX=clang++-14 in a build
 # folder of its own (scripts/fuzz does this). Every library is compiled with coverage instrumentation
 # for libFuzzer plus AddressSanitizer and UndefinedBehaviorSanitizer; the fuzz targets in tests/fuzz/
 # are linked with -fsanitize=fuzzer. Undefined behaviour aborts (no recovery), so that libFuzzer

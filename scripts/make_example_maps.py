@@ -768,7 +768,7 @@ def make_park_path():
 
 # A real park's furniture along each road (arc lengths from the road's `from` end, m): lamp posts at
 # the paving's edge every 25-40 m on the lit stretches, trees 1-2 m off the edge in groups, a few
-# benches on grass shoulders, a manhole cover in the paving now and then (issue 28). Side +1 is the
+# benches on grass shoulders, a manhole cover in the paving now and then. Side +1 is the
 # left as seen walking from `from` to `to`, -1 the right.
 PARK_FURNITURE = {
     "R1": {"pole": (-1, [18, 50, 83, 112, 146, 180, 212]), "tree": (1, [56, 62, 70, 121, 128, 176]),
@@ -785,7 +785,7 @@ LANDMARK_REACH = {"pole": 0.10, "tree": 0.15, "bench": BENCH_DEPTH / 2}  # the k
 
 
 # A campus's: lamp posts every 25-40 m on one side of each walk, a manhole cover (a utility vault,
-# a drain) in each walk's paving, now and then a tree or two and a bench on a lawn (issue 28).
+# a drain) in each walk's paving, now and then a tree or two and a bench on a lawn.
 # Drawn once (seed 28) by that rule; the arc lengths are the map's.
 CAMPUS_FURNITURE = {
     "R1": {"pole": (1, [13]), "tree": (-1, [13, 36]), "bench": (-1, [14]), "manhole": [29]},

@@ -75,7 +75,7 @@ Measured timeMemcpy(const std::vector<Frame>& frames, double min_time_s) {
 
 // The default Vision pipeline ("sidewalk") per frame at 512 x 480 on the campus scene, one thread: its
 // default (grid_px 2: classification on 2 x 2-pixel cells, fast paths), the same after the Map's
-// prediction for the frame's pose (the mission loop's two costly steps: issue 9's latency less the
+// prediction for the frame's pose (the mission loop's two costly steps: its latency less the
 // matching and navigation), the reference (every pixel, reference implementations) and a memcpy of the frame.
 struct SidewalkTimes {
   int width = 0, height = 0;
@@ -218,16 +218,16 @@ const Row* oneThreadRow(const std::vector<Row>& rows, int size) {
   return it == rows.end() ? nullptr : &*it;
 }
 
-// Issue 31's two park finder figures, one thread, from the table's rows: frames/s at 512 x 512 and the
+// The two park finder figures, one thread, from the table's rows: frames/s at 512 x 512 and the
 // memcpy ratio at 1024 x 1024 (each where that size was measured).
 void printParkTargets(const std::vector<Row>& rows, std::ostream& out) {
   const Row *at512 = oneThreadRow(rows, 512), *at1024 = oneThreadRow(rows, 1024);
   if (at512 == nullptr && at1024 == nullptr) return;
   out << "park road finder (the fast path, one thread):";
-  if (at512 != nullptr) out << " " << strprintf("%.0f", at512->fps()) << " frames/s at 512x512 (issue 31: >= 2000)";
+  if (at512 != nullptr) out << " " << strprintf("%.0f", at512->fps()) << " frames/s at 512x512 (target: >= 2000)";
   if (at512 != nullptr && at1024 != nullptr) out << ",";
   if (at1024 != nullptr)
-    out << " memcpy_ratio " << strprintf("%.2f", at1024->memcpyRatio()) << " at 1024x1024 (issue 31: <= 5; memcpy "
+    out << " memcpy_ratio " << strprintf("%.2f", at1024->memcpyRatio()) << " at 1024x1024 (target: <= 5; memcpy "
         << sig(1e3 * at1024->memcpy.s_per_frame) << " ms)";
   out << "\n";
 }
@@ -259,7 +259,7 @@ Json benchJson(const BenchConfig& config, const BenchResults& r) {
                        {"batches", row.runtime.batches}});
   }
   doc["runtime"] = runtime;
-  Json park = Json::object();  // issue 31's two figures, one thread
+  Json park = Json::object();  // the two park finder figures, one thread
   if (const Row* row = oneThreadRow(r.rows, 512)) park["fps_512"] = number(row->fps());
   if (const Row* row = oneThreadRow(r.rows, 1024)) park["memcpy_ratio_1024"] = number(row->memcpyRatio());
   doc["park"] = park;
@@ -323,7 +323,7 @@ void printSummary(const BenchResults& r, std::ostream& out) {
       << " (clustering + perceptron on the first frame, one thread): " << sig(train.ms()) << " ms (clustering "
       << sig(train.cluster_ms) << ", perceptron " << sig(train.perceptron_ms) << ")\n";
   const SidewalkTimes& sidewalk = r.sidewalk;
-  out << "sidewalk pipeline (the default Vision, issue 9's loop) at " << sidewalk.width << "x" << sidewalk.height
+  out << "sidewalk pipeline (the default Vision in the mission loop) at " << sidewalk.width << "x" << sidewalk.height
       << " on the campus scene, one thread (the default, grid_px 2: 2 x 2-pixel cells): " << sig(sidewalk.ms())
       << " ms/frame (" << sig(1e3 * sidewalk.predicted.s_per_frame)
       << " with the Map's prediction first, the loop's two costly steps), memcpy_ratio "
@@ -471,7 +471,7 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
       "Cost per pixel growth = (time at the largest size / time at the smallest) / pixel ratio: 1 = linear.\n"
       "Training (clustering + perceptron on the first frame, one thread) is reported at 512, or at the largest\n"
       "size when 512 is not measured; train_ms in the JSON, with every size's under \"training\".\n"
-      "The park finder line repeats issue 31's two figures from the table, one thread: frames/s at 512 and\n"
+      "The park finder line repeats two figures from the table, one thread: frames/s at 512 and\n"
       "memcpy_ratio at 1024 (targets >= 2000 and <= 5; \"park\":{\"fps_512\",\"memcpy_ratio_1024\"} in the JSON).\n"
       "Then, at 512x480 on the campus scene, one thread: the sidewalk pipeline (ms/frame, memcpy_ratio,\n"
       "reference_ratio) and the simulator's renderer on a drive of 0.1 m a frame with the texel cache\n"

@@ -1,5 +1,5 @@
 #pragma once
-// `mapnav bench`'s other two measurements (issue 31): the simulator's renderer per frame beside a
+// `mapnav bench`'s other two measurements: the simulator's renderer per frame beside a
 // memcpy of the frame, and route queries on generated grid campuses, A* beside the Dijkstra
 // reference, with their growth from 10k to 100k intersections (internal to apps/).
 #include <vector>

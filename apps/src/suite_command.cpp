@@ -87,7 +87,7 @@ int runSuiteCommand(const SuiteConfig& config, std::ostream& out, std::ostream& 
 }
 
 void registerSuiteCommand(CLI::App& app, Commands& commands) {
-  CLI::App* suite = app.add_subcommand("suite", "Run a suite of missions on maps no one tuned for and sum them up (issue 30)");
+  CLI::App* suite = app.add_subcommand("suite", "Run a suite of missions on maps no one tuned for and sum them up");
   suite->require_subcommand(1);
   auto* config = commands.hold<SuiteConfig>();
   auto* no_wall_time = commands.hold<bool>();
@@ -115,7 +115,7 @@ void registerSuiteCommand(CLI::App& app, Commands& commands) {
       "seed as it finishes: junctions, via, surfaces, pipeline, frames, reached (within 0.3 m), goal distance,\n"
       "frames off the path, lateral RMS, along max, heading RMS, the fractions of frames whose true error lies\n"
       "within 2 sigma of the filter's covariance (along, lateral, heading), mean NEES, vision failures, replans,\n"
-      "wall time. Then the summary beside issue 30's done-when targets (docs/suite.md).\n"
+      "wall time. Then the summary beside the suite's targets (docs/suite.md).\n"
       "Exit codes: 0 every run reached its goal within 0.3 m (or --max-frames cut it), 1 some did not, 2 usage or\n"
       "I/O error.");
   rc->callback(commands.choose([config, no_wall_time](std::ostream& out, std::ostream& err) {

@@ -1,7 +1,7 @@
 #pragma once
-// `mapnav suite random-campus`: the suite of unseen maps (issue 30, mission/suite.h) — random
+// `mapnav suite random-campus`: the suite of unseen maps (mission/suite.h) — random
 // campuses and their missions run closed loop at the defaults, a row per seed as it finishes, then
-// the summary beside the issue's done-when targets.
+// the summary beside the suite's targets.
 #include <cstddef>
 #include <iosfwd>
 #include <string>

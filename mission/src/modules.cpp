@@ -249,7 +249,7 @@ const DetectedObject& VisionModule::see(Blackboard& board, const VisionFrame& fr
   } else {
     try {
       detected_ = pipeline_->detect(frame, *prediction);
-      // The landmarks, looked for by the Vision module itself unless the pipeline did (issue 28).
+      // The landmarks, looked for by the Vision module itself unless the pipeline did.
       if (detected_.status == DetectedObject::Status::Ok && detected_.landmarks.empty() && !prediction->landmarks.empty()) {
         if (const LandmarkFinder find = landmarkFinder()) detected_.landmarks = find(frame, *prediction);
       }

@@ -1,5 +1,5 @@
 // The suite of unseen maps: each seed's random campus and mission written as files, run closed loop
-// through the ordinary runner, and the runs summed up against issue 30's done-when targets.
+// through the ordinary runner, and the runs summed up against the suite's targets.
 #include "mapnav/mission/suite.h"
 
 #include <algorithm>
@@ -299,7 +299,7 @@ const char* mark(bool met) { return met ? "met" : "NOT met"; }
 
 std::string suiteSummaryText(const SuiteSummary& s, bool wall_time) {
   const auto need = static_cast<std::size_t>(s.runs > 0 ? s.runs - s.runs / 30 : 0);  // 29 of 30
-  std::string out = strprintf("summary of %zu runs (%zu frames; issue 30's done-when targets beside each figure):\n",
+  std::string out = strprintf("summary of %zu runs (%zu frames; the suite's targets beside each figure):\n",
                               s.runs, s.frames);
   out += strprintf("  reached the goal within %.1f m: %zu of %zu (target >= %zu of %zu: %s)\n", kSuiteGoalToleranceM,
                    s.reached, s.runs, need, s.runs, mark(s.reached >= need));

@@ -1,4 +1,4 @@
-// OpenStreetMap nodes → landmarks (issue 28): trees, street lamps, benches, bollards, manholes.
+// OpenStreetMap nodes → landmarks: trees, street lamps, benches, bollards, manholes.
 #include <algorithm>
 #include <array>
 #include <cstdlib>

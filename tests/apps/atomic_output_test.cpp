@@ -1,4 +1,4 @@
-// Atomic outputs and damaged logs (issue 11, items 3 and 4), end to end on the built `mapnav`: a
+// Atomic outputs and damaged logs, end to end on the built `mapnav`: a
 // command that fails midway, or is interrupted by Ctrl-C (SIGINT) or SIGTERM while it works, leaves
 // the previous outputs byte-identical and no temporary file or folder behind; `replay --strict` names
 // the damaged log's file and line.

@@ -1,4 +1,4 @@
-// `mapnav calibrate chessboard` on the 20 shared photos (issue 27): the image size is the most common
+// `mapnav calibrate chessboard` on the 20 shared photos: the image size is the most common
 // one whatever the order the photos are given in, the two 1281×721 photos are cut to 1280×720 by
 // default (--size-tolerance 2) or listed with their size and skipped (--size-tolerance 0), and the
 // camera written is the same, byte for byte, in three orders.

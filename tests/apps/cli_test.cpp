@@ -166,7 +166,7 @@ TEST(Cli, ImportOfAnInvalidGeoJsonWritesNothing) {
   EXPECT_FALSE(fs::exists(dir / "out.json"));
 }
 
-// Issue 28: Point features with a `landmark` property import as landmarks, counted; `map info`
+// Point features with a `landmark` property import as landmarks, counted; `map info`
 // counts them by kind; a landmark of an unknown kind is an error naming the file and the pointer.
 TEST(Cli, GeoJsonLandmarksImportCountedAndAnUnknownKindIsNamed) {
   const fs::path dir = testing::freshTempDir();
@@ -502,9 +502,9 @@ TEST(Cli, BenchPrintsATableWithTheRatios) {
   EXPECT_NE(help.out.find("reference_ratio"), std::string::npos) << help.out;
 }
 
-// Issue 31's park finder figures: at 512 the line with frames/s (one thread) and its target, the JSON's
+// The park finder figures: at 512 the line with frames/s (one thread) and its target, the JSON's
 // park.fps_512 the one-thread row's; no 1024 figure without 1024.
-TEST(Cli, BenchPrintsTheParkFinderFiguresOfIssue31) {
+TEST(Cli, BenchPrintsTheParkFinderFiguresAndTheirTargets) {
   const auto r =
       runCli({"bench", "--json", "--sizes", "512", "--min-time", "0.01", "--route-sizes", "", "--pipelines", "none"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -520,7 +520,7 @@ TEST(Cli, BenchPrintsTheParkFinderFiguresOfIssue31) {
       {"bench", "--sizes", "512", "--min-time", "0.01", "--threads", "1", "--route-sizes", "", "--pipelines", "none"});
   ASSERT_EQ(text.exit_code, 0) << text.err;
   EXPECT_NE(text.out.find("park road finder (the fast path, one thread): "), std::string::npos) << text.out;
-  EXPECT_NE(text.out.find(" frames/s at 512x512 (issue 31: >= 2000)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(" frames/s at 512x512 (target: >= 2000)"), std::string::npos) << text.out;
   EXPECT_EQ(text.out.find("at 1024x1024"), std::string::npos) << text.out;
 }
 

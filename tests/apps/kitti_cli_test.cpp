@@ -238,7 +238,7 @@ TEST_F(RealKittiSequence, HoughRoadFinderHoldsTheLaneWithThePrior) {
   EXPECT_GE(free["max_jump_px"]["centre"].get<double>(), 200) << free.dump();  // 458.5 when written
 }
 
-// Issue 24's goals at the defaults: `log track` bootstraps from the vehicle's 3 m lane on the ground
+// The vision goals of docs/kitti.md at the defaults: `log track` bootstraps from the vehicle's 3 m lane on the ground
 // (the camera's 1.65 m height: 6.5 to 30 m ahead), and the Hough finder trains its grey frames with
 // balanced classes, and `log track` has it keep to 20 px of the centre line carried from the last
 // frame (--prior-px). When

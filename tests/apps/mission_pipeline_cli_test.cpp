@@ -1,4 +1,4 @@
-// Issue 30 end to end: every shipped mission names its pipeline (park_loop runs the edge tracker as
+// Pipeline choice end to end: every shipped mission names its pipeline (park_loop runs the edge tracker as
 // shipped), and a mission without `vision` whose route's surfaces do not decide one is an error
 // before the first frame that says to name one (docs/mission-format.md, "Which pipeline").
 #include <gtest/gtest.h>

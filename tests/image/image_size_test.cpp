@@ -1,5 +1,5 @@
 // The most common image size (order-independent, ties settled by size) and fitting an image to a
-// size at its right and bottom edges (issue 27: chessboard photos of one camera, two 1 px larger).
+// size at its right and bottom edges (chessboard photos of one camera, two 1 px larger).
 #include <algorithm>
 
 #include <gtest/gtest.h>

@@ -52,7 +52,7 @@ TEST(Png, BytesInMemoryDecodeAsTheFileWouldAndErrorsNameTheGivenSource) {
   EXPECT_THROW(decodePng(broken, "cut"), InvalidInput);
 }
 
-// Found with fuzz_png (issue 11): a few bytes claiming a huge image made the decoder allocate it
+// Found with fuzz_png: a few bytes claiming a huge image made the decoder allocate it
 // (gigabytes) before finding the pixel data missing; and imdecode tried every codec, not only PNG.
 TEST(Png, AHeaderClaimingMoreThanTheLimitIsRefusedBeforeDecoding) {
   std::vector<std::uint8_t> png = encodePng(Image(2, 2, 1));

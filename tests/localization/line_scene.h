@@ -63,7 +63,7 @@ inline std::vector<LineCorrespondence> allEdges(const Pose2& truth, double sigma
 }
 
 inline const Pose2 kTruth(14.0, 0.2, degToRad(3.0));
-// The prior of the issue: 0.3 m, -0.2 m, 2 degrees off.
+// The prior: 0.3 m, -0.2 m, 2 degrees off.
 inline const Pose2 kPrior(kTruth.x() + 0.3, kTruth.y() - 0.2, kTruth.heading() + degToRad(2.0));
 
 // The two-sided interval holding the mean of `trials` chi-square(dof) draws with probability p.

@@ -123,7 +123,7 @@ TEST(MatchingFilter, AnAlongFixCorrectsTheScaleEstimate) {
   EXPECT_LT(filter.fullCovariance()(3, 3), 0.25 * p(3, 3));
 }
 
-// The ground's step (issue 28): a measured distance observes the scale error as a scalar Kalman
+// The ground's step: a measured distance observes the scale error as a scalar Kalman
 // filter with the step's random distance variance added to the measurement's, so that steps
 // fused one after another give the batch (closed-form) posterior of e.
 TEST(GroundStepUpdate, SequentialStepsGiveTheBatchPosteriorOfTheScaleError) {

@@ -245,7 +245,7 @@ TEST(GeoJsonImport, UnsupportedGeometryIsNamedWithItsPointer) {
             (Found{{"geojson.unsupported_geometry", "/features/0/geometry/type"}}));
 }
 
-// Issue 28: landmarks go out as Point features with a `landmark` property and come back equal: ids,
+// Landmarks go out as Point features with a `landmark` property and come back equal: ids,
 // kinds, sizes, roads and kept properties exactly, positions within a millimetre.
 TEST(GeoJsonExport, LandmarksRoundTripMapToGeoJsonToMapEqual) {
   const MapData map = testing::crossWithOneLandmarkOfEachKind();

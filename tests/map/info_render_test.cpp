@@ -92,7 +92,7 @@ TEST(RenderMap, RoadsArePaintedInTheirSurfaceColourOnTheShoulderGround) {
   EXPECT_LT(picture.view.toPixel(Vec2(0, 10)).y(), picture.view.toPixel(Vec2(0, 0)).y());
 }
 
-// Issue 28: each landmark of crossWithOneLandmarkOfEachKind() in its colour where it stands (about
+// Each landmark of crossWithOneLandmarkOfEachKind() in its colour where it stands (about
 // 16 px a metre here, so each symbol is several pixels across).
 TEST(RenderMap, LandmarksPutTheirColoursWhereTheyStand) {
   const RenderedMap rendered = renderAt800(Map(testing::crossWithOneLandmarkOfEachKind()));

@@ -92,7 +92,7 @@ TEST(MapJson, ReadsTheCampusAsAuthored) {
   const Road& r3 = map.road("R3");
   EXPECT_TRUE(r1.from == "I1" || r1.to == "I1");
   EXPECT_TRUE(r3.from == "I3" || r3.to == "I3");
-  // Every kind the issue asks for is there.
+  // Every kind of intersection is there.
   std::set<IntersectionKind> kinds;
   for (const Intersection& x : map.intersections()) kinds.insert(x.kind);
   for (IntersectionKind k : {IntersectionKind::Cross, IntersectionKind::T, IntersectionKind::Y, IntersectionKind::L,

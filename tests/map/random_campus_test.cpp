@@ -1,4 +1,4 @@
-// Issue 30's suite of unseen maps: the random campus generator (map/random_campus.h).
+// The suite of unseen maps: the random campus generator (map/random_campus.h).
 #include "mapnav/map/random_campus.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,7 @@
-// Issue 28's bar on the campus: campus_tour (430 m round the campus, nine intersections) in closed
+// The along-road bar on the campus: campus_tour (430 m round the campus, nine intersections) in closed
 // loop at the mission's settings, with the campus's landmarks and the ground's step: the along-road
 // error within 0.10 m and its RMS within 0.04 m over the whole run, lateral and heading as the
-// missions hold them (before the landmarks and the step: along max 0.53 m, RMS 0.13 m; seeds 11 and
-// 12 and replays of three simulated logs are in the issue's note).
+// missions hold them (before the landmarks and the step: along max 0.53 m, RMS 0.13 m).
 #include <gtest/gtest.h>
 
 #include <cstdio>

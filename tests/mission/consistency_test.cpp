@@ -1,4 +1,4 @@
-// Issue 30, "a consistent filter": the fraction of frames whose true error lies within 2 sigma of
+// A consistent filter: the fraction of frames whose true error lies within 2 sigma of
 // the filter's covariance, per axis of the road, and the mean NEES (mission/metrics.h), on
 // hand-made frames with known answers.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Issue 28: along the road, not only at intersections. A straight concrete avenue with no
+// The along-road position fixed along the road, not only at intersections. A straight concrete avenue with no
 // intersection for 230 m, a tree or a lamp post beside it every 24-35 m (testing::landmarkAvenue):
 // closed loop with odometry 1.5 % short. The ground's step (Vision's measured distance driven) and
 // the landmarks keep the along-road error within 0.15 m over the whole run; the landmarks alone

@@ -1,4 +1,4 @@
-// Issue 30, "Routes that revisit roads": an out-and-back via route on the campus map — from R1 10 m
+// Routes that revisit roads: an out-and-back via route on the campus map — from R1 10 m
 // east of I1, out east to the via point R1@I1+25, back west through I1 and right onto R2 to
 // R2@I1+10. The route turns around at the via point (a leg of its own, said in the dialogue), the
 // Navigator's commands follow the planned legs in order, and in closed loop the vehicle stops at the

@@ -1,4 +1,4 @@
-// Issue 28, the park: the whole of park_loop (990 m, 490 frames, R2's 15 m hairpin with its dirt
+// The park: the whole of park_loop (990 m, 490 frames, R2's 15 m hairpin with its dirt
 // shoulder, R4's gravel shoulder) in closed loop to the goal, with the curved model (the
 // cluster-perceptron's arc model, preset park-shadows) and with the paper's straight Hough
 // (cluster-perceptron's defaults); and the odometry's scale estimated on the way from the ground's

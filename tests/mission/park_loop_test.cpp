@@ -1,5 +1,5 @@
-// Issue 9: "park_loop in closed loop at 1 m/s stays on the path all the way with both park
-// pipelines". The measure (the TRUE position's offset from the nearest road's centre line against
+// park_loop in closed loop at 1 m/s stays on the path all the way with both park pipelines.
+// The measure (the TRUE position's offset from the nearest road's centre line against
 // half the path's width less half the vehicle's), then a stretch of park_loop with curves driven
 // closed loop with each park pipeline. The whole mission is run by command for the figures:
 //   build/bin/mapnav run --mission maps/missions/park_loop.json --pipeline edge-tracker

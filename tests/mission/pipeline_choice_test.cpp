@@ -1,6 +1,5 @@
-// Issue 30: "Every mission names its pipeline; a mission without `vision` gets the pipeline its
-// map's surfaces call for, or an error that says to name one" (docs/mission-format.md, "Which
-// pipeline").
+// Every mission names its pipeline; a mission without `vision` gets the pipeline its map's
+// surfaces call for, or an error that says to name one (docs/mission-format.md, "Which pipeline").
 #include "mapnav/mission/pipeline_choice.h"
 
 #include <gtest/gtest.h>

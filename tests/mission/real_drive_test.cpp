@@ -1,4 +1,4 @@
-// The real drive end to end (issue 26): KITTI raw drive 0013 on Ostring, Karlsruhe, imported with its
+// The real drive end to end: KITTI raw drive 0013 on Ostring, Karlsruhe, imported with its
 // odometry degraded by 2 % and 0.5 deg/s (seed 3), replayed on maps/missions/karlsruhe_ostring.json:
 // the Map's predictions from the estimate, Vision finding the carriageway's kerbs, matching correcting
 // the pose, against the OXTS truth. docs/real-drive.md has the figures and how they were reached.

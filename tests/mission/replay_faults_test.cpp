@@ -1,4 +1,4 @@
-// Fault injection in replay (issue 11, item 3): a real simulated log damaged in exactly one way —
+// Fault injection in replay: a real simulated log damaged in exactly one way —
 // a missing frame, a corrupt PNG, a repeated or backwards timestamp, an odometry spike, a frame of
 // another size, a log cut mid-line. By default the replay finishes, skips (or repairs) what it must,
 // counts each fault by kind, traces it and lists it in the report; --strict stops at the first with

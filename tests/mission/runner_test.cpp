@@ -1,4 +1,4 @@
-// The mission runner end to end on simulated logs: replay meets the issue's targets and is
+// The mission runner end to end on simulated logs: replay meets the targets and is
 // deterministic, a black frame halts and the mission resumes or ends as configured, the closed
 // loop reaches the goal, and the trace reads back as the paper's dialogue.
 #include "mapnav/mission/runner.h"
@@ -83,7 +83,7 @@ TEST_F(ReplayShortCrossing, ReachesTheGoalWithTheTargetsWhileOdometryAloneDrifts
     corrected += f.status == PositionStatus::Corrected ? 1 : 0;
   }
   EXPECT_GT(corrected, run.frames.size() * 9 / 10);
-  // The JSON has the issue's members first.
+  // The JSON has the summary's figures.
   const auto json = nlohmann::json::parse(runToJson(run));
   for (const char* key : {"frames", "reached_goal", "lateral_rms_m", "along_rms_m", "heading_rms_deg", "max_error_m",
                           "odometry_only_max_error_m", "vision_failures", "replans", "latency_ms_median",
@@ -300,7 +300,7 @@ TEST(RunnerClosedLoop, TheStartsLateralOffsetIsWhereTheEstimateAndTheVehicleStar
   EXPECT_LT((run.frames[0].odometry_only.translation() - beside).norm(), 0.05);
 }
 
-// Issue 30's recovery: mid-mission the estimate jumps 1.5 m ahead and 0.8 m right of the truth
+// Recovery: mid-mission the estimate jumps 1.5 m ahead and 0.8 m right of the truth
 // (RunOptions::displace: the filter does not know). The Map sees Vision's road disagree with the map
 // seen from the estimate, says the position is lost (the Navigator stops), finds the pose that
 // explains the road on the frame after, the vehicle standing, and the mission goes on to its goal
@@ -379,7 +379,7 @@ TEST(RunnerMetrics, PercentileAndRoadFrameErrors) {
   EXPECT_NEAR(e.distance_m, std::hypot(0.1, 0.3), 1e-12);
 }
 
-// The issue's own mission, simulated then replayed and run closed loop (about 2 minutes here).
+// The campus_dialogue mission, simulated then replayed and run closed loop (about 2 minutes here).
 TEST(RunnerCampusDialogue, ReplayAndClosedLoopReachTheGoalWithinTheTargets) {
   registerBuiltinPipelines();
   const fs::path dir = testing::freshTempDir();
@@ -392,7 +392,7 @@ TEST(RunnerCampusDialogue, ReplayAndClosedLoopReachTheGoalWithinTheTargets) {
     EXPECT_LE(m.estimate.lateral_rms_m, 0.05);
     EXPECT_LE(m.estimate.heading_rms_deg, 0.5);
     EXPECT_LE(m.along_after_intersection_max_m, 0.15);
-    // Over the whole run (issue 28: the campus's landmarks and the ground's step).
+    // Over the whole run (the campus's landmarks and the ground's step).
     EXPECT_LE(m.estimate.along_max_m, 0.10);
     EXPECT_LE(m.estimate.along_rms_m, 0.04);
     EXPECT_EQ(m.intersections_checked, 4u);
@@ -405,7 +405,7 @@ TEST(RunnerCampusDialogue, ReplayAndClosedLoopReachTheGoalWithinTheTargets) {
 }
 
 /// A short mission replayed over its own simulated log reaches its goal through `intersections`
-/// intersections, and within 2 m after each the along-road error is inside the issue's 15 cm, the
+/// intersections, and within 2 m after each the along-road error is inside 15 cm, the
 /// lateral and heading errors inside 5 cm and 0.5 deg, while odometry alone drifts past `drift_m`.
 void expectTheIntersectionsFixTheAlongRoadError(const char* fixture, std::size_t intersections, double drift_m) {
   registerBuiltinPipelines();

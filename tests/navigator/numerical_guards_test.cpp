@@ -1,4 +1,4 @@
-// Numerical guards (issue 11, item 5): degenerate geometry (zero-length segments, collinear
+// Numerical guards: degenerate geometry (zero-length segments, collinear
 // intersection shapes, roads meeting at 0°, an intersection with 8 roads), UTM-sized coordinates
 // and cameras looking at the sky. None may crash or give a NaN pose; what is invalid is reported
 // with its JSON Pointer.

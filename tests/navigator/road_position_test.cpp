@@ -34,7 +34,7 @@ TEST(RoadPositionText, MalformedTextIsAnInvalidInputSayingWhatIsExpected) {
   }
 }
 
-// Found with fuzz_road_position (issue 11): numbers beyond the range of a double escaped as
+// Found with fuzz_road_position: numbers beyond the range of a double escaped as
 // std::out_of_range (std::stod) instead of InvalidInput, past loadMission's handler.
 TEST(RoadPositionText, NumbersBeyondTheRangeOfADoubleAreInvalidInput) {
   const std::string huge(400, '9');
@@ -42,14 +42,14 @@ TEST(RoadPositionText, NumbersBeyondTheRangeOfADoubleAreInvalidInput) {
   EXPECT_NE(parseError("R1@I1+3/-" + huge).find("out of range"), std::string::npos);
 }
 
-// Found with fuzz_road_position (issue 11): std::regex matched recursively, one stack frame per
+// Found with fuzz_road_position: std::regex matched recursively, one stack frame per
 // character, so a long identifier overflowed the stack (a segmentation fault).
 TEST(RoadPositionText, AVeryLongIdentifierParsesWithoutExhaustingTheStack) {
   const std::string road = "R" + std::string(1000000, 'a');
   EXPECT_EQ(parseRoadPosition(road + "@I1+3").road, road);
 }
 
-// Found with fuzz_road_position (issue 11): toString printed 6 significant digits ("%g"), so the
+// Found with fuzz_road_position: toString printed 6 significant digits ("%g"), so the
 // trace header named a different start than the mission's, and 1e6 m printed as "1e+06", which
 // does not parse.
 TEST(RoadPositionText, ToStringReadsBackToTheSamePosition) {
@@ -63,7 +63,7 @@ TEST(RoadPositionText, ToStringReadsBackToTheSamePosition) {
 }
 
 // A position just past the end of a 0.878061 m road: the message prints enough digits not to say
-// "0.879 m is beyond the road's 0.88 m" (issue 27), and the same from toPose and from a route.
+// "0.879 m is beyond the road's 0.88 m", and the same from toPose and from a route.
 TEST(RoadPositionRange, TheMessageNeverContradictsTheComparison) {
   MapData data = makeGridMap(GridMapOptions{2, 2, 30, 2});  // for its surfaces
   data.intersections.resize(2);

@@ -28,7 +28,7 @@ TEST(ImportOsmCli, TheRealCampusImportsWithItsRepairsListedAndValidates) {
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
 }
 
-// Issue 27: the real campus imported, exported as GeoJSON and imported again keeps every OSM tag
+// The real campus imported, exported as GeoJSON and imported again keeps every OSM tag
 // the import copied (osm_node, osm_way, highway, name, surface; a landmark's), element by element.
 TEST(ImportOsmCli, TheCampusKeepsEveryCopiedOsmTagThroughGeoJson) {
   ASSERT_TRUE(testing::realDataPresent("osm/nu_campus_south.osm"));
@@ -58,7 +58,7 @@ TEST(ImportOsmCli, TheCampusKeepsEveryCopiedOsmTagThroughGeoJson) {
     EXPECT_EQ(again->properties, x.properties) << x.id;
     tags += x.properties.size();
   }
-  // Issue 28: the 39 landmarks too (a tree's natural tag, a bench's amenity), in the same order.
+  // The 39 landmarks too (a tree's natural tag, a bench's amenity), in the same order.
   ASSERT_EQ(a.landmarks().size(), 39u);
   ASSERT_EQ(b.landmarks().size(), 39u);
   for (std::size_t i = 0; i < a.landmarks().size(); ++i) {

@@ -1,4 +1,4 @@
-// OpenStreetMap import (issue 10): a hand-made OSM file whose expected map is worked out by hand,
+// OpenStreetMap import: a hand-made OSM file whose expected map is worked out by hand,
 // malformed files, and the real campus export in ../shared/data/real/osm.
 #include <cmath>
 #include <fstream>

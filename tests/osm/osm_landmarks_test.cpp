@@ -1,4 +1,4 @@
-// Landmarks from OpenStreetMap nodes (issue 28): tests/data/osm/landmarks.osm has a footway along
+// Landmarks from OpenStreetMap nodes: tests/data/osm/landmarks.osm has a footway along
 // y = 0 from x = 0 to 60 m and a node of each landmark tag beside it, one tree 24 m from it, one
 // with a circumference in centimetres, and a node of another kind; each node's comment gives its
 // metres east and north. And the real campus export's trees.

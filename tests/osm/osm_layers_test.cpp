@@ -1,4 +1,4 @@
-// Layers (issue 27): tests/data/osm/layers.osm has a footway tunnel (way 202, layer -1) and a
+// Layers: tests/data/osm/layers.osm has a footway tunnel (way 202, layer -1) and a
 // footbridge (way 203, layer 1) crossing the ground walk (way 200, y = 0) at x = 20 and x = 60 m
 // without shared nodes. It imports with and without --repair; the same file with the tunnel's tags
 // taken away has a same-layer crossing, which is still an error (and --repair joins it).

@@ -1,4 +1,4 @@
-// The map's landmarks in the synthetic world (issue 28): where a pole's pixels, shadow and truth
+// The map's landmarks in the synthetic world: where a pole's pixels, shadow and truth
 // are, computed by hand for a pin-hole looking along a straight concrete sidewalk.
 #include <gtest/gtest.h>
 

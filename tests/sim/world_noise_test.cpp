@@ -1,4 +1,4 @@
-// The renderer's vector noise against its scalar reference (issue 31): fbmRow (world_noise_batch.cpp,
+// The renderer's vector noise against its scalar reference: fbmRow (world_noise_batch.cpp,
 // AVX2 where the CPU has it) gives fbmBatch's and fbm's values bit for bit — no tolerance: every lane
 // performs fbm's own IEEE operations in fbm's order, without fused multiply-adds. Rows of every
 // length the vector loops split differently (multiples of 4 and 8 and the tails), points on and off

@@ -1,4 +1,4 @@
-// WorldOptions::texel_cache_mib (issue 31): the ground's colour kept in world space across frames
+// WorldOptions::texel_cache_mib: the ground's colour kept in world space across frames
 // (sim/src/world_texels.h). Its frames do not depend on what the cache held, its masks and
 // landmarks are the per-pixel renderer's, and its colours stay within the texels' interpolation
 // of the per-pixel renderer's (the independent reference: texel_cache_mib 0).

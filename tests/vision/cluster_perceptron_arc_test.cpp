@@ -57,15 +57,15 @@ TEST(ClusterPerceptron, ArcModelPremiseRowsSeeOneDistanceAndMapOffsetsAffinely) 
 }
 
 // Beyond the paper (§9): with the ground-arc model the found centre curve follows the park map's real
-// bends far better than the paper's straight model, which cuts them. These bends are not the issue's
+// bends far better than the paper's straight model, which cuts them. These bends are not the target's
 // "curves of radius >= 15 m" as written: many frames see a straight running into a bend (curvature
-// changing in view) and the map's curves are polylines of 1.5 m chords; the item as written is
+// changing in view) and the map's curves are polylines of 1.5 m chords; the target as written is
 // asserted on true circles by ArcModelWithinTwoPixelsAndOneDegreeOnCircularCurves. Per frame here:
 // the worst column error over the block rows where the road's centre is in the image. The circle
 // fitted to the edges on the ground, started from the image fit and from a consensus of exact circles
 // on the ground, each required to keep the vehicle on the road, puts the median frame within 3.5 px
 // and three frames in four within 12 px (the thresholds from the figures in docs/measurements.md).
-// NOT the 2 px everywhere, and the test prints each frame off it with its cause: on some
+// NOT the target's 2 px everywhere, and the test prints each frame off it with its cause: on some
 // frames no circle on the ground comes within 2 px of the true centre line (bestCircleError(): a
 // straight running into a bend; the map's 1.5 m chords on 15 m bends). The rest miss because the mask
 // shows under half of the road's true edge rows (shoulders classed as road; the boundary beyond the
@@ -92,7 +92,7 @@ TEST(ClusterPerceptron, ArcModelFollowsCurves) {
               "px on %td; straight model median %.2f px; the arc is better on %d\n",
               n, quantile(e.arc, 0.5), quantile(e.arc, 0.75), quantile(e.arc, 0.9), worst_found, within(2.0),
               within(3.0), within(5.0), within(10.0), quantile(e.line, 0.5), better);
-  // The frames off the 2 px, each with its cause: the best any circle can do (no single
+  // The frames off the target's 2 px, each with its cause: the best any circle can do (no single
   // circle follows a straight running into a bend), and how much of the road's true edges the mask
   // shows (shoulders classed as road hide them; the boundary beyond the shoulder is then taken
   // for the road's edge).

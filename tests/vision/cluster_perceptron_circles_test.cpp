@@ -1,5 +1,5 @@
-// The cluster-perceptron's arc model on true circular curves of 15-50 m (the issue's "curves of
-// radius >= 15 m"): point-sampled, in normalised colour, area-sampled with subpixel edges, and driven
+// The cluster-perceptron's arc model on true circular curves of 15-50 m (the target holds for
+// curves of radius >= 15 m): point-sampled, in normalised colour, area-sampled with subpixel edges, and driven
 // with the edges of earlier frames carried by the vehicle's motion (advance()).
 // On simulator frames of maps/park_path.json (asphalt path between grass, dirt and gravel,
 // shadow_density 0.4) seen by the Terregator pin-hole camera (512 x 480, 22 deg tilt) unless a test
@@ -25,7 +25,7 @@ namespace {
 
 using namespace visiontest;
 
-/// Scenes of true circular curves, the issue's "curves of radius >= 15 m": for each radius of
+/// Scenes of true circular curves, the target's "curves of radius >= 15 m": for each radius of
 /// kCircleRadii a left and a right turn (in that order), each a road of the park's 3 m asphalt between
 /// grass: kCircleLeadIn m straight (where the finder is bootstrapped, §4: the outline a trapezoid),
 /// then kCircleLength m of the circle, tangent to it. The centre line sampled every 0.2 m (sagitta
@@ -87,7 +87,7 @@ std::vector<RoadPose> circlePoses(double step) {
   return out;
 }
 
-// The issue's item as written: on curves of constant radius >= 15 m (circles(): true circles of 15,
+// The target as written: on curves of constant radius >= 15 m (circles(): true circles of 15,
 // 20, 30 and 50 m, left and right, 3 m asphalt between grass, the park's shadows; 11 poses on each,
 // ±0.2 m and ±2 deg off the centre line) the arc model's centre line within 2 px of the truth (the
 // worst column error over the curve's rows where the true centre is in the image; the top-row offset
@@ -336,7 +336,7 @@ std::vector<RoadPose> carriedDrive(double ds, std::vector<DriveFinder>& finders,
   return poses;
 }
 
-// The issue's item on circles, driven: the arc model with the edges of the last 8 frames carried
+// The target on circles, driven: the arc model with the edges of the last 8 frames carried
 // (ClusterPerceptronOptions::carry_frames; Wallace 1985 §3.2 carries the last frame's edges with the
 // vehicle's motion) over the same 15-50 m circles as ArcModelWithinTwoPixelsAndOneDegreeOnCircular-
 // Curves, a frame every 0.5 m. One frame's mask edges are whole pixels, and where the 3 m road fills

@@ -17,7 +17,7 @@ namespace mapnav::visiontest {
 
 inline const Camera& cam() { return visiontest::pinhole(); }
 
-/// The park without its map landmarks (issue 28), the world the road finder's frame-by-frame
+/// The park without its map landmarks, the world the road finder's frame-by-frame
 /// figures below were measured in: they score the road against its shoulders and the seeded tree
 /// shadows. What the landmarks (a lamp post's shadow across the path, a bench or a tree trunk at the
 /// edge) do to them is in docs/measurements.md; the closed loops drive the park with its landmarks.

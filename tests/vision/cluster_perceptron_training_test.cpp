@@ -152,7 +152,7 @@ TEST(ClusterPerceptron, RawRgbPerceptronLearnsTheRoadAndItsTableIsExact) {
 // does not see. Finders trained on a sunlit frame (no tree shadows) classify the same view in full
 // shadow (WorldOptions::shadow_density 1: k = 0.45 everywhere), untinted and with the default
 // skylight tint (12 % toward blue): normalised, the road mask's IoU against the truth stays at the
-// issue's 0.95 in the shade, where RGB's falls below it (the figures: docs/measurements.md).
+// bar of 0.95 in the shade, where RGB's falls below it (the figures: docs/measurements.md).
 TEST(ClusterPerceptron, NormalisedColourClassifiesAShadedViewAsTheSunlitOne) {
   WorldOptions sunlit = parkWorld();
   sunlit.shadow_density = 0;
@@ -178,7 +178,7 @@ TEST(ClusterPerceptron, NormalisedColourClassifiesAShadedViewAsTheSunlitOne) {
   EXPECT_GE(n_sun, 0.95);
   EXPECT_GE(n_shade, 0.95);
   EXPECT_GE(n_tint, 0.95);
-  EXPECT_LT(rgb_shade, 0.95);  // the bar, which RGB meets sunlit and misses in the shade
+  EXPECT_LT(rgb_shade, 0.95);  // the bar, which RGB meets sunlit and misses in the shade
   // The reconstruction (§3.2) in normalised colour: each pixel its cluster's chromaticity at its own
   // brightness, R + G + B kept to the rounding of the three bands.
   const Frame f = shade.render(cam(), pose, 0.0);

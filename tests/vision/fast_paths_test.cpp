@@ -1,5 +1,5 @@
-// The sidewalk pipeline's fast paths against their reference implementations (issue 9: the loop
-// latency): binary morphology against OpenCV's, the single-precision log-odds against the
+// The sidewalk pipeline's fast paths (for the mission loop's latency) against their reference
+// implementations: binary morphology against OpenCV's, the single-precision log-odds against the
 // double-precision one, the pixel-chain simplification against CGAL's, and the whole pipeline with
 // option "reference" on and off over a drive of rendered frames.
 #include <gtest/gtest.h>

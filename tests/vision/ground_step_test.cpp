@@ -1,4 +1,4 @@
-// Measuring the step between two frames from the ground (issue 28) on the simulator's frames: the
+// Measuring the step between two frames from the ground on the simulator's frames: the
 // landmark avenue's concrete between lawns with tree shadows, pairs of frames a step of 0.5-1.2 m
 // and up to 3 degrees apart, the predicted motion off the truth by up to 3 % (twice the odometry's
 // scale error) and 0.3 degrees; the measured distance against the true one.

@@ -1,8 +1,8 @@
-// Finding predicted landmarks on the simulator's frames (issue 28): 120 frames along the landmark
+// Finding predicted landmarks on the simulator's frames: 120 frames along the landmark
 // avenue with tree shadows and the landmarks' own, each predicted from a pose off the truth by the
 // filter's typical error (0.3 m along, 5 cm across, 1 degree), scored against the prediction from
 // the true pose. The Terregator camera sees landmarks beside the path near its frame's top and
-// sides; those the frame cuts off are not to be found. And the issue's bar for the landmarks near the
+// sides; those the frame cuts off are not to be found. And the bar for the landmarks near the
 // vehicle, on a lane with one of each kind every 7-11 m (NearLandmarksAreFoundWithinThreePixels).
 #include <gtest/gtest.h>
 
@@ -95,12 +95,12 @@ TEST(FindLandmarksOnSimulatedFrames, FoundBasesAreWithinTheirCovarianceAndNothin
               tally.visible, tally.found, tally.within_3px, tally.within_3_sigma, median, tally.found_not_whole);
   ASSERT_GE(tally.visible, kFrames / 2);
   EXPECT_GE(tally.found, 0.85 * tally.visible);              // 61 of 66 when this was written
-  EXPECT_LE(median, 3.0);                                     // the issue's 3 px, met by the median
+  EXPECT_LE(median, 3.0);                                     // the 3 px bar, met by the median
   EXPECT_GE(tally.within_3_sigma, tally.found * 9 / 10);      // the covariance Localization fuses is honest
   EXPECT_EQ(tally.found_not_whole, 0);                        // never a part taken for the whole
 }
 
-// The issue's bar (issue 28): on a 2 m lane with a lamp post, a manhole cover, a bollard, a bench
+// The bar: on a 2 m lane with a lamp post, a manhole cover, a bollard, a bench
 // and a tree every 7-11 m, with tree shadows and the landmarks' own, each frame taken 1.5-5 m
 // before one of them and predicted from a pose off the truth by the filter's typical error: of
 // the landmarks within 5 m wholly in view, at least 95 % are found within 3 px of where the true

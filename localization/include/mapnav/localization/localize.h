@@ -39,12 +39,12 @@ struct LocalizeOptions {
   /// tree shadow at campus_tour's I8) collapsed the along-road sigma from 0.28 to 0.035 m in a frame
   /// and the gate then refused the good ones.
   double edge_sigma_px = 2.0;
-  /// Landmarks (issue 28): the detected base pixel's covariance is widened by this many pixels in
+  /// Landmarks: the detected base pixel's covariance is widened by this many pixels in
   /// each direction (the detector's own covariance plus the map's survey error and the landmark's
   /// lean, seen from the camera), px. 1 px: a pole's base seen 10 m ahead by the Terregator camera is
   /// 1-2 cm across and 5-7 cm along the line of sight per pixel.
   double landmark_sigma_px = 1.0;
-  /// Fuse the ground's step (DetectedObject::step, issue 28; PoseFilter::updateStep). False: the
+  /// Fuse the ground's step (DetectedObject::step; PoseFilter::updateStep). False: the
   /// odometry's scale is learnt from lines and landmarks alone (to compare, or where the ground is
   /// known to move: a conveyor, a ferry's deck).
   bool use_ground_step = true;

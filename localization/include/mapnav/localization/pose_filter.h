@@ -4,7 +4,7 @@
 // and gyro bias — odometry prediction with its error model, line-measurement updates (an iterated
 // EKF, a frame's lines sharing an error) with a Mahalanobis gate — so that unobserved directions
 // (along a straight road) are carried by odometry and corrected when crossing lines come into view,
-// with a covariance that covers the error (issue 30). Its output is the CurrentPosition token.
+// with a covariance that covers the error. Its output is the CurrentPosition token.
 //
 // State and covariance are in world coordinates (x, y in m, heading in rad; then e, relative, and
 // b, rad/s), the pose's heading wrapped into (-pi, pi]; differences of headings are wrapped before use.
@@ -81,7 +81,7 @@ struct FilterOptions {
 /// gyro bias b (rad/s).
 using Mat5 = Eigen::Matrix<double, 5, 5>;
 
-/// A landmark seen in one frame (issue 28): where the map has it and where the camera saw it, as
+/// A landmark seen in one frame: where the map has it and where the camera saw it, as
 /// range and bearing on the ground from the camera's optical centre. Unlike a road edge it fixes
 /// the position along the road as well as across it.
 struct LandmarkObservation {
@@ -148,8 +148,8 @@ class PoseFilter {
   /// definite or a non-finite measurement.
   LandmarkUpdateResult updateLandmarks(const std::vector<LandmarkObservation>& observations);
 
-  /// Fuses a measurement of the distance driven over the last predict() (the ground's step, issue
-  /// 28: independent of the wheels), m, with its variance, m²: it observes the scale error e, and
+  /// Fuses a measurement of the distance driven over the last predict() (the ground's step,
+  /// independent of the wheels), m, with its variance, m²: it observes the scale error e, and
   /// through the step's own random distance error (MotionNoiseOptions::distance_sigma_per_m) the
   /// position, exactly as the step moved it. Call it right after predict(), before any other
   /// update; false when there is no such step (none since the last update) or the measurement is

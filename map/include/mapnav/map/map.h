@@ -96,7 +96,7 @@ struct Road {
   bool operator==(const Road&) const = default;
 };
 
-/// What a landmark is (issue 28): something beside a road that a camera sees at a known place and
+/// What a landmark is: something beside a road that a camera sees at a known place and
 /// that fixes the position along the road where no intersection is in view. Poles, trees, bollards
 /// and benches stand up from the ground; a manhole cover lies flat in the paving.
 enum class LandmarkKind { Pole, Tree, Bench, Bollard, Manhole };

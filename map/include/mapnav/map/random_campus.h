@@ -1,5 +1,5 @@
 #pragma once
-// Random small campuses for the suite of unseen maps (issue 30): a spine of roads through a few
+// Random small campuses for the suite of unseen maps: a spine of roads through a few
 // junctions — crosses, Ts and Ys at random angles, Ls — some of its roads arcs, each junction's side
 // branches short stubs; widths 1.5–4 m, surfaces drawn from one family per map (paved slabs:
 // concrete and brick; or park paths: asphalt and gravel), shoulders grass, dirt or gravel. With a

@@ -40,7 +40,7 @@ struct FrameRecord {
   int lines_used = 0;
   int landmarks_used = 0;
   bool step_used = false;               ///< the ground's step was fused (CurrentPosition::step_used)
-  AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position (issue 28)
+  AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position
   Pose2 odometry_only;            ///< dead reckoning alone from the start, same motion model
   /// A GNSS fix the log recorded with this frame (world frame, m) and its 1-sigma error: drawn in the
   /// report beside the truth, not used by the Map module.
@@ -65,7 +65,7 @@ struct FrameRecord {
   /// The road's heading at the truth, rad: `error` is measured along it and across it.
   double road_heading_rad = 0;
   PoseError odometry_error;       ///< odometry_only − truth
-  /// "On the path" (issue 9): the largest |lateral offset| of the TRUE position from the centre line
+  /// "On the path": the largest |lateral offset| of the TRUE position from the centre line
   /// of the road nearest to it, over the frame period ending at this frame (closed loop: at every
   /// control step since the previous frame; replay: this frame's truth), m ...
   double offset_from_centre_m = 0;
@@ -120,7 +120,7 @@ struct LogFaultCounts {
   std::size_t total() const;
 };
 
-/// Whether the filter's covariance covers its true error (issue 30, "a consistent filter"): per axis,
+/// Whether the filter's covariance covers its true error (a consistent filter's does): per axis,
 /// the fraction of frames with truth whose error lies within 2 sigma of the reported covariance
 /// (expected 0.954 for a consistent Gaussian estimate), and the mean normalised estimation error
 /// squared, NEES = e' P^-1 e over (x, y, heading) (expected 3, the state's dimension).
@@ -151,11 +151,11 @@ struct MissionMetrics {
   ErrorStats estimate;            ///< the Map's CurrentPosition
   ErrorStats odometry_only;       ///< dead reckoning alone
   FilterConsistency consistency;  ///< the estimate's covariance against its true error
-  /// Issue 8: the largest |along-road error| within 2 m after each intersection of the route
+  /// The largest |along-road error| within 2 m after each intersection of the route
   /// (truth between the intersection's centre and 2 m past it), m; 0 when no frame fell there.
   double along_after_intersection_max_m = 0;
   std::size_t intersections_checked = 0;  ///< intersections with at least one frame in that window
-  /// "Stays on the path" (issue 9), from the truth: the largest offset of the true position from
+  /// "Stays on the path", from the truth: the largest offset of the true position from
   /// the nearest road's centre line over the run, m (FrameRecord::offset_from_centre_m) ...
   double max_offset_from_centre_m = 0;
   /// ... the least room left between the vehicle's side and the path's edge, m (negative: over it) ...
@@ -172,7 +172,7 @@ struct MissionMetrics {
   std::size_t lost_frames = 0;
   std::size_t relocalisations = 0;
   /// Frames whose distance driven since the previous one was measured from the ground and fused
-  /// (issue 28: the ground's step observes the odometry's scale).
+  /// (the ground's step observes the odometry's scale).
   std::size_t ground_steps_used = 0;
   LogFaultCounts log_faults;      ///< replay: the log's faults met, by kind (MissionRun::faults)
   double latency_ms_median = 0, latency_ms_p99 = 0, latency_ms_max = 0;

@@ -23,7 +23,7 @@
 
 namespace mapnav {
 
-/// Where the path is sampled and what counts as agreement (issue 24's done-when figures).
+/// Where the path is sampled and what counts as agreement (the defaults: docs/kitti.md's goals).
 struct PathAgreementOptions {
   double near_m = 2.0;    ///< the first sample's arc length along the path from the vehicle, m
   double far_m = 15.0;    ///< the last sample's, m (> near_m)

@@ -1,5 +1,5 @@
 #pragma once
-// The HTML report of a mission run (issue 9, docs/report.md): ONE self-contained file that opens
+// The HTML report of a mission run (docs/report.md): ONE self-contained file that opens
 // without network access — inline CSS and SVG, frames as base64 PNG data URIs, no script. In it:
 // the summary metrics; the map with the planned route and the true, estimated and odometry-only
 // trajectories; the errors over time (lateral, along, heading of the estimate; the position error

@@ -1,7 +1,7 @@
 #pragma once
-// The suite of unseen maps (issue 30): random small campuses (map/random_campus.h), each with its
+// The suite of unseen maps: random small campuses (map/random_campus.h), each with its
 // mission, run closed loop at the defaults of a mission file, and what came of them — per seed and
-// summed up against the issue's done-when targets. Nothing in it is tuned per map: every seed's
+// summed up against the suite's targets. Nothing in it is tuned per map: every seed's
 // mission is the same document but for the map, its positions and its seeds.
 //
 // Each seed's map and mission are written to a folder (SuiteOptions::folder) and the mission is
@@ -19,7 +19,7 @@
 
 namespace mapnav {
 
-/// The issue's threshold: a run reaches its goal when the Navigator has arrived and the true
+/// The suite's threshold: a run reaches its goal when the Navigator has arrived and the true
 /// position is within this of the goal, m (stricter than a mission's 0.5 m).
 inline constexpr double kSuiteGoalToleranceM = 0.3;
 
@@ -98,7 +98,7 @@ SuiteSummary summarizeSuite(const std::vector<SuiteRun>& runs);
 /// The table's header line and one run's row (with the wall time when `wall_time`).
 std::string suiteHeaderText(bool wall_time);
 std::string suiteRowText(const SuiteRun& run, bool wall_time);
-/// The summary, each figure beside the issue's done-when target.
+/// The summary, each figure beside its target.
 std::string suiteSummaryText(const SuiteSummary& summary, bool wall_time);
 /// {"suite","junctions","max_frames","goal_tolerance_m","runs":[{"seed","junctions","via","surfaces",
 /// "error","outcome","reached","stopped_early","run":{run_json}|null},...],"summary":{...,"targets":{...}}};

@@ -1,5 +1,5 @@
 #pragma once
-// OpenStreetMap → mapnav map (issue 10): the walkable ways of an OSM file become roads, split at
+// OpenStreetMap → mapnav map: the walkable ways of an OSM file become roads, split at
 // every node that two or more kept ways share; those nodes and the way ends become intersections,
 // whose kind is inferred from the number of roads and their angles. libosmium reads the file and
 // GeographicLib projects it (LocalCartesian); both stay inside this module's .cpp.
@@ -9,8 +9,8 @@
 // what that means for the map; with `repair` it merges near-coincident nodes, adds an intersection
 // where two kept ways cross, and drops degenerate pieces, and lists each repair.
 //
-// Trees, street lamps, benches, bollards and manholes tagged on nodes become the map's landmarks
-// (issue 28), those beside the imported roads.
+// Trees, street lamps, benches, bollards and manholes tagged on nodes become the map's landmarks,
+// those beside the imported roads.
 #include <array>
 #include <filesystem>
 #include <map>
@@ -48,7 +48,7 @@ struct OsmImportOptions {
   /// A piece shorter than this (m, >= 0) is reported as tiny; with repair, a tiny piece that ends
   /// in nothing (a stub) or joins a node to itself is dropped.
   double min_piece_m = 1.0;
-  /// Landmarks (issue 28) come from nodes tagged natural=tree, highway=street_lamp, amenity=bench,
+  /// Landmarks come from nodes tagged natural=tree, highway=street_lamp, amenity=bench,
   /// barrier=bollard, man_made=manhole or manhole=*. One farther than this (m, >= 0) from the paved
   /// area of every imported road is dropped: a vehicle on the roads could hardly see it (as
   /// ValidationOptions::max_landmark_distance_m, whose warning it would get).

@@ -10,7 +10,7 @@
 // nothing is stored per texel. Rendering is deterministic: the same map, options, camera, pose and
 // time give byte-identical frames.
 //
-// The map's landmarks (Map::landmarks(), issue 28) stand on that plane: a pixel shows the nearest
+// The map's landmarks (Map::landmarks()) stand on that plane: a pixel shows the nearest
 // landmark its ray meets above the ground (and below the landmark's top) before the ground.
 //  - pole, bollard: a vertical cylinder (radius, height), grey metal shaded by the sun; a bollard
 //    with a light band at 72–84 % of its height;

@@ -27,7 +27,7 @@ enum class PositionStatus {
 std::string_view toString(PositionStatus status);
 std::optional<PositionStatus> positionStatusFromString(std::string_view text);
 
-/// What fixed the position along the road in a frame (issue 28): lines across the road (an
+/// What fixed the position along the road in a frame: lines across the road (an
 /// intersection's or a corner's), landmarks, or nothing (odometry carries it).
 enum class AlongCue { None, Intersection, Landmark };
 /// "none", "intersection", "landmark".
@@ -49,7 +49,7 @@ struct CurrentPosition {
   int lines_used = 0;                   ///< correspondences fused
   int landmarks_used = 0;               ///< landmark observations fused
   std::vector<std::string> landmarks_rejected;  ///< landmark observations beyond the gate
-  bool step_used = false;               ///< the ground's step since the last frame was fused (issue 28)
+  bool step_used = false;               ///< the ground's step since the last frame was fused
   AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position, if anything
   std::vector<std::string> outliers;    ///< correspondences the robust fit rejected
   double mahalanobis_d2 = 0;            ///< the gate's statistic (0 when there was no measurement)

@@ -20,7 +20,7 @@ struct DetectedLine {
   bool frame_edge = false;           ///< part of the image border, never a road edge
 };
 
-/// A predicted landmark looked for in the frame (issue 28): found where it meets the ground, or
+/// A predicted landmark looked for in the frame: found where it meets the ground, or
 /// not there.
 struct DetectedLandmark {
   std::string id;                      ///< the predicted landmark's id (PredictedLandmark::id)
@@ -32,7 +32,7 @@ struct DetectedLandmark {
 };
 
 /// How far the vehicle drove since the previous frame, measured from the ground itself
-/// (ground-plane visual odometry, issue 28): the ground ahead in the previous frame, moved by the
+/// (ground-plane visual odometry): the ground ahead in the previous frame, moved by the
 /// Map's predicted motion (PredictedObject::motion), registered onto this frame's. Independent of
 /// the wheels, it observes the odometry's scale error wherever the ground has texture.
 struct MeasuredStep {

@@ -44,7 +44,7 @@ struct SegmentRelation {
   Vec2 point = Vec2::Zero();  ///< crossing: where the lines meet, vehicle frame
 };
 
-/// A landmark the camera should see (issue 28): something beside the road at a known place, whose
+/// A landmark the camera should see: something beside the road at a known place, whose
 /// sighting fixes the position along the road. Vehicle- and image-frame geometry only.
 struct PredictedLandmark {
   std::string id;           ///< the map's landmark id

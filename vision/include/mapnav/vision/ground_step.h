@@ -1,5 +1,5 @@
 #pragma once
-// How far the vehicle drove between two frames, measured from the ground (issue 28): ground-plane
+// How far the vehicle drove between two frames, measured from the ground: ground-plane
 // visual odometry. A patch of the ground ahead is seen in both frames; the previous frame's view
 // of it, moved by the Map's predicted motion, is registered onto this frame's by phase correlation
 // (the ground's texture: the paving's grain and cracks, leaves, shadows, joints). What is left is

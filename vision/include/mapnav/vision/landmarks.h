@@ -1,5 +1,5 @@
 #pragma once
-// Finding the predicted landmarks in a frame (issue 28): each is looked for near where the Map
+// Finding the predicted landmarks in a frame: each is looked for near where the Map
 // predicts its base, within the pose's uncertainty seen in the image (every second place, then
 // every place about the best three of those). Something that stands (a pole, a trunk, a bollard,
 // a bench) is a band of its predicted width, leaning as a vertical there does, with a colour step

@@ -58,7 +58,7 @@ void registerPipeline(PipelineInfo info);
 std::vector<PipelineInfo> listPipelines();
 /// A new pipeline by name, configured with `options_json`. Throws NotFound listing the names.
 std::unique_ptr<VisionPipeline> createPipeline(const std::string& name, const std::string& options_json = "{}");
-/// Finds the landmarks a prediction lists in a frame (issue 28): one DetectedLandmark per
+/// Finds the landmarks a prediction lists in a frame: one DetectedLandmark per
 /// PredictedObject::landmarks entry, in its order. The Vision module runs it after the pipeline,
 /// unless the pipeline reported landmarks itself.
 using LandmarkFinder = std::function<std::vector<DetectedLandmark>(const VisionFrame&, const PredictedObject&)>;
@@ -67,7 +67,7 @@ void registerLandmarkFinder(LandmarkFinder finder);
 /// The landmark finder registered; empty when none is (landmarks are then not looked for).
 LandmarkFinder landmarkFinder();
 /// Measures the vehicle's step from the previous frame to the current one against the ground,
-/// starting from the Map's predicted motion (issue 28: DetectedObject::step). The Vision module
+/// starting from the Map's predicted motion (DetectedObject::step). The Vision module
 /// runs it on every frame after the first, whatever the pipeline.
 using StepMeasurer =
     std::function<MeasuredStep(const VisionFrame& previous, const VisionFrame& current, const MotionIncrement& predicted)>;

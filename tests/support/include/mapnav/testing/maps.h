@@ -1,6 +1,6 @@
 #pragma once
 // Maps for the tests: the example maps loaded once per test program, maps built in code (a straight
-// road, an avenue with landmarks, a cross), and comparing landmarks (issue 28). Header-only: the
+// road, an avenue with landmarks, a cross), and comparing landmarks. Header-only: the
 // support library itself does not link the map module.
 #include <filesystem>
 #include <sstream>
