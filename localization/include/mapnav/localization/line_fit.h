@@ -45,8 +45,7 @@ struct LineMatchOptions {
   double step_tolerance = 1e-10;
   /// An eigen-direction of the information matrix with less information than this is unobserved
   /// (1/m^2 or 1/rad^2: a standard deviation above 1 m or 1 rad at the default). The solve leaves
-  /// the pose unchanged along unobserved directions. (At 100 the campus_tour closed loop got lost,
-  /// lateral RMS 1.9 m, although its replay improved.)
+  /// the pose unchanged along unobserved directions (why 1: docs/measurements.md).
   double min_information = 1.0;
   /// Re-association (LineCorrespondence::candidates): a candidate whose line makes more than this
   /// angle with the detected segment placed in the world is only taken when no candidate is closer

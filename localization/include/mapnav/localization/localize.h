@@ -28,16 +28,15 @@ struct LocalizeOptions {
   /// > 0 (and a map given): labelled road edges are matched piecewise against the map's edge
   /// polylines, pieces at most this long (edgeCorrespondences), m; 0: against the predicted chord.
   /// 1 m: on the campus' curves (R5, R6: 35 m radius) the predicted chords bias the pose along the
-  /// road and in heading (0.8 m and 0.5 deg on campus_dialogue).
+  /// road and in heading (docs/measurements.md).
   double curve_piece_m = 1.0;
   /// > 0 (and a camera given): each edge correspondence's sigma also covers this many pixels of
   /// detection error across the line in the image, turned into metres on the ground where the line
   /// is seen: sigma = hypot(edge_sigma_m, edge_sigma_px * metres per pixel across it). A line
   /// across the road 10 m ahead is seen at 7 cm per pixel (Terregator camera) against 1 cm for a
   /// road edge beside it, so its along-road information is worth far less than edge_sigma_m says; 0:
-  /// edge_sigma_m alone. 2 px: with one 5 cm sigma for every line, one badly placed crossing line (a
-  /// tree shadow at campus_tour's I8) collapsed the along-road sigma from 0.28 to 0.035 m in a frame
-  /// and the gate then refused the good ones.
+  /// edge_sigma_m alone. 2 px: with one 5 cm sigma for every line, one badly placed crossing line
+  /// collapses the along-road sigma and the gate then refuses the good ones (docs/measurements.md).
   double edge_sigma_px = 2.0;
   /// Landmarks: the detected base pixel's covariance is widened by this many pixels in
   /// each direction (the detector's own covariance plus the map's survey error and the landmark's

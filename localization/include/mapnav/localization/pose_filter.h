@@ -64,10 +64,9 @@ struct FilterOptions {
   /// the vehicle rocks and the map's survey error move every line of a frame together, so that a
   /// frame's many lines are not independent measurements. Each update's information I is reduced to
   /// (I^-1 + R)^-1, R = diag(frame_sigma_m^2, frame_sigma_m^2, frame_heading_sigma^2), and the gate
-  /// adds R to the fit's covariance. 1 cm: a surveyed map's edges (a total-station or RTK survey,
-  /// 1-3 cm; 2 cm made the park_loop stretch with the cluster perceptron leave the path, which is
-  /// chaotic in every filter setting: see docs/suite.md); 0.3 deg: the camera's yaw mounting
-  /// calibration and the roll of a small vehicle on paving. 0: lines independent (the previous model).
+  /// adds R to the fit's covariance; m and degrees. 1 cm: a surveyed map's edges (a total-station or
+  /// RTK survey, 1-3 cm; docs/measurements.md); 0.3 deg: the camera's yaw mounting calibration and the
+  /// roll of a small vehicle on paving. 0: lines independent.
   double frame_sigma_m = 0.01;
   double frame_heading_sigma_deg = 0.3;
   /// Iterated EKF: relinearisations of the update at most (1: a plain EKF update).

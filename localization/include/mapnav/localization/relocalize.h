@@ -20,8 +20,7 @@ namespace mapnav {
 
 struct RelocalizeOptions {
   /// A frame whose detected region agrees with the predicted paved area by less than this IoU
-  /// (in [0, 1]) sets off a search; 0: never search. On a frame where the estimate is right the
-  /// region pipelines give 0.8-0.95 (the missions of the random-campus suite).
+  /// (in [0, 1]) sets off a search; 0: never search (docs/measurements.md).
   double search_below = 0.75;
   /// ... and whose area within the footprint is within this ratio (>= 1) of the predicted paved
   /// area's, either way: a shifted or turned road keeps its area, a region that swallowed the verge

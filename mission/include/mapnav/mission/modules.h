@@ -60,26 +60,22 @@ struct MapModuleOptions {
   /// to park_reset_sigma_m and park_reset_heading_sigma_deg and the frame matched again (0: never).
   /// A centre line or road edges observe lateral position and heading but not the position along
   /// the road; on a tight curve an along-road error of d gives a heading error of d / radius that
-  /// the filter does not know of (park_loop's 15 m hairpin: 1.1 m, 4 deg, growing to 7 deg; with
-  /// the edge tracker's inner edge alone 1.2-1.4 m and 5 deg), and out of the curve the gate then
-  /// rejects every correct measurement while the estimate runs off the path on odometry.
+  /// the filter does not know of (docs/measurements.md), and out of the curve the gate then rejects
+  /// every correct measurement while the estimate runs off the path on odometry.
   int park_reset_after_rejections = 3;
   double park_reset_sigma_m = 0.5;            ///< m (> 0)
   double park_reset_heading_sigma_deg = 10.0; ///< degrees (> 0)
   /// ... and only when the poses those rejected frames' lines give (CurrentPosition::rejected_fit),
   /// seen from the estimate, agree within this across the road (m, > 0) and in heading (degrees,
   /// > 0): an estimate gone wrong is refused the same way frame after frame, while a pipeline
-  /// misreading a curve's shadows gives a different wrong line each frame (park_loop's R4, seed 2:
-  /// centre lines 1.6 m left, then 1.7 m left, then 18 degrees right).
+  /// misreading a curve's shadows gives a different wrong line each frame (docs/measurements.md).
   double park_reset_agreement_m = 0.3;
   double park_reset_agreement_deg = 3.0;
   /// ... and only when each of those frames' lines fit together: none is an outlier of their fit,
   /// and put where their fit puts the vehicle, their end points lie within this RMS distance of
   /// their map lines (m, > 0; CurrentPosition::rejected_fit_rms_m). Correct lines refusing a wrong
   /// estimate fit together to their noise (one line exactly); a misread line among correct ones
-  /// cannot lie on its map line with them (random campus 15: a tree shadow's edge 0.6 m inside a
-  /// 4 m road, taken for its right edge four frames in a row, fits at 0.09-0.13 m and, taken, moved
-  /// a right estimate 1 m sideways and 5 degrees).
+  /// cannot lie on its map line with them (docs/measurements.md).
   double park_reset_max_rms_m = 0.05;
   /// Recovery: when Vision's road region disagrees with the map seen from the estimate, pose
   /// hypotheses around it are tried against the region (relocalize.h). The first frame with a clear

@@ -15,11 +15,8 @@ namespace mapnav {
 ///                                              labelled against the map's edges)
 ///   asphalt, gravel        → "color-rgb"     (Wallace 1985 §3.4: Gaussian classes in RGB, whose
 ///                                              brightness parts a grey road from grey gravel and
-///                                              kerbs, which normalised colour cannot; on the 14
-///                                              asphalt/gravel maps of the random-campus suite (seeds
-///                                              1-30) 13 reach the goal within 0.3 m, where
-///                                              edge-tracker, which sees a wide road's edges only from
-///                                              about 6 m ahead, loses both and stalls on 12)
+///                                              kerbs, which normalised colour cannot;
+///                                              docs/measurements.md)
 ///   dirt                   → "edge-tracker"  (§3: the park path, its edges followed up the frame)
 ///   grass, any other name  → none (no pipeline here is known to follow it)
 /// Returns "" for a surface that calls for none.

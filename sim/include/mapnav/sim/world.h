@@ -99,7 +99,7 @@ struct WorldOptions {
   /// a mix of pavement and shoulder. The renderer samples every pixel at its centre (textures,
   /// lines and shadows are filtered by the pixel's footprint), and a pixel whose centre's class
   /// (paved or not) differs from a 4-neighbour's is rendered as the mean of n × n samples over
-  /// the pixel. 1 = the centre alone (the edge a whole pixel, as rendered before this option).
+  /// the pixel. 1 = the centre alone (the edge a whole pixel).
   /// Frame::mask stays the centre's class. In [1, 16].
   int paved_edge_samples = 1;
   /// The paper's TV transmission (3.4.2): chroma turned by tv_hue_shift_rad (plus a slow wobble of
@@ -130,10 +130,9 @@ struct WorldOptions {
   /// of the pixels beside the paved area's edge and on manhole covers stay the per-pixel
   /// renderer's; the other colours differ from its by the texels' interpolation (about 1 level on
   /// average, the finest grain a little smoother: docs/measurements.md). It pays where consecutive
-  /// frames are close: 1.7× faster at 0.1 m a frame (a camera at video rate), no faster at 0.8 m
-  /// (the paper's frame a second), about twice as slow for a lone frame. 64 holds a frame's texels
-  /// many times over. The frame does not depend on what the cache held, nor on the threads.
-  /// In [0, 1e6].
+  /// frames are close (a camera at video rate), not for a lone frame (the speeds:
+  /// docs/measurements.md). 64 holds a frame's texels many times over. The frame does not depend on
+  /// what the cache held, nor on the threads. In [0, 1e6].
   double texel_cache_mib = 0;
   /// Runtime threads: bands of rows rendered in parallel (1 = this thread only, 0 = every core).
   /// The frame does not depend on it. Default 1: the simulator's callers (tests, missions) often

@@ -96,8 +96,8 @@ struct ClusterPerceptronOptions {
   /// surfaces that differ in brightness alone (gravel and asphalt) merge. The lookup table stays exact:
   /// the pixels nearer one normalised mean than another form a half-space through black in RGB.
   /// Use it with about 8 clusters: the paper's 5 are too few to part the grass, dirt and asphalt
-  /// chromaticities (park_loop's dirt shoulder was taken for road). The clusters' means, reconstruction
-  /// errors and raw_rgb's inputs are then in normalised levels.
+  /// chromaticities (docs/measurements.md). The clusters' means, reconstruction errors and raw_rgb's
+  /// inputs are then in normalised levels.
   bool normalized_color = false;
   /// Beyond the paper: the clusters and the perceptron see every channel in log colour,
   /// 255 ln(c + 1) / ln 256 (0..255), instead of (R, G, B). A shadow scales a colour by k, which in
@@ -105,9 +105,8 @@ struct ClusterPerceptronOptions {
   /// clusters part surfaces by their colours' ratios more than by their light. Brightness is kept,
   /// unlike normalized_color, which replaces it when both are set. The clusters' means,
   /// reconstruction errors and raw_rgb's inputs are then in log levels; the lookup table stays exact.
-  /// Not the default: the log spreads dark pixels' noise over the clusters, and on the simulator's
-  /// park (5 clusters, shaded grass) road IoU fell from 0.961 to 0.941 and the Hough left the road
-  /// on 2 of 46 straight frames. The pipeline uses it on streets (log_color_when_gated).
+  /// Not the default: the log spreads dark pixels' noise over the clusters (docs/measurements.md).
+  /// The pipeline uses it on streets (log_color_when_gated).
   bool log_color = false;
   /// Beyond the paper: the perceptron's bootstrap counts the road (inside the outline) and the rest
   /// equally, each road pixel weighted by (pixels outside) / (pixels inside). Without it a cluster is
@@ -119,18 +118,15 @@ struct ClusterPerceptronOptions {
   /// (the clusters' feature) lies more than this many σ (Mahalanobis, under the outline's own mean and
   /// covariance, +1 level² on the diagonal) from the road's; the pixels outside but nearer train
   /// nothing. On a real street "everything outside the outline" is mostly more road and pavement (a
-  /// bootstrap trapezoid is a tenth of a CamVid photo), which made every cluster "not road" ("no
-  /// road-coloured pixels" on every photo). camvid_train (retrained each frame, smooth_px 8): road IoU
-  /// 0.70 with 6 of 133 failed at 8, 0.838 at 16, 0.825 at 24. 0 = never (the paper).
+  /// bootstrap trapezoid is a tenth of a CamVid photo). Default 16 σ (docs/measurements.md); 0 =
+  /// never (the paper).
   double nonroad_gate_sigma = 16;
   /// The gate (nonroad_gate_sigma) is used only when the paper's bootstrap (every pixel outside the
   /// outline "not road") leaves less than this fraction of the outline's pixels road: the outside then
-  /// holds the road's own colours. Where the outline is the road (a map's prediction on the simulator's
-  /// park) the paper's bootstrap calls 0.94 to 1.00 of it road, and the colours outside it that are
-  /// near the road's are the negatives it needs (gated always, they trained nothing and became road:
-  /// park road IoU 0.944 instead of 0.959, the straight-road Hough 34-142 px off on 5 of 46 frames);
-  /// on camvid_train with the trapezoid it calls none of it road, on every photo. In [0, 1]; 1 = gate
-  /// whenever any pixel of the outline is classed not road.
+  /// holds the road's own colours. Where the outline is the road (a map's prediction), the colours
+  /// outside it that are near the road's are the negatives the paper's bootstrap needs
+  /// (docs/measurements.md). A fraction in [0, 1]; 1 = gate whenever any pixel of the outline is
+  /// classed not road.
   double nonroad_gate_below = 0.5;
   bool fast = true;                     ///< colour lookup table (true) or per-pixel reference path
   /// Runtime threads: bands of rows classified in parallel (1 = this thread only, 0 = every core).
@@ -142,10 +138,9 @@ struct ClusterPerceptronOptions {
   /// and this is > 0, the Hough and the edge consensus consider only centre lines whose columns on
   /// the top and the bottom road rows lie within this many pixels of the prior's. 0 = the whole
   /// image (the paper), the default: in a mission the prediction comes from the Map's estimate, and
-  /// where that is off the road by more than the window the finder cannot show it (park_loop closed
-  /// loop, 220 frames: off the path in 0 frames without a prior, in 92 with 20 px, 48 with 30). `mapnav
-  /// log track`, whose prediction is the road the finder itself found a frame before, sets 20 px
-  /// (its --prior-px; docs/kitti.md).
+  /// where that is off the road by more than the window the finder cannot show it
+  /// (docs/measurements.md). `mapnav log track`, whose prediction is the road the finder itself found
+  /// a frame before, sets 20 px (its --prior-px; docs/kitti.md).
   double prior_px = 0;
   /// Arc model, beyond the paper (as Wallace 1985 §3.2 carries the last frame's edges into the new
   /// one with the vehicle's motion): the ground fit also uses the road edges that the fits of the
@@ -336,10 +331,10 @@ Image predictedRoadMask(const PredictedObject& prediction, const Camera& camera)
 /// cannot tell asphalt from grass or paving of the same grey: a 3-channel image that stands in for
 /// R, G, B, per pixel, over the `window` × `window` box around it (clamped at the image sides):
 ///   0: the grey level's mean,
-///   1: 4 × the mean absolute 4-neighbour Laplacian, clamped to 255 (fine grain: on kitti_vo_seq1
-///      asphalt measures 16–22 levels, mown grass 8–12),
+///   1: 4 × the mean absolute 4-neighbour Laplacian, clamped to 255 (fine grain),
 ///   2: 4 × the grey level's standard deviation, clamped to 255 (coarse texture: leaves, paving
-///      joints, kerbs and shadow edges are high, asphalt 5–8 levels).
+///      joints, kerbs and shadow edges are high).
+/// Each channel in grey levels, 0..255 (values measured on real frames: docs/measurements.md).
 /// `window` is odd, in [3, 63].
 Image greyTextureFeatures(const std::uint8_t* rgb, int width, int height, int window);
 
@@ -352,28 +347,24 @@ struct ClusterPerceptronPipelineOptions : ClusterPerceptronOptions {
   int texture_window = 7;  ///< greyTextureFeatures()' window side, pixels: odd, in [3, 63]
   /// Beyond the paper: a grey frame's perceptron is trained with balance_classes. The non-road gate
   /// parts the road from the rest by the distance of their features, which a grey frame's texture
-  /// features barely have (kitti_vo_seq1: asphalt and mown grass 13-23 grey levels apart), so there the
-  /// gated perceptron calls the whole ground road; balanced, a cluster is road when it holds more of
-  /// the outline than of the rest. Colour frames keep balance_classes as set (balanced, CamVid's
-  /// colour photos lose the road beyond the trapezoid: camvid_train road IoU 0.72 instead of 0.84).
+  /// features barely have, so there the gated perceptron calls the whole ground road; balanced, a
+  /// cluster is road when it holds more of the outline than of the rest. Colour frames keep
+  /// balance_classes as set (balanced, colour photos lose the road beyond the trapezoid;
+  /// docs/measurements.md).
   bool grey_balance_classes = true;
   /// Beyond the paper: every frame clusters its own colours and retrains the perceptron on its own
   /// bootstrap (the frame's prediction, else the trapezoid). Without it the pipeline trains on the
   /// first frame and freezes (the paper's park mode), except that a perceptron the non-road gate
   /// trained (nonroad_gate_below: the paper's bootstrap could not separate; a model of that frame's
   /// colours) is trained again on every frame: on real photos the light and the surfaces change from
-  /// one street to the next (camvid_train, frozen on the first photo: road IoU 0.24; retrained 0.84).
-  /// Not the default because a sequence whose prediction is the last frame's road, as `mapnav log
-  /// track` carries it, feeds each frame's error into the next training: kitti_vo_seq1 (grey,
-  /// balance_classes, prior_px 20) kept the lane in 32 of 51 frames retrained, 51 of 51 frozen.
-  /// Costs about 75 ms a 480 x 360 frame.
+  /// one street to the next. Not the default because a sequence whose prediction is the last frame's
+  /// road, as `mapnav log track` carries it, feeds each frame's error into the next training (the
+  /// figures and the cost: docs/measurements.md).
   bool retrain_each_frame = false;
   /// Beyond the paper: train again (clusters and perceptron, bootstrapped from the prediction) on the
   /// first frame whose prediction names a surface (the road's, or a shoulder's beside an edge in view)
   /// that the frame of the last training did not: the surroundings changed, and colours the model
-  /// never saw as "not road" are not to be judged by it. On park_loop the model of R1's grass took
-  /// R2's dirt shoulder in the 15 m hairpin for road and the arc model halted there for good
-  /// (docs/measurements.md, park loop).
+  /// never saw as "not road" are not to be judged by it (docs/measurements.md, park loop).
   bool retrain_on_new_surface = true;
   /// Beyond the paper: a frame that the model trained on an earlier frame fails on is trained on
   /// (bootstrapped from the prediction) and tried again, instead of failing: a halted vehicle sees the
@@ -381,9 +372,8 @@ struct ClusterPerceptronPipelineOptions : ClusterPerceptronOptions {
   bool retrain_on_failure = true;
   /// Beyond the paper: with normalized_color, a training whose prediction puts a shoulder's mean colour
   /// within this distance of the road's in normalised colour (255 (R, G, B) / (R + G + B)) is done in
-  /// log colour (log_color) instead, which keeps the brightness that parts them. The park's gravel is
-  /// 11 from its asphalt (dirt 37, grass 55): in normalised colour the arc model took park_loop's
-  /// gravel shoulder on R4 for road and halted (docs/measurements.md, park loop). 0: never.
+  /// log colour (log_color) instead, which keeps the brightness that parts them. Normalised levels,
+  /// default 16 (docs/measurements.md, park loop); 0: never.
   double min_normalised_separation = 16;
   /// Arc model: the centre line reported (DetectedObject::centerline_vehicle, which the Map takes for
   /// straight) is the chord of the curve's near part that stays within this of the curve, m (> 0).
@@ -391,14 +381,13 @@ struct ClusterPerceptronPipelineOptions : ClusterPerceptronOptions {
   double chord_tolerance_m = 0.05;
   /// Beyond the paper: the road region (perceptronRegion()) and the per-pixel confidence come from the
   /// certainty averaged over the (2 r + 1)² box around each pixel (smoothCertainty()), so that lane
-  /// markings and speckle do not cut holes and tongues into the road (camvid_train, gate 16: road IoU
-  /// 0.80 at 0, 0.84 at 8, 0.845 at 16). In [0, 64].
+  /// markings and speckle do not cut holes and tongues into the road (docs/measurements.md). r in
+  /// pixels, in [0, 64].
   int smooth_px = 8;
   /// Beyond the paper: when the perceptron needed the non-road gate (nonroad_gate_below: the paper's
   /// bootstrap could not part the road from the rest, as on a street whose road and pavements run on
-  /// beyond the outline in sun and shade), cluster and train again in log colour (log_color). On
-  /// camvid_train (the trapezoid, retrained each photo) road IoU 0.857 against RGB's 0.838, and
-  /// 0.857-0.861 over seeds 1-3. Where the bootstrap separates (a path among grass: the simulator's
+  /// beyond the outline in sun and shade), cluster and train again in log colour (log_color;
+  /// docs/measurements.md). Where the bootstrap separates (a path among grass: the simulator's
   /// park, where the gate is not used) the paper's RGB stays. Colour frames only (not grey ones'
   /// texture features, not normalized_color).
   bool log_color_when_gated = true;

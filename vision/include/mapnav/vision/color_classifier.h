@@ -20,8 +20,8 @@ namespace mapnav {
 /// LogRGB: each channel c as 255 ln(c + 1) / ln 256 (0..255). The paper's classes are in RGB (3.4);
 /// in its log a shadow, which scales the channels, moves a colour along the grey axis by the same
 /// amount wherever the colour is, so one Gaussian with a spread along that axis (brightness_sigma)
-/// covers a road in sun and shade without covering every grey (camvid_train: road IoU 0.889 against
-/// linear RGB's 0.862, docs/eval.md). NormalizedRG: r = R/(R+G+B), g = G/(R+G+B).
+/// covers a road in sun and shade without covering every grey (docs/measurements.md). NormalizedRG:
+/// r = R/(R+G+B), g = G/(R+G+B).
 enum class ColorSpace { LogRGB, NormalizedRG };
 
 /// A Gaussian in 2 (rg) or 3 (log RGB; rg and brightness) dimensions; in 2-D only the upper-left

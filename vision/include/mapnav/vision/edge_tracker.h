@@ -92,25 +92,20 @@ EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& d
                        const OrientedEdgeParams& params, int polarity = 0);
 
 struct EdgeTrackerOptions {
-  /// The band the edges are traced in. Normalised green (the paper's 3.4.3): in luminance the
-  /// park path's grass-to-asphalt step is 8-10 levels under the trees while tree-shadow steps on the
-  /// asphalt reach 40, so shadow edges won the windows; blue is the paper's Warp band, but the
-  /// simulated grass is bright in blue.
+  /// The band the edges are traced in. Normalised green (the paper's 3.4.3): in luminance the tree
+  /// shadows' steps on the asphalt are larger than the grass-to-asphalt step (docs/measurements.md);
+  /// blue is the paper's Warp band, but the simulated grass is bright in blue.
   GreyBand band = GreyBand::NormalizedGreen;
   /// With a normalised band: an edge whose predicted side colours the prediction gives is traced in
   /// whichever of the normalised green and the normalised red separates them more (or in luminance:
   /// see min_normalised_step). On the park path dirt and gravel have the asphalt's normalised green
-  /// (0.33-0.34: R2's 15 m hairpin has dirt on its inside, and its edge was invisible), while the
-  /// grass edges keep the green.
+  /// (docs/measurements.md), while the grass edges keep the green.
   bool band_from_prediction = true;
   /// With band_from_prediction: when neither normalised band separates an edge's predicted side
   /// colours by this many levels, the edge is traced in luminance (when that separates them more).
-  /// Gravel against asphalt differs in brightness only: 2.8 levels in normalised green, 6.6 in
-  /// normalised red (about min_contrast: under the texture the trace lost R4's outer edge on its
-  /// 30 m curve, park_loop frame 410, and the vehicle halted there), 60 in luminance, where tree
+  /// Gravel against asphalt differs in brightness only (docs/measurements.md); in luminance tree
   /// shadows step too (the expected contrast sign rejects those of the other sign; see
-  /// gate_luminance for the others). Grass (43 in green) and dirt (25 in red) keep their normalised
-  /// band. 0: never luminance.
+  /// gate_luminance for the others). 0: never luminance.
   double min_normalised_step = 12;
   int window_rows = 64;               ///< at 480 rows; scaled with the image height
   int window_cols = 128;              ///< at 512 columns; scaled with the image width
@@ -137,19 +132,15 @@ struct EdgeTrackerOptions {
   double max_range_m = 15;
   bool gate_search = false;           ///< search only offsets reachable within max_turn_deg (see OrientedEdgeParams::max_offset_px)
   /// gate_search for the edges min_normalised_step sends to luminance alone. There a tree shadow's
-  /// step on the brighter shoulder beats the material step: gravel shaded against sunlit is 59 to
-  /// 134 levels, asphalt against gravel in the same shade 33 to 59; on R4's curve (park_loop frame
-  /// 429) the window after the first point took the shadow's edge 30 px off, the trace "turned too
-  /// sharply" and the vehicle halted for 8 frames.
+  /// step on the brighter shoulder beats the material step (docs/measurements.md).
   bool gate_luminance = true;
   bool use_carried_edges = true;      ///< use advance()'d edges when the prediction has no segments
   /// When one edge is lost and the other, labelled, is tracked: report that edge alone (its lines,
   /// no centre line, half the confidence) instead of failing. On a 3 m park path the pin-hole sees
   /// the edges only in the image's upper corners, and on a curve one of them leaves the image; one
   /// edge still gives the Map the lateral position and the heading. Without the pair's width and
-  /// parallelism check only the Map's gate stands between a wrong edge and the estimate; in luminance
-  /// the heavy-shadow test's shadow edges (20 and 49 px off the true edge) got through that way, in
-  /// the normalised bands they do not appear (both edges within 1.3 px there).
+  /// parallelism check only the Map's gate stands between a wrong edge and the estimate
+  /// (docs/measurements.md).
   bool single_edge = true;
   /// Where a start comes from the predicted road region's sides (a prediction without interest
   /// segments: `mapnav eval`'s bootstrap trapezoid), the first window searches this far either side
@@ -161,8 +152,8 @@ struct EdgeTrackerOptions {
   /// With starts from a region: the road region reported reaches up to the row that sees the ground
   /// this far ahead, metres (the edges' lines extended up to it), and a lost edge's side reaches to
   /// the image's side: the search found no step between the predicted edge and it. The edges say
-  /// nothing of where the road ends ahead; on camvid_train road IoU is 0.868, 0.867, 0.861, 0.842
-  /// and 0.846 at 20, 25, 30, 60 and 15 m (cars, crossings and buildings close the street beyond).
+  /// nothing of where the road ends ahead (cars, crossings and buildings close a street beyond; why
+  /// 25: docs/measurements.md).
   double region_far_m = 25;
   /// With starts from a region: the first window tries orientations within this of the region's
   /// side (in steps of at least 2 deg). A region's side is not the edge's direction: CamVid's kerbs

@@ -31,9 +31,8 @@ struct GroundStepOptions {
   double min_texture = 2.0;
   /// Registered when the phase correlation's peak reaches min_peak (0..1) and min_peak_ratio
   /// times the highest value more than clear_m away from it along or across: one clear candidate,
-  /// not a ridge (texture in one direction only, a kerb along the road) or a repeated pattern. On
-  /// the simulator's concrete and lawns with shadows the peaks are 0.07-0.62 (median 0.37); stripes
-  /// along the road with sensor noise give 0.048 and a runner-up of 0.037.
+  /// not a ridge (texture in one direction only, a kerb along the road) or a repeated pattern (the
+  /// peaks measured: docs/measurements.md).
   double min_peak = 0.05;
   double min_peak_ratio = 1.5;
   double clear_m = 0.1;

@@ -27,8 +27,7 @@ struct LandmarkFinderOptions {
   double max_search_px = 150.0;
   /// How much of something standing is compared with its sides: from its base up this far (or its
   /// height, if less), m. 0.6: a bench's seat, most of a bollard, and a trunk or post below the
-  /// parked bicycles and hedges that hide the rest; 0.3 took the lit half of a bollard standing in
-  /// shaded grass for all of it, and a post's shadow for the post.
+  /// parked bicycles and hedges that hide the rest (docs/measurements.md).
   double probe_height_m = 0.6;
   /// At least this much of that height must be in the frame (a landmark far ahead stands at the
   /// frame's top edge), as a fraction.
@@ -51,8 +50,8 @@ struct LandmarkFinderOptions {
   double min_peak_ratio = 1.25;
   /// The standard deviation of a found base across (u) and up the image (v), px, at least: what
   /// the covariance of DetectedLandmark::image_base says (a quarter of the width is added across).
-  /// 2 px: on the simulator's frames with shadows the median error is 0.3 px, but a few are off by
-  /// 3-8 px (a cylinder's shaded side merges with shaded ground); 61 of 61 within 3 sigma.
+  /// 2 px: a few bases are off by several pixels where a cylinder's shaded side merges with shaded
+  /// ground (docs/measurements.md).
   double base_sigma_u_px = 2.0;
   double base_sigma_v_px = 2.0;
 

@@ -21,10 +21,9 @@ struct LineOptions {
   double max_distance_m = 0.4;         ///< ... and both end points within this of the predicted line. > 0
   /// ... or within this many sigma of it, where the prediction's pose covariance puts the predicted
   /// line's sigma across itself at that point higher (max_distance_m is then the gate's floor, for
-  /// pixel noise and the map's own error). 0 (the default) = the fixed max_distance_m alone: with 3,
-  /// on the suite of random campuses with the consistent filter, a gate wider than half a road's
-  /// width labelled a line with the wrong edge on 2 of 30 maps (docs/suite.md), and nothing yet
-  /// checks a label against its neighbouring segments. >= 0
+  /// pixel noise and the map's own error). 0 (the default) = the fixed max_distance_m alone: a gate
+  /// wider than half a road's width can label a line with the wrong edge, and nothing checks a label
+  /// against its neighbouring segments (docs/measurements.md). >= 0
   double gate_sigma = 0.0;
   double min_overlap = 0.5;            ///< ... and this fraction of the line overlaps the segment. [0, 1]
   double relation_tolerance_m = 0.5;   ///< parallel pairs: separation within this of the predicted. > 0
