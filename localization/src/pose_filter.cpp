@@ -172,101 +172,77 @@ std::string joined(const std::vector<std::string>& ids) {
   return out;
 }
 
-}  // namespace
+// The directions a line fit observes: U, the eigenvectors of its information whose eigenvalue is at
+// least min_information (and > 0), one column each, and the fit's variance 1 / eigenvalue along
+// each. No column when the lines constrain no direction.
+struct ObservedDirections {
+  Eigen::MatrixXd u;
+  Eigen::VectorXd fit_variance;
+};
 
-CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines, double timestamp) {
-  step_.reset();
-  const LineMatchOptions& mo = options_.match;
-  if (lines.empty()) return current(timestamp, "no usable lines: odometry only");
-
-  // 1. The robust fit from the prior: which correspondences are inliers, and the pose they give.
-  const std::optional<LineFit> fit = fitPoseToLines(pose_, lines, mo);
-  if (!fit) return current(timestamp, "no line is an inlier: odometry only");
-
-  // 2. The gate: the fitted pose against the prior in the observed directions U, where the fit's
-  //    covariance is diag(1 / eigenvalue): d^2 = e^T (U^T P U + Lambda^-1)^-1 e, e = U^T (fit - prior).
-  const Vec3 prior = toVec(pose_);
-  Eigen::SelfAdjointEigenSolver<Mat3> eig(fit->information);
+ObservedDirections observedDirections(const Mat3& information, double min_information) {
+  Eigen::SelfAdjointEigenSolver<Mat3> eig(information);
   std::vector<int> kept;
   for (int i = 0; i < 3; ++i) {
-    if (eig.eigenvalues()(i) >= mo.min_information && eig.eigenvalues()(i) > 0) kept.push_back(i);
+    if (eig.eigenvalues()(i) >= min_information && eig.eigenvalues()(i) > 0) kept.push_back(i);
   }
   const int dof = static_cast<int>(kept.size());
-  if (dof == 0) return current(timestamp, "the lines constrain no direction: odometry only");
-  Eigen::MatrixXd u(3, dof);
-  Eigen::VectorXd fit_variance(dof);
+  ObservedDirections out{Eigen::MatrixXd(3, dof), Eigen::VectorXd(dof)};
   for (int i = 0; i < dof; ++i) {
-    u.col(i) = eig.eigenvectors().col(kept[static_cast<std::size_t>(i)]);
-    fit_variance(i) = 1.0 / eig.eigenvalues()(kept[static_cast<std::size_t>(i)]);
+    out.u.col(i) = eig.eigenvectors().col(kept[static_cast<std::size_t>(i)]);
+    out.fit_variance(i) = 1.0 / eig.eigenvalues()(kept[static_cast<std::size_t>(i)]);
   }
-  const Eigen::VectorXd e = u.transpose() * difference(toVec(fit->pose), prior);
-  const double fs = options_.frame_sigma_m, fh = degToRad(options_.frame_heading_sigma_deg);
-  const Mat3 frame_error = Vec3(fs * fs, fs * fs, fh * fh).asDiagonal();  // shared by the frame's lines
-  const Eigen::MatrixXd s =
-      u.transpose() * (covariance_ + frame_error) * u + Eigen::MatrixXd(fit_variance.asDiagonal());
-  const double d2 = e.dot(s.ldlt().solve(e));
-  const boost::math::chi_squared_distribution<double> chi2(dof);
-  const double limit = boost::math::quantile(chi2, options_.gate_probability);
-  if (!(d2 <= limit)) {
-    CurrentPosition out = current(
-        timestamp,
-        strprintf("rejected: the lines disagree with the prior (Mahalanobis d^2 = %.1f > %.1f, %d dof); odometry only",
-               d2, limit, dof));
-    out.status = PositionStatus::Rejected;
-    out.mahalanobis_d2 = d2;
-    out.outliers = fit->outliers;
-    out.rejected_fit = fit->pose;
-    out.rejected_fit_rms_m = fit->rms_m;
-    return out;
-  }
+  return out;
+}
 
-  // 3. Iterated EKF update with the inliers' point-to-line distances (measured 0) as the
-  //    measurement: Gauss-Newton on |x - prior|^2_{P^-1} + sum r_i(x)^2 / sigma_i^2.
-  //    Lines with candidates start from the fit's association and are re-associated at every iterate.
+// The frame's shared error R over (x, y, heading): m², m², rad², shared by the frame's lines.
+Mat3 frameError(const FilterOptions& options) {
+  const double fs = options.frame_sigma_m, fh = degToRad(options.frame_heading_sigma_deg);
+  return Vec3(fs * fs, fs * fs, fh * fh).asDiagonal();
+}
+
+// The gate's Mahalanobis distance d^2 = e^T (U^T (P + R) U + Lambda^-1)^-1 e of the fit's change
+// from the prior, `change` (fit - prior), with e = U^T change, P the prior's pose covariance and R
+// the frame's shared error.
+double gateDistance2(const ObservedDirections& observed, const Vec3& change, const Mat3& covariance,
+                     const Mat3& frame_error) {
+  const Eigen::MatrixXd& u = observed.u;
+  const Eigen::VectorXd e = u.transpose() * change;
+  const Eigen::MatrixXd s =
+      u.transpose() * (covariance + frame_error) * u + Eigen::MatrixXd(observed.fit_variance.asDiagonal());
+  return e.dot(s.ldlt().solve(e));
+}
+
+// The fit's inliers, each matched against the map line the fit associated it with.
+std::vector<LineCorrespondence> inliersOf(const std::vector<LineCorrespondence>& lines, const LineFit& fit) {
   std::vector<LineCorrespondence> inliers;
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    const auto& out = fit->outlier_indices;
+    const auto& out = fit.outlier_indices;
     if (std::find(out.begin(), out.end(), i) != out.end()) continue;
     inliers.push_back(lines[i]);
-    inliers.back().map_world = fit->map_lines[i];
+    inliers.back().map_world = fit.map_lines[i];
   }
-  //    The measurement is used only in the observed directions U (J projected onto U): a direction
-  //    the lines determine worse than min_information allows (a line a few degrees off the road's
-  //    direction "observes" the along-road position through its slant alone, where a few
-  //    centimetres of map or detection error become decimetres) gets no correction.
-  Problem problem(inliers, mo.reassociate_max_angle_deg);
+  return inliers;
+}
+
+// a - b over the full state (x, y, heading, e, b), the heading difference wrapped.
+Eigen::Matrix<double, 5, 1> difference5(const Eigen::Matrix<double, 5, 1>& a, const Eigen::Matrix<double, 5, 1>& b) {
+  Eigen::Matrix<double, 5, 1> d = a - b;
+  d(2) = normalizeAngle(d(2));
+  return d;
+}
+
+// The Gauss-Newton iterates of the update from `prior5` (PoseFilter::update, step 3): at each,
+// `problem`'s points re-associated (not at the first, the prior: the fit's association is kept),
+// their projected information and gradient through the frame's shared error, and the step solving
+// (I + P A) step = -(x - prior) - P g with P = `p_used`. Stops after options.update_iterations
+// iterates or at a pose step below match.step_tolerance. Returns the last iterate.
+Eigen::Matrix<double, 5, 1> iterateUpdate(Problem& problem, const Mat3& project, const Mat3& frame_error,
+                                          const Eigen::Matrix<double, 5, 1>& prior5, const Mat5& p_used,
+                                          const FilterOptions& options) {
   const std::vector<PointObs>& pts = problem.pts;
-  const std::vector<char> all(inliers.size(), 1);
-  //    Over the full state (the scale and bias move through their correlation with the pose), in
-  //    the form that needs no inverse of the prior covariance P (a state not estimated has variance
-  //    0): with A = J^T W J and g = J^T W r (projected, zero for e and b) the step solves
-  //    (P^-1 + A) step = -P^-1 (x - prior) - g, i.e. (I + P A) step = -(x - prior) - P g, and the
-  //    posterior is (P^-1 + A)^-1 = (I + P A)^-1 P.
-  const Mat3 project = u * u.transpose();
-  //    The frame's shared error R (sharedErrorFactor, fullInformation).
-  Eigen::Matrix<double, 5, 1> prior5, x;
-  prior5 << prior, scale_error_, gyro_bias_;
-  x = prior5;
-  auto difference5 = [](const Eigen::Matrix<double, 5, 1>& a, const Eigen::Matrix<double, 5, 1>& b) {
-    Eigen::Matrix<double, 5, 1> d = a - b;
-    d(2) = normalizeAngle(d(2));
-    return d;
-  };
-  //    The scale and the bias are estimated from frames whose lines observe the position along the
-  //    road (crossing lines); from the others (road edges or a centre line alone: park mode) they are
-  //    considered, not updated (Schmidt): on a curve an along-road error the lines do not see turns
-  //    into lateral and heading corrections, which through the correlations would be taken for a
-  //    scale or bias error (on park_loop's bends these corrections pull 1-2 m per bend whatever the
-  //    scale). The update then uses the pose block P_pp, and the pose's correlation with them
-  //    shrinks as the pose's covariance does.
-  const bool systematic =
-      observability(project * informationOf(pts, all, prior) * project, pose_.heading(), mo.min_information).along;
-  Mat5 p_used = full_;
-  if (!systematic) {
-    p_used.topRightCorner<3, 2>().setZero();
-    p_used.bottomLeftCorner<2, 3>().setZero();
-  }
-  for (int it = 0; it < options_.update_iterations; ++it) {
+  Eigen::Matrix<double, 5, 1> x = prior5;
+  for (int it = 0; it < options.update_iterations; ++it) {
     const Vec3 pose_x = x.head<3>();
     if (it > 0) problem.reassociate(pose_x);  // the first iterate is the prior: keep the fit's association
     Mat3 a = Mat3::Zero();
@@ -285,20 +261,101 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
         (Mat5::Identity() + p_used * a5).partialPivLu().solve(-difference5(x, prior5) - p_used * g5);
     x += step;
     x(2) = normalizeAngle(x(2));
-    if (step.head<3>().norm() < mo.step_tolerance) break;
+    if (step.head<3>().norm() < options.match.step_tolerance) break;
   }
-  const Mat3 information = project * informationOf(pts, all, x.head<3>()) * project;
-  const Mat5 a5 = fullInformation(sharedErrorFactor(information, frame_error), information);
-  Mat5 posterior = full_;
+  return x;
+}
+
+// The posterior covariance (P^-1 + A)^-1 = (I + P A)^-1 P of the full state, from the prior `full`
+// and the measurement's information `a5`, symmetrised. When the scale and bias are only considered
+// (not `systematic`), only the pose's rows change.
+Mat5 posteriorCovariance(const Mat5& full, const Mat5& a5, bool systematic) {
+  Mat5 posterior = full;
   if (systematic) {
-    posterior = (Mat5::Identity() + full_ * a5).partialPivLu().solve(full_);
+    posterior = (Mat5::Identity() + full * a5).partialPivLu().solve(full);
   } else {  // (I - K H) applied to the pose's rows: (I + P_pp A)^-1, the considered states' block kept
-    const Mat3 shrink = (Mat3::Identity() + full_.topLeftCorner<3, 3>() * a5.topLeftCorner<3, 3>()).inverse();
-    posterior.topLeftCorner<3, 3>() = shrink * full_.topLeftCorner<3, 3>();
-    posterior.topRightCorner<3, 2>() = shrink * full_.topRightCorner<3, 2>();
+    const Mat3 shrink = (Mat3::Identity() + full.topLeftCorner<3, 3>() * a5.topLeftCorner<3, 3>()).inverse();
+    posterior.topLeftCorner<3, 3>() = shrink * full.topLeftCorner<3, 3>();
+    posterior.topRightCorner<3, 2>() = shrink * full.topRightCorner<3, 2>();
     posterior.bottomLeftCorner<2, 3>() = posterior.topRightCorner<3, 2>().transpose();
   }
   posterior = 0.5 * (posterior + posterior.transpose());
+  return posterior;
+}
+
+}  // namespace
+
+CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines, double timestamp) {
+  step_.reset();
+  const LineMatchOptions& mo = options_.match;
+  if (lines.empty()) return current(timestamp, "no usable lines: odometry only");
+
+  // 1. The robust fit from the prior: which correspondences are inliers, and the pose they give.
+  const std::optional<LineFit> fit = fitPoseToLines(pose_, lines, mo);
+  if (!fit) return current(timestamp, "no line is an inlier: odometry only");
+
+  // 2. The gate: the fitted pose against the prior in the observed directions U, where the fit's
+  //    covariance is diag(1 / eigenvalue): d^2 = e^T (U^T P U + Lambda^-1)^-1 e, e = U^T (fit - prior).
+  const Vec3 prior = toVec(pose_);
+  const ObservedDirections observed = observedDirections(fit->information, mo.min_information);
+  const Eigen::MatrixXd& u = observed.u;
+  const int dof = static_cast<int>(u.cols());
+  if (dof == 0) return current(timestamp, "the lines constrain no direction: odometry only");
+  const Mat3 frame_error = frameError(options_);  // shared by the frame's lines
+  const double d2 = gateDistance2(observed, difference(toVec(fit->pose), prior), covariance_, frame_error);
+  const boost::math::chi_squared_distribution<double> chi2(dof);
+  const double limit = boost::math::quantile(chi2, options_.gate_probability);
+  if (!(d2 <= limit)) {
+    CurrentPosition out = current(
+        timestamp,
+        strprintf("rejected: the lines disagree with the prior (Mahalanobis d^2 = %.1f > %.1f, %d dof); odometry only",
+               d2, limit, dof));
+    out.status = PositionStatus::Rejected;
+    out.mahalanobis_d2 = d2;
+    out.outliers = fit->outliers;
+    out.rejected_fit = fit->pose;
+    out.rejected_fit_rms_m = fit->rms_m;
+    return out;
+  }
+
+  // 3. Iterated EKF update with the inliers' point-to-line distances (measured 0) as the
+  //    measurement: Gauss-Newton on |x - prior|^2_{P^-1} + sum r_i(x)^2 / sigma_i^2.
+  //    Lines with candidates start from the fit's association and are re-associated at every iterate.
+  const std::vector<LineCorrespondence> inliers = inliersOf(lines, *fit);
+  //    The measurement is used only in the observed directions U (J projected onto U): a direction
+  //    the lines determine worse than min_information allows (a line a few degrees off the road's
+  //    direction "observes" the along-road position through its slant alone, where a few
+  //    centimetres of map or detection error become decimetres) gets no correction.
+  Problem problem(inliers, mo.reassociate_max_angle_deg);
+  const std::vector<PointObs>& pts = problem.pts;
+  const std::vector<char> all(inliers.size(), 1);
+  //    Over the full state (the scale and bias move through their correlation with the pose), in
+  //    the form that needs no inverse of the prior covariance P (a state not estimated has variance
+  //    0): with A = J^T W J and g = J^T W r (projected, zero for e and b) the step solves
+  //    (P^-1 + A) step = -P^-1 (x - prior) - g, i.e. (I + P A) step = -(x - prior) - P g, and the
+  //    posterior is (P^-1 + A)^-1 = (I + P A)^-1 P.
+  const Mat3 project = u * u.transpose();
+  //    The frame's shared error R (sharedErrorFactor, fullInformation).
+  Eigen::Matrix<double, 5, 1> prior5;
+  prior5 << prior, scale_error_, gyro_bias_;
+  //    The scale and the bias are estimated from frames whose lines observe the position along the
+  //    road (crossing lines); from the others (road edges or a centre line alone: park mode) they are
+  //    considered, not updated (Schmidt): on a curve an along-road error the lines do not see turns
+  //    into lateral and heading corrections, which through the correlations would be taken for a
+  //    scale or bias error (on park_loop's bends these corrections pull 1-2 m per bend whatever the
+  //    scale). The update then uses the pose block P_pp, and the pose's correlation with them
+  //    shrinks as the pose's covariance does.
+  const bool systematic =
+      observability(project * informationOf(pts, all, prior) * project, pose_.heading(), mo.min_information).along;
+  Mat5 p_used = full_;
+  if (!systematic) {
+    p_used.topRightCorner<3, 2>().setZero();
+    p_used.bottomLeftCorner<2, 3>().setZero();
+  }
+  const Eigen::Matrix<double, 5, 1> x = iterateUpdate(problem, project, frame_error, prior5, p_used, options_);
+  const Mat3 information = project * informationOf(pts, all, x.head<3>()) * project;
+  const Mat5 posterior =
+      posteriorCovariance(full_, fullInformation(sharedErrorFactor(information, frame_error), information), systematic);
 
   pose_ = toPose(x.head<3>());
   scale_error_ = x(3);

@@ -1,8 +1,9 @@
 #pragma once
 // Internal to vision/: what the cluster-perceptron's files share (see cluster_perceptron.h): the
-// certainty levels of the perceptron's output (lookup table, runtime), the image
-// centre model and its fit (runtime, edge refinement, pipeline), the row's edge candidates (image and
-// ground refinement), and the arc model's ground road and its refinement (runtime).
+// certainty levels of the perceptron's output (lookup table, runtime), the per-pixel classification
+// that find() calls (runtime), the image centre model and its fit (runtime, edge refinement,
+// pipeline), the row's edge candidates (image and ground refinement), and the arc model's ground road
+// and its refinement (runtime).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -33,6 +34,30 @@ enum class ParkSimd { Portable, Avx2, Avx512 };
 /// Caps the vector code of every later find() (default: none, ParkSimd::Avx512). Not for use while
 /// another thread runs find().
 void setParkSimdCap(ParkSimd cap);
+
+// --- The classification (cluster_perceptron_classify.cpp) ----------------------------------------------
+
+/// The fast path's tables (ClusterPerceptron::buildLut()): the 32³ cells' certainties, and the
+/// ambiguous cells' offsets into their exact 8³ tables.
+struct LutView {
+  const std::uint8_t* lut;
+  const std::uint32_t* sub_offset;
+  const std::uint8_t* sub;
+};
+
+/// A frame's per-pixel certainty (row by row, `width` a row) and its block sums (block row by block
+/// row), as classifyFrame() leaves them; find() keeps one per thread.
+struct FrameScratch {
+  std::vector<std::uint8_t> cert;
+  std::vector<std::uint32_t> bsum;
+};
+
+/// §6: every pixel's road certainty (into scr.cert) and each block's sum of them (scr.bsum), one band
+/// of block rows per task: the bands write disjoint rows of both, so threads do not change the answer.
+/// The fast path reads the lookup table; the reference path classifies every pixel by
+/// finder.outputReference(). Returns the frame's road pixels.
+long long classifyFrame(const ClusterPerceptron& finder, const LutView& tables, const std::uint8_t* rgb, int width,
+                        int height, FrameScratch& scr);
 
 // --- The image centre model -----------------------------------------------------------------------------
 
