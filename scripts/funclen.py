@@ -80,9 +80,11 @@ def functions(path):
             name = ''
             if parent in ('ns', 'class'):
                 h = head.strip()
+                # Attributes out: `struct [[gnu::visibility("hidden")]] X {` is a class, not a function.
+                bare = re.sub(r'\[\[.*?\]\]', ' ', h, flags=re.S)
                 if re.search(r'\bnamespace\b', h) or h.startswith('extern "C"') or h == 'extern':
                     kind = 'ns'
-                elif re.search(r'\b(class|struct|union|enum)\b[^()]*$', h) or re.search(r'\b(class|struct|union|enum)\b\s+\w+\s*(final\s*)?(:[^()]*)?$', h):
+                elif re.search(r'\b(class|struct|union|enum)\b[^()]*$', bare) or re.search(r'\b(class|struct|union|enum)\b\s+\w+\s*(final\s*)?(:[^()]*)?$', bare):
                     kind = 'class'
                 elif ')' in h and not re.search(r'=\s*$', h) and not h.endswith(','):
                     kind = 'func'

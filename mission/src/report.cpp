@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <utility>
 
 #include "mapnav/core/error.h"
@@ -13,10 +12,9 @@
 #include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/geodesy.h"
-#include "mapnav/map/map_render.h"
 #include "mapnav/mission/trace.h"
 #include "mapnav/render/canvas.h"
-#include "mapnav/render/xml.h"
+#include "report_internal.h"
 
 namespace mapnav {
 
@@ -111,25 +109,15 @@ std::vector<ReportThumbnail> ReportFrames::thumbnails() const {
 namespace {
 
 using render::Rgb;
-
-constexpr Rgb kRouteColor{120, 170, 255};
-constexpr Rgb kTruthColor{20, 20, 20};
-constexpr Rgb kEstimateColor{0, 90, 230};
-constexpr Rgb kOdometryColor{240, 120, 0};
-constexpr Rgb kAlongColor{0, 150, 70};
-constexpr Rgb kFailureColor{220, 30, 30};
-constexpr Rgb kGnssColor{150, 0, 200};
-constexpr Rgb kHaltColor{250, 170, 170};
-constexpr Rgb kIntersectionCueColor{90, 90, 90};  // the along-road position fixed by lines across the road
-constexpr Rgb kLandmarkCueColor{200, 120, 0};     // ... by a landmark
+using detail::errorPlots, detail::escape, detail::FailureRun, detail::failureRuns, detail::mapFigure, detail::track;
+using detail::kEstimateColor, detail::kFailureColor, detail::kGnssColor, detail::kOdometryColor, detail::kRouteColor,
+    detail::kTruthColor;
 
 std::string hex(const Rgb& c) {
   char s[8];
   std::snprintf(s, sizeof s, "#%02x%02x%02x", c.r, c.g, c.b);
   return s;
 }
-
-std::string escape(const std::string& text) { return render::escapeXml(text); }
 
 std::string base64(const std::string& bytes) {
   static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -146,297 +134,12 @@ std::string base64(const std::string& bytes) {
   return out;
 }
 
-// A Canvas as an inline <svg> element: no XML prologue, scaled to the page's width, with an id.
-std::string inlineSvg(const render::Canvas& canvas, const std::string& id, const std::string& title) {
-  std::string svg = canvas.toSvg();
-  const std::size_t at = svg.find("<svg ");
-  svg = svg.substr(at == std::string::npos ? 0 : at);
-  svg.insert(5, "id=\"" + id + "\" class=\"figure\" role=\"img\" aria-label=\"" + escape(title) + "\" ");
-  return svg;
-}
-
-// Frames whose Vision failed, grouped into runs of consecutive frames.
-struct FailureRun {
-  std::size_t first = 0, last = 0;  // indices into run.frames
-  std::string reason;
-};
-
-std::vector<FailureRun> failureRuns(const MissionRun& run) {
-  std::vector<FailureRun> runs;
-  for (std::size_t i = 0; i < run.frames.size(); ++i) {
-    if (run.frames[i].vision_ok) continue;
-    if (!runs.empty() && runs.back().last + 1 == i) {
-      runs.back().last = i;
-    } else {
-      runs.push_back({i, i, run.frames[i].vision_reason});
-    }
-  }
-  return runs;
-}
-
-double framePeriod(const MissionRun& run) {
-  if (run.frames.size() < 2) return 0.5;
-  return (run.frames.back().t - run.frames.front().t) / static_cast<double>(run.frames.size() - 1);
-}
-
-// ---- the map
-
-std::vector<Vec2> track(const MissionRun& run, std::optional<Pose2> FrameRecord::*truth) {
-  std::vector<Vec2> points;
-  for (const FrameRecord& f : run.frames) {
-    if (const auto& p = f.*truth) points.push_back(p->translation());
-  }
-  return points;
-}
-
-std::vector<Vec2> track(const MissionRun& run, Pose2 FrameRecord::*pose) {
-  std::vector<Vec2> points;
-  for (const FrameRecord& f : run.frames) points.push_back((f.*pose).translation());
-  return points;
-}
-
-std::string mapFigure(const MissionRun& run, const Map& map, const ReportOptions& options) {
-  const std::vector<Vec2> truth = track(run, &FrameRecord::truth);
-  const std::vector<Vec2> estimate = track(run, &FrameRecord::estimate);
-  const std::vector<Vec2> odometry = track(run, &FrameRecord::odometry_only);
-  Box2 box;
-  std::vector<std::pair<Vec2, double>> gnss;  // the fixes and their sigma
-  for (const FrameRecord& f : run.frames)
-    if (f.gnss) gnss.emplace_back(*f.gnss, f.gnss_sigma_m);
-  for (const auto* line : {&run.route.line.points(), &truth, &estimate, &odometry}) {
-    for (const Vec2& p : *line) box.extend(p);
-  }
-  for (const auto& [p, sigma] : gnss) box.extend(p);
-  box.extend(run.start.translation());
-  box.extend(run.goal.translation());
-  const Vec2 pad(15.0, 15.0);  // the roads around the route
-  box = Box2(box.min() - pad, box.max() + pad);
-  // The figure's height follows the route's shape within 300..640 px (a long north-south route would
-  // fill the page); the view centres the route and shows more map around it.
-  const double aspect = box.sizes().y() / std::max(box.sizes().x(), 1.0);
-  const int height = static_cast<int>(std::clamp(options.figure_width_px * aspect, 300.0, 640.0));
-  const render::View view(box, options.figure_width_px, height, 24.0);
-  render::Canvas canvas(view.width(), view.height(), groundColor(map));
-  std::vector<const Road*> roads;
-  std::vector<const Intersection*> intersections;
-  for (const Road& r : map.roads()) roads.push_back(&r);
-  for (const Intersection& x : map.intersections()) intersections.push_back(&x);
-  drawMapLayers(canvas, view, map, roads, intersections, true);
-
-  auto pixels = [&](const std::vector<Vec2>& world) {
-    std::vector<Vec2> px;
-    px.reserve(world.size());
-    for (const Vec2& p : world) px.push_back(view.toPixel(p));
-    return px;
-  };
-  render::Style route;
-  route.stroke = kRouteColor;
-  route.stroke_width_px = 10;
-  route.opacity = 0.6;
-  canvas.polyline(pixels(run.route.line.points()), route);
-  render::Style odo;
-  odo.stroke = kOdometryColor;
-  odo.stroke_width_px = 2;
-  odo.dashed = true;
-  canvas.polyline(pixels(odometry), odo);
-  render::Style tru;
-  tru.stroke = kTruthColor;
-  tru.stroke_width_px = 2.5;
-  canvas.polyline(pixels(truth), tru);
-  render::Style est;
-  est.stroke = kEstimateColor;
-  est.stroke_width_px = 1.5;
-  canvas.polyline(pixels(estimate), est);
-  // GNSS fixes: a ring of radius 1 sigma (at least 3 px) about each.
-  render::Style fix;
-  fix.stroke = kGnssColor;
-  fix.stroke_width_px = 1.5;
-  for (const auto& [p, sigma] : gnss) canvas.circle(view.toPixel(p), std::max(3.0, sigma * view.pixelsPerMetre()), fix);
-  // Where Vision failed: on the truth when known, else on the estimate.
-  render::Style fail;
-  fail.stroke = kFailureColor;
-  fail.stroke_width_px = 2;
-  for (const FailureRun& f : failureRuns(run)) {
-    const FrameRecord& r = run.frames[f.first];
-    canvas.circle(view.toPixel(r.truth ? r.truth->translation() : r.estimate.translation()), 7, fail);
-  }
-  render::Style start;
-  start.fill = Rgb{0, 170, 0};
-  start.stroke = Rgb{255, 255, 255};
-  start.stroke_width_px = 2;
-  canvas.circle(view.toPixel(run.start.translation()), 7, start);
-  render::Style goal = start;
-  goal.fill = Rgb{200, 0, 160};
-  canvas.circle(view.toPixel(run.goal.translation()), 7, goal);
-  render::TextStyle label;
-  label.size_px = 11;
-  label.bold = true;
-  label.halo = Rgb{255, 255, 255};
-  label.anchor = render::Anchor::Start;
-  canvas.text(view.toPixel(run.start.translation()) + Vec2(10, -8), "start", label);
-  canvas.text(view.toPixel(run.goal.translation()) + Vec2(10, -8), "goal", label);
-  render::drawScaleBarAndNorthArrow(canvas, view);
-  return inlineSvg(canvas, "map-svg", "the map with the planned route and the trajectories");
-}
+// ---- the legends
 
 std::string swatch(const Rgb& color, double width, bool dashed, const std::string& text, const std::string& cls) {
   return "<span class=\"key " + cls + "\"><svg width=\"34\" height=\"10\"><line x1=\"2\" y1=\"5\" x2=\"32\" y2=\"5\" stroke=\"" +
          hex(color) + "\" stroke-width=\"" + strprintf("%.1f", width) + "\"" +
          (dashed ? " stroke-dasharray=\"6 4\"" : "") + "/></svg>" + escape(text) + "</span>";
-}
-
-// ---- the plots
-
-struct Series {
-  std::string name;
-  Rgb color;
-  std::vector<double> values;  // one per frame; NaN: none
-};
-
-// A time plot of `series` over the run's frames, with failed frames shaded red and halted ones pink.
-// A tick under a plot at one frame's time: what the Map module's along-road position came from.
-struct FrameMark {
-  double t;
-  Rgb color;
-};
-
-std::string plot(const MissionRun& run, const std::string& id, const std::string& title, const std::string& unit,
-                 const std::vector<Series>& series, int width, const std::vector<FrameMark>& marks = {}) {
-  const int height = 210;
-  const double left = 64, right = width - 16.0, top = 28, bottom = height - 34.0;
-  render::Canvas canvas(width, height, Rgb{255, 255, 255});
-  double t0 = run.frames.empty() ? 0.0 : run.frames.front().t;
-  double t1 = run.frames.empty() ? 1.0 : run.frames.back().t;
-  if (t1 <= t0) t1 = t0 + 1.0;
-  double lo = 0, hi = 0;
-  for (const Series& s : series) {
-    for (double v : s.values) {
-      if (std::isfinite(v)) {
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
-      }
-    }
-  }
-  if (hi - lo < 1e-9) hi = lo + 1.0;
-  const double step_y = render::niceScaleLength((hi - lo) / 4.0);
-  lo = std::floor(lo / step_y) * step_y;
-  hi = std::ceil(hi / step_y) * step_y;
-  auto px = [&](double t, double v) {
-    return Vec2(left + (t - t0) / (t1 - t0) * (right - left), bottom - (v - lo) / (hi - lo) * (bottom - top));
-  };
-  // Failures and halts under everything.
-  const double period = framePeriod(run);
-  for (const FrameRecord& f : run.frames) {
-    if (f.vision_ok && !f.halted) continue;
-    render::Style band;
-    band.fill = f.vision_ok ? kHaltColor : kFailureColor;
-    band.opacity = f.vision_ok ? 0.5 : 0.35;
-    const double a = std::max(t0, f.t - period / 2), b = std::min(t1, f.t + period / 2);
-    canvas.polygon({px(a, lo), px(b, lo), px(b, hi), px(a, hi)}, band);
-  }
-  render::Style grid;
-  grid.stroke = Rgb{225, 225, 225};
-  render::TextStyle tick;
-  tick.size_px = 8;
-  tick.color = Rgb{80, 80, 80};
-  tick.anchor = render::Anchor::End;
-  for (double v = lo; v <= hi + step_y / 2; v += step_y) {
-    canvas.polyline({px(t0, v), px(t1, v)}, grid);
-    canvas.text(px(t0, v) + Vec2(-6, 4), strprintf(step_y < 0.01 ? "%.3f" : step_y < 0.1 ? "%.2f" : "%.1f", v), tick);
-  }
-  const double step_t = render::niceScaleLength((t1 - t0) / 8.0);
-  tick.anchor = render::Anchor::Middle;
-  for (double t = std::ceil(t0 / step_t) * step_t; t <= t1 + 1e-9; t += step_t) {
-    canvas.polyline({px(t, lo), px(t, hi)}, grid);
-    canvas.text(px(t, lo) + Vec2(0, 14), strprintf("%g", t), tick);
-  }
-  render::Style zero;
-  zero.stroke = Rgb{120, 120, 120};
-  if (lo < 0 && hi > 0) canvas.polyline({px(t0, 0), px(t1, 0)}, zero);
-  render::Style frame;
-  frame.stroke = Rgb{60, 60, 60};
-  canvas.polygon({px(t0, lo), px(t1, lo), px(t1, hi), px(t0, hi)}, frame);
-  for (const FrameMark& m : marks) {
-    render::Style tick_style;
-    tick_style.stroke = m.color;
-    tick_style.stroke_width_px = 2.0;
-    canvas.polyline({px(m.t, lo), px(m.t, lo) + Vec2(0, -7)}, tick_style);
-  }
-  for (const Series& s : series) {
-    std::vector<Vec2> points;
-    render::Style line;
-    line.stroke = s.color;
-    line.stroke_width_px = 1.5;
-    for (std::size_t i = 0; i < run.frames.size() && i < s.values.size(); ++i) {
-      if (std::isfinite(s.values[i])) {
-        points.push_back(px(run.frames[i].t, s.values[i]));
-      } else if (!points.empty()) {
-        canvas.polyline(points, line);
-        points.clear();
-      }
-    }
-    canvas.polyline(points, line);
-  }
-  render::TextStyle heading;
-  heading.size_px = 10;
-  heading.bold = true;
-  heading.anchor = render::Anchor::Start;
-  canvas.text(Vec2(left, 16), title + " [" + unit + "]", heading);
-  render::TextStyle key = heading;
-  key.bold = false;
-  key.size_px = 9;
-  double x = right;
-  key.anchor = render::Anchor::End;
-  for (auto it = series.rbegin(); it != series.rend(); ++it) {
-    key.color = it->color;
-    canvas.text(Vec2(x, 16), it->name, key);
-    x -= 9.0 * it->name.size() + 24;  // about the text's width and a gap
-  }
-  tick.anchor = render::Anchor::Middle;
-  canvas.text(Vec2((left + right) / 2, height - 4.0), "mission time [s]", tick);
-  return inlineSvg(canvas, id, title);
-}
-
-// "12 frames by intersections, 30 by landmarks, 158 by neither (odometry)".
-std::string alongCueText(const MissionRun& run) {
-  std::size_t by_lines = 0, by_landmarks = 0;
-  for (const FrameRecord& f : run.frames) {
-    by_lines += f.along_cue == AlongCue::Intersection ? 1 : 0;
-    by_landmarks += f.along_cue == AlongCue::Landmark ? 1 : 0;
-  }
-  return std::to_string(by_lines) + " frames by intersections, " + std::to_string(by_landmarks) + " by landmarks, " +
-         std::to_string(run.frames.size() - by_lines - by_landmarks) + " by neither (odometry)";
-}
-
-std::string errorPlots(const MissionRun& run, const ReportOptions& options) {
-  if (!run.metrics.has_truth) {
-    return "<p class=\"note\">The log has no ground truth: the errors were not measured.</p>\n";
-  }
-  auto values = [&](auto get) {
-    std::vector<double> v;
-    for (const FrameRecord& f : run.frames) v.push_back(f.truth ? get(f) : std::numeric_limits<double>::quiet_NaN());
-    return v;
-  };
-  constexpr double kDeg = 180.0 / 3.14159265358979323846;
-  const int w = options.figure_width_px;
-  std::string out;
-  std::vector<FrameMark> cues;  // what fixed the along-road position, frame by frame
-  for (const FrameRecord& f : run.frames) {
-    if (f.along_cue != AlongCue::None) {
-      cues.push_back({f.t, f.along_cue == AlongCue::Landmark ? kLandmarkCueColor : kIntersectionCueColor});
-    }
-  }
-  out += plot(run, "plot-position", "Estimate error across and along the road", "m",
-              {{"lateral", kEstimateColor, values([](const FrameRecord& f) { return f.error.lateral_m; })},
-               {"along", kAlongColor, values([](const FrameRecord& f) { return f.error.along_m; })}},
-              w, cues);
-  out += plot(run, "plot-heading", "Estimate heading error", "deg",
-              {{"heading", kEstimateColor, values([&](const FrameRecord& f) { return f.error.heading_rad * kDeg; })}}, w);
-  out += plot(run, "plot-distance", "Position error: estimate and odometry alone", "m",
-              {{"estimate", kEstimateColor, values([](const FrameRecord& f) { return f.error.distance_m; })},
-               {"odometry only", kOdometryColor, values([](const FrameRecord& f) { return f.odometry_error.distance_m; })}},
-              w);
-  return out;
 }
 
 // ---- the strip
@@ -484,6 +187,17 @@ std::string thumbnailFigure(const ReportThumbnail& t, int width_px) {
 }
 
 // ---- the summary
+
+// "12 frames by intersections, 30 by landmarks, 158 by neither (odometry)".
+std::string alongCueText(const MissionRun& run) {
+  std::size_t by_lines = 0, by_landmarks = 0;
+  for (const FrameRecord& f : run.frames) {
+    by_lines += f.along_cue == AlongCue::Intersection ? 1 : 0;
+    by_landmarks += f.along_cue == AlongCue::Landmark ? 1 : 0;
+  }
+  return std::to_string(by_lines) + " frames by intersections, " + std::to_string(by_landmarks) + " by landmarks, " +
+         std::to_string(run.frames.size() - by_lines - by_landmarks) + " by neither (odometry)";
+}
 
 // The path agreement's row of the summary table (the figures summaryText prints first).
 template <typename Row>

@@ -365,6 +365,16 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   template <class Noise>
   C3 texture(int surface, const Vec2& p, double footprint, double along, double lateral, int road,
              const Noise& noise, NoiseCache* nc) const;
+  /// texture's concrete (surface `sf`): slabs along road `road` (a world grid where it is -1), dust
+  /// and stains, cracks, the gaps between the slabs. Inlined into texture, as it was written there.
+  template <class Noise>
+  [[gnu::always_inline]] inline C3 concreteTexture(const Surface& sf, const Vec2& p, double footprint, double along,
+                                                   double lateral, int road, const Noise& noise, NoiseCache* nc) const;
+  /// texture's asphalt (surface `sf`): patches of wear, mottle and grain, aggregate stones, cracked
+  /// zones, stains. Inlined into texture, as it was written there.
+  template <class Noise>
+  [[gnu::always_inline]] inline C3 asphaltTexture(const Surface& sf, const Vec2& p, double footprint,
+                                                  const Noise& noise, NoiseCache* nc) const;
   /// Shades row v of a frame seen from pose (cos, sin of the heading, x, y): its pixels' colours
   /// (3 floats each, before the camera's drift and noise) and mask. The same as `shade` per pixel,
   /// with the texture's fractal sums evaluated channel by channel over the row; with `texels`, the

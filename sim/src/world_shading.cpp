@@ -20,87 +20,102 @@ C3 World::Impl::sky(double elevation) const {
 }
 
 template <class Noise>
+C3 World::Impl::concreteTexture(const Surface& sf, const Vec2& p, double fp, double along, double lateral, int road,
+                                const Noise& noise, NoiseCache* nc) const {
+  const auto salt = [&](int k) { return salts[static_cast<std::size_t>(k)]; };
+  C3 c = sf.rgb;
+  const auto pn = static_cast<float>(options.pavement_noise);
+  // Slabs: along the road (or a world grid in intersections and off-road concrete).
+  double slab_u = p.x(), slab_v = p.y();
+  bool along_road = road >= 0;
+  if (along_road) {
+    slab_u = along;
+    slab_v = lateral;
+  }
+  std::int64_t slab_i = 0, slab_j = 0;
+  float gap = 0;
+  if (options.slab_spacing_m > 0) {
+    const double sp = options.slab_spacing_m;
+    const double qu = slab_u / sp;
+    slab_i = static_cast<std::int64_t>(floorInline(qu));
+    const double du = distanceToWhole(qu) * sp;
+    gap = lineCoverage(du, options.slab_gap_width_m, fp);
+    if (!along_road) {
+      const double qv = slab_v / sp;
+      slab_j = static_cast<std::int64_t>(floorInline(qv));
+      const double dv = distanceToWhole(qv) * sp;
+      gap = std::max(gap, lineCoverage(dv, options.slab_gap_width_m, fp));
+    }
+  }
+  const std::uint64_t slab_hash =
+      hash2(salt(1) + static_cast<std::uint64_t>(road + 1), slab_i, slab_j, nc != nullptr ? &nc->slab : nullptr);
+  const float tone = 1.0f + 0.035f * unitSigned(slab_hash) * pn;  // each slab poured apart
+  c = c * tone;
+  const float mottle = noise(2);
+  const float grain = noise(3);
+  c = c + sf.spread * (pn * (1.3f * mottle + 1.4f * grain));
+  // Dust and stains, heavier toward the edges.
+  if (options.dust > 0) {
+    float edge = 0;
+    if (along_road) {
+      const double half = roads[static_cast<std::size_t>(road)].width / 2;
+      edge = smoothstep(0.35f, 0.0f, static_cast<float>(half - std::abs(lateral)));
+    }
+    const float stain = std::clamp(0.5f + 1.6f * noise(4), 0.0f, 1.0f);
+    const float amount = static_cast<float>(options.dust) * std::clamp(0.35f * stain * stain + 0.5f * edge, 0.0f, 1.0f);
+    c = lerp(c, C3{138, 124, 100}, amount);
+  }
+  if (options.crack_density > 0 && unit01(mix64(slab_hash)) < options.crack_density) {
+    const float cr = crackCoverage(salt(5) + static_cast<std::uint64_t>(slab_i * 31 + slab_j), p, fp, 0.004, channelOf(nc, 5));
+    c = c * (1.0f - 0.45f * cr);
+  }
+  c = c * (1.0f - static_cast<float>(options.slab_gap_darkness) * gap);
+  return c;
+}
+
+template <class Noise>
+C3 World::Impl::asphaltTexture(const Surface& sf, const Vec2& p, double fp, const Noise& noise, NoiseCache* nc) const {
+  const auto salt = [&](int k) { return salts[static_cast<std::size_t>(k)]; };
+  C3 c = sf.rgb;
+  const auto pn = static_cast<float>(options.pavement_noise);
+  // Blue-grey to black (the paper's park path): large patches of different wear.
+  const float wear = noise(10);
+  c = c * (1.0f + 0.22f * wear * pn) + C3{-2, 0, 4} * (wear * pn);
+  const float mottle = noise(11);
+  const float grain = noise(12);
+  c = c + sf.spread * (pn * (0.9f * mottle + 2.2f * grain));
+  // Bright aggregate stones.
+  if (fp < 0.02) {
+    const std::uint64_t h = hash2(salt(13), static_cast<std::int64_t>(std::floor(p.x() * 60)),
+                                  static_cast<std::int64_t>(std::floor(p.y() * 60)));
+    if (unit01(h) < 0.04f) c = c + C3{16, 16, 15} * (pn * (1.0f - static_cast<float>(fp / 0.02)));
+  }
+  if (options.crack_density > 0) {
+    const float zone = noise(14);
+    if (zone < static_cast<float>(options.crack_density) * 0.6f - 0.3f) {
+      c = c * (1.0f - 0.5f * crackCoverage(salt(15), p, fp, 0.007, channelOf(nc, 15)));
+    }
+  }
+  if (options.dust > 0) {
+    const float stain = std::clamp(noise(16) * 2.0f, 0.0f, 1.0f);
+    c = lerp(c, C3{120, 112, 98}, 0.25f * static_cast<float>(options.dust) * stain);
+  }
+  return c;
+}
+
+template <class Noise>
 C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double along, double lateral, int road,
                         const Noise& noise, NoiseCache* nc) const {
   const Surface& sf = surfaces[static_cast<std::size_t>(surface_index)];
   const auto salt = [&](int k) { return salts[static_cast<std::size_t>(k)]; };
   C3 c = sf.rgb;
   switch (sf.material) {
-    case Material::Concrete: {
-      const auto pn = static_cast<float>(options.pavement_noise);
-      // Slabs: along the road (or a world grid in intersections and off-road concrete).
-      double slab_u = p.x(), slab_v = p.y();
-      bool along_road = road >= 0;
-      if (along_road) {
-        slab_u = along;
-        slab_v = lateral;
-      }
-      std::int64_t slab_i = 0, slab_j = 0;
-      float gap = 0;
-      if (options.slab_spacing_m > 0) {
-        const double sp = options.slab_spacing_m;
-        const double qu = slab_u / sp;
-        slab_i = static_cast<std::int64_t>(floorInline(qu));
-        const double du = distanceToWhole(qu) * sp;
-        gap = lineCoverage(du, options.slab_gap_width_m, fp);
-        if (!along_road) {
-          const double qv = slab_v / sp;
-          slab_j = static_cast<std::int64_t>(floorInline(qv));
-          const double dv = distanceToWhole(qv) * sp;
-          gap = std::max(gap, lineCoverage(dv, options.slab_gap_width_m, fp));
-        }
-      }
-      const std::uint64_t slab_hash =
-          hash2(salt(1) + static_cast<std::uint64_t>(road + 1), slab_i, slab_j, nc != nullptr ? &nc->slab : nullptr);
-      const float tone = 1.0f + 0.035f * unitSigned(slab_hash) * pn;  // each slab poured apart
-      c = c * tone;
-      const float mottle = noise(2);
-      const float grain = noise(3);
-      c = c + sf.spread * (pn * (1.3f * mottle + 1.4f * grain));
-      // Dust and stains, heavier toward the edges.
-      if (options.dust > 0) {
-        float edge = 0;
-        if (along_road) {
-          const double half = roads[static_cast<std::size_t>(road)].width / 2;
-          edge = smoothstep(0.35f, 0.0f, static_cast<float>(half - std::abs(lateral)));
-        }
-        const float stain = std::clamp(0.5f + 1.6f * noise(4), 0.0f, 1.0f);
-        const float amount = static_cast<float>(options.dust) * std::clamp(0.35f * stain * stain + 0.5f * edge, 0.0f, 1.0f);
-        c = lerp(c, C3{138, 124, 100}, amount);
-      }
-      if (options.crack_density > 0 && unit01(mix64(slab_hash)) < options.crack_density) {
-        const float cr = crackCoverage(salt(5) + static_cast<std::uint64_t>(slab_i * 31 + slab_j), p, fp, 0.004, channelOf(nc, 5));
-        c = c * (1.0f - 0.45f * cr);
-      }
-      c = c * (1.0f - static_cast<float>(options.slab_gap_darkness) * gap);
+    case Material::Concrete:
+      c = concreteTexture(sf, p, fp, along, lateral, road, noise, nc);
       break;
-    }
-    case Material::Asphalt: {
-      const auto pn = static_cast<float>(options.pavement_noise);
-      // Blue-grey to black (the paper's park path): large patches of different wear.
-      const float wear = noise(10);
-      c = c * (1.0f + 0.22f * wear * pn) + C3{-2, 0, 4} * (wear * pn);
-      const float mottle = noise(11);
-      const float grain = noise(12);
-      c = c + sf.spread * (pn * (0.9f * mottle + 2.2f * grain));
-      // Bright aggregate stones.
-      if (fp < 0.02) {
-        const std::uint64_t h = hash2(salt(13), static_cast<std::int64_t>(std::floor(p.x() * 60)),
-                                      static_cast<std::int64_t>(std::floor(p.y() * 60)));
-        if (unit01(h) < 0.04f) c = c + C3{16, 16, 15} * (pn * (1.0f - static_cast<float>(fp / 0.02)));
-      }
-      if (options.crack_density > 0) {
-        const float zone = noise(14);
-        if (zone < static_cast<float>(options.crack_density) * 0.6f - 0.3f) {
-          c = c * (1.0f - 0.5f * crackCoverage(salt(15), p, fp, 0.007, channelOf(nc, 15)));
-        }
-      }
-      if (options.dust > 0) {
-        const float stain = std::clamp(noise(16) * 2.0f, 0.0f, 1.0f);
-        c = lerp(c, C3{120, 112, 98}, 0.25f * static_cast<float>(options.dust) * stain);
-      }
+    case Material::Asphalt:
+      c = asphaltTexture(sf, p, fp, noise, nc);
       break;
-    }
     case Material::Grass: {
       const auto gn = static_cast<float>(options.ground_noise);
       const float patch = noise(20);
