@@ -452,12 +452,12 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
       ->default_str("10000,100000");
   bn->add_option("--threads", bench->threads, "Threads of the multi-threaded rows; 0 = every core")
       ->default_val(0)
-      ->check(CLI::Range(0, 256));
+      ->check(commands.numberCheck(CLI::Range(0, 256)));
   bn->add_option("--map", bench->map, "The park map the frames are rendered from (default: maps/park_path.json)")
       ->check(CLI::ExistingFile);
   bn->add_option("--road-model", text->road_model, "The road finder's model: line (the paper) or arc (section 9, bends)")
       ->default_str("line")
-      ->check(CLI::IsMember({"line", "arc"}));
+      ->check(commands.nameCheck(CLI::IsMember({"line", "arc"})));
   bn->footer(
       "What is measured, per size: the park scene (maps/park_path.json, a SIZE x SIZE pin-hole scaled from the\n"
       "Terregator camera, synthetic frames with tree shadows) is rendered, the road finder is trained on the\n"

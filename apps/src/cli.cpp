@@ -1,12 +1,11 @@
 // The top of the `mapnav` command line: the application, its registrars (one per command group,
-// command_line.h) and the mapping of parse errors and bad option values to the exit codes.
+// command_line.h) and the exit codes of CLI11's parse errors (a command's own errors: guarded()).
 #include "cli.h"
 
 #include <ostream>
 #include <string>
 
 #include "command_line.h"
-#include "mapnav/core/error.h"
 
 namespace mapnav::cli {
 
@@ -49,15 +48,13 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     return kOk;
   } catch (const CLI::ParseError& e) {
     err << "mapnav: error: " << e.what() << "\n";
+    if (dynamic_cast<const CLI::ValidationError*>(&e) != nullptr && commands.valueRejected()) {
+      return kInvalid;  // a value out of its range, a name not among the known: wrong input
+    }
     err << "Run with --help for more information.\n";
     return kUsage;
   }
-  try {
-    return commands.run(out, err);
-  } catch (const InvalidInput& e) {  // bad option values found after parsing (--origin)
-    err << "mapnav: error: " << e.what() << "\n";
-    return kUsage;
-  }
+  return commands.run(out, err);
 }
 
 }  // namespace mapnav::cli

@@ -2,9 +2,12 @@
 #include "command_line.h"
 
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <filesystem>
 
 #include "cli.h"
+#include "command_support.h"
 
 namespace mapnav::cli {
 
@@ -13,7 +16,30 @@ std::function<void()> Commands::choose(Body body) {
 }
 
 int Commands::run(std::ostream& out, std::ostream& err) const {
-  return chosen_ ? chosen_(out, err) : static_cast<int>(kUsage);
+  if (!chosen_) return kUsage;
+  return guarded(err, [&] { return chosen_(out, err); });
+}
+
+namespace {
+
+/// Whether `text` is a number as a whole (what CLI11's conversion of a numeric option accepts).
+bool isNumber(const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  std::strtod(text.c_str(), &end);
+  return !text.empty() && end == text.c_str() + text.size() && errno != ERANGE;
+}
+
+}  // namespace
+
+CLI::Validator Commands::valueCheck(const CLI::Validator& check, bool numeric) {
+  return CLI::Validator(
+      [check, numeric, rejected = value_rejected_](std::string& value) {
+        std::string message = check(value);
+        if (!message.empty() && (!numeric || isNumber(value))) *rejected = true;
+        return message;
+      },
+      check.get_description(), check.get_name());
 }
 
 CLI::Validator outputFile(bool geojson) {

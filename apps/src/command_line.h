@@ -28,12 +28,27 @@ class Commands {
   }
   /// A subcommand's callback: when CLI11 calls it (the subcommand was given), `body` is what runs.
   std::function<void()> choose(Body body);
-  /// Runs the chosen body; 2 (usage) when none was chosen. Exceptions pass through.
+  /// Runs the chosen body under guarded() (command_support.h), which turns what it throws into a
+  /// message and the exit code of its kind; 2 (usage) when none was chosen.
   int run(std::ostream& out, std::ostream& err) const;
 
+  /// `range` (CLI::Range, CLI::PositiveNumber, CLI::NonNegativeNumber) as a check of the value: a
+  /// number out of its range is wrong input (exit 1), as every value mapnav checks itself, while CLI11
+  /// still reports it in its words. A value that is not a number at all stays a usage error (exit 2),
+  /// as CLI11's type check has it.
+  CLI::Validator numberCheck(const CLI::Validator& range) { return valueCheck(range, true); }
+  /// `names` (CLI::IsMember) as a check of the value: a name not among them is wrong input (exit 1).
+  CLI::Validator nameCheck(const CLI::Validator& names) { return valueCheck(names, false); }
+  /// Whether a numberCheck() or nameCheck() rejected a value of the line parsed (cli.cpp: the exit
+  /// code of CLI11's error).
+  bool valueRejected() const { return *value_rejected_; }
+
  private:
+  CLI::Validator valueCheck(const CLI::Validator& check, bool numeric);
+
   std::vector<std::shared_ptr<void>> held_;
   Body chosen_;
+  std::shared_ptr<bool> value_rejected_ = std::make_shared<bool>(false);
 };
 
 /// Outputs whose format is chosen by the extension: pictures (.png, .svg), and where a command

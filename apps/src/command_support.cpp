@@ -35,7 +35,8 @@ void printIssues(const Issues& issues, const std::string& file, std::ostream& ou
 int guarded(std::ostream& err, const std::function<int()>& body) {
   try {
     const int code = body();
-    if (const int signal = interruptSignal(); signal != 0) {  // it finished before a check saw the signal
+    // It finished before a check saw the signal (a guarded body inside this one has said it already).
+    if (const int signal = interruptSignal(); signal != 0 && code != 128 + signal) {
       err << "mapnav: interrupted by signal " << signal << "\n";
       return 128 + signal;
     }
@@ -52,6 +53,10 @@ int guarded(std::ostream& err, const std::function<int()>& body) {
     return kInvalid;
   } catch (const IoError& e) {
     err << "mapnav: error: " << e.what() << "\n";
+    return kUsage;
+  } catch (const UsageError& e) {
+    err << "mapnav: error: " << e.what() << "\n";
+    err << "Run with --help for more information.\n";
     return kUsage;
   } catch (const Error& e) {
     err << "mapnav: error: " << e.what() << "\n";
@@ -78,6 +83,15 @@ int withMap(const std::string& file, std::ostream& err, const std::function<int(
     }
     return body(*map);
   });
+}
+
+GeoOrigin parseOrigin(const std::string& text, bool altitude) {
+  const std::vector<double> values = parseNumbers("--origin", text, 2, altitude ? 3 : 2,
+                                                  altitude ? "LAT,LON or LAT,LON,ALT (degrees, metres)" : "LAT,LON (degrees)");
+  if (std::abs(values[0]) > 90 || std::abs(values[1]) > 180) {
+    throw InvalidInput("--origin \"" + text + "\": latitude must be in [-90, 90] and longitude in [-180, 180]");
+  }
+  return GeoOrigin{values[0], values[1], values.size() == 3 ? values[2] : 0.0};
 }
 
 std::string dataPath(const std::string& relative) {

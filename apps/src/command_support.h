@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/error.h"
 #include "mapnav/core/issue.h"
 #include "mapnav/map/map.h"
 
@@ -20,6 +21,10 @@ std::vector<std::string> splitNames(const std::string& text);
 std::vector<double> parseNumbers(const std::string& option, const std::string& text, std::size_t min_count,
                                  std::size_t max_count, const std::string& expected);
 
+/// --origin: "LAT,LON" or, where `altitude`, "LAT,LON,ALT" (degrees, metres), the latitude in
+/// [-90, 90] and the longitude in [-180, 180]. Throws InvalidInput saying what is wrong.
+GeoOrigin parseOrigin(const std::string& text, bool altitude = true);
+
 /// A file shipped with mapnav, by its path in the source tree ("maps/park_path.json"): the
 /// installed copy next to the program (../share/mapnav/...) when there is one, else the source
 /// tree's.
@@ -31,9 +36,32 @@ std::string fixedOr(const std::optional<double>& v, int digits, const std::strin
 /// `FILE:/pointer: severity: check: message`, one per line.
 void printIssues(const Issues& issues, const std::string& file, std::ostream& out);
 
-/// Runs a command body, turning every exception into a message on `err` and an exit code:
-/// invalid input 1, I/O and anything unexpected 2.
+/// The command line itself is wrong in a way CLI11 cannot see: an argument missing that only
+/// another one makes necessary ("--images and --labels go together"). Exit 2, as CLI11's own.
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// Runs a command body, turning every exception into a message on `err` and an exit code, the same
+/// for the same kind of mistake in every command (cli.h): what was given is wrong (InvalidInput, an
+/// invalid map, an unknown id, NotFound, Unreachable) 1; the command line is wrong (UsageError), a
+/// file cannot be read or written (IoError) or anything unexpected 2.
 int guarded(std::ostream& err, const std::function<int()>& body);
+
+/// `body()`, with `flag` before the message of the InvalidInput it throws: a library's message
+/// names the value and the field ("the lane: ..."), the CLI adds the flag it came from
+/// ("--lane: the lane: ...").
+template <class Body>
+auto namingFlag(const std::string& flag, Body&& body) -> decltype(body()) {
+  try {
+    return body();
+  } catch (const ValidationError&) {
+    throw;
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(flag + ": " + e.what());
+  }
+}
 
 /// Loads a valid map and runs `body` on it, or explains on `err` why the map is not valid (exit 1).
 int withMap(const std::string& file, std::ostream& err, const std::function<int(const Map&)>& body);

@@ -123,7 +123,7 @@ Commands::Body visionCommand(DetectLine* line, VisionRun run) {
       return run(detect, out, err);
     }
     if (detect.map.empty() || (line->pose.empty() && line->at.empty())) {
-      throw InvalidInput("the prediction needs --map and --pose (or --at); segment also takes --train-region instead");
+      throw UsageError("the prediction needs --map and --pose (or --at); segment also takes --train-region instead");
     }
     if (!line->pose.empty()) detect.pose = parsePose(line->pose);
     if (!line->at.empty()) detect.at = parseRoadPosition(line->at);

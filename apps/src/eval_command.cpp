@@ -200,13 +200,7 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
   return guarded(err, [&] {
     config.classes.validate();
     config.trapezoid.validate();
-    if (config.bev) {
-      try {
-        config.bev_grid.validate();
-      } catch (const InvalidInput& e) {
-        throw InvalidInput(std::string("--bev-range / --bev-cell: ") + e.what());
-      }
-    }
+    if (config.bev) namingFlag("--bev-range / --bev-cell", [&] { config.bev_grid.validate(); });
     if (config.bootstrap != "trapezoid" && config.bootstrap != "labels-first-frame")
       throw InvalidInput("--bootstrap \"" + config.bootstrap + "\": expected trapezoid or labels-first-frame");
     loadPlugins(config.plugins, config.pipeline);

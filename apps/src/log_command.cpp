@@ -171,8 +171,8 @@ int runLogImportKittiRaw(const LogImportKittiRawConfig& config, std::ostream& ou
   return guarded(err, [&] {
     KittiRawImportOptions options = config.options;
     if (!config.origin.empty()) {
-      const std::vector<double> o = parseNumbers("--origin", config.origin, 2, 2, "LAT,LON (degrees)");
-      options.origin = LatLon{o[0], o[1]};
+      const GeoOrigin o = parseOrigin(config.origin, false);
+      options.origin = LatLon{o.lat, o.lon};
     }
     const KittiRawImportResult r = importKittiRaw(config.dir, config.output, options);
     const CameraMount& m = r.mount;

@@ -23,14 +23,6 @@
 namespace mapnav::cli {
 
 
-GeoOrigin parseOrigin(const std::string& text) {
-  const std::vector<double> values = parseNumbers("--origin", text, 2, 3, "LAT,LON or LAT,LON,ALT (degrees, metres)");
-  if (std::abs(values[0]) > 90 || std::abs(values[1]) > 180) {
-    throw InvalidInput("--origin \"" + text + "\": latitude must be in [-90, 90] and longitude in [-180, 180]");
-  }
-  return GeoOrigin{values[0], values[1], values.size() == 3 ? values[2] : 0.0};
-}
-
 std::array<double, 4> parseBbox(const std::string& text) {
   const std::vector<double> b = parseNumbers("--bbox", text, 4, 4, "W,S,E,N (degrees)");
   if (!(b[0] < b[2] && b[1] < b[3] && b[0] >= -180 && b[2] <= 180 && b[1] >= -90 && b[3] <= 90)) {
@@ -219,7 +211,7 @@ void addRender(CLI::App& map, Commands& commands) {
       ->check(outputFile(false));
   r->add_option("--width", render->width_px, "Picture width in pixels; the height follows the map")
       ->default_val(1600)
-      ->check(CLI::Range(64, 20000));
+      ->check(commands.numberCheck(CLI::Range(64, 20000)));
   r->add_flag("--no-labels", *no_labels, "Leave out road and intersection ids");
   r->callback(commands.choose([render, no_labels](std::ostream& out, std::ostream& err) {
     render->labels = !*no_labels;
@@ -237,10 +229,10 @@ void addImportGeoJson(CLI::App& map, Commands& commands) {
   addOrigin(im, *origin);
   im->add_option("--snap", import->snap_tolerance_m, "Road ends this close (m) to an intersection or to each other share it")
       ->default_val(1.0)
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(commands.numberCheck(CLI::Range(0.0, 100.0)));
   im->add_option("--default-width", import->default_width_m,
                  "Width (m) of the roads whose features give none, e.g. a street's carriageway from centre lines (default 2)")
-      ->check(CLI::Range(0.01, 1000.0));
+      ->check(commands.numberCheck(CLI::Range(0.01, 1000.0)));
   im->add_option("--default-surface", import->default_surface,
                  "Surface of the roads whose features give none (default concrete; the map's surfaces: concrete, asphalt, "
                  "brick, gravel, grass, dirt)");

@@ -63,7 +63,4 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
 /// "W,S,E,N" (degrees, west < east, south < north). Throws InvalidInput saying what is wrong.
 std::array<double, 4> parseBbox(const std::string& text);
 
-/// "LAT,LON" or "LAT,LON,ALT" (degrees, metres). Throws InvalidInput saying what is wrong.
-GeoOrigin parseOrigin(const std::string& text);
-
 }  // namespace mapnav::cli

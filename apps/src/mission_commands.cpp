@@ -281,7 +281,7 @@ void addRun(CLI::App& app, Commands& commands, bool stderr_is_tty) {
   CLI::App* rn = app.add_subcommand("run", "Run a mission closed loop in the simulator: each frame rendered from where the commands drove");
   addMissionOptions(rn, *run, stderr_is_tty);
   rn->add_option("--seed", *seed, "Seed for the world and the odometry noise (default: the mission's)")
-      ->check(CLI::Range(std::int64_t{0}, std::int64_t{9007199254740991}));
+      ->check(commands.numberCheck(CLI::Range(std::int64_t{0}, std::int64_t{9007199254740991})));
   rn->footer(kMissionFooter);
   rn->callback(commands.choose([run, seed](std::ostream& out, std::ostream& err) {
     if (*seed >= 0) run->seed = static_cast<std::uint64_t>(*seed);

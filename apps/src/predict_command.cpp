@@ -102,13 +102,13 @@ void registerPredictCommand(CLI::App& app, Commands& commands) {
   p->add_flag("--json", predict->json, "Print the prediction as JSON instead of sentences");
   p->add_option("-o,--output", predict->output, "Also draw the map with the footprint beside the predicted image: OUT.png or OUT.svg")
       ->check(outputFile(false));
-  p->add_option("--near", predict->near_m, "Nearest ground distance ahead of the camera to predict, m")->default_val(1.0)->check(CLI::Range(0.0, 1000.0));
-  p->add_option("--far", predict->far_m, "Farthest ground distance ahead of the camera to predict, m")->default_val(15.0)->check(CLI::Range(0.0, 1000.0));
+  p->add_option("--near", predict->near_m, "Nearest ground distance ahead of the camera to predict, m")->default_val(1.0)->check(commands.numberCheck(CLI::Range(0.0, 1000.0)));
+  p->add_option("--far", predict->far_m, "Farthest ground distance ahead of the camera to predict, m")->default_val(15.0)->check(commands.numberCheck(CLI::Range(0.0, 1000.0)));
   p->footer("Exactly one of --pose and --at. Exit codes: 0 success (an empty view too), 1 invalid map, camera or\n"
             "position, 2 usage or I/O error.");
   p->callback(commands.choose([predict, text](std::ostream& out, std::ostream& err) {
     if (text->pose.empty() && text->at.empty()) {
-      throw InvalidInput("predict needs the vehicle's pose: --pose X,Y,HEADING_DEG or --at ROAD@NODE+METERS");
+      throw UsageError("predict needs the vehicle's pose: --pose X,Y,HEADING_DEG or --at ROAD@NODE+METERS");
     }
     if (!text->pose.empty()) predict->pose = parsePose(text->pose);
     if (!text->at.empty()) predict->at = parseRoadPosition(text->at);

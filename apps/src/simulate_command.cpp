@@ -37,7 +37,7 @@ void registerSimulateCommand(CLI::App& app, Commands& commands) {
       ->check(CLI::ExistingFile);
   sim->add_option("-o,--output", simulate->output, "Log folder to write (must not exist, or be empty)")->required();
   sim->add_option("--seed", *seed, "Seed for the world and the odometry noise (default: the mission's)")
-      ->check(CLI::Range(std::int64_t{0}, std::int64_t{9007199254740991}));
+      ->check(commands.numberCheck(CLI::Range(std::int64_t{0}, std::int64_t{9007199254740991})));
   sim->add_option("--max-frames", simulate->max_frames, "Stop after this many frames (default: drive to the goal)");
   sim->footer("The same mission and seed give the same bytes. Exit codes: 0 written, 1 invalid mission or no route,\n"
               "2 usage or I/O error (nothing is left in the output folder on failure).");

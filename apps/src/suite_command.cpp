@@ -47,11 +47,7 @@ class TemporaryFolder {
 
 int runSuiteCommand(const SuiteConfig& config, std::ostream& out, std::ostream& err) {
   SuiteOptions options;
-  try {
-    options.seeds = parseSeedList(config.seeds);
-  } catch (const InvalidInput& e) {
-    throw InvalidInput(std::string("--seeds: ") + e.what());  // usage: exit 2
-  }
+  options.seeds = namingFlag("--seeds", [&] { return parseSeedList(config.seeds); });
   options.junctions = config.junctions;
   options.max_frames = config.max_frames;
   options.threads = config.threads;
@@ -97,13 +93,13 @@ void registerSuiteCommand(CLI::App& app, Commands& commands) {
       ->default_str("1-30");
   rc->add_option("--junctions", config->junctions, "Junctions along each campus' spine")
       ->default_val(3)
-      ->check(CLI::Range(1, 8));
+      ->check(commands.numberCheck(CLI::Range(1, 8)));
   rc->add_option("--max-frames", config->max_frames, "Stop each run after this many frames (default: to the goal)");
   rc->add_option("-o,--output", config->output,
                  "Keep each seed's map.json and mission.json in DIR/seed-N/ (default: a temporary folder, removed)");
   rc->add_option("--threads", config->threads, "Seeds run at once (the results do not depend on it)")
       ->default_val(1)
-      ->check(CLI::Range(1, 64));
+      ->check(commands.numberCheck(CLI::Range(1, 64)));
   rc->add_flag("--json", config->json, "Print one JSON object (rows go to stderr as progress)");
   rc->add_flag("--no-wall-time", *no_wall_time, "Leave out wall times: the same bytes for the same seeds");
   rc->footer(

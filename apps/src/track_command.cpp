@@ -152,7 +152,7 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
         drawGroundPath(overlays.back(), measured.path.path, *camera);
       };
     const Polygon2 bootstrap = config.trapezoid ? bottomTrapezoid(w, h, *config.trapezoid)
-                                                : laneOutline(*camera, config.lane_width_m, config.lane_far_m);
+                                                : namingFlag("--lane", [&] { return laneOutline(*camera, config.lane_width_m, config.lane_far_m); });
     const TrackRun run = trackLog(log, *pipeline, *camera, bootstrap,
                                   TrackOptions{config.row, config.max_frames, {}}, draw);
     writeOverlays(config, overlays);
@@ -189,7 +189,7 @@ void registerTrackCommand(CLI::App& log, Commands& commands) {
                  "Tracking: a pipeline with a prior_px option (cluster-perceptron) keeps to this many pixels of the "
                  "road it found a frame before, unless --options sets prior_px; 0: the pipeline's default")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(commands.numberCheck(CLI::Range(0.0, 1e6)));
   lt->add_option("--row", track->row, "Image row where the edges and the centre line are measured (default: 85 % of the height)");
   lt->add_option("--max-frames", track->max_frames, "Stop after this many frames (0: all)")->default_val(0);
   lt->add_option("--overlays", track->overlays, "Folder to write one overlay per frame to");

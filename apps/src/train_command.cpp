@@ -59,9 +59,9 @@ int runTrainSegmentation(const TrainSegmentationConfig& config, std::ostream& ou
   return guarded(err, [&] {
     config.classes.validate();
     config.options.validate();
-    if (config.output.empty()) throw InvalidInput("-o: the model file to write is required");
-    if (config.images.empty() != config.labels.empty()) throw InvalidInput("--images and --labels go together");
-    if (config.images.empty() && config.logs.empty()) throw InvalidInput("nothing to train on: give --images and --labels, or --log");
+    if (config.output.empty()) throw UsageError("-o: the model file to write is required");
+    if (config.images.empty() != config.labels.empty()) throw UsageError("--images and --labels go together");
+    if (config.images.empty() && config.logs.empty()) throw UsageError("nothing to train on: give --images and --labels, or --log");
     if (config.log_stride < 1) throw InvalidInput("--log-stride " + std::to_string(config.log_stride) + ": must be >= 1");
     std::vector<TrainingPhoto> photos;
     if (!config.images.empty()) {

@@ -28,7 +28,7 @@ namespace mapnav::cli {
 namespace {
 
 void requireOutput(const std::string& output, const char* option) {
-  if (output.empty()) throw InvalidInput(std::string("missing ") + option + ": where to write the result");
+  if (output.empty()) throw UsageError(std::string("missing ") + option + ": where to write the result");
 }
 
 }  // namespace
@@ -65,7 +65,7 @@ int runRectify(const RectifyConfig& config, std::ostream& out, std::ostream& err
 int runCalibrateChessboard(const CalibrateChessboardConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
     requireOutput(config.output, "--output");
-    if (config.images.empty()) throw InvalidInput("no images given");
+    if (config.images.empty()) throw UsageError("no images given");
     if (config.size_tolerance_px < 0) {
       throw InvalidInput("--size-tolerance " + std::to_string(config.size_tolerance_px) + ": must be >= 0");
     }
@@ -158,13 +158,13 @@ void addChessboard(CLI::App& calibrate, Commands& commands) {
   CLI::App* cb = calibrate.add_subcommand("chessboard", "Intrinsics from chessboard photos; reports the reprojection error");
   cb->add_option("images", chessboard->images, "Photos of the board (PNG or JPEG)")->required()->check(CLI::ExistingFile);
   cb->add_option("--board", *board, "Inner corners COLSxROWS")->default_val("9x6");
-  cb->add_option("--square", chessboard->square_m, "Square size, m")->default_val(0.025)->check(CLI::PositiveNumber);
+  cb->add_option("--square", chessboard->square_m, "Square size, m")->default_val(0.025)->check(commands.numberCheck(CLI::PositiveNumber));
   cb->add_option("-o,--output", chessboard->output, "Camera file to write (mapnav-camera/1; fill in the mount)")->required();
   cb->add_option("--corners", chessboard->corners_dir, "Folder to draw the detected corners into");
   cb->add_option("--size-tolerance", chessboard->size_tolerance_px,
                  "Photos within this many pixels of the most common size are cut or padded to it; others are skipped")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(commands.numberCheck(CLI::NonNegativeNumber));
   cb->callback(commands.choose([chessboard, board](std::ostream& out, std::ostream& err) {
     const auto x = board->find('x');
     try {

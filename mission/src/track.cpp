@@ -47,9 +47,9 @@ PredictedObject bootstrapPrediction(const Polygon2& trapezoid, const Camera& cam
 }  // namespace
 
 Polygon2 laneOutline(const Camera& camera, double width_m, double far_m) {
-  const auto bad = [](const std::string& why) { return InvalidInput("--lane: " + why); };
+  const auto bad = [](const std::string& why) { return InvalidInput("the lane: " + why); };
   if (!std::isfinite(width_m) || width_m <= 0 || !std::isfinite(far_m) || far_m <= 0)
-    throw bad("the width and the far end must be positive metres");
+    throw bad("its width and far end must be positive metres");
   const auto near = camera.backproject(Vec2((camera.width() - 1) / 2.0, 0.98 * camera.height()));
   if (!near) throw bad("the camera does not see the ground near the image's bottom row");
   if (far_m <= near->x())

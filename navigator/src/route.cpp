@@ -109,7 +109,7 @@ std::set<std::string> blockedIds(const Map& map, const std::vector<std::string>&
   std::set<std::string> blocked;
   for (const std::string& id : ids) {
     if (map.findRoad(id) == nullptr && map.findIntersection(id) == nullptr) {
-      throw NotFound("--block " + id + ": no road or intersection has this id");
+      throw NotFound("blocked \"" + id + "\": no road or intersection has this id");
     }
     blocked.insert(id);
   }

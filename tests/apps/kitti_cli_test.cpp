@@ -121,7 +121,7 @@ TEST(LogTrackCli, JsonHoldsThePathAgreementOnAStraightRoad) {
   // ending at 1 m is refused, naming the option; a lane and a trapezoid together are a usage error.
   const auto short_lane = runCli({"log", "track", dir.string(), "--lane", "3,1"});
   EXPECT_EQ(short_lane.exit_code, 1) << short_lane.err;
-  EXPECT_NE(short_lane.err.find("--lane: the far end 1 m is not beyond the nearest ground in view, 1.79 m ahead"), std::string::npos)
+  EXPECT_NE(short_lane.err.find("--lane: the lane: the far end 1 m is not beyond the nearest ground in view, 1.79 m ahead"), std::string::npos)
       << short_lane.err;
   const auto both = runCli({"log", "track", dir.string(), "--lane", "3,30", "--trapezoid", "0.5,0.2,0.7,0.98"});
   EXPECT_EQ(both.exit_code, 2) << both.err;

@@ -81,15 +81,15 @@ TEST(CliSuite, TwoSeedsAgreeWithMapnavRunOnTheirMissionFilesAndDoNotDependOnThre
   EXPECT_EQ(both.out, suite.out);
 }
 
-TEST(CliSuite, BadSeedListsAreUsageErrorsNamingTheOption) {
+TEST(CliSuite, BadSeedListsAreWrongInputNamingTheOption) {
   for (const char* seeds : {"5-2", "x"}) {
     const auto r = runCli({"suite", "random-campus", "--seeds", seeds});
-    EXPECT_EQ(r.exit_code, 2) << seeds;
+    EXPECT_EQ(r.exit_code, 1) << seeds;
     EXPECT_EQ(r.out, "") << seeds;
     EXPECT_EQ(r.err.rfind(std::string("mapnav: error: --seeds: '") + seeds + "' is not a seed list", 0), 0u) << r.err;
   }
   const auto junctions = runCli({"suite", "random-campus", "--seeds", "1", "--junctions", "0"});
-  EXPECT_EQ(junctions.exit_code, 2);
+  EXPECT_EQ(junctions.exit_code, 1);
   EXPECT_NE(junctions.err.find("--junctions"), std::string::npos) << junctions.err;
 }
 

@@ -318,7 +318,7 @@ TEST(LaneOutline, ProjectsTheVehiclesLaneFromTheNearestGroundInView) {
     laneOutline(*camera, 3.0, 2.0);
     ADD_FAILURE() << "a lane ending before the nearest ground in view was accepted";
   } catch (const InvalidInput& e) {
-    EXPECT_STREQ(e.what(), "--lane: the far end 2 m is not beyond the nearest ground in view, 3.00 m ahead");
+    EXPECT_STREQ(e.what(), "the lane: the far end 2 m is not beyond the nearest ground in view, 3.00 m ahead");
   }
   EXPECT_THROW(laneOutline(*camera, 0.0, 30.0), InvalidInput);
   EXPECT_THROW(laneOutline(*camera, 3.0, std::nan("")), InvalidInput);
