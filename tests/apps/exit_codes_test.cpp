@@ -15,13 +15,11 @@ namespace {
 namespace fs = std::filesystem;
 using testing::runCli;
 
-std::string str(const fs::path& p) { return p.string(); }
-
 // No command, an unknown one, a missing argument (one CLI11 requires, one only another makes
 // necessary: predict's pose), not a number where one is due, a file that is not there.
 TEST(Cli, UsageErrorsExitTwo) {
-  const std::string map = str(testing::mapPath("cmu_campus.json"));
-  const std::string camera = str(testing::mapPath("cameras/terregator_pinhole.json"));
+  const std::string map = testing::mapPath("cmu_campus.json").string();
+  const std::string camera = testing::mapPath("cameras/terregator_pinhole.json").string();
   for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
            {}, {"frobnicate"}, {"map"}, {"map", "validate"}, {"map", "render", map},
            {"map", "validate", "/no/such/file.json"}, {"map", "render", "--width", "many", map, "-o", "x.png"},
@@ -35,18 +33,18 @@ TEST(Cli, UsageErrorsExitTwo) {
 // What was given is wrong, whichever check finds it (CLI11's range check, a command's own parse, the
 // library): exit 1 in every command, the message naming the option.
 TEST(Cli, WrongValuesExitOneInEveryCommand) {
-  const std::string map = str(testing::mapPath("cmu_campus.json"));
+  const std::string map = testing::mapPath("cmu_campus.json").string();
   const fs::path dir = testing::freshTempDir();
   struct Case {
     std::vector<std::string> args;
     std::string names;
   };
   for (const Case& c : std::vector<Case>{
-           {{"map", "render", "--width", "3", map, "-o", str(dir / "x.png")}, "--width"},
-           {{"map", "import-geojson", str(testing::mapPath("cmu_campus.geojson")), "-o", str(dir / "x.json"),
+           {{"map", "render", "--width", "3", map, "-o", (dir / "x.png").string()}, "--width"},
+           {{"map", "import-geojson", testing::mapPath("cmu_campus.geojson").string(), "-o", (dir / "x.json").string(),
              "--origin", "91,0"},
             "--origin \"91,0\""},
-           {{"log", "import-kitti-raw", str(dir), "-o", str(dir / "log"), "--origin", "91,0"}, "--origin"},
+           {{"log", "import-kitti-raw", dir.string(), "-o", (dir / "log").string(), "--origin", "91,0"}, "--origin"},
            {{"route", "--map", map, "--from", "R1", "--to", "R3@I3+2"}, "R1"},
            {{"suite", "random-campus", "--seeds", "1", "--junctions", "0"}, "--junctions"}}) {
     const auto r = runCli(c.args);
@@ -63,7 +61,7 @@ TEST(Cli, WrongValuesExitOneInEveryCommand) {
 TEST(Cli, BadOriginIsWrongInput) {
   const fs::path dir = testing::freshTempDir();
   for (const std::string origin : {"40.4", "91,0", "40.4,abc", "40,-80,1,2"}) {
-    const auto r = runCli({"map", "export-geojson", str(testing::mapPath("cmu_campus.json")), "-o", str(dir / "x.geojson"),
+    const auto r = runCli({"map", "export-geojson", testing::mapPath("cmu_campus.json").string(), "-o", (dir / "x.geojson").string(),
                            "--origin", origin});
     EXPECT_EQ(r.exit_code, 1) << origin;
     EXPECT_NE(r.err.find("--origin"), std::string::npos) << r.err;
