@@ -220,9 +220,9 @@ TEST(Cli, PredictRefusesBadPositionsAndCameras) {
   const fs::path dir = testing::freshTempDir();
   writeFileAtomic(dir / "bad_camera.json", std::string_view(R"({"format": "mapnav-camera/1", "model": "pinhole"})"));
   const std::vector<Case> cases{
-      {{"--at", "R1@I1"}, 2, "expected ROAD@NODE+METERS"},
-      {{"--pose", "1,2"}, 2, "expected X,Y,HEADING_DEG"},
-      {{}, 2, "needs the vehicle's pose"},
+      {{"--at", "R1@I1"}, 1, "expected ROAD@NODE+METERS"},  // malformed values: wrong input
+      {{"--pose", "1,2"}, 1, "expected X,Y,HEADING_DEG"},
+      {{}, 2, "needs the vehicle's pose"},  // a missing argument: usage
       {{"--at", "R99@I1+3"}, 1, "no road \"R99\""},
       {{"--at", "R1@I3+3"}, 1, "I3 is not an end of R1"},
       {{"--at", "R1@I1+3000"}, 1, "beyond the road's"},
@@ -363,7 +363,7 @@ TEST(Cli, CalibrateTiltFromTwoGroundParallelLinesAndSegmentFromAGivenRegion) {
   EXPECT_EQ(runCli({"segment", str(dir / "log/images/000000.png"), "--camera", camera_file, "--train-region", "1,2;3",
                     "-o", str(dir / "bad.png")})
                 .exit_code,
-            2);
+            1);  // a malformed polygon: wrong input
 }
 
 // `mapnav bench` end to end at two small sizes: the JSON's shape and that its numbers agree with each

@@ -70,10 +70,10 @@ TEST(TrainCli, BadInputsSayWhatAndWriteNothing) {
   };
   const std::vector<Case> cases = {
       {{"--images", (dir / "none").string(), "--labels", (dir / "none").string()}, 2, "no such folder"},
-      {{"--images", dir.string()}, 1, "--images and --labels go together"},
-      {{}, 1, "nothing to train on"},
+      {{"--images", dir.string()}, 2, "--images and --labels go together"},  // a missing argument: usage
+      {{}, 2, "nothing to train on"},
       {{"--log", dir.string()}, 2, dir.string()},
-      {{"--log", dir.string(), "--size", "64"}, 2, "--size \"64\""},
+      {{"--log", dir.string(), "--size", "64"}, 1, "--size \"64\""},  // a malformed value: wrong input
       {{"--log", dir.string(), "--epochs", "0"}, 1, "SegmentationTrainOptions::epochs"},
   };
   for (const Case& c : cases) {
