@@ -123,8 +123,8 @@ def cache_key(cmd, directory, stdin, root):
     """A hash of what decides whether the file compiles: the compiler (path, size, time), its
     arguments and the preprocessed text, with the source tree's path replaced so that a clone
     elsewhere finds the same key; None when the preprocessor fails (the compile then says why)."""
-    p = subprocess.run(cmd[:-1] + ['-E'] if cmd[-1] == '-fsyntax-only' else cmd + ['-E'],
-                       cwd=directory, input=stdin, capture_output=True, text=True)
+    preprocess = [a for a in cmd if a != '-fsyntax-only'] + ['-E']
+    p = subprocess.run(preprocess, cwd=directory, input=stdin, capture_output=True, text=True)
     if p.returncode != 0:
         return None
     compiler = os.path.realpath(shutil.which(cmd[0]) or cmd[0])
