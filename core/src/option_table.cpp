@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mapnav/core/options.h"
+#include "mapnav/core/json.h"
 
 namespace mapnav {
 
@@ -46,48 +46,84 @@ std::string presetNames(const std::vector<OptionPreset>& presets) {
   return out;
 }
 
-/// One member's value, checked against its field; throws InvalidInput "WHO: option KEY = VALUE: must be ...".
-OptionValue memberValue(const OptionFieldSpec& field, const nlohmann::json& value, std::string_view who) {
-  const auto bad = [&](const std::string& rule) {
-    return InvalidInput(std::string(who) + ": option " + field.name + " = " + value.dump() + ": must be " + rule);
+/// One member's value checked against its field: the value, or what is wrong with it ("option KEY =
+/// VALUE: must be RULE") and whether that is its type.
+struct MemberValue {
+  OptionValue value = false;
+  std::string error = {};
+  bool wrong_type = false;
+};
+
+MemberValue memberValue(const OptionFieldSpec& field, const nlohmann::json& value) {
+  const auto bad = [&](const std::string& rule, bool wrong_type) {
+    return MemberValue{.error = "option " + field.name + " = " + value.dump() + ": must be " + rule, .wrong_type = wrong_type};
   };
   switch (field.kind) {
     case OptionKind::Bool:
-      if (!value.is_boolean()) throw bad("true or false");
-      return value.get<bool>();
+      if (!value.is_boolean()) return bad("true or false", true);
+      return {.value = value.get<bool>()};
     case OptionKind::String:
-      if (!value.is_string()) throw bad("a string");
-      return value.get<std::string>();
+      if (!value.is_string()) return bad("a string", true);
+      return {.value = value.get<std::string>()};
     case OptionKind::Choice:
-      if (!value.is_string() || std::find(field.choices.begin(), field.choices.end(), value.get<std::string>()) ==
-                                    field.choices.end())
-        throw bad(choicesText(field.choices));
-      return value.get<std::string>();
+      if (!value.is_string()) return bad(choicesText(field.choices), true);
+      if (std::find(field.choices.begin(), field.choices.end(), value.get<std::string>()) == field.choices.end())
+        return bad(choicesText(field.choices), false);
+      return {.value = value.get<std::string>()};
     case OptionKind::Integer:
     case OptionKind::Number:
       break;
   }
-  if (!value.is_number() || !std::isfinite(value.get<double>())) throw bad("a number");
+  if (!value.is_number() || !std::isfinite(value.get<double>())) return bad("a number", true);
   const double v = value.get<double>();
-  if (!field.rule.allows(v)) throw bad(field.rule.rangeText(false));
+  if (!field.rule.allows(v)) return bad(field.rule.rangeText(false), false);
   if (field.kind == OptionKind::Integer) {
-    if (v != std::floor(v)) throw bad("an integer");
+    if (v != std::floor(v)) return bad("an integer", true);
     if (v < field.integer_min || v > field.integer_max)
-      throw bad("an integer in [" + readableNumber(field.integer_min) + ", " + readableNumber(field.integer_max) + "]");
+      return bad("an integer in [" + readableNumber(field.integer_min) + ", " + readableNumber(field.integer_max) + "]", false);
   }
-  if (field.rule.odd && !isOdd(v)) throw bad("odd");
-  return v;
+  if (field.rule.odd && !isOdd(v)) return bad("odd", false);
+  return {.value = v};
 }
 
-/// The members of `object` (but "preset") as (field index, value), appended to `out`.
+const OptionFieldSpec* findField(const std::vector<OptionFieldSpec>& fields, const std::string& key) {
+  const auto it = std::find_if(fields.begin(), fields.end(), [&](const OptionFieldSpec& f) { return f.name == key; });
+  return it == fields.end() ? nullptr : &*it;
+}
+
+/// The members of `object` (but "preset") as (field index, value), appended to `out`; throws
+/// InvalidInput "WHO: ..." at the first bad one.
 void readMembers(const std::vector<OptionFieldSpec>& fields, const nlohmann::json& object, std::string_view who,
                  std::vector<std::pair<std::size_t, OptionValue>>& out) {
   for (const auto& member : object.items()) {
     const std::string& key = member.key();  // not a structured binding: clang 14 (scripts/fuzz) cannot capture one
     if (key == "preset") continue;
-    const auto it = std::find_if(fields.begin(), fields.end(), [&](const OptionFieldSpec& f) { return f.name == key; });
-    if (it == fields.end()) throw InvalidInput(std::string(who) + ": unknown option \"" + key + "\"");
-    out.emplace_back(static_cast<std::size_t>(it - fields.begin()), memberValue(*it, member.value(), who));
+    const OptionFieldSpec* field = findField(fields, key);
+    if (!field) throw InvalidInput(std::string(who) + ": unknown option \"" + key + "\"");
+    MemberValue read = memberValue(*field, member.value());
+    if (!read.error.empty()) throw InvalidInput(std::string(who) + ": " + read.error);
+    out.emplace_back(static_cast<std::size_t>(field - fields.data()), std::move(read.value));
+  }
+}
+
+/// The members of `object` (but "preset") that are good, as (field index, value), appended to `out`;
+/// every other member is an Issue at POINTER/KEY.
+void collectMembers(const std::vector<OptionFieldSpec>& fields, const nlohmann::json& object, const std::string& pointer,
+                    Issues& issues, std::vector<std::pair<std::size_t, OptionValue>>& out) {
+  for (const auto& member : object.items()) {
+    const std::string& key = member.key();
+    if (key == "preset") continue;
+    const std::string where = pointerJoin(pointer, key);
+    const OptionFieldSpec* field = findField(fields, key);
+    if (!field) {
+      addIssue(issues, Severity::Error, "schema.unknown_field", where, "unknown option \"" + key + "\"");
+      continue;
+    }
+    MemberValue read = memberValue(*field, member.value());
+    if (!read.error.empty())
+      addIssue(issues, Severity::Error, read.wrong_type ? "schema.type" : "schema.range", where, std::move(read.error));
+    else
+      out.emplace_back(static_cast<std::size_t>(field - fields.data()), std::move(read.value));
   }
 }
 
@@ -138,11 +174,50 @@ std::vector<std::pair<std::size_t, OptionValue>> parseOptionMembers(const std::v
   return out;
 }
 
-void checkOptionValue(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value) {
-  if (field.kind != OptionKind::Integer && field.kind != OptionKind::Number) return;
+std::vector<std::pair<std::size_t, OptionValue>> readOptionMembers(const std::vector<OptionFieldSpec>& fields,
+                                                                   const std::vector<OptionPreset>& presets,
+                                                                   const std::string& pointer, std::string_view text,
+                                                                   Issues& issues) {
+  std::vector<std::pair<std::size_t, OptionValue>> out;
+  const nlohmann::json j = nlohmann::json::parse(text.empty() ? std::string_view("{}") : text, nullptr, false);
+  if (!j.is_object()) {
+    addIssue(issues, Severity::Error, "schema.type", pointer, "options must be a JSON object");
+    return out;
+  }
+  if (const auto p = j.find("preset"); p != j.end()) {
+    const auto preset = std::find_if(presets.begin(), presets.end(),
+                                     [&](const OptionPreset& s) { return p->is_string() && s.name == p->get<std::string>(); });
+    if (preset == presets.end()) {
+      addIssue(issues, Severity::Error, p->is_string() ? "schema.range" : "schema.type", pointer + "/preset",
+               "unknown preset " + p->dump() + " (" + presetNames(presets) + ")");
+    } else {
+      collectMembers(fields, nlohmann::json::parse(preset->json), pointer + "/preset", issues, out);
+    }
+  }
+  collectMembers(fields, j, pointer, issues, out);
+  return out;
+}
+
+std::string optionRuleText(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value,
+                           std::string_view rule) {
+  std::ostringstream text;
+  text << owner << "::" << field.name << " = ";
+  if (const double* number = std::get_if<double>(&value)) {
+    text.precision(17);
+    text << *number;
+  } else {
+    text << optionValueJson(field, value);
+  }
+  text << ": must be " << rule;
+  return text.str();
+}
+
+std::string brokenOptionValue(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value) {
+  if (field.kind != OptionKind::Integer && field.kind != OptionKind::Number) return "";
   const double v = std::get<double>(value);
-  requireOption(field.rule.allows(v), owner, field.name, v, field.rule.rangeText(field.kind == OptionKind::Number));
-  if (field.rule.odd) requireOption(isOdd(v), owner, field.name, v, "odd");
+  if (!field.rule.allows(v)) return optionRuleText(field, owner, value, field.rule.rangeText(field.kind == OptionKind::Number));
+  if (field.rule.odd && !isOdd(v)) return optionRuleText(field, owner, value, "odd");
+  return "";
 }
 
 std::string optionValueJson(const OptionFieldSpec& field, const OptionValue& value) {

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "mapnav/core/error.h"
@@ -180,6 +181,89 @@ TEST(OptionTable, AnUnknownPresetListsThePresets) {
   } catch (const InvalidInput& e) {
     EXPECT_EQ(std::string(e.what()), "base: unknown preset \"wide\" (there are none)");
   }
+}
+
+/// Two bounds with a rule between them, and a struct that holds them through a base's table.
+struct Band {
+  double low = 1;   // >= 0
+  double high = 2;  // > low
+  bool open = false;
+};
+
+const OptionTable<Band>& bandTable() {
+  static const OptionTable<Band> table = OptionTable<Band>("Band")
+                                             .field("low", &Band::low, atLeast(0), "the lower bound")
+                                             .field("high", &Band::high, "the upper bound")
+                                             .field("open", &Band::open, "whether the ends are open")
+                                             .check("high", [](const Band& b) { return b.high > b.low; }, "> low");
+  return table;
+}
+
+struct WideBand : Band {
+  int count = 3;  // [1, 9]
+};
+
+const OptionTable<WideBand>& wideBandTable() {
+  static const OptionTable<WideBand> table =
+      OptionTable<WideBand>("WideBand").field("count", &WideBand::count, inRange(1, 9), "how many").include(bandTable());
+  return table;
+}
+
+TEST(OptionTable, ARuleBetweenFieldsIsJudgedAfterTheFieldsOwnRules) {
+  EXPECT_NO_THROW(bandTable().validate(Band{}));
+  Band b;
+  b.high = 0.5;
+  try {
+    bandTable().validate(b);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "Band::high = 0.5: must be > low");
+  }
+  b.low = -1;  // breaks its own rule too: that one is named first
+  ASSERT_TRUE(bandTable().brokenRule(b));
+  EXPECT_EQ(bandTable().brokenRule(b)->second, "Band::low = -1: must be finite and >= 0");
+  EXPECT_EQ(bandTable().brokenRule(b)->first, 0u);
+}
+
+TEST(OptionTable, AnIncludedTableBringsItsRulesBetweenFields) {
+  WideBand w;
+  w.low = 4;
+  ASSERT_TRUE(wideBandTable().brokenRule(w));
+  EXPECT_EQ(wideBandTable().brokenRule(w)->second, "WideBand::high = 2: must be > low");
+  EXPECT_EQ(wideBandTable().fields()[wideBandTable().brokenRule(w)->first].name, "high");
+}
+
+TEST(OptionTable, ARuleOnAFieldTheTableDoesNotHaveIsAProgrammingError) {
+  EXPECT_THROW(OptionTable<Band>("Band").check("width", [](const Band&) { return true; }, "> 0"), std::logic_error);
+}
+
+TEST(OptionTable, ReadReportsEveryBadMemberAtItsPointerAndAppliesTheRest) {
+  Issues issues;
+  const WideBand w =
+      wideBandTable().read(R"({"low": "x", "high": 5, "count": 12, "widht": 1, "open": true})", WideBand{}, "/band", issues);
+  ASSERT_EQ(issues.size(), 3u);
+  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.range", "/band/count", "option count = 12: must be in [1, 9]"}));
+  EXPECT_EQ(issues[1], (Issue{Severity::Error, "schema.type", "/band/low", "option low = \"x\": must be a number"}));
+  EXPECT_EQ(issues[2], (Issue{Severity::Error, "schema.unknown_field", "/band/widht", "unknown option \"widht\""}));
+  EXPECT_EQ(w.high, 5);  // the good members are applied
+  EXPECT_TRUE(w.open);
+  EXPECT_EQ(w.low, 1);
+  EXPECT_EQ(w.count, 3);
+}
+
+TEST(OptionTable, ReadReportsABrokenRuleBetweenFieldsAtTheFieldItIsAbout) {
+  Issues issues;
+  wideBandTable().read(R"({"low": 3})", WideBand{}, "/band", issues);
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.range", "/band/high", "WideBand::high = 2: must be > low"}));
+  issues.clear();
+  wideBandTable().read(R"([1, 2])", WideBand{}, "/band", issues);
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].where, "/band");
+  EXPECT_EQ(issues[0].message, "options must be a JSON object");
+  issues.clear();
+  EXPECT_EQ(wideBandTable().read("", WideBand{}, "/band", issues).count, 3);
+  EXPECT_TRUE(issues.empty());
 }
 
 TEST(OptionTable, EveryFieldRoundTripsThroughJson) {

@@ -1,10 +1,12 @@
 #pragma once
 // A declarative table of an option struct's fields: each field is a name, the member it reads and
-// writes, its rule (a range; integers; odd) and its documentation. The struct's member initialisers
+// writes, its rule (a range; integers; odd) and its documentation; rules between fields (`far_m >
+// near_m`) are check()s of the table. The struct's member initialisers
 // are the only defaults (as in Ceres' option structs): the table reads them from a default-constructed
 // struct. From the one table come
 //   parse()    a JSON object of options onto a struct, `"preset": "NAME"` applied before the other
 //              members; errors name who is configured, the option and its bad value,
+//   read()     the same for a block of a file, every bad member an Issue at its JSON Pointer,
 //   validate() the rules, in requireOption's words ("OWNER::FIELD = VALUE: must be RULE"),
 //   list()     the documented options with their defaults as JSON text (`mapnav pipelines`),
 //   json()     a struct's values as a JSON object (parse() reads it back).
@@ -14,6 +16,8 @@
 //     static const OptionTable<FooOptions> table = OptionTable<FooOptions>("FooOptions")
 //         .field("iterations", &FooOptions::iterations, inRange(1, 100), "iterations at most")
 //         .field("fast", &FooOptions::fast, "the lookup table instead of the reference path")
+//         .field("low", &FooOptions::low, "the lower bound").field("high", &FooOptions::high, "the upper bound")
+//         .check("high", [](const FooOptions& o) { return o.high > o.low; }, "> low")
 //         .preset("quick", R"({"iterations": 5, "fast": true})", "for previews");
 //     return table;
 //   }
@@ -22,6 +26,8 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -30,6 +36,7 @@
 #include <vector>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/issue.h"
 #include "mapnav/core/option_info.h"
 
 namespace mapnav {
@@ -88,9 +95,19 @@ namespace detail {
 std::vector<std::pair<std::size_t, OptionValue>> parseOptionMembers(const std::vector<OptionFieldSpec>& fields,
                                                                     const std::vector<OptionPreset>& presets,
                                                                     std::string_view who, std::string_view text);
-/// Throws InvalidInput "OWNER::FIELD = VALUE: must be RULE" (requireOption) unless `value` keeps
-/// the field's rule.
-void checkOptionValue(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value);
+/// As parseOptionMembers, for a block of a file at JSON Pointer `pointer`: every member that is
+/// unknown, of the wrong type or out of its range becomes an Issue at POINTER/NAME
+/// ("schema.unknown_field", "schema.type", "schema.range"), and only the good members are returned.
+/// Text that is not a JSON object is one Issue at `pointer`.
+std::vector<std::pair<std::size_t, OptionValue>> readOptionMembers(const std::vector<OptionFieldSpec>& fields,
+                                                                   const std::vector<OptionPreset>& presets,
+                                                                   const std::string& pointer, std::string_view text,
+                                                                   Issues& issues);
+/// "OWNER::FIELD = VALUE: must be RULE" unless `value` keeps the field's own rule; "" when it does.
+std::string brokenOptionValue(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value);
+/// "OWNER::FIELD = VALUE: must be RULE", VALUE as requireOption writes it (17 digits for a number).
+std::string optionRuleText(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value,
+                           std::string_view rule);
 /// The value as JSON text: true, 12, 0.5, 1e-06, "luminance".
 std::string optionValueJson(const OptionFieldSpec& field, const OptionValue& value);
 /// {"NAME": VALUE, ...} on one line, in the fields' order.
@@ -191,6 +208,8 @@ class OptionTable {
       add(base.specs_[i], [get = base.getters_[i]](const T& o) { return get(o); },
           [set = base.setters_[i]](T& o, const OptionValue& v) { set(o, v); });
     }
+    for (const auto& c : base.checks_)
+      checks_.push_back({fieldIndex(base.specs_[c.field].name), [ok = c.ok](const T& o) { return ok(o); }, c.rule});
     return *this;
   }
 
@@ -200,15 +219,34 @@ class OptionTable {
     return *this;
   }
 
+  /// A rule between fields, judged after every field's own rule: `ok(options)` must hold, else
+  /// validate() throws "OWNER::FIELD = VALUE: must be RULE" (`field`: a field of this table, the one
+  /// the rule is about; `rule`: "> near_m", "in (0, turn_in_place_deg)").
+  OptionTable& check(std::string_view field, std::function<bool(const T&)> ok, std::string rule) {
+    checks_.push_back({fieldIndex(field), std::move(ok), std::move(rule)});
+    return *this;
+  }
+
   const std::string& owner() const { return owner_; }
   const std::vector<OptionFieldSpec>& fields() const { return specs_; }
   const std::vector<OptionPreset>& presets() const { return presets_; }
   OptionValue get(const T& options, std::size_t field) const { return getters_.at(field)(options); }
   void set(T& options, std::size_t field, const OptionValue& value) const { setters_.at(field)(options, value); }
 
-  /// Throws InvalidInput "OWNER::FIELD = VALUE: must be RULE" for the first field that breaks its rule.
+  /// The first broken rule as (field, "OWNER::FIELD = VALUE: must be RULE"): the fields' own rules
+  /// in the table's order, then the rules between fields in theirs; nothing when all hold.
+  std::optional<std::pair<std::size_t, std::string>> brokenRule(const T& options) const {
+    for (std::size_t i = 0; i < specs_.size(); ++i)
+      if (std::string text = detail::brokenOptionValue(specs_[i], owner_, getters_[i](options)); !text.empty())
+        return std::pair{i, std::move(text)};
+    for (const Check& c : checks_)
+      if (!c.ok(options)) return std::pair{c.field, detail::optionRuleText(specs_[c.field], owner_, getters_[c.field](options), c.rule)};
+    return std::nullopt;
+  }
+
+  /// Throws InvalidInput "OWNER::FIELD = VALUE: must be RULE" for the first broken rule (brokenRule).
   void validate(const T& options) const {
-    for (std::size_t i = 0; i < specs_.size(); ++i) detail::checkOptionValue(specs_[i], owner_, getters_[i](options));
+    if (auto broken = brokenRule(options)) throw InvalidInput(broken->second);
   }
 
   /// `base` with the members of the JSON object `text` ("" = {}), a preset's first; then T::validate()
@@ -222,6 +260,28 @@ class OptionTable {
       else validate(out);
     } catch (const InvalidInput& e) {
       throw InvalidInput(std::string(who) + ": " + e.what());
+    }
+    return out;
+  }
+
+  /// As parse(), for the block of a file at JSON Pointer `pointer` (mold's way: every error of the
+  /// pass): each bad member is an Issue at POINTER/NAME (readOptionMembers), the good ones apply to
+  /// `base`; then the first broken rule is a "schema.range" Issue at POINTER/FIELD, and T::validate()'s
+  /// complaint, when T has one, an Issue at `pointer`.
+  T read(std::string_view text, const T& base, const std::string& pointer, Issues& issues) const {
+    T out = base;
+    const std::size_t before = issues.size();
+    for (const auto& [field, value] : detail::readOptionMembers(specs_, presets_, pointer, text, issues))
+      setters_[field](out, value);
+    if (issues.size() != before) return out;
+    if (auto broken = brokenRule(out)) {
+      addIssue(issues, Severity::Error, "schema.range", pointer + "/" + specs_[broken->first].name, broken->second);
+    } else if constexpr (requires { out.validate(); }) {
+      try {
+        out.validate();
+      } catch (const InvalidInput& e) {
+        addIssue(issues, Severity::Error, "schema.range", pointer, e.what());
+      }
     }
     return out;
   }
@@ -246,6 +306,18 @@ class OptionTable {
   template <class>
   friend class OptionTable;
 
+  struct Check {
+    std::size_t field;
+    std::function<bool(const T&)> ok;
+    std::string rule;
+  };
+
+  std::size_t fieldIndex(std::string_view name) const {
+    for (std::size_t i = 0; i < specs_.size(); ++i)
+      if (specs_[i].name == name) return i;
+    throw std::logic_error(owner_ + ": a rule names \"" + std::string(name) + "\", which is not a field of the table");
+  }
+
   OptionTable& add(OptionFieldSpec spec, Getter get, Setter set) {
     specs_.push_back(std::move(spec));
     getters_.push_back(std::move(get));
@@ -258,6 +330,7 @@ class OptionTable {
   std::vector<Getter> getters_;  ///< parallel to specs_
   std::vector<Setter> setters_;
   std::vector<OptionPreset> presets_;
+  std::vector<Check> checks_;
 };
 
 }  // namespace mapnav

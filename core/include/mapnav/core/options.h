@@ -1,11 +1,15 @@
 #pragma once
-// Validation of option structs (as Ceres' Solver::Options::IsValid): every `validate()` names the
-// struct, the field and its value in the same words.
+// Checks of values that are not options: a function's arguments. Option structs state their rules in
+// their tables (option_table.h); these are for the arguments of a call (`PathTracker(path, window_m)`).
 #include <string_view>
 
 namespace mapnav {
 
-/// Throws InvalidInput "OWNER::FIELD = VALUE: must be RULE" unless `ok`.
+/// Throws InvalidInput "FUNCTION: ARGUMENT = VALUE: must be RULE" unless `ok` (VALUE with 17 digits).
+void requireArgument(bool ok, std::string_view function, std::string_view argument, double value, std::string_view rule);
+
+/// Throws InvalidInput "OWNER::FIELD = VALUE: must be RULE" unless `ok`. Being replaced by the
+/// option tables' rules (option_table.h); do not add callers.
 void requireOption(bool ok, std::string_view owner, std::string_view field, double value, std::string_view rule);
 
 }  // namespace mapnav
