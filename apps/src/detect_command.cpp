@@ -8,10 +8,12 @@
 #include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
+#include "mapnav/core/json.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/mission/image_region.h"
+#include "mapnav/tokens/token_json.h"
 #include "mapnav/vision/detection_io.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision_iface/pipeline.h"
@@ -49,7 +51,7 @@ int runDetect(const DetectConfig& config, std::ostream& out, std::ostream& err) 
     const Detection d = run(&map, config);
     if (!config.output.empty()) writePng(drawDetection(d.image, d.prediction.view, d.detected), config.output);
     if (config.json) {
-      out << detectionToJson(d.detected);
+      out << dumpJson(toJson(d.detected));
     } else {
       std::size_t labelled = 0;
       for (const DetectedLine& l : d.detected.lines) labelled += l.label ? 1 : 0;

@@ -116,4 +116,10 @@ Pose2 Pose2::interpolate(const Pose2& a, const Pose2& b, double s) {
   return a * exp(s * delta);
 }
 
+Mat3 rotatePoseCovariance(const Mat3& covariance, const Mat2& rotation) {
+  Mat3 r = Mat3::Identity();
+  r.topLeftCorner<2, 2>() = rotation;
+  return r * covariance * r.transpose();
+}
+
 }  // namespace mapnav

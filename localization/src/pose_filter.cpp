@@ -379,10 +379,4 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
   return out;
 }
 
-Mat3 rotatePoseCovariance(const Mat3& covariance, const Mat2& rotation) {
-  Mat3 r = Mat3::Identity();
-  r.topLeftCorner<2, 2>() = rotation;
-  return r * covariance * r.transpose();
-}
-
 }  // namespace mapnav

@@ -12,6 +12,7 @@
 #include "mapnav/geometry/clip.h"
 #include "mapnav/geometry/polygon.h"
 #include "mapnav/geometry/simplify.h"
+#include "mapnav/tokens/token_json.h"
 
 namespace mapnav {
 
@@ -423,68 +424,27 @@ Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, 
   return ViewPredictor(map, options).predict(pose, camera);
 }
 
-namespace {
-
-Json pointJson(const Vec2& p) {
-  // Millimetres and tenths of a pixel are plenty, and keep the output readable.
-  return Json::array({std::round(p.x() * 1000) / 1000, std::round(p.y() * 1000) / 1000});
-}
-Json segmentJson(const Segment2& s) { return Json::array({pointJson(s.a), pointJson(s.b)}); }
-Json ringJson(const Polygon2& ring) {
-  Json out = Json::array();
-  for (const Vec2& p : ring) out.push_back(pointJson(p));
-  return out;
-}
-double round3(double x) { return std::round(x * 1000) / 1000; }
-
-}  // namespace
-
 std::string predictionToJson(const Prediction& p) {
-  Json doc = Json::object();
-  doc["pose"] = {{"x", round3(p.pose.x())}, {"y", round3(p.pose.y())}, {"heading_deg", round3(radToDeg(p.pose.heading()))}};
-  doc["footprint"] = ringJson(p.footprint_world);
-  doc["footprint_vehicle"] = ringJson(p.view.footprint);
-  Json objects = Json::array();
+  using namespace token_json;
+  Json areas = Json::array();
   for (std::size_t r = 0; r < p.view.regions.size(); ++r) {
-    const PredictedRegion& region = p.view.regions[r];
-    Json segments = Json::array();
-    for (std::size_t i = 0; i < p.view.segments.size(); ++i) {
-      const InterestSegment& s = p.view.segments[i];
-      if (s.owner != region.id) continue;
-      segments.push_back({{"id", s.id},
-                          {"side", s.side},
-                          {"world", segmentJson(p.segments_world[i])},
-                          {"vehicle", segmentJson(s.vehicle)},
-                          {"image", segmentJson(s.image)},
-                          {"left_surface", s.left_surface},
-                          {"right_surface", s.right_surface}});
-    }
-    Json area = Json::array();
-    for (const Polygon2& ring : p.regions_world[r]) area.push_back(ringJson(ring));
-    objects.push_back({{"kind", region.kind}, {"id", region.id}, {"surface", region.surface}, {"area", area},
-                       {"interest_segments", segments}});
+    Json rings = Json::array();
+    for (const Polygon2& ring : p.regions_world[r]) rings.push_back(points(ring, metres));
+    areas.push_back({{"id", p.view.regions[r].id}, {"area", std::move(rings)}});
   }
-  doc["objects"] = objects;
-  Json relations = Json::array();
-  for (const SegmentRelation& rel : p.view.relations) {
-    if (rel.type == SegmentRelation::Type::Parallel) {
-      relations.push_back({{"type", "parallel"}, {"a", rel.a}, {"b", rel.b}, {"separation_m", round3(rel.separation_m)}});
-    } else {
-      relations.push_back({{"type", "crossing"}, {"a", rel.a}, {"b", rel.b}, {"angle_deg", round3(radToDeg(rel.angle_rad))},
-                           {"point", pointJson(p.pose.transform(rel.point))}});
-    }
-  }
-  doc["relations"] = relations;
+  Json segments = Json::array();
+  for (std::size_t i = 0; i < p.view.segments.size(); ++i)
+    segments.push_back({{"id", p.view.segments[i].id}, {"world", segment(p.segments_world[i], metres)}});
   Json landmarks = Json::array();
-  for (std::size_t i = 0; i < p.view.landmarks.size(); ++i) {
-    const PredictedLandmark& l = p.view.landmarks[i];
-    landmarks.push_back({{"id", l.id}, {"kind", l.kind}, {"world", pointJson(p.landmarks[i]->position)},
-                         {"vehicle", pointJson(l.vehicle)}, {"image_base", pointJson(l.image_base)},
-                         {"image_top", pointJson(l.image_top)}, {"width_px", round3(l.width_px)},
-                         {"height_px", round3((l.image_top - l.image_base).norm())}});
-  }
-  doc["landmarks"] = landmarks;
-  return dumpJson(doc);
+  for (std::size_t i = 0; i < p.view.landmarks.size(); ++i)
+    landmarks.push_back({{"id", p.view.landmarks[i].id}, {"world", point(p.landmarks[i]->position, metres)}});
+  return dumpJson(Json{{"pose", pose(p.pose)},
+                       {"view", toJson(p.view)},
+                       {"world",
+                        {{"footprint", points(p.footprint_world, metres)},
+                         {"regions", std::move(areas)},
+                         {"segments", std::move(segments)},
+                         {"landmarks", std::move(landmarks)}}}});
 }
 
 }  // namespace mapnav

@@ -7,12 +7,10 @@
 
 #include "mapnav/core/json.h"
 #include "mapnav/core/strprintf.h"
-#include "rounding.h"
 
 namespace mapnav {
 
 namespace {
-using detail::roundTo;
 
 // {"missing_image":N, ..., "total":N}: every kind, also the ones that did not happen.
 Json logFaultsJson(const LogFaultCounts& counts) {

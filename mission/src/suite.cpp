@@ -21,7 +21,6 @@
 #include "mapnav/map/random_campus.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/runner.h"
-#include "rounding.h"
 
 namespace mapnav {
 
@@ -332,7 +331,7 @@ Json runJson(const SuiteRun& r, bool wall_time) {
          {"reached", r.reached},
          {"stopped_early", r.stopped_early},
          {"run", r.run_json.empty() ? Json(nullptr) : Json::parse(r.run_json)}};
-  if (wall_time) j["wall_s"] = detail::roundTo(r.wall_s, 1e2);
+  if (wall_time) j["wall_s"] = roundTo(r.wall_s, 1e2);
   return j;
 }
 
@@ -346,14 +345,14 @@ std::string suiteJson(const SuiteOptions& options, const std::vector<SuiteRun>& 
                {"reached", s.reached},
                {"on_path", s.on_path},
                {"consistent", s.consistent},
-               {"lateral_rms_median_m", detail::roundTo(s.lateral_rms_median_m, 1e5)},
-               {"along_max_median_m", detail::roundTo(s.along_max_median_m, 1e5)},
-               {"heading_rms_median_deg", detail::roundTo(s.heading_rms_median_deg, 1e4)},
-               {"goal_distance_median_m", detail::roundTo(s.goal_distance_median_m, 1e4)},
-               {"within_2sigma_along", detail::roundTo(s.within_2sigma_along, 1e4)},
-               {"within_2sigma_lateral", detail::roundTo(s.within_2sigma_lateral, 1e4)},
-               {"within_2sigma_heading", detail::roundTo(s.within_2sigma_heading, 1e4)},
-               {"nees_median", detail::roundTo(s.nees_median, 1e3)},
+               {"lateral_rms_median_m", roundTo(s.lateral_rms_median_m, 1e5)},
+               {"along_max_median_m", roundTo(s.along_max_median_m, 1e5)},
+               {"heading_rms_median_deg", roundTo(s.heading_rms_median_deg, 1e4)},
+               {"goal_distance_median_m", roundTo(s.goal_distance_median_m, 1e4)},
+               {"within_2sigma_along", roundTo(s.within_2sigma_along, 1e4)},
+               {"within_2sigma_lateral", roundTo(s.within_2sigma_lateral, 1e4)},
+               {"within_2sigma_heading", roundTo(s.within_2sigma_heading, 1e4)},
+               {"nees_median", roundTo(s.nees_median, 1e3)},
                {"frames", s.frames},
                {"left_path_frames", s.left_path_frames},
                {"vision_failures", s.vision_failures},
@@ -365,7 +364,7 @@ std::string suiteJson(const SuiteOptions& options, const std::vector<SuiteRun>& 
                  {"lateral_rms_median_m", 0.05},
                  {"along_max_median_m", 0.3},
                  {"within_2sigma", 0.9}}}};
-  if (wall_time) summary["wall_s"] = detail::roundTo(s.wall_s, 1e2);
+  if (wall_time) summary["wall_s"] = roundTo(s.wall_s, 1e2);
   Json j{{"suite", "random-campus"},
          {"junctions", options.junctions},
          {"max_frames", options.max_frames},

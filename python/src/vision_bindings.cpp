@@ -5,9 +5,11 @@
 
 #include "convert.h"
 #include "mapnav/core/error.h"
+#include "mapnav/core/json.h"
 #include "mapnav/image/png.h"
 #include "mapnav/image/read_image.h"
 #include "mapnav/mission/image_region.h"
+#include "mapnav/tokens/token_json.h"
 #include "mapnav/scenes/sidewalk_scene.h"
 #include "mapnav/vision/detection_io.h"
 #include "mapnav/vision/overlay.h"
@@ -44,7 +46,8 @@ void bindDetection(py::module_& m) {
                              "2 x 2, vehicle frame, or None")
       .def_property_readonly("road_mask", [](const DetectedObject& d) { return maskOrNone(d.road_mask); })
       .def_property_readonly("road_confidence", [](const DetectedObject& d) { return maskOrNone(d.road_confidence); })
-      .def("to_json", &detectionToJson, "The detection as `mapnav detect --json` prints it (str).")
+      .def("to_json", [](const DetectedObject& d) { return dumpJson(toJson(d)); },
+           "The detection as `mapnav detect --json` prints it (str).")
       .def("__repr__", [](const DetectedObject& d) {
         return d.status == DetectedObject::Status::Ok ? "<Detection ok, " + std::to_string(d.lines.size()) + " lines>"
                                                       : "<Detection failed: " + d.reason + ">";

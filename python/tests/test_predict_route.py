@@ -24,15 +24,17 @@ def test_the_predicted_view_is_the_clis(view, cli_view):
 
 
 def test_the_objects_are_the_clis(view, cli_view):
+    printed = cli_view["view"]
     assert [(o.id, o.kind, o.surface) for o in view.objects] == [
-        (o["id"], o["kind"], o["surface"]) for o in cli_view["objects"]]
+        (o["id"], o["kind"], o["surface"]) for o in printed["regions"]]
     assert [o.id for o in view.objects] == ["R1"]
-    segments = {s["id"]: s for o in cli_view["objects"] for s in o["interest_segments"]}
+    segments = {s["id"]: s for s in printed["segments"]}
     assert sorted(s.id for s in view.segments) == sorted(segments)
     for s in view.segments:
         assert s.vehicle.shape == (2, 2) and s.image.shape == (2, 2)
-        assert np.round(s.vehicle, 3).tolist() == segments[s.id]["vehicle"]
-        assert np.round(s.image, 3).tolist() == segments[s.id]["image"]
+        # the JSON rounds metres to 0.1 mm and pixels to 0.01 px
+        assert np.allclose(s.vehicle, segments[s.id]["vehicle"], rtol=0, atol=0.5e-4 + 1e-9)
+        assert np.allclose(s.image, segments[s.id]["image"], rtol=0, atol=0.5e-2 + 1e-9)
         assert (s.left_surface, s.right_surface) == (segments[s.id]["left_surface"], segments[s.id]["right_surface"])
 
 

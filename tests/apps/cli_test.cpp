@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "mapnav/core/io.h"
+#include "mapnav/geometry/pose2.h"
+#include "mapnav/geometry/types.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
@@ -185,16 +187,35 @@ TEST(Cli, PredictAtTheDialoguesStartSeesR1WithParallelEdgesOneWidthApart) {
   const auto r = runCli({"predict", "--map", map, "--camera", camera, "--at", "R1@I1+3", "--json", "-o", str(dir / "view.png")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  ASSERT_EQ(j["objects"].size(), 1u);
-  EXPECT_EQ(j["objects"][0]["id"], "R1");
-  EXPECT_EQ(j["objects"][0]["kind"], "straight road");
-  std::set<std::string> ids;
-  for (const auto& s : j["objects"][0]["interest_segments"]) ids.insert(s["id"]);
+  const auto& view = j["view"];  // the PredictedObject token, as the trace writes it
+  ASSERT_EQ(view["regions"].size(), 1u);
+  EXPECT_EQ(view["regions"][0]["id"], "R1");
+  EXPECT_EQ(view["regions"][0]["kind"], "straight road");
+  std::set<std::string> ids, world_ids;
+  for (const auto& s : view["segments"]) {
+    EXPECT_EQ(s["owner"], "R1");
+    ids.insert(s["id"]);
+  }
   EXPECT_EQ(ids, (std::set<std::string>{"R1.left.0", "R1.right.0"}));
+  for (const auto& s : j["world"]["segments"]) world_ids.insert(s["id"]);
+  EXPECT_EQ(world_ids, ids);
   const double width = testing::campusMap().road("R1").width;
-  ASSERT_EQ(j["relations"].size(), 1u);
-  EXPECT_EQ(j["relations"][0]["type"], "parallel");
-  EXPECT_NEAR(j["relations"][0]["separation_m"].get<double>(), width, 1e-3);
+  ASSERT_EQ(view["relations"].size(), 1u);
+  EXPECT_EQ(view["relations"][0]["type"], "parallel");
+  EXPECT_NEAR(view["relations"][0]["separation_m"].get<double>(), width, 1e-3);
+  // The world block is the same segments in the map's frame: the pose carries each vehicle point there.
+  const Pose2 pose(j["pose"]["x"].get<double>(), j["pose"]["y"].get<double>(), degToRad(j["pose"]["heading_deg"].get<double>()));
+  ASSERT_EQ(j["world"]["segments"].size(), view["segments"].size());
+  for (std::size_t i = 0; i < view["segments"].size(); ++i) {
+    EXPECT_EQ(j["world"]["segments"][i]["id"], view["segments"][i]["id"]);
+    for (int end = 0; end < 2; ++end) {
+      const auto& v = view["segments"][i]["vehicle"][end];
+      const auto& w = j["world"]["segments"][i]["world"][end];
+      const Vec2 moved = pose.transform(Vec2(v[0].get<double>(), v[1].get<double>()));
+      EXPECT_NEAR(moved.x(), w[0].get<double>(), 1e-3);
+      EXPECT_NEAR(moved.y(), w[1].get<double>(), 1e-3);
+    }
+  }
   // The pose is 3 m from I1 along R1, facing away from it.
   const Vec2 i1 = testing::campusMap().intersection("I1").position;
   EXPECT_NEAR(std::hypot(j["pose"]["x"].get<double>() - i1.x(), j["pose"]["y"].get<double>() - i1.y()), 3.0, 1e-3);
@@ -327,7 +348,7 @@ TEST(Cli, VisionCommandsOnASimulatedFrame) {
   ASSERT_EQ(detect.exit_code, 0) << detect.err;
   const auto j = nlohmann::json::parse(detect.out);
   EXPECT_EQ(j["status"], "ok");
-  EXPECT_GE(j["region"]["image"].size(), 3u);
+  EXPECT_GE(j["region_image"].size(), 3u);
   EXPECT_EQ(readFile(dir / "d.png").substr(1, 3), "PNG");
   const auto segment = runCli({"segment", "--map", map, "--camera", camera, "--pose", "53,40,180", frame, "-o", str(dir / "mask.png")});
   ASSERT_EQ(segment.exit_code, 0) << segment.err;

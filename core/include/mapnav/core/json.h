@@ -2,6 +2,7 @@
 // Reading JSON documents with precise errors: syntax errors with line and column, every semantic
 // problem with the JSON Pointer of the value. Readers collect issues and go on, so that one pass
 // reports every problem (as mold does). Include only in .cpp files that parse or write JSON.
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -28,6 +29,10 @@ std::string pointerJoin(std::string_view base, std::size_t index);
 
 /// "object", "array", "string", "number", "boolean", "null".
 std::string_view jsonTypeName(const Json& value);
+
+/// `x` rounded to a multiple of 1 / `scale` (scale 1e4: 4 decimals), -0 turned into 0: a figure
+/// for a JSON output, its bytes independent of a computation's last bits.
+inline double roundTo(double x, double scale) { return std::round(x * scale) / scale + 0.0; }
 
 /// Writes `value` indented by 2 with a final newline; points and other short arrays of numbers on
 /// one line. Doubles round-trip exactly.

@@ -50,4 +50,9 @@ class Pose2 {
   double heading_ = 0.0;
 };
 
+/// A pose covariance (x, y, heading) with its position block expressed in other axes: R P Rᵀ for
+/// R = diag(`rotation`, 1); the heading's variance is the same in every frame. With the pose's
+/// rotation transposed: world axes onto the vehicle's (forward, left); with the rotation: back.
+Mat3 rotatePoseCovariance(const Mat3& covariance, const Mat2& rotation);
+
 }  // namespace mapnav

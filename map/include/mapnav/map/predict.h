@@ -96,7 +96,9 @@ class ViewPredictor {
 /// of one map, keep a ViewPredictor.
 Prediction predictView(const Map& map, const Pose2& pose, const Camera& camera, const PredictOptions& options = {});
 
-/// The prediction as `mapnav predict --json` prints it.
+/// The prediction as `mapnav predict --json` prints it: {"pose", "view": the PredictedObject token as
+/// the trace writes it (tokens/token_json.h, vehicle axes and pixels), "world": the footprint, each
+/// region's area, each segment and each landmark in the map's frame (metres)}.
 std::string predictionToJson(const Prediction& prediction);
 
 /// The surface an intersection is paved with: that of the widest road meeting there (the first in
