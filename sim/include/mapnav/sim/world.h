@@ -35,6 +35,7 @@
 #include <optional>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/image/image.h"
@@ -139,9 +140,12 @@ struct WorldOptions {
   /// run side by side on every core already. In [0, 256].
   int threads = 1;
 
-  /// Throws InvalidInput naming the first bad field and its value.
+  /// Throws InvalidInput naming the first bad field and its value (worldOptionTable()'s rules).
   void validate() const;
 };
+
+/// WorldOptions' fields by name, with their rules: validate() and the mission file's `world` block.
+const OptionTable<WorldOptions>& worldOptionTable();
 
 /// A map landmark in a rendered frame (Frame::landmarks): one whose ground contact point
 /// (Landmark::position) projects into the image and that a nearer landmark does not hide (some
