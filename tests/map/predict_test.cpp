@@ -418,6 +418,15 @@ TEST(PredictOptions, DefaultsAreValidAndBadFieldsAreNamed) {
                                                 "PredictOptions::parallel_tolerance_deg = 45: must be in [0, 45)"));
 }
 
+TEST(MakeGridMap, BadOptionsAreNamed) {
+  GridMapOptions o;
+  o.rows = 1;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { makeGridMap(o); }, "GridMapOptions::rows = 1: must be >= 2"));
+  o = {};
+  o.spacing_m = 4;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { makeGridMap(o); }, "GridMapOptions::spacing_m = 4: must be > 2 width_m"));
+}
+
 TEST(MakeGridMap, HasTheRoadCountItPromisesAndIsValid) {
   GridMapOptions o;
   o.columns = 4;
