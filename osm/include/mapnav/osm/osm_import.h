@@ -63,8 +63,8 @@ struct OsmImportOptions {
   void validate() const;
 };
 
-/// OsmImportOptions' fields that are values, with their rules (highways, bbox, origin and widths
-/// are checked by validate() itself).
+/// OsmImportOptions' fields that are values, with their rules (highways, bbox and widths are
+/// checked by validate() itself; any origin goes).
 const OptionTable<OsmImportOptions>& osmImportOptionTable();
 
 /// What an import did, beside the map.
