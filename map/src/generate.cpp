@@ -1,6 +1,5 @@
 #include "mapnav/map/generate.h"
 
-#include <cmath>
 #include <string>
 
 #include "mapnav/core/error.h"
@@ -8,16 +7,19 @@
 
 namespace mapnav {
 
-void GridMapOptions::validate() const {
-  if (columns < 2 || rows < 2) {
-    throw InvalidInput("GridMapOptions::columns and rows = " + std::to_string(columns) + ", " + std::to_string(rows) +
-                       ": must be >= 2");
-  }
-  if (!std::isfinite(spacing_m) || !std::isfinite(width_m) || width_m <= 0 || spacing_m <= 2 * width_m) {
-    throw InvalidInput("GridMapOptions::spacing_m = " + std::to_string(spacing_m) + ", width_m = " + std::to_string(width_m) +
-                       ": need width_m > 0 and spacing_m > 2 * width_m");
-  }
+const OptionTable<GridMapOptions>& gridMapOptionTable() {
+  using O = GridMapOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("GridMapOptions")
+          .field("columns", &O::columns, atLeast(2), "intersections per row")
+          .field("rows", &O::rows, atLeast(2), "intersections per column")
+          .field("spacing_m", &O::spacing_m, "between neighbouring intersections, m")
+          .field("width_m", &O::width_m, above(0), "of every road, m")
+          .check("spacing_m", [](const O& o) { return o.spacing_m > 2 * o.width_m; }, "> 2 width_m");
+  return table;
 }
+
+void GridMapOptions::validate() const { gridMapOptionTable().validate(*this); }
 
 MapData makeGridMap(const GridMapOptions& o) {
   o.validate();

@@ -15,15 +15,25 @@
 
 namespace mapnav {
 
+const OptionTable<GeoJsonImportOptions>& geoJsonImportOptionTable() {
+  using O = GeoJsonImportOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("GeoJsonImportOptions")
+          .field("snap_tolerance_m", &O::snap_tolerance_m, atLeast(0),
+                 "road ends and vertices closer than this share a node or cut a line, m")
+          .field("default_width_m", &O::default_width_m, above(0), "the width of a LineString without one, m")
+          .field("default_surface", &O::default_surface, "the surface of a LineString without one")
+          .field("default_shoulder", &O::default_shoulder, "the shoulder of a LineString without one")
+          .check("default_surface", [](const O& o) { return !o.default_surface.empty(); }, "non-empty")
+          .check("default_shoulder", [](const O& o) { return !o.default_shoulder.empty(); }, "non-empty");
+  return table;
+}
+
 void GeoJsonImportOptions::validate() const {
-  auto fail = [](const std::string& what) { throw InvalidInput("GeoJsonImportOptions::" + what); };
-  if (!std::isfinite(snap_tolerance_m) || snap_tolerance_m < 0) fail("snap_tolerance_m must be finite and >= 0");
-  if (!std::isfinite(default_width_m) || default_width_m <= 0) fail("default_width_m must be finite and > 0");
-  if (default_surface.empty()) fail("default_surface must not be empty");
-  if (default_shoulder.empty()) fail("default_shoulder must not be empty");
-  if (origin && (!(std::abs(origin->lat) <= 90) || !(std::abs(origin->lon) <= 180) || !std::isfinite(origin->alt))) {
-    fail("origin must have lat in [-90, 90], lon in [-180, 180] and a finite alt");
-  }
+  geoJsonImportOptionTable().validate(*this);
+  // An origin that may be absent: no value a table holds.
+  if (origin && (!(std::abs(origin->lat) <= 90) || !(std::abs(origin->lon) <= 180) || !std::isfinite(origin->alt)))
+    throw InvalidInput("GeoJsonImportOptions::origin must have lat in [-90, 90], lon in [-180, 180] and a finite alt");
 }
 
 std::vector<std::pair<std::string, Appearance>> standardSurfaces() {

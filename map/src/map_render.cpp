@@ -4,8 +4,6 @@
 #include <cmath>
 #include <map>
 
-#include "mapnav/core/options.h"
-
 namespace mapnav {
 
 using render::Anchor;
@@ -13,11 +11,19 @@ using render::Rgb;
 using render::Style;
 using render::TextStyle;
 
-void MapRenderOptions::validate() const {
-  requireOption(width_px >= 64 && width_px <= 20000, "MapRenderOptions", "width_px", width_px, "in [64, 20000]");
-  requireOption(std::isfinite(margin_px) && margin_px >= 0 && margin_px * 2 < width_px, "MapRenderOptions", "margin_px",
-                margin_px, ">= 0 and less than half the width");
+const OptionTable<MapRenderOptions>& mapRenderOptionTable() {
+  using O = MapRenderOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("MapRenderOptions")
+          .field("width_px", &O::width_px, inRange(64, 20000), "picture width; the height follows from the map's aspect")
+          .field("margin_px", &O::margin_px, atLeast(0), "free border around the map")
+          .field("labels", &O::labels, "draw road and intersection ids")
+          .field("title", &O::title, "draw the map's name at the top")
+          .check("margin_px", [](const O& o) { return o.margin_px * 2 < o.width_px; }, "< width_px / 2");
+  return table;
 }
+
+void MapRenderOptions::validate() const { mapRenderOptionTable().validate(*this); }
 
 namespace {
 

@@ -7,7 +7,6 @@
 #include <unordered_map>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 #include "mapnav/core/json.h"
 #include "mapnav/geometry/clip.h"
 #include "mapnav/geometry/polygon.h"
@@ -16,29 +15,34 @@
 
 namespace mapnav {
 
-void PredictOptions::validate() const {
-  auto require = [](bool ok, const char* field, double value, const char* rule) {
-    requireOption(ok, "PredictOptions", field, value, rule);
-  };
-  require(std::isfinite(near_m) && near_m >= 0, "near_m", near_m, "finite and >= 0");
-  require(std::isfinite(far_m) && far_m > near_m, "far_m", far_m, "finite and > near_m");
-  require(std::isfinite(simplify_tolerance_m) && simplify_tolerance_m > 0, "simplify_tolerance_m", simplify_tolerance_m,
-          "finite and > 0");
-  require(std::isfinite(min_segment_length_m) && min_segment_length_m >= 0, "min_segment_length_m",
-          min_segment_length_m, "finite and >= 0");
-  require(std::isfinite(min_segment_length_px) && min_segment_length_px >= 0, "min_segment_length_px",
-          min_segment_length_px, "finite and >= 0");
-  require(min_in_image_fraction >= 0 && min_in_image_fraction <= 1, "min_in_image_fraction", min_in_image_fraction,
-          "in [0, 1]");
-  require(parallel_tolerance_deg >= 0 && parallel_tolerance_deg < 45, "parallel_tolerance_deg", parallel_tolerance_deg,
-          "in [0, 45)");
-  require(std::isfinite(max_parallel_separation_m) && max_parallel_separation_m > 0, "max_parallel_separation_m",
-          max_parallel_separation_m, "finite and > 0");
-  require(crossing_min_angle_deg > parallel_tolerance_deg && crossing_min_angle_deg <= 90, "crossing_min_angle_deg",
-          crossing_min_angle_deg, "in (parallel_tolerance_deg, 90]");
-  require(std::isfinite(crossing_reach_m) && crossing_reach_m >= 0, "crossing_reach_m", crossing_reach_m,
-          "finite and >= 0");
+const OptionTable<PredictOptions>& predictOptionTable() {
+  using O = PredictOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("PredictOptions")
+          .field("near_m", &O::near_m, atLeast(0), "the footprint: ground in view at least this far ahead of the camera, m")
+          .field("far_m", &O::far_m, "... and at most this far from it, m")
+          .field("simplify_tolerance_m", &O::simplify_tolerance_m, above(0),
+                 "curved edges become straight pieces within this of the curve, m")
+          .field("min_segment_length_m", &O::min_segment_length_m, atLeast(0),
+                 "segments shorter than this on the ground are dropped, m")
+          .field("min_segment_length_px", &O::min_segment_length_px, atLeast(0),
+                 "segments shorter than this in the image are dropped, px")
+          .field("min_in_image_fraction", &O::min_in_image_fraction, inRange(0, 1),
+                 "segments with less of their length inside the image are dropped")
+          .field("parallel_tolerance_deg", &O::parallel_tolerance_deg, OptionRule{.min = 0, .max = 45, .max_open = true},
+                 "segments within this angle of each other (degrees) ...")
+          .field("max_parallel_separation_m", &O::max_parallel_separation_m, above(0),
+                 "... and at most this far apart are a parallel pair, m")
+          .field("crossing_min_angle_deg", &O::crossing_min_angle_deg, aboveUpTo(0, 90),
+                 "segments at least this far apart in angle cross (degrees) ...")
+          .field("crossing_reach_m", &O::crossing_reach_m, atLeast(0), "... where their lines meet within this of both, m")
+          .check("far_m", [](const O& o) { return o.far_m > o.near_m; }, "> near_m")
+          .check("crossing_min_angle_deg", [](const O& o) { return o.crossing_min_angle_deg > o.parallel_tolerance_deg; },
+                 "> parallel_tolerance_deg");
+  return table;
 }
+
+void PredictOptions::validate() const { predictOptionTable().validate(*this); }
 
 std::string regionKind(IntersectionKind kind) {
   switch (kind) {

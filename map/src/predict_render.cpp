@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include "mapnav/core/options.h"
 #include "mapnav/geometry/clip.h"
 #include "mapnav/map/map_render.h"
 
@@ -15,11 +14,17 @@ using render::Rgb;
 using render::Style;
 using render::TextStyle;
 
-void PredictionPictureOptions::validate() const {
-  requireOption(panel_px >= 100 && panel_px <= 4000, "PredictionPictureOptions", "panel_px", panel_px, "in [100, 4000]");
-  requireOption(std::isfinite(map_margin_m) && map_margin_m >= 0, "PredictionPictureOptions", "map_margin_m", map_margin_m,
-                "finite and >= 0");
+const OptionTable<PredictionPictureOptions>& predictionPictureOptionTable() {
+  using O = PredictionPictureOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("PredictionPictureOptions")
+          .field("panel_px", &O::panel_px, inRange(100, 4000),
+                 "height of both panels; the image panel keeps the camera's aspect")
+          .field("map_margin_m", &O::map_margin_m, atLeast(0), "map shown around the footprint and the vehicle, m");
+  return table;
 }
+
+void PredictionPictureOptions::validate() const { predictionPictureOptionTable().validate(*this); }
 
 namespace {
 

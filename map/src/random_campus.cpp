@@ -4,26 +4,32 @@
 #include <random>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/map/geojson.h"
 
 namespace mapnav {
 
-void RandomCampusOptions::validate() const {
-  requireOption(junctions >= 1 && junctions <= 8, "RandomCampusOptions", "junctions", junctions, "in [1, 8]");
-  requireOption(std::isfinite(min_width_m) && min_width_m > 0, "RandomCampusOptions", "min_width_m", min_width_m, "> 0");
-  requireOption(std::isfinite(max_width_m) && max_width_m >= min_width_m, "RandomCampusOptions", "max_width_m",
-                max_width_m, ">= min_width_m");
-  requireOption(std::isfinite(min_leg_m) && min_leg_m > 3 * max_width_m, "RandomCampusOptions", "min_leg_m", min_leg_m,
-                "> 3 max_width_m");
-  requireOption(std::isfinite(max_leg_m) && max_leg_m >= min_leg_m, "RandomCampusOptions", "max_leg_m", max_leg_m,
-                ">= min_leg_m");
-  requireOption(std::isfinite(min_branch_m) && min_branch_m > 3 * max_width_m, "RandomCampusOptions", "min_branch_m",
-                min_branch_m, "> 3 max_width_m");
-  requireOption(std::isfinite(max_branch_m) && max_branch_m >= min_branch_m, "RandomCampusOptions", "max_branch_m",
-                max_branch_m, ">= min_branch_m");
+const OptionTable<RandomCampusOptions>& randomCampusOptionTable() {
+  using O = RandomCampusOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("RandomCampusOptions")
+          .field("seed", &O::seed, "the same seed, the same map and mission")
+          .field("junctions", &O::junctions, inRange(1, 8), "junctions along the spine")
+          .field("min_width_m", &O::min_width_m, above(0), "every road's width at least, m")
+          .field("max_width_m", &O::max_width_m, "... and at most, m")
+          .field("min_leg_m", &O::min_leg_m, "spine roads' lengths at least, m")
+          .field("max_leg_m", &O::max_leg_m, "... and at most, m")
+          .field("min_branch_m", &O::min_branch_m, "side branches' lengths at least, m")
+          .field("max_branch_m", &O::max_branch_m, "... and at most, m")
+          .check("max_width_m", [](const O& o) { return o.max_width_m >= o.min_width_m; }, ">= min_width_m")
+          .check("min_leg_m", [](const O& o) { return o.min_leg_m > 3 * o.max_width_m; }, "> 3 max_width_m")
+          .check("max_leg_m", [](const O& o) { return o.max_leg_m >= o.min_leg_m; }, ">= min_leg_m")
+          .check("min_branch_m", [](const O& o) { return o.min_branch_m > 3 * o.max_width_m; }, "> 3 max_width_m")
+          .check("max_branch_m", [](const O& o) { return o.max_branch_m >= o.min_branch_m; }, ">= min_branch_m");
+  return table;
 }
+
+void RandomCampusOptions::validate() const { randomCampusOptionTable().validate(*this); }
 
 namespace {
 

@@ -9,7 +9,6 @@
 #include <unordered_set>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/core/json.h"
 #include "mapnav/geometry/polygon.h"
@@ -19,20 +18,24 @@ namespace mapnav {
 
 namespace bgi = boost::geometry::index;
 
-void ValidationOptions::validate() const {
-  auto require = [](bool ok, const char* field, double value, const char* rule) {
-    requireOption(ok, "ValidationOptions", field, value, rule);
-  };
-  require(std::isfinite(end_tolerance_m) && end_tolerance_m >= 0, "end_tolerance_m", end_tolerance_m, "finite and >= 0");
-  require(std::isfinite(repeated_point_tolerance_m) && repeated_point_tolerance_m >= 0, "repeated_point_tolerance_m",
-          repeated_point_tolerance_m, "finite and >= 0");
-  require(std::isfinite(min_road_length_m) && min_road_length_m >= 0, "min_road_length_m", min_road_length_m,
-          "finite and >= 0");
-  require(std::isfinite(max_coordinate_m) && max_coordinate_m > 0, "max_coordinate_m", max_coordinate_m, "finite and > 0");
-  require(std::isfinite(max_width_m) && max_width_m > 0, "max_width_m", max_width_m, "finite and > 0");
-  require(std::isfinite(max_landmark_distance_m) && max_landmark_distance_m >= 0, "max_landmark_distance_m",
-          max_landmark_distance_m, "finite and >= 0");
+const OptionTable<ValidationOptions>& validationOptionTable() {
+  using O = ValidationOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("ValidationOptions")
+          .field("end_tolerance_m", &O::end_tolerance_m, atLeast(0),
+                 "how far a road's end may be from its intersection's position outside its shape, m")
+          .field("repeated_point_tolerance_m", &O::repeated_point_tolerance_m, atLeast(0),
+                 "consecutive centre-line points closer than this are a repeated point, m")
+          .field("min_road_length_m", &O::min_road_length_m, atLeast(0), "shorter roads get roads.very_short, m")
+          .field("max_coordinate_m", &O::max_coordinate_m, above(0),
+                 "coordinates beyond +- this are refused (geometry.invalid_coordinate), m")
+          .field("max_width_m", &O::max_width_m, above(0), "widths above this are refused (roads.invalid_width), m")
+          .field("max_landmark_distance_m", &O::max_landmark_distance_m, atLeast(0),
+                 "a landmark farther than this from its road's paved area gets landmarks.far_from_road, m");
+  return table;
 }
+
+void ValidationOptions::validate() const { validationOptionTable().validate(*this); }
 
 namespace {
 

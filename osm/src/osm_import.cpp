@@ -17,7 +17,6 @@
 #include <osmium/visitor.hpp>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/geometry/polyline2.h"
 #include "mapnav/geometry/segment2.h"
@@ -26,32 +25,6 @@
 #include "osm_internal.h"
 
 namespace mapnav {
-
-void OsmImportOptions::validate() const {
-  if (highways.empty()) throw InvalidInput("OsmImportOptions.highways: empty; keep at least one highway value");
-  if (bbox) {
-    const auto& b = *bbox;
-    const bool ok = std::all_of(b.begin(), b.end(), [](double v) { return std::isfinite(v); }) && b[0] >= -180 &&
-                    b[2] <= 180 && b[1] >= -90 && b[3] <= 90 && b[0] < b[2] && b[1] < b[3];
-    if (!ok) throw InvalidInput("OsmImportOptions.bbox: expected west < east in [-180, 180] and south < north in [-90, 90]");
-  }
-  for (const auto& [highway, width] : widths) {
-    requireOption(std::isfinite(width) && width > 0, "OsmImportOptions", "widths[" + highway + "]", width, "> 0");
-  }
-  requireOption(std::isfinite(default_width_m) && default_width_m > 0, "OsmImportOptions", "default_width_m",
-                default_width_m, "> 0");
-  requireOption(std::isfinite(steps_cost_factor) && steps_cost_factor >= 1, "OsmImportOptions", "steps_cost_factor",
-                steps_cost_factor, ">= 1");
-  requireOption(std::isfinite(merge_distance_m) && merge_distance_m >= 0, "OsmImportOptions", "merge_distance_m",
-                merge_distance_m, ">= 0");
-  requireOption(std::isfinite(min_piece_m) && min_piece_m >= 0, "OsmImportOptions", "min_piece_m", min_piece_m, ">= 0");
-  requireOption(std::isfinite(max_landmark_distance_m) && max_landmark_distance_m >= 0, "OsmImportOptions",
-                "max_landmark_distance_m", max_landmark_distance_m, ">= 0");
-  const auto surfaces = standardSurfaces();
-  if (std::none_of(surfaces.begin(), surfaces.end(), [&](const auto& s) { return s.first == shoulder; })) {
-    throw InvalidInput("OsmImportOptions.shoulder: \"" + shoulder + "\" is not a standard surface");
-  }
-}
 
 IntersectionKind inferIntersectionKind(const std::vector<double>& headings) {
   constexpr double kStraight = 30.0 * std::numbers::pi / 180.0;

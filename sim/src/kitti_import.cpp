@@ -5,7 +5,6 @@
 #include <charconv>
 #include <cmath>
 #include <optional>
-#include <sstream>
 #include <vector>
 
 #include "mapnav/core/error.h"
@@ -121,16 +120,19 @@ std::vector<fs::path> listPngs(const fs::path& dir) {
 
 }  // namespace
 
-void KittiImportOptions::validate() const {
-  auto bad = [](const std::string& field, double value, const std::string& rule) {
-    std::ostringstream s;
-    s << "KittiImportOptions::" << field << " = " << value << ": must be " << rule;
-    throw InvalidInput(s.str());
-  };
-  if (!(camera_height_m > 0) || !std::isfinite(camera_height_m)) bad("camera_height_m", camera_height_m, "> 0");
-  if (!(camera_tilt_deg >= -90 && camera_tilt_deg <= 90)) bad("camera_tilt_deg", camera_tilt_deg, "in [-90, 90]");
-  if (!(frame_rate_hz > 0) || !std::isfinite(frame_rate_hz)) bad("frame_rate_hz", frame_rate_hz, "> 0");
+const OptionTable<KittiImportOptions>& kittiImportOptionTable() {
+  using O = KittiImportOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("KittiImportOptions")
+          .field("camera_height_m", &O::camera_height_m, above(0), "the optical centre's height above the road, m")
+          .field("camera_tilt_deg", &O::camera_tilt_deg, inRange(-90, 90), "the optical axis' angle below the horizon, degrees")
+          .field("frame_rate_hz", &O::frame_rate_hz, above(0), "frame rate without times.txt, and the log's nominal rate, Hz")
+          .field("images", &O::images, "the image folder inside the sequence (\"\": the first image_*)")
+          .field("name", &O::name, "the log's name (\"\": \"KITTI \" and the sequence folder's name)");
+  return table;
 }
+
+void KittiImportOptions::validate() const { kittiImportOptionTable().validate(*this); }
 
 Pose2 kittiGroundPose(const double (&m)[12]) {
   // The optical axis (R's third column) in KITTI's world: (m[2], m[6], m[10]); on the ground plane

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -158,17 +160,42 @@ std::pair<CameraIntrinsics, CameraMount> cameraFromCalibration(const fs::path& d
 
 }  // namespace
 
+namespace {
+
+/// The odometry's rule of a field KittiRawImportOptions hands on to OdometryNoiseOptions.
+OptionRule odometryRule(std::string_view name) {
+  for (const OptionFieldSpec& field : odometryNoiseOptionTable().fields())
+    if (field.name == name) return field.rule;
+  throw std::logic_error("OdometryNoiseOptions has no field " + std::string(name));
+}
+
+}  // namespace
+
+const OptionTable<KittiRawImportOptions>& kittiRawImportOptionTable() {
+  using O = KittiRawImportOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("KittiRawImportOptions")
+          .field("camera", &O::camera, "the camera: image_NN and P_rect_NN (02: the left colour camera)")
+          .field("imu_height_m", &O::imu_height_m, OptionRule{.min = 0, .max = 10, .min_open = true, .max_open = true},
+                 "the OXTS unit's height above the road, m")
+          .field("gnss_every", &O::gnss_every, atLeast(0), "a GNSS fix every n-th frame; 0: none")
+          .field("scale_error", &O::scale_error, odometryRule("scale_error"), "odometry: relative distance error")
+          .field("gyro_bias_deg_s", &O::gyro_bias_deg_s, odometryRule("gyro_bias_deg_s"),
+                 "odometry: constant yaw-rate bias, deg/s")
+          .field("seed", &O::seed, "odometry's noise")
+          .field("name", &O::name, "the log's name (\"\": \"KITTI raw \" and the drive folder's name)")
+          .check("camera", [](const O& o) {
+            return o.camera.size() == 2 && o.camera[0] == '0' && o.camera[1] >= '0' && o.camera[1] <= '3';
+          }, "00, 01, 02 or 03");
+  return table;
+}
+
 void KittiRawImportOptions::validate() const {
-  const auto bad = [](const std::string& field, const std::string& value, const std::string& rule) {
-    throw InvalidInput("KittiRawImportOptions::" + field + " = " + value + ": must be " + rule);
-  };
-  if (camera.size() != 2 || camera[0] != '0' || camera[1] < '0' || camera[1] > '3') bad("camera", camera, "00, 01, 02 or 03");
-  if (!(imu_height_m > 0 && imu_height_m < 10)) bad("imu_height_m", std::to_string(imu_height_m), "in (0, 10)");
-  if (gnss_every < 0) bad("gnss_every", std::to_string(gnss_every), ">= 0");
-  if (!(std::abs(scale_error) < 0.5)) bad("scale_error", std::to_string(scale_error), "in (-0.5, 0.5)");
-  if (!(std::abs(gyro_bias_deg_s) <= 90)) bad("gyro_bias_deg_s", std::to_string(gyro_bias_deg_s), "in [-90, 90]");
+  kittiRawImportOptionTable().validate(*this);
+  // A latitude and longitude that may be absent: no value a table holds.
   if (origin && (!(std::abs(origin->lat) <= 90) || !(std::abs(origin->lon) <= 180)))
-    bad("origin", std::to_string(origin->lat) + "," + std::to_string(origin->lon), "a latitude in [-90, 90] and longitude in [-180, 180]");
+    throw InvalidInput("KittiRawImportOptions::origin = " + std::to_string(origin->lat) + "," + std::to_string(origin->lon) +
+                       ": must be a latitude in [-90, 90] and longitude in [-180, 180]");
 }
 
 std::optional<double> kittiTimeOfDay(const std::string& text) {

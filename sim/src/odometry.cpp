@@ -1,35 +1,29 @@
 #include "mapnav/sim/odometry.h"
 
-#include <cmath>
-
-#include "mapnav/core/json.h"
-#include "mapnav/core/options.h"
 #include "mapnav/geometry/types.h"
+
+#include "option_block.h"
 
 namespace mapnav {
 
-void OdometryNoiseOptions::validate() const {
-  requireOption(std::isfinite(scale_error) && std::abs(scale_error) < 0.5, "OdometryNoiseOptions", "scale_error",
-                scale_error, "finite and within ±0.5");
-  requireOption(std::isfinite(gyro_bias_deg_s), "OdometryNoiseOptions", "gyro_bias_deg_s", gyro_bias_deg_s, "finite");
-  requireOption(std::isfinite(distance_sigma_m) && distance_sigma_m >= 0, "OdometryNoiseOptions", "distance_sigma_m",
-                distance_sigma_m, "finite and >= 0");
-  requireOption(std::isfinite(heading_sigma_deg) && heading_sigma_deg >= 0, "OdometryNoiseOptions", "heading_sigma_deg",
-                heading_sigma_deg, "finite and >= 0");
+const OptionTable<OdometryNoiseOptions>& odometryNoiseOptionTable() {
+  using O = OdometryNoiseOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("OdometryNoiseOptions")
+          .field("seed", &O::seed, "the same seed gives the same noise")
+          .field("scale_error", &O::scale_error, inRange(-0.49, 0.49),
+                 "relative distance error of the encoders (0.01: 1 % long)")
+          .field("gyro_bias_deg_s", &O::gyro_bias_deg_s, inRange(-10, 10), "constant heading-rate bias, deg/s")
+          .field("distance_sigma_m", &O::distance_sigma_m, inRange(0, 10), "white noise on each interval's distance, m")
+          .field("heading_sigma_deg", &O::heading_sigma_deg, inRange(0, 90),
+                 "white noise on each interval's heading change, degrees");
+  return table;
 }
 
+void OdometryNoiseOptions::validate() const { odometryNoiseOptionTable().validate(*this); }
+
 OdometryNoiseOptions parseOdometryNoise(const std::string& json, const std::string& pointer, Issues& issues) {
-  OdometryNoiseOptions o;
-  const auto parsed = parseJson(json, issues);
-  if (!parsed) return o;
-  JsonObject block(*parsed, pointer, issues);
-  if (const auto seed = block.number("seed", false, 0, 9007199254740992.0)) o.seed = static_cast<std::uint64_t>(*seed);
-  o.scale_error = block.number("scale_error", false, -0.49, 0.49).value_or(o.scale_error);
-  o.gyro_bias_deg_s = block.number("gyro_bias_deg_s", false, -10, 10).value_or(o.gyro_bias_deg_s);
-  o.distance_sigma_m = block.number("distance_sigma_m", false, 0, 10).value_or(o.distance_sigma_m);
-  o.heading_sigma_deg = block.number("heading_sigma_deg", false, 0, 90).value_or(o.heading_sigma_deg);
-  block.rejectUnknownMembers();
-  return o;
+  return sim_detail::readOptionBlock(odometryNoiseOptionTable(), json, pointer, issues);
 }
 
 OdometrySensor::OdometrySensor(const OdometryNoiseOptions& options) : options_(options), rng_(options.seed) {

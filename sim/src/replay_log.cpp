@@ -13,7 +13,6 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
-#include "mapnav/core/options.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/camera_io.h"
@@ -21,6 +20,25 @@
 namespace mapnav {
 
 namespace fs = std::filesystem;
+
+const OptionTable<LogHeader>& logHeaderOptionTable() {
+  using O = LogHeader;
+  static const OptionTable<O> table = OptionTable<O>("LogHeader")
+                                          .field("name", &O::name, "for people; \"\" when absent")
+                                          .field("map", &O::map, "the map the log was recorded on (\"\": none)")
+                                          .field("frame_rate_hz", &O::frame_rate_hz, above(0), "nominal frame rate, Hz");
+  return table;
+}
+
+const OptionTable<ReadOptions>& readOptionTable() {
+  using O = ReadOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("ReadOptions")
+          .field("skip_bad_frames", &O::skip_bad_frames, "skip bad frames.jsonl lines (kept as warnings) instead of failing")
+          .field("verify_images", &O::verify_images, "also decode every image and mask")
+          .field("max_line_bytes", &O::max_line_bytes, above(0), "longer lines are log.line_too_long without being parsed");
+  return table;
+}
 
 namespace {
 
@@ -77,14 +95,7 @@ std::optional<LogHeader> parseHeader(std::string_view text, Issues& issues) {
     }
   }
   header.map = top.string("map", false).value_or("");
-  if (const auto rate = top.number("frame_rate_hz")) {
-    if (!(*rate > 0.0)) {
-      addIssue(issues, Severity::Error, "schema.range", "/frame_rate_hz",
-               "number " + numberText(*rate) + " must be > 0");
-    } else {
-      header.frame_rate_hz = *rate;
-    }
-  }
+  if (const auto rate = top.number("frame_rate_hz")) header.frame_rate_hz = *rate;
   if (const Json* units_json = top.member("units", false)) {
     JsonObject units(*units_json, "/units", issues);
     const std::pair<std::string_view, std::string_view> fixed[] = {{"distance", "m"}, {"angle", "deg"}};
@@ -97,6 +108,8 @@ std::optional<LogHeader> parseHeader(std::string_view text, Issues& issues) {
     units.rejectUnknownMembers();
   }
   top.rejectUnknownMembers();
+  if (const auto broken = logHeaderOptionTable().brokenRule(header))  // frame_rate_hz > 0
+    addIssue(issues, Severity::Error, "schema.range", "/" + logHeaderOptionTable().fields()[broken->first].name, broken->second);
   if (countSeverity(issues, Severity::Error) != before || !header.camera) return std::nullopt;
   return header;
 }
@@ -289,14 +302,12 @@ void requireFinite(double value, std::string_view field) {
 // ---- LogHeader, ReadOptions -------------------------------------------------------------------
 
 void LogHeader::validate() const {
-  requireOption(camera != nullptr, "LogHeader", "camera", 0.0, "set (not null)");
-  requireOption(std::isfinite(frame_rate_hz) && frame_rate_hz > 0.0, "LogHeader", "frame_rate_hz", frame_rate_hz,
-                "finite and > 0");
+  // The camera is an object, not a value a table holds.
+  if (camera == nullptr) throw InvalidInput("LogHeader::camera = 0: must be set (not null)");
+  logHeaderOptionTable().validate(*this);
 }
 
-void ReadOptions::validate() const {
-  requireOption(max_line_bytes > 0, "ReadOptions", "max_line_bytes", static_cast<double>(max_line_bytes), "> 0");
-}
+void ReadOptions::validate() const { readOptionTable().validate(*this); }
 
 // ---- ReplayLogWriter --------------------------------------------------------------------------
 

@@ -6,50 +6,67 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <string_view>
 
-#include "mapnav/core/options.h"
 #include "world_scene.h"
 
 namespace mapnav {
 
-void WorldOptions::validate() const {
-  constexpr std::string_view kOwner = "WorldOptions";
-  auto finiteIn = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
-  requireOption(finiteIn(pavement_noise, 0, 1e3), kOwner, "pavement_noise", pavement_noise, "finite and >= 0");
-  requireOption(finiteIn(slab_spacing_m, 0, 1e3), kOwner, "slab_spacing_m", slab_spacing_m, "finite and >= 0");
-  requireOption(finiteIn(slab_gap_width_m, 0, 1e3) && slab_gap_width_m > 0, kOwner, "slab_gap_width_m",
-                slab_gap_width_m, "finite and > 0");
-  requireOption(finiteIn(slab_gap_darkness, 0, 1), kOwner, "slab_gap_darkness", slab_gap_darkness, "in [0, 1]");
-  requireOption(finiteIn(crack_density, 0, 1), kOwner, "crack_density", crack_density, "in [0, 1]");
-  requireOption(finiteIn(dust, 0, 1), kOwner, "dust", dust, "in [0, 1]");
-  requireOption(finiteIn(ground_noise, 0, 1e3), kOwner, "ground_noise", ground_noise, "finite and >= 0");
-  requireOption(finiteIn(shoulder_width_m, 0, 1e3), kOwner, "shoulder_width_m", shoulder_width_m, "finite and >= 0");
-  requireOption(finiteIn(shadow_density, 0, 1), kOwner, "shadow_density", shadow_density, "in [0, 1]");
-  requireOption(finiteIn(shadow_k, 0, 1) && shadow_k > 0, kOwner, "shadow_k", shadow_k, "in (0, 1]");
-  requireOption(finiteIn(shadow_blue_shift, 0, 1) && shadow_blue_shift < 1, kOwner, "shadow_blue_shift",
-                shadow_blue_shift, "in [0, 1)");
-  requireOption(finiteIn(leaf_density, 0, 1), kOwner, "leaf_density", leaf_density, "in [0, 1]");
-  requireOption(finiteIn(illumination_drift, 0, 1) && illumination_drift < 1, kOwner, "illumination_drift",
-                illumination_drift, "in [0, 1)");
-  requireOption(finiteIn(white_balance_drift, 0, 1) && white_balance_drift < 1, kOwner, "white_balance_drift",
-                white_balance_drift, "in [0, 1)");
-  requireOption(std::isfinite(illumination_period_s) && illumination_period_s > 0, kOwner, "illumination_period_s",
-                illumination_period_s, "finite and > 0");
-  requireOption(finiteIn(haze_distance_m, 0, 1e9), kOwner, "haze_distance_m", haze_distance_m, "finite and >= 0");
-  requireOption(finiteIn(noise_sigma, 0, 1e3), kOwner, "noise_sigma", noise_sigma, "finite and >= 0");
-  requireOption(std::isfinite(sun_azimuth_rad), kOwner, "sun_azimuth_rad", sun_azimuth_rad, "finite");
-  requireOption(finiteIn(sun_elevation_rad, 0.1, kPi / 2), kOwner, "sun_elevation_rad", sun_elevation_rad,
-                "in [0.1, pi/2]");
-  requireOption(std::isfinite(tv_hue_shift_rad), kOwner, "tv_hue_shift_rad", tv_hue_shift_rad, "finite");
-  requireOption(finiteIn(tv_chroma_gain, 0, 2), kOwner, "tv_chroma_gain", tv_chroma_gain, "in [0, 2]");
-  requireOption(paved_edge_samples >= 1 && paved_edge_samples <= 16, kOwner, "paved_edge_samples",
-                paved_edge_samples, "in [1, 16]");
-  requireOption(finiteIn(texel_cache_mib, 0, 1e6), kOwner, "texel_cache_mib", texel_cache_mib, "in [0, 1e6]");
-  requireOption(threads >= 0 && threads <= 256, kOwner, "threads", threads, "in [0, 256]");
-  requireOption(tv_chroma_blur_px >= 0 && tv_chroma_blur_px <= 16, kOwner, "tv_chroma_blur_px", tv_chroma_blur_px,
-                "in [0, 16]");
+const OptionTable<WorldOptions>& worldOptionTable() {
+  using O = WorldOptions;
+  const OptionRule kFraction = inRange(0, 1), kBelowOne = {.min = 0, .max = 1, .max_open = true};
+  static const OptionTable<O> table =
+      OptionTable<O>("WorldOptions")
+          .field("seed", &O::seed, "seeds every random effect (texture, cracks, trees, leaves, sensor noise)")
+          .field("pavement_noise", &O::pavement_noise, inRange(0, 1e3),
+                 "scales the texture noise of concrete and asphalt (1: the map's spread, 0: flat colour)")
+          .field("slab_spacing_m", &O::slab_spacing_m, inRange(0, 1e3),
+                 "distance between the gaps of concrete slabs along a road, m; 0: no gaps")
+          .field("slab_gap_width_m", &O::slab_gap_width_m, aboveUpTo(0, 1e3), "width of a gap between slabs, m")
+          .field("slab_gap_darkness", &O::slab_gap_darkness, kFraction,
+                 "a gap's colour is (1 - this) x the concrete's: 0 invisible, 1 black")
+          .field("crack_density", &O::crack_density, kFraction,
+                 "fraction of concrete slabs (and of asphalt area) that is cracked")
+          .field("dust", &O::dust, kFraction, "brownish dust and stains on pavement: 0 clean, 1 strong")
+          .field("ground_noise", &O::ground_noise, inRange(0, 1e3),
+                 "scales the texture of grass, dirt, gravel and brick (1: the map's spread)")
+          .field("shoulder_width_m", &O::shoulder_width_m, inRange(0, 1e3),
+                 "how far from a road's edge its shoulder surface reaches before the lawn takes over, m")
+          .field("shadow_density", &O::shadow_density, kFraction,
+                 "fraction of the ground near roads in tree shadow (0: no trees; >= 0.999: all in full shadow)")
+          .field("shadow_k", &O::shadow_k, aboveUpTo(0, 1), "shadowed colour = k x sunlit colour (C1 = k C2)")
+          .field("shadow_blue_shift", &O::shadow_blue_shift, kBelowOne,
+                 "skylight tint of shadows: channels x (1 - b, 1, 1 + b); 0: pure k C")
+          .field("leaf_density", &O::leaf_density, kFraction, "fraction of the ground covered by fallen leaves")
+          .field("illumination_drift", &O::illumination_drift, kBelowOne,
+                 "relative amplitude of the slow brightness drift along a mission")
+          .field("white_balance_drift", &O::white_balance_drift, kBelowOne,
+                 "relative amplitude of the white-balance drift")
+          .field("illumination_period_s", &O::illumination_period_s, above(0), "period of both drifts, s")
+          .field("haze_distance_m", &O::haze_distance_m, inRange(0, 1e9),
+                 "ground at range d blends toward the horizon haze by 1 - exp(-d / this), m; 0: no haze")
+          .field("noise_sigma", &O::noise_sigma, inRange(0, 1e3), "standard deviation of the sensor noise, 8-bit levels")
+          .field("paved_edge_samples", &O::paved_edge_samples, inRange(1, 16),
+                 "a pixel the paved area's edge crosses is the mean of n x n samples (1: the centre alone)")
+          .field("tv_color_shift", &O::tv_color_shift,
+                 "the paper's TV transmission: chroma turned, scaled and blurred horizontally")
+          .field("tv_hue_shift_rad", &O::tv_hue_shift_rad, "the TV transmission's chroma turn, rad")
+          .field("tv_chroma_gain", &O::tv_chroma_gain, inRange(0, 2), "the TV transmission's chroma scale")
+          .field("tv_chroma_blur_px", &O::tv_chroma_blur_px, inRange(0, 16),
+                 "the TV transmission's horizontal chroma blur, +- pixels")
+          .field("sun_azimuth_rad", &O::sun_azimuth_rad,
+                 "where the sun stands for the map's landmarks, rad counter-clockwise from east")
+          .field("sun_elevation_rad", &O::sun_elevation_rad, inRange(0.1, kPi / 2),
+                 "the sun's elevation, rad: a landmark's shadow is height / tan(elevation) long")
+          .field("low_dynamic_range", &O::low_dynamic_range,
+                 "the paper's TV camera of 7:1 dynamic range: every channel clipped to [37, 255]")
+          .field("texel_cache_mib", &O::texel_cache_mib, inRange(0, 1e6),
+                 "memory for the ground's colour kept in world space across frames, MiB; 0: none")
+          .field("threads", &O::threads, inRange(0, 256),
+                 "bands of rows rendered in parallel (1: this thread only, 0: every core)");
+  return table;
 }
+
+void WorldOptions::validate() const { worldOptionTable().validate(*this); }
 
 World::World(const Map& map, const WorldOptions& options) : impl_(std::make_unique<Impl>(map, options)) {}
 World::~World() = default;

@@ -365,7 +365,12 @@ TEST(GeoJsonImportOptions, DefaultsAreValid) {
   EXPECT_NO_THROW(GeoJsonImportOptions{}.validate());
   GeoJsonImportOptions options;
   options.default_width_m = 0;
-  EXPECT_THROW(options.validate(), InvalidInput);
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { options.validate(); },
+                                                "GeoJsonImportOptions::default_width_m = 0: must be finite and > 0"));
+  options = {};
+  options.default_shoulder = "";
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { options.validate(); },
+                                                "GeoJsonImportOptions::default_shoulder = \"\": must be non-empty"));
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 #include "mapnav/image/png.h"
 #include "mapnav/map/info.h"
 #include "mapnav/map/map_render.h"
+#include "mapnav/map/predict_render.h"
+#include "mapnav/testing/support.h"
 
 namespace mapnav {
 namespace {
@@ -111,11 +113,19 @@ TEST(RenderMap, LandmarksPutTheirColoursWhereTheyStand) {
   EXPECT_FALSE(colourNear(rendered.rgbAt(Vec2(-12, -2.0)), kBench));
 }
 
-TEST(MapRenderOptions, DefaultsAreValid) {
+TEST(MapRenderOptions, DefaultsAreValidAndBadValuesAreNamed) {
   EXPECT_NO_THROW(MapRenderOptions{}.validate());
   MapRenderOptions options;
   options.width_px = 10;
   EXPECT_THROW(options.validate(), Error);
+  options = {};
+  options.margin_px = 800;  // half the width
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { options.validate(); },
+                                                "MapRenderOptions::margin_px = 800: must be < width_px / 2"));
+  PredictionPictureOptions picture;
+  picture.panel_px = 99;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { picture.validate(); },
+                                                "PredictionPictureOptions::panel_px = 99: must be in [100, 4000]"));
 }
 
 }  // namespace

@@ -403,8 +403,28 @@ TEST(PredictOptions, DefaultsAreValidAndBadFieldsAreNamed) {
     o.validate();
     FAIL();
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("far_m = 0.5"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()), "PredictOptions::far_m = 0.5: must be > near_m");
   }
+  o = {};
+  o.crossing_min_angle_deg = 4;  // not above parallel_tolerance_deg (5)
+  EXPECT_TRUE(testing::throwsInvalidInputNaming(
+      [&] { o.validate(); }, "PredictOptions::crossing_min_angle_deg = 4: must be > parallel_tolerance_deg"));
+  o.crossing_min_angle_deg = 91;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "PredictOptions::crossing_min_angle_deg = 91: must be in (0, 90]"));
+  o = {};
+  o.parallel_tolerance_deg = 45;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "PredictOptions::parallel_tolerance_deg = 45: must be in [0, 45)"));
+}
+
+TEST(MakeGridMap, BadOptionsAreNamed) {
+  GridMapOptions o;
+  o.rows = 1;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { makeGridMap(o); }, "GridMapOptions::rows = 1: must be >= 2"));
+  o = {};
+  o.spacing_m = 4;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { makeGridMap(o); }, "GridMapOptions::spacing_m = 4: must be > 2 width_m"));
 }
 
 TEST(MakeGridMap, HasTheRoadCountItPromisesAndIsValid) {

@@ -7,6 +7,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/map/map_io.h"
+#include "mapnav/testing/support.h"
 
 namespace mapnav {
 namespace {
@@ -69,8 +70,16 @@ TEST(RandomCampus, BadOptionsAreNamed) {
     makeRandomCampus(o);
     ADD_FAILURE();
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("max_width_m"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()), "RandomCampusOptions::max_width_m = 1: must be >= min_width_m");
   }
+  o = {};
+  o.min_branch_m = 12;  // not above 3 max_width_m
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "RandomCampusOptions::min_branch_m = 12: must be > 3 max_width_m"));
+  o = {};
+  o.min_width_m = 0;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "RandomCampusOptions::min_width_m = 0: must be finite and > 0"));
 }
 
 }  // namespace

@@ -174,7 +174,7 @@ TEST(ValidationOptions, DefaultsAreValidAndBadFieldsAreNamed) {
     options.validate();
     FAIL();
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("end_tolerance_m = -1"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()), "ValidationOptions::end_tolerance_m = -1: must be finite and >= 0");
   }
   options = {};
   options.max_width_m = std::numeric_limits<double>::quiet_NaN();

@@ -205,7 +205,16 @@ TEST(OsmImport, BadFilesAndOptionsSayWhatIsWrong) {
   }
   OsmImportOptions bad;
   bad.merge_distance_m = -1;
-  EXPECT_THROW(bad.validate(), InvalidInput);
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { bad.validate(); },
+                                                "OsmImportOptions::merge_distance_m = -1: must be finite and >= 0"));
+  bad = {};
+  bad.widths["steps"] = 0;  // a width by highway has default_width_m's rule
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { bad.validate(); },
+                                                "OsmImportOptions::widths[steps] = 0: must be finite and > 0"));
+  bad = {};
+  bad.shoulder = "lava";
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { bad.validate(); },
+                                                "OsmImportOptions::shoulder = \"lava\": must be a standard surface"));
   OsmImportOptions box;
   box.bbox = std::array<double, 4>{10, 5, 9, 6};  // west > east
   EXPECT_THROW(box.validate(), InvalidInput);

@@ -191,7 +191,7 @@ TEST(KittiImportOptions, DefaultsAreValidAndBadFieldsAreNamed) {
     o.validate();
     FAIL();
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("camera_height_m = 0"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()), "KittiImportOptions::camera_height_m = 0: must be finite and > 0");
   }
   o = {};
   o.frame_rate_hz = -1;

@@ -159,6 +159,25 @@ TEST_F(KittiRawDrive, KerbMarksSeenThroughTheCameraSpanOneCarriagewayAndALaneCha
               median, widths.front(), widths.back(), left_y.at(0), left_y.at(140));
 }
 
+TEST(KittiRawImportOptions, BadFieldsAreNamedAndTheOdometrysRulesAreTheOdometrys) {
+  EXPECT_NO_THROW(KittiRawImportOptions{}.validate());
+  KittiRawImportOptions o;
+  o.camera = "04";
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "KittiRawImportOptions::camera = \"04\": must be 00, 01, 02 or 03"));
+  o = {};
+  o.gyro_bias_deg_s = 20;  // what OdometryNoiseOptions, which it is handed on to, takes
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "KittiRawImportOptions::gyro_bias_deg_s = 20: must be in [-10, 10]"));
+  o = {};
+  o.imu_height_m = 10;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "KittiRawImportOptions::imu_height_m = 10: must be in (0, 10)"));
+  o = {};
+  o.origin = LatLon{91, 0};
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); }, "KittiRawImportOptions::origin = 91.000000,0.000000"));
+}
+
 TEST_F(KittiRawDrive, DegradedOdometryIsLongByItsScaleError) {
   KittiRawImportOptions o;
   o.scale_error = 0.02;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "mapnav/core/error.h"
+#include "mapnav/testing/support.h"
 
 namespace mapnav {
 namespace {
@@ -61,6 +62,23 @@ TEST(OdometryNoiseOptions, DefaultsAreValidAndTheMissionBlockIsChecked) {
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_EQ(issues[0].check, "schema.unknown_field");
   EXPECT_EQ(issues[0].where, "/odometry/gyro_bias");
+}
+
+TEST(OdometryNoiseOptions, TheMissionBlockAndValidateHaveOneRuleSet) {
+  Issues issues;
+  parseOdometryNoise(R"({"scale_error": 0.495, "gyro_bias_deg_s": 20, "x-why": "a note"})", "/odometry", issues);
+  ASSERT_EQ(issues.size(), 2u);
+  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.range", "/odometry/gyro_bias_deg_s",
+                              "option gyro_bias_deg_s = 20: must be in [-10, 10]"}));
+  EXPECT_EQ(issues[1], (Issue{Severity::Error, "schema.range", "/odometry/scale_error",
+                              "option scale_error = 0.495: must be in [-0.49, 0.49]"}));
+  OdometryNoiseOptions o;
+  o.gyro_bias_deg_s = 20;  // validate() took any finite bias
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "OdometryNoiseOptions::gyro_bias_deg_s = 20: must be in [-10, 10]"));
+  o = {};
+  o.scale_error = -0.495;  // ... and any |scale_error| < 0.5
+  EXPECT_THROW(OdometrySensor{o}, InvalidInput);
 }
 
 }  // namespace

@@ -217,7 +217,16 @@ TEST(ReplayLog, WriterRejectsBadFramesAndRefusesToOverwrite) {
   }
   LogHeader bad = smallHeader();
   bad.frame_rate_hz = 0.0;
-  EXPECT_THROW(ReplayLogWriter(dir, bad), InvalidInput);
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { ReplayLogWriter writer(dir, bad); },
+                                                "LogHeader::frame_rate_hz = 0: must be finite and > 0"));
+  bad = smallHeader();
+  bad.camera = nullptr;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { ReplayLogWriter writer(dir, bad); },
+                                                "LogHeader::camera = 0: must be set (not null)"));
+  ReadOptions no_lines;
+  no_lines.max_line_bytes = 0;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { ReplayLog::open(dir, no_lines); },
+                                                "ReadOptions::max_line_bytes = 0: must be > 0"));
 
   fs::create_directories(dir);  // an empty folder is replaced
   writeLog(dir, 1);
@@ -373,6 +382,7 @@ TEST(ReplayLog, BadLogJson) {
   EXPECT_EQ(issue.where, "/frame_rate_hz");
   issue = badHeader([](Json& doc) { doc["frame_rate_hz"] = -5; });
   EXPECT_EQ(issue.where, "/frame_rate_hz");
+  EXPECT_EQ(issue.message, "LogHeader::frame_rate_hz = -5: must be finite and > 0");  // LogHeader::validate()'s rule
   issue = badHeader([](Json& doc) { doc["units"]["angle"] = "rad"; });
   EXPECT_EQ(issue.check, "schema.enum");
   EXPECT_EQ(issue.where, "/units/angle");

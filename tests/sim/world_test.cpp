@@ -256,6 +256,50 @@ TEST(WorldOptions, DefaultsAreValidAndBadValuesAreNamed) {
   EXPECT_THROW(World(campus(), o), InvalidInput);
 }
 
+TEST(WorldOptions, TheRulesAreTheTablesAndTheirMessagesSayThem) {
+  WorldOptions o;
+  o.pavement_noise = 2000;  // the rule was always [0, 1000]; its message said ">= 0"
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "WorldOptions::pavement_noise = 2000: must be in [0, 1000]"));
+  o = {};
+  o.sun_elevation_rad = 2;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming(
+      [&] { o.validate(); }, "WorldOptions::sun_elevation_rad = 2: must be in [0.1, 1.5707963267948966]"));
+  o = {};
+  o.illumination_drift = 1;
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },
+                                                "WorldOptions::illumination_drift = 1: must be in [0, 1)"));
+  const std::vector<OptionInfo> list = worldOptionTable().list();
+  ASSERT_EQ(list.size(), 28u);  // every field, seed first
+  EXPECT_EQ(list.front().name, "seed");
+  EXPECT_EQ(list.front().default_json, "1");
+}
+
+TEST(WorldOptions, TheWorldBlockNamesEveryBadMemberAtItsPointer) {
+  Issues issues;
+  const WorldOptions o = parseWorldOptions(
+      R"({"seed": 9, "shadow_k": 2, "paved_edge_samples": 2.5, "dust": "x", "shadw": 1, "x-note": "fine", "leaf_density": 0.5})",
+      "/world", issues);
+  ASSERT_EQ(issues.size(), 4u);
+  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.type", "/world/dust", "option dust = \"x\": must be a number"}));
+  EXPECT_EQ(issues[1], (Issue{Severity::Error, "schema.type", "/world/paved_edge_samples",
+                              "option paved_edge_samples = 2.5: must be an integer"}));  // no longer rounded to 3
+  EXPECT_EQ(issues[2], (Issue{Severity::Error, "schema.range", "/world/shadow_k", "option shadow_k = 2: must be in (0, 1]"}));
+  EXPECT_EQ(issues[3], (Issue{Severity::Error, "schema.unknown_field", "/world/shadw", "unknown option \"shadw\""}));
+  EXPECT_EQ(o.seed, 9u);  // the good members apply
+  EXPECT_EQ(o.leaf_density, 0.5);
+  issues.clear();
+  parseWorldOptions(R"({"seed": -1})", "/world", issues);
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.range", "/world/seed",
+                              "option seed = -1: must be an integer in [0, 9007199254740992]"}));
+  issues.clear();
+  parseWorldOptions("{\"seed\": 1,\n \"dust\": }", "/world", issues);
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].check, "json.syntax");
+  EXPECT_EQ(issues[0].line, 2);
+}
+
 // A straight 3 m asphalt road between grass along the world's x axis, every texture, shadow, drift and
 // noise off: the pavement and the lawn each one flat colour (the lawn's worn strip changes over
 // decimetres, not within a pixel).

@@ -1,5 +1,6 @@
 #pragma once
 // Generated maps for tests and benchmarks.
+#include "mapnav/core/option_table.h"
 #include "mapnav/map/map.h"
 
 namespace mapnav {
@@ -13,6 +14,9 @@ struct GridMapOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// GridMapOptions' fields by name, with their rules.
+const OptionTable<GridMapOptions>& gridMapOptionTable();
 
 /// A campus-like grid: intersection `I<c>_<r>` at (c·spacing, r·spacing), crosses inside, T on the
 /// sides, L at the corners; roads `H<c>_<r>` (east) and `V<c>_<r>` (north), concrete on grass.

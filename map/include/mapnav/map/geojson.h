@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mapnav/core/issue.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/map/map.h"
 
 namespace mapnav {
@@ -25,6 +26,9 @@ struct GeoJsonImportOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// GeoJsonImportOptions' fields but the origin, with their rules.
+const OptionTable<GeoJsonImportOptions>& geoJsonImportOptionTable();
 
 /// What an import gives: the map, and for each road, intersection and landmark the JSON Pointer of
 /// the feature it came from, so that validation issues point into the GeoJSON file.

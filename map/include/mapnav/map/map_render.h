@@ -3,6 +3,7 @@
 // ids, scale bar and north arrow. Later issues draw routes, views and trajectories on top.
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/map/map.h"
 #include "mapnav/render/canvas.h"
 
@@ -17,6 +18,9 @@ struct MapRenderOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// MapRenderOptions' fields by name, with their rules.
+const OptionTable<MapRenderOptions>& mapRenderOptionTable();
 
 struct MapPicture {
   render::Canvas canvas;

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/map/map.h"
@@ -43,6 +44,9 @@ struct PredictOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// PredictOptions' fields by name, with their rules.
+const OptionTable<PredictOptions>& predictOptionTable();
 
 /// The Map module's prediction: the token for Vision plus what only the Map may know (the pose and
 /// world coordinates, index-aligned with the token's regions and segments).

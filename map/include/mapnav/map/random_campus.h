@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/map/map.h"
 
 namespace mapnav {
@@ -23,6 +24,9 @@ struct RandomCampusOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// RandomCampusOptions' fields by name, with their rules.
+const OptionTable<RandomCampusOptions>& randomCampusOptionTable();
 
 struct RandomCampus {
   MapData map;                      ///< valid (Map(map) does not throw)

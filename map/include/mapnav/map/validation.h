@@ -2,6 +2,7 @@
 // Validation that reports every problem of a map as an Issue with a JSON Pointer into the map
 // file (docs/map-format.md lists every check).
 #include "mapnav/core/issue.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/map/map.h"
 
 namespace mapnav {
@@ -26,6 +27,9 @@ struct ValidationOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// ValidationOptions' fields by name, with their rules.
+const OptionTable<ValidationOptions>& validationOptionTable();
 
 /// Every problem of `map`, errors and warnings, in a stable order (by check pass, then by position
 /// in the file).

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "mapnav/core/issue.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/map/map.h"
 
 namespace mapnav {
@@ -61,6 +62,10 @@ struct OsmImportOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// OsmImportOptions' fields that are values, with their rules (highways, bbox and widths are
+/// checked by validate() itself; any origin goes).
+const OptionTable<OsmImportOptions>& osmImportOptionTable();
 
 /// What an import did, beside the map.
 struct OsmImportReport {

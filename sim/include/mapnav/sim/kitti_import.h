@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <string>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
 
@@ -35,6 +36,9 @@ struct KittiImportOptions {
   /// Throws InvalidInput naming the field and its value.
   void validate() const;
 };
+
+/// KittiImportOptions' fields by name, with their rules.
+const OptionTable<KittiImportOptions>& kittiImportOptionTable();
 
 struct KittiImportResult {
   std::size_t frames = 0;

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/map/geodesy.h"
 
@@ -39,6 +40,10 @@ struct KittiRawImportOptions {
   /// Throws InvalidInput naming the field and its value.
   void validate() const;
 };
+
+/// KittiRawImportOptions' fields but the origin, with their rules (scale_error's and
+/// gyro_bias_deg_s's are odometryNoiseOptionTable()'s, which they are handed on to).
+const OptionTable<KittiRawImportOptions>& kittiRawImportOptionTable();
 
 struct KittiRawImportResult {
   std::size_t frames = 0;

@@ -5,6 +5,7 @@
 #include <random>
 #include <string>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/sim/replay_log.h"
 
 namespace mapnav {
@@ -16,12 +17,16 @@ struct OdometryNoiseOptions {
   double distance_sigma_m = 0.0;   ///< white noise on each interval's distance, m
   double heading_sigma_deg = 0.0;  ///< white noise on each interval's heading change, degrees
 
-  /// Throws InvalidInput naming the first bad field and its value.
+  /// Throws InvalidInput naming the first bad field and its value (odometryNoiseOptionTable()'s rules).
   void validate() const;
 };
 
-/// Reads an `odometry` block of a mission ({"seed": 7, "scale_error": 0.01, ...}); unknown
-/// members and bad values are issues with pointers under `pointer`.
+/// OdometryNoiseOptions' fields by name, with their rules: validate() and the mission file's
+/// `odometry` block.
+const OptionTable<OdometryNoiseOptions>& odometryNoiseOptionTable();
+
+/// Reads an `odometry` block of a mission ({"seed": 7, "scale_error": 0.01, ...}) by the table;
+/// unknown members and bad values are issues at their pointers under `pointer`.
 OdometryNoiseOptions parseOdometryNoise(const std::string& json, const std::string& pointer, Issues& issues);
 
 class OdometrySensor {

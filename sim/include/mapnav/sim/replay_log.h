@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "mapnav/core/issue.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/pose2.h"
@@ -55,6 +56,9 @@ struct LogHeader {
   /// frame_rate_hz is finite and > 0.
   void validate() const;
 };
+
+/// LogHeader's fields but the camera (an object), with their rules: validate() and log.json's reader.
+const OptionTable<LogHeader>& logHeaderOptionTable();
 
 /// Writes a log folder so that it appears complete or not at all: everything goes into the sibling
 /// folder `DIR.partial-<pid>` and finish() renames that to DIR. If finish() is never called (an
@@ -111,6 +115,9 @@ struct ReadOptions {
   /// Throws InvalidInput ("ReadOptions::max_line_bytes = 0: must be > 0").
   void validate() const;
 };
+
+/// ReadOptions' fields by name, with their rules.
+const OptionTable<ReadOptions>& readOptionTable();
 
 /// A frames.jsonl line that ReadOptions::skip_bad_frames skipped, with what could be read of it.
 struct SkippedLine {

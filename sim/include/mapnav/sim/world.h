@@ -35,6 +35,7 @@
 #include <optional>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/image/image.h"
@@ -48,12 +49,12 @@ struct WorldOptions {
 
   // --- Pavement --------------------------------------------------------------------------------
   /// Scales the texture noise of concrete and asphalt (mottling and grain; 1 = the surface's
-  /// `spread` from the map, 0 = flat colour). ≥ 0.
+  /// `spread` from the map, 0 = flat colour). In [0, 1000].
   double pavement_noise = 1.0;
   /// Distance between the gaps of concrete slabs along a road (and the slab grid of concrete
-  /// intersections), m; 0 = no gaps. ≥ 0.
+  /// intersections), m; 0 = no gaps. In [0, 1000].
   double slab_spacing_m = 1.5;
-  /// Width of a gap between slabs, m. > 0.
+  /// Width of a gap between slabs, m. In (0, 1000].
   double slab_gap_width_m = 0.02;
   /// A gap's colour is (1 − this) × the concrete's: 0 = invisible, 1 = black. In [0, 1].
   double slab_gap_darkness = 0.55;
@@ -63,10 +64,10 @@ struct WorldOptions {
   double dust = 0.4;
 
   // --- Shoulders ---------------------------------------------------------------------------------
-  /// Scales the texture of grass, dirt, gravel and brick (1 = the map's `spread`). ≥ 0.
+  /// Scales the texture of grass, dirt, gravel and brick (1 = the map's `spread`). In [0, 1000].
   double ground_noise = 1.0;
   /// How far from a road's edge its `left`/`right` shoulder surface reaches before the lawn
-  /// ("grass", when the map has it) takes over, m. ≥ 0.
+  /// ("grass", when the map has it) takes over, m. In [0, 1000].
   double shoulder_width_m = 2.5;
 
   // --- Illumination ------------------------------------------------------------------------------
@@ -89,11 +90,11 @@ struct WorldOptions {
   /// Period of both drifts, s. > 0.
   double illumination_period_s = 120.0;
   /// Aerial perspective: ground at range d blends toward the horizon haze by 1 − exp(−d / this),
-  /// m; 0 = no haze. ≥ 0.
+  /// m; 0 = no haze. In [0, 1e9].
   double haze_distance_m = 700.0;
 
   // --- Camera --------------------------------------------------------------------------------------
-  /// Standard deviation of the sensor noise, 8-bit levels (0 = none). ≥ 0.
+  /// Standard deviation of the sensor noise, 8-bit levels (0 = none). In [0, 1000].
   double noise_sigma = 2.0;
   /// A real sensor integrates light over each pixel, so a pixel the paved area's edge crosses is
   /// a mix of pavement and shoulder. The renderer samples every pixel at its centre (textures,
@@ -139,9 +140,12 @@ struct WorldOptions {
   /// run side by side on every core already. In [0, 256].
   int threads = 1;
 
-  /// Throws InvalidInput naming the first bad field and its value.
+  /// Throws InvalidInput naming the first bad field and its value (worldOptionTable()'s rules).
   void validate() const;
 };
+
+/// WorldOptions' fields by name, with their rules: validate() and the mission file's `world` block.
+const OptionTable<WorldOptions>& worldOptionTable();
 
 /// A map landmark in a rendered frame (Frame::landmarks): one whose ground contact point
 /// (Landmark::position) projects into the image and that a nearer landmark does not hide (some
