@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "mapnav/core/error.h"
 
@@ -233,8 +234,40 @@ TEST(OptionTable, AnIncludedTableBringsItsRulesBetweenFields) {
   EXPECT_EQ(wideBandTable().fields()[wideBandTable().brokenRule(w)->first].name, "high");
 }
 
-TEST(OptionTable, ARuleOnAFieldTheTableDoesNotHaveIsAProgrammingError) {
+
+/// A pipeline's options that hold a component's (Band) instead of copying its fields.
+struct Holder {
+  int count = 3;
+  Band band;
+};
+
+const OptionTable<Holder>& holderTable() {
+  static const OptionTable<Holder> table = OptionTable<Holder>("Holder")
+                                               .field("count", &Holder::count, inRange(1, 9), "how many")
+                                               .nest(&Holder::band, bandTable(), {{"high", "band_high"}}, {"open"});
+  return table;
+}
+
+TEST(OptionTable, ANestedTableReachesTheComponentUnderFlatNames) {
+  std::vector<std::string> names;
+  for (const auto& f : holderTable().fields()) names.push_back(f.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"count", "low", "band_high"}));  // "open" omitted, "high" renamed
+  const Holder h = holderTable().parse(R"({"low": 0.5, "band_high": 7})", Holder{}, "holder");
+  EXPECT_EQ(h.band.low, 0.5);
+  EXPECT_EQ(h.band.high, 7);
+  EXPECT_FALSE(h.band.open);
+  EXPECT_EQ(holderTable().list()[2].default_json, "2");  // the component's default, read from it
+  EXPECT_EQ(holderTable().json(Holder{}), R"({"count": 3, "low": 1, "band_high": 2})");
+  Holder bad;
+  bad.band.low = 5;  // the component's rule between fields, under the name it has here
+  ASSERT_TRUE(holderTable().brokenRule(bad));
+  EXPECT_EQ(holderTable().brokenRule(bad)->second, "Holder::band_high = 2: must be > low");
+}
+
+TEST(OptionTable, ARuleOnAFieldTheTableDoesNotHaveOrTwoFieldsOfOneNameAreProgrammingErrors) {
   EXPECT_THROW(OptionTable<Band>("Band").check("width", [](const Band&) { return true; }, "> 0"), std::logic_error);
+  EXPECT_THROW(OptionTable<Holder>("Holder").field("low", &Holder::count, "how many").nest(&Holder::band, bandTable()),
+               std::logic_error);
 }
 
 TEST(OptionTable, ReadReportsEveryBadMemberAtItsPointerAndAppliesTheRest) {

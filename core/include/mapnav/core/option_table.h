@@ -3,7 +3,8 @@
 // writes, its rule (a range; integers; odd) and its documentation; rules between fields (`far_m >
 // near_m`) are check()s of the table. The struct's member initialisers
 // are the only defaults (as in Ceres' option structs): the table reads them from a default-constructed
-// struct. From the one table come
+// struct. A struct that holds a component's options nest()s the component's table. From the one
+// table come
 //   parse()    a JSON object of options onto a struct, `"preset": "NAME"` applied before the other
 //              members; errors name who is configured, the option and its bad value,
 //   read()     the same for a block of a file, every bad member an Issue at its JSON Pointer,
@@ -213,6 +214,36 @@ class OptionTable {
     return *this;
   }
 
+  /// The fields of a component's table, reached through `member` (a struct of T, or of a base of T,
+  /// with a table of its own), under the component's names — so a pipeline's options hold its
+  /// components' options instead of copying them, and their JSON stays flat. `renamed`: {component
+  /// name, name here} where the JSON has always used another name; `omitted`: the component's
+  /// fields that are no option here (set by the code, or stated by this table itself). The
+  /// component's rules between fields come along, but for those about an omitted field.
+  template <class M, class C>
+  OptionTable& nest(M C::*member, const OptionTable<M>& table, const std::vector<std::pair<std::string, std::string>>& renamed = {},
+                    const std::vector<std::string>& omitted = {}) {
+    static_assert(std::is_base_of_v<C, T>, "a member of the struct or of its base");
+    const auto nameHere = [&](const std::string& name) {
+      for (const auto& [from, to] : renamed)
+        if (from == name) return to;
+      return name;
+    };
+    const auto isOmitted = [&](const std::string& name) { return std::find(omitted.begin(), omitted.end(), name) != omitted.end(); };
+    for (std::size_t i = 0; i < table.specs_.size(); ++i) {
+      if (isOmitted(table.specs_[i].name)) continue;
+      OptionFieldSpec spec = table.specs_[i];
+      spec.name = nameHere(spec.name);
+      add(std::move(spec), [member, get = table.getters_[i]](const T& o) { return get(o.*member); },
+          [member, set = table.setters_[i]](T& o, const OptionValue& v) { set(o.*member, v); });
+    }
+    for (const auto& c : table.checks_) {
+      if (isOmitted(table.specs_[c.field].name)) continue;
+      checks_.push_back({fieldIndex(nameHere(table.specs_[c.field].name)), [member, ok = c.ok](const T& o) { return ok(o.*member); }, c.rule});
+    }
+    return *this;
+  }
+
   /// A named set of values (a JSON object of this table's options), chosen with `"preset": "NAME"`.
   OptionTable& preset(std::string name, std::string json, std::string doc) {
     presets_.push_back({std::move(name), std::move(doc), std::move(json)});
@@ -319,6 +350,8 @@ class OptionTable {
   }
 
   OptionTable& add(OptionFieldSpec spec, Getter get, Setter set) {
+    for (const OptionFieldSpec& other : specs_)
+      if (other.name == spec.name) throw std::logic_error(owner_ + ": two fields are named \"" + spec.name + "\"");
     specs_.push_back(std::move(spec));
     getters_.push_back(std::move(get));
     setters_.push_back(std::move(set));
