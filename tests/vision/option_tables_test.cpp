@@ -3,10 +3,12 @@
 // pipeline judges the finder's options by the finder's own rows.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mapnav/core/error.h"
@@ -15,6 +17,7 @@
 #include "mapnav/vision/ground_step.h"
 #include "mapnav/vision/landmarks.h"
 #include "mapnav/vision/line_labelling.h"
+#include "mapnav/vision/pipelines.h"
 #include "mapnav/vision/rectify.h"
 #include "mapnav/vision/region.h"
 
@@ -78,10 +81,10 @@ TEST(VisionOptionTables, TheFieldsAreTheMembersNames) {
 
 TEST(VisionOptionTables, TheFieldsOwnRulesAreWordedByTheTable) {
   EXPECT_EQ(rejected<LineOptions>([](auto& o) { o.gate_sigma = -1; }),
-            "LineOptions::gate_sigma = -1: must be finite and >= 0");
+            "LineOptions::gate_sigma = -1: must be in [0, 100]");
   EXPECT_EQ(rejected<RegionOptions>([](auto& o) { o.block_fraction = 0; }),
             "RegionOptions::block_fraction = 0: must be in (0, 1]");
-  EXPECT_EQ(rejected<RegionOptions>([](auto& o) { o.block_size = 0; }), "RegionOptions::block_size = 0: must be >= 1");
+  EXPECT_EQ(rejected<RegionOptions>([](auto& o) { o.block_size = 0; }), "RegionOptions::block_size = 0: must be in [1, 256]");
   EXPECT_EQ(rejected<ColorClassifierOptions>(
                 [](auto& o) { o.brightness_separation = std::numeric_limits<double>::infinity(); }),
             "ColorClassifierOptions::brightness_separation = inf: must be finite and >= 0");
@@ -148,6 +151,57 @@ TEST(VisionOptionTables, TheClusterPerceptronPipelineSharesTheFindersRows) {
             "ClusterPerceptronOptions::carry_frames = 65: must be in [0, 64]");
   EXPECT_EQ(rejected<ClusterPerceptronPipelineOptions>([](auto& o) { o.perceptron_rate = 0; }),
             "ClusterPerceptronPipelineOptions::perceptron_rate = 0: must be in (0, 100]");
+}
+
+/// Every field of `component` but `omitted` is a field of `holder` under its name (or `renamed`'s),
+/// with the component's kind, rule and description.
+template <class H, class C>
+void expectTheComponentsRows(const OptionTable<H>& holder, const OptionTable<C>& component,
+                             const std::vector<std::pair<std::string, std::string>>& renamed,
+                             const std::vector<std::string>& omitted) {
+  for (const OptionFieldSpec& f : component.fields()) {
+    if (std::find(omitted.begin(), omitted.end(), f.name) != omitted.end()) continue;
+    std::string name = f.name;
+    for (const auto& [from, to] : renamed)
+      if (from == f.name) name = to;
+    const auto& fields = holder.fields();
+    const auto it = std::find_if(fields.begin(), fields.end(), [&](const OptionFieldSpec& h) { return h.name == name; });
+    ASSERT_NE(it, fields.end()) << holder.owner() << " lacks " << name;
+    EXPECT_EQ(it->kind, f.kind) << name;
+    EXPECT_EQ(it->rule.rangeText(true), f.rule.rangeText(true)) << name;
+    EXPECT_EQ(it->doc, f.doc) << name;
+  }
+}
+
+// The region pipelines hold their components' options (region reproduction, lines, colour classes)
+// and read them under the JSON names they always had: the component's rows, set in the component.
+TEST(VisionOptionTables, TheRegionPipelinesHoldTheirComponentsOptions) {
+  expectTheComponentsRows(regionPipelineOptionTable(), regionOptionTable(), {}, {"reference"});
+  expectTheComponentsRows(regionPipelineOptionTable(), lineOptionTable(), {{"min_length_px", "min_line_length_px"}},
+                          {"reference"});
+  expectTheComponentsRows(colorPipelineOptionTable(), colorClassifierOptionTable(),
+                          {{"min_pixels", "min_training_pixels"}}, {"space", "stride"});
+  const ColorPipelineOptions o = colorPipelineOptionTable().parse(
+      R"({"block_size": 16, "min_line_length_px": 20, "min_training_pixels": 90, "noise_sigma": 2})", ColorPipelineOptions{},
+      "pipeline \"sidewalk\"");
+  EXPECT_EQ(o.region.block_size, 16);
+  EXPECT_EQ(o.lines.min_length_px, 20);
+  EXPECT_EQ(o.classifier.min_pixels, 90);
+  EXPECT_EQ(o.classifier.noise_sigma, 2);
+  // The pipeline's own defaults for its classes, where they are not the classifier's.
+  const ColorPipelineOptions defaults;
+  EXPECT_EQ(defaults.classifier.nonroad_gate_sigma, 8);
+  EXPECT_EQ(defaults.classifier.noise_sigma, 3);
+  EXPECT_EQ(ColorClassifierOptions{}.noise_sigma, 1);
+  // A component's rule, named as the pipeline's field.
+  EXPECT_EQ(rejected<ColorPipelineOptions>([](auto& c) { c.lines.min_length_px = -1; }),
+            "ColorPipelineOptions::min_line_length_px = -1: must be in [0, 1e+06]");
+  try {
+    colorPipelineOptionTable().parse(R"({"stride": 2})", ColorPipelineOptions{}, "pipeline \"sidewalk\"");
+    ADD_FAILURE() << "stride is set by the pipeline, not an option";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "pipeline \"sidewalk\": unknown option \"stride\"");
+  }
 }
 
 TEST(VisionOptionTables, AFunctionsArgumentIsNamedAsTheFunctions) {

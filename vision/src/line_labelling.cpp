@@ -16,19 +16,19 @@ const OptionTable<LineOptions>& lineOptionTable() {
   using O = LineOptions;
   static const OptionTable<O> table =
       OptionTable<O>("LineOptions")
-          .field("simplify_tolerance_px", &O::simplify_tolerance_px, above(0), "polygon fit tolerance, pixels")
-          .field("min_length_px", &O::min_length_px, atLeast(0), "shorter polygon edges are dropped, pixels")
-          .field("frame_edge_px", &O::frame_edge_px, atLeast(0),
+          .field("simplify_tolerance_px", &O::simplify_tolerance_px, aboveUpTo(0, 100), "polygon fit tolerance, pixels")
+          .field("min_length_px", &O::min_length_px, inRange(0, 1e6), "shorter polygon edges are dropped, pixels")
+          .field("frame_edge_px", &O::frame_edge_px, inRange(0, 100),
                  "lines within this of the image border or ground edge are frame edges, pixels")
-          .field("max_angle_deg", &O::max_angle_deg, above(0), "label match: angle on the ground within this")
-          .field("max_distance_m", &O::max_distance_m, above(0),
+          .field("max_angle_deg", &O::max_angle_deg, aboveUpTo(0, 90), "label match: angle on the ground within this")
+          .field("max_distance_m", &O::max_distance_m, aboveUpTo(0, 100),
                  "label match: both end points within this of the predicted line (the gate's floor)")
-          .field("gate_sigma", &O::gate_sigma, atLeast(0),
+          .field("gate_sigma", &O::gate_sigma, inRange(0, 100),
                  "label match: ... or within this many sigma of it, the predicted line's sigma across itself from the "
-                 "prediction's pose covariance, where that is wider; 0 = max_distance_m alone")
+                 "prediction's pose covariance (the Map's estimate), where that is wider; 0 = max_distance_m alone")
           .field("min_overlap", &O::min_overlap, inRange(0, 1),
                  "label match: this fraction of the line overlaps the predicted segment")
-          .field("relation_tolerance_m", &O::relation_tolerance_m, above(0),
+          .field("relation_tolerance_m", &O::relation_tolerance_m, aboveUpTo(0, 100),
                  "a labelled parallel pair must be within this of the predicted separation")
           .field("reference", &O::reference,
                  "the reference implementations (CGAL's simplification, a distance transform for the frame edges) "

@@ -173,17 +173,17 @@ const OptionTable<RegionOptions>& regionOptionTable() {
   using O = RegionOptions;
   static const OptionTable<O> table =
       OptionTable<O>("RegionOptions")
-          .field("block_size", &O::block_size, atLeast(1), "block side, pixels")
+          .field("block_size", &O::block_size, inRange(1, 256), "region reproduction: block side, pixels")
           .field("block_fraction", &O::block_fraction, aboveUpTo(0, 1),
                  "a block is road when at least this fraction of its pixels is")
-          .field("morph_iterations", &O::morph_iterations, atLeast(0), "block-level closings then openings (3 x 3)")
-          .field("refine_margin_blocks", &O::refine_margin_blocks, atLeast(0),
+          .field("morph_iterations", &O::morph_iterations, inRange(0, 10), "block-level closings then openings (3 x 3)")
+          .field("refine_margin_blocks", &O::refine_margin_blocks, inRange(0, 10),
                  "pixel region may reach this many blocks beyond the block region")
-          .field("pixel_morph_px", &O::pixel_morph_px, atLeast(0), "pixel-level closing then opening radius, pixels")
+          .field("pixel_morph_px", &O::pixel_morph_px, inRange(0, 50), "pixel-level closing then opening radius, pixels")
           .field("max_hole_fraction", &O::max_hole_fraction, inRange(0, 1),
                  "fill the region's holes up to this fraction of its area (leaves, cracks, slab gaps); larger "
                  "holes (a car on the road) stay out of the region; 0 = fill none, 1 = fill every hole")
-          .field("min_part_fraction", &O::min_part_fraction, atLeast(0),
+          .field("min_part_fraction", &O::min_part_fraction, inRange(0, 1e6),
                  "where a line (a lane marking, a kerb) splits the road-coloured pixels inside the block region, "
                  "every part within two blocks of the main part holding at least this fraction of what the main "
                  "part holds of the block region joins the mask (the outline stays the main part's); above 1 = the "
