@@ -38,7 +38,7 @@ OptionValue otherValue(const OptionFieldSpec& field, const OptionValue& value) {
     case OptionKind::Number: {
       const double x = std::get<double>(value);
       const OptionRule& r = field.rule;
-      for (const double c : {x + 1, x + 2, x - 1, r.min, r.max, x / 2, x * 2}) {
+      for (const double c : {x + 1, x + 2, x - 1, r.min, r.max, x / 2, x * 2, (r.min + r.max) / 2}) {
         if (c == x || !r.allows(c)) continue;
         if (field.kind == OptionKind::Integer && c != std::floor(c)) continue;
         if (r.odd && std::fmod(std::abs(c), 2.0) != 1.0) continue;

@@ -192,17 +192,38 @@ __attribute__((target_clones("avx2", "default"))) void quadraticRow(const LogOdd
 
 }  // namespace
 
-void ColorClassifierOptions::validate() const {
-  requireOption(blend > 0 && blend <= 1, "ColorClassifierOptions", "blend", blend, "in (0, 1]");
-  requireOption(max_mean_shift_sigma > 0, "ColorClassifierOptions", "max_mean_shift_sigma", max_mean_shift_sigma,
-                "> 0");
-  requireOption(min_pixels >= 1, "ColorClassifierOptions", "min_pixels", min_pixels, ">= 1");
-  requireOption(stride >= 1, "ColorClassifierOptions", "stride", stride, ">= 1");
-  requireOption(nonroad_gate_sigma >= 0, "ColorClassifierOptions", "nonroad_gate_sigma", nonroad_gate_sigma, ">= 0");
-  requireOption(noise_sigma > 0, "ColorClassifierOptions", "noise_sigma", noise_sigma, "> 0");
-  requireOption(brightness_separation >= 0, "ColorClassifierOptions", "brightness_separation", brightness_separation, ">= 0");
-  requireOption(brightness_sigma >= 0, "ColorClassifierOptions", "brightness_sigma", brightness_sigma, ">= 0");
+const OptionTable<ColorClassifierOptions>& colorClassifierOptionTable() {
+  using O = ColorClassifierOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("ColorClassifierOptions")
+          .choice("space", &O::space, {{ColorSpace::LogRGB, "log_rgb"}, {ColorSpace::NormalizedRG, "normalized_rg"}},
+                  "the classes' colour space: \"log_rgb\" (255 ln(c + 1) / ln 256 per channel) or \"normalized_rg\" "
+                  "(r = R / (R + G + B), g = G / (R + G + B))")
+          .field("blend", &O::blend, aboveUpTo(0, 1), "weight of a frame's estimate in the blended model (1 = replace)")
+          .field("max_mean_shift_sigma", &O::max_mean_shift_sigma, aboveUpTo(0, 1e6),
+                 "refuse a class estimate whose mean moved more than this many sigma (drift guard)")
+          .field("min_pixels", &O::min_pixels, inRange(1, 1e9),
+                 "refuse a class estimate from fewer labelled training pixels (a region pipeline: cells, of which "
+                 "training reads every 2nd of every 2nd row)")
+          .field("stride", &O::stride, atLeast(1), "training uses every n-th pixel of every n-th row")
+          .field("nonroad_gate_sigma", &O::nonroad_gate_sigma, inRange(0, 1e6),
+                 "non-road trains only on the pixels labelled non-road whose colour is more than this many sigma "
+                 "(Mahalanobis) from the road's: on real roads the rest of the view is mostly road; until a frame "
+                 "shows such pixels, non-road is flat (road is what the road colour explains); 0 = every labelled pixel")
+          .field("brightness_sigma", &O::brightness_sigma, inRange(0, 10),
+                 "the spread in log brightness added to every class (0.1 = 10 %); normalized_rg: > 0 makes the log "
+                 "brightness a third feature, 0 = rg only (Wallace 3.4.3); log_rgb: added along the grey axis")
+          .field("brightness_separation", &O::brightness_separation, atLeast(0),
+                 "with brightness_sigma > 0: the brightness only while rg alone separates road and non-road by less "
+                 "than this Bhattacharyya distance (a grey road among grey cars and walls: 2-4); where colour separates "
+                 "them (grass: 5 and more) rg alone stays robust to shadows")
+          .field("noise_sigma", &O::noise_sigma, inRange(1e-3, 100),
+                 "the camera's noise, 8-bit levels per channel, added to every class's spread (in rg scaled to one "
+                 "level's effect at mid-grey, 1/500): a real camera's noise and compression; 1 = a rendered frame's");
+  return table;
 }
+
+void ColorClassifierOptions::validate() const { colorClassifierOptionTable().validate(*this); }
 
 int featureDims(const ColorClassifierOptions& options) { return featuresOf(options) == Features::RG ? 2 : 3; }
 
@@ -224,8 +245,8 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
                                                       const std::uint8_t* road, const std::uint8_t* nonroad,
                                                       std::optional<double> nonroad_gate_sigma) {
   const double gate_sigma = nonroad_gate_sigma.value_or(options_.nonroad_gate_sigma);
-  requireOption(std::isfinite(gate_sigma) && gate_sigma >= 0, "ColorClassifier::update", "nonroad_gate_sigma",
-                gate_sigma, ">= 0");
+  requireArgument(std::isfinite(gate_sigma) && gate_sigma >= 0, "ColorClassifier::update", "nonroad_gate_sigma",
+                  gate_sigma, "finite and >= 0");
   Accum ar, an;
   const int s = options_.stride;
   const Features features = featuresOf(options_);

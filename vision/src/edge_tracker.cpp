@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 
 namespace mapnav {
 
@@ -86,14 +85,12 @@ const OptionTable<EdgeTrackerOptions>& edgeTrackerOptionTable() {
                  "vehicle's heading counts as lost")
           .field("region_far_m", &O::region_far_m, above(0),
                  "starts from a predicted region's sides: the road region reported reaches up to the row this far "
-                 "ahead (m), a lost edge's side to the image side");
+                 "ahead (m), a lost edge's side to the image side")
+          .check("max_points", [](const O& o) { return o.max_points >= o.min_points; }, ">= min_points");
   return table;
 }
 
-void EdgeTrackerOptions::validate() const {
-  edgeTrackerOptionTable().validate(*this);
-  requireOption(max_points >= min_points, "EdgeTrackerOptions", "max_points", max_points, ">= min_points");
-}
+void EdgeTrackerOptions::validate() const { edgeTrackerOptionTable().validate(*this); }
 
 // --- The pipeline ----------------------------------------------------------------------------------------
 

@@ -9,36 +9,45 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/geometry/pose2.h"
 #include "subpixel.h"
 
 namespace mapnav {
 
-void GroundStepOptions::validate() const {
-  auto require = [](bool ok, const char* field, double value, const char* rule) {
-    requireOption(ok, "GroundStepOptions", field, value, rule);
-  };
-  require(std::isfinite(near_m) && near_m > 0, "near_m", near_m, "finite and > 0");
-  require(std::isfinite(far_m) && far_m > near_m && far_m <= 100, "far_m", far_m, "finite, > near_m and <= 100");
-  require(std::isfinite(half_width_m) && half_width_m > 0 && half_width_m <= 50, "half_width_m", half_width_m,
-          "finite, > 0 and <= 50");
-  require(std::isfinite(cell_m) && cell_m > 0, "cell_m", cell_m, "finite and > 0");
-  // At least 16 cells each way for a peak, at most 1024 for the cost.
-  const double rows = (far_m - near_m) / cell_m, cols = 2 * half_width_m / cell_m;
-  require(rows >= 16 && rows <= 1024 && cols >= 16 && cols <= 1024, "cell_m", cell_m,
-          "giving 16-1024 cells along (far_m - near_m) and across (2 half_width_m)");
-  require(std::isfinite(min_texture) && min_texture >= 0, "min_texture", min_texture, "finite and >= 0");
-  require(std::isfinite(min_peak) && min_peak >= 0 && min_peak <= 1, "min_peak", min_peak, "in [0, 1]");
-  require(std::isfinite(min_peak_ratio) && min_peak_ratio >= 1, "min_peak_ratio", min_peak_ratio, "finite and >= 1");
-  require(std::isfinite(clear_m) && clear_m >= cell_m, "clear_m", clear_m, "finite and >= cell_m");
-  require(std::isfinite(max_residual_m) && max_residual_m > 0, "max_residual_m", max_residual_m, "finite and > 0");
-  require(std::isfinite(max_ground_per_px_m) && max_ground_per_px_m > 0, "max_ground_per_px_m", max_ground_per_px_m,
-          "finite and > 0");
-  require(std::isfinite(sigma_m) && sigma_m > 0, "sigma_m", sigma_m, "finite and > 0");
-  require(std::isfinite(pitch_sigma_deg) && pitch_sigma_deg >= 0, "pitch_sigma_deg", pitch_sigma_deg, "finite and >= 0");
+const OptionTable<GroundStepOptions>& groundStepOptionTable() {
+  using O = GroundStepOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("GroundStepOptions")
+          .field("near_m", &O::near_m, above(0), "the patch of ground compared: from this far ahead, m")
+          .field("far_m", &O::far_m, OptionRule{.max = 100}, "... to this far ahead, m")
+          .field("half_width_m", &O::half_width_m, aboveUpTo(0, 50), "... and this far to either side, m")
+          .field("cell_m", &O::cell_m, above(0), "the patch's cell, m")
+          .field("min_texture", &O::min_texture, atLeast(0),
+                 "looked at when the patch's brightness varies by at least this standard deviation, levels")
+          .field("min_peak", &O::min_peak, inRange(0, 1), "registered when the phase correlation's peak reaches this")
+          .field("min_peak_ratio", &O::min_peak_ratio, atLeast(1),
+                 "... and this many times the highest value more than clear_m from it")
+          .field("clear_m", &O::clear_m, "... the distance from the peak of the values it must beat, m")
+          .field("max_residual_m", &O::max_residual_m, above(0),
+                 "kept when the residual against the predicted motion is within this, along and across, m")
+          .field("max_ground_per_px_m", &O::max_ground_per_px_m, above(0),
+                 "looked at only where a pixel spans at most this much ground along the road at the patch's far end, m")
+          .field("sigma_m", &O::sigma_m, above(0), "the measured distance's 1-sigma from the registration, m")
+          .field("pitch_sigma_deg", &O::pitch_sigma_deg, atLeast(0),
+                 "the camera's pitch uncertainty as the vehicle rocks, deg")
+          .check("far_m", [](const O& o) { return o.far_m > o.near_m; }, "> near_m")
+          .check("cell_m",  // at least 16 cells each way for a peak, at most 1024 for the cost
+                 [](const O& o) {
+                   const double rows = (o.far_m - o.near_m) / o.cell_m, cols = 2 * o.half_width_m / o.cell_m;
+                   return rows >= 16 && rows <= 1024 && cols >= 16 && cols <= 1024;
+                 },
+                 "giving 16-1024 cells along (far_m - near_m) and across (2 half_width_m)")
+          .check("clear_m", [](const O& o) { return o.clear_m >= o.cell_m; }, ">= cell_m");
+  return table;
 }
+
+void GroundStepOptions::validate() const { groundStepOptionTable().validate(*this); }
 
 namespace {
 

@@ -8,30 +8,38 @@
 #include <optional>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 #include "subpixel.h"
 
 namespace mapnav {
 
-void LandmarkFinderOptions::validate() const {
-  auto require = [](bool ok, const char* field, double value, const char* rule) {
-    requireOption(ok, "LandmarkFinderOptions", field, value, rule);
-  };
-  require(std::isfinite(gate_sigma) && gate_sigma > 0, "gate_sigma", gate_sigma, "finite and > 0");
-  require(std::isfinite(min_search_px) && min_search_px >= 1, "min_search_px", min_search_px, "finite and >= 1");
-  require(std::isfinite(max_search_px) && max_search_px >= min_search_px && max_search_px <= 500, "max_search_px",
-          max_search_px, "finite, >= min_search_px and <= 500");
-  require(std::isfinite(probe_height_m) && probe_height_m > 0, "probe_height_m", probe_height_m, "finite and > 0");
-  require(std::isfinite(min_probe_in_frame) && min_probe_in_frame > 0 && min_probe_in_frame <= 1, "min_probe_in_frame",
-          min_probe_in_frame, "in (0, 1]");
-  require(std::isfinite(side_px) && side_px >= 1 && side_px <= 50, "side_px", side_px, "in [1, 50]");
-  require(std::isfinite(below_px) && below_px >= 1 && below_px <= 50, "below_px", below_px, "in [1, 50]");
-  require(std::isfinite(rim_step_px) && rim_step_px >= 0.5 && rim_step_px <= 10, "rim_step_px", rim_step_px, "in [0.5, 10]");
-  require(std::isfinite(min_peak_ratio) && min_peak_ratio >= 1, "min_peak_ratio", min_peak_ratio, "finite and >= 1");
-  require(std::isfinite(min_contrast) && min_contrast >= 0, "min_contrast", min_contrast, "finite and >= 0");
-  require(std::isfinite(base_sigma_u_px) && base_sigma_u_px > 0, "base_sigma_u_px", base_sigma_u_px, "finite and > 0");
-  require(std::isfinite(base_sigma_v_px) && base_sigma_v_px > 0, "base_sigma_v_px", base_sigma_v_px, "finite and > 0");
+const OptionTable<LandmarkFinderOptions>& landmarkFinderOptionTable() {
+  using O = LandmarkFinderOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("LandmarkFinderOptions")
+          .field("gate_sigma", &O::gate_sigma, above(0),
+                 "the search about the predicted base: this many sigma of the pose's covariance seen in the image")
+          .field("min_search_px", &O::min_search_px, atLeast(1), "... at least this far each way, px")
+          .field("max_search_px", &O::max_search_px, OptionRule{.max = 500}, "... at most this far each way, px")
+          .field("probe_height_m", &O::probe_height_m, above(0),
+                 "something standing is compared with its sides from its base up this far (or its height), m")
+          .field("min_probe_in_frame", &O::min_probe_in_frame, aboveUpTo(0, 1),
+                 "at least this fraction of that height must be in the frame")
+          .field("side_px", &O::side_px, inRange(1, 50), "the strips beside it that must differ from it, px")
+          .field("below_px", &O::below_px, inRange(1, 50), "the ground in front of its base compared with it, px")
+          .field("rim_step_px", &O::rim_step_px, inRange(0.5, 10),
+                 "a manhole cover's rim: the colour this far inside it against this far outside, px")
+          .field("min_contrast", &O::min_contrast, atLeast(0),
+                 "found when the colour steps at its sides and foot (or round a rim) are at least this, levels")
+          .field("min_peak_ratio", &O::min_peak_ratio, atLeast(1),
+                 "found only where it explains the frame this many times better than the best place clear of it")
+          .field("base_sigma_u_px", &O::base_sigma_u_px, above(0),
+                 "the standard deviation of a found base across the image, px, at least")
+          .field("base_sigma_v_px", &O::base_sigma_v_px, above(0), "... and up the image, px, at least")
+          .check("max_search_px", [](const O& o) { return o.max_search_px >= o.min_search_px; }, ">= min_search_px");
+  return table;
 }
+
+void LandmarkFinderOptions::validate() const { landmarkFinderOptionTable().validate(*this); }
 
 namespace {
 

@@ -8,21 +8,35 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "mapnav/core/options.h"
 #include "mapnav/geometry/simplify.h"
 
 namespace mapnav {
 
-void LineOptions::validate() const {
-  requireOption(simplify_tolerance_px > 0, "LineOptions", "simplify_tolerance_px", simplify_tolerance_px, "> 0");
-  requireOption(min_length_px >= 0, "LineOptions", "min_length_px", min_length_px, ">= 0");
-  requireOption(frame_edge_px >= 0, "LineOptions", "frame_edge_px", frame_edge_px, ">= 0");
-  requireOption(max_angle_deg > 0, "LineOptions", "max_angle_deg", max_angle_deg, "> 0");
-  requireOption(max_distance_m > 0, "LineOptions", "max_distance_m", max_distance_m, "> 0");
-  requireOption(gate_sigma >= 0, "LineOptions", "gate_sigma", gate_sigma, ">= 0");
-  requireOption(min_overlap >= 0 && min_overlap <= 1, "LineOptions", "min_overlap", min_overlap, "in [0, 1]");
-  requireOption(relation_tolerance_m > 0, "LineOptions", "relation_tolerance_m", relation_tolerance_m, "> 0");
+const OptionTable<LineOptions>& lineOptionTable() {
+  using O = LineOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("LineOptions")
+          .field("simplify_tolerance_px", &O::simplify_tolerance_px, aboveUpTo(0, 100), "polygon fit tolerance, pixels")
+          .field("min_length_px", &O::min_length_px, inRange(0, 1e6), "shorter polygon edges are dropped, pixels")
+          .field("frame_edge_px", &O::frame_edge_px, inRange(0, 100),
+                 "lines within this of the image border or ground edge are frame edges, pixels")
+          .field("max_angle_deg", &O::max_angle_deg, aboveUpTo(0, 90), "label match: angle on the ground within this")
+          .field("max_distance_m", &O::max_distance_m, aboveUpTo(0, 100),
+                 "label match: both end points within this of the predicted line (the gate's floor)")
+          .field("gate_sigma", &O::gate_sigma, inRange(0, 100),
+                 "label match: ... or within this many sigma of it, the predicted line's sigma across itself from the "
+                 "prediction's pose covariance (the Map's estimate), where that is wider; 0 = max_distance_m alone")
+          .field("min_overlap", &O::min_overlap, inRange(0, 1),
+                 "label match: this fraction of the line overlaps the predicted segment")
+          .field("relation_tolerance_m", &O::relation_tolerance_m, aboveUpTo(0, 100),
+                 "a labelled parallel pair must be within this of the predicted separation")
+          .field("reference", &O::reference,
+                 "the reference implementations (CGAL's simplification, a distance transform for the frame edges) "
+                 "instead of the fast ones with the same answers");
+  return table;
 }
+
+void LineOptions::validate() const { lineOptionTable().validate(*this); }
 
 std::vector<Vec2> contourPolygon(const std::vector<Vec2>& contour, double tolerance_px, bool reference) {
   if (contour.size() < 3) return {};

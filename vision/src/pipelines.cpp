@@ -200,14 +200,9 @@ class BasePipeline : public VisionPipeline {
     std::optional<Image> road = classify(grid, prediction, valid, predicted, why);
     if (!road) return fail(frame, why);
 
-    RegionOptions ro;
-    ro.block_size = onGrid(common().block_size, scale, 1);
-    ro.block_fraction = common().block_fraction;
-    ro.morph_iterations = common().morph_iterations;
-    ro.refine_margin_blocks = common().refine_margin_blocks;
-    ro.pixel_morph_px = onGrid(common().pixel_morph_px, scale);
-    ro.max_hole_fraction = common().max_hole_fraction;
-    ro.min_part_fraction = common().min_part_fraction;
+    RegionOptions ro = common().region;  // on the grid: its lengths in cells
+    ro.block_size = onGrid(ro.block_size, scale, 1);
+    ro.pixel_morph_px = onGrid(ro.pixel_morph_px, scale);
     ro.reference = common().reference;
     RegionResult region = reproduceRegion(*road, valid, predicted, ro);
     const double area_px = region.area_px * scale * scale;
@@ -229,15 +224,7 @@ class BasePipeline : public VisionPipeline {
       for (const Vec2& p : poly)
         if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
     }
-    LineOptions lo;
-    lo.simplify_tolerance_px = common().simplify_tolerance_px;
-    lo.min_length_px = common().min_line_length_px;
-    lo.frame_edge_px = common().frame_edge_px;
-    lo.max_angle_deg = common().max_angle_deg;
-    lo.max_distance_m = common().max_distance_m;
-    lo.gate_sigma = common().gate_sigma;
-    lo.min_overlap = common().min_overlap;
-    lo.relation_tolerance_m = common().relation_tolerance_m;
+    LineOptions lo = common().lines;
     lo.reference = common().reference;
     const std::vector<Vec2> polygon =
         toPixels(contourPolygon(region.contour, lo.simplify_tolerance_px / scale, lo.reference));
@@ -432,7 +419,7 @@ class ClassifierPipeline : public BasePipeline {
     // The map's paving seen from an estimated pose (a mission) leaves less road outside it than a
     // guessed outline on a photo (an eval, no pose covariance).
     const bool mapped = !prediction.pose_covariance.isZero();
-    const double gate = mapped ? options_.nonroad_gate_sigma_mapped : options_.nonroad_gate_sigma;
+    const double gate = mapped ? options_.nonroad_gate_sigma_mapped : options_.classifier.nonroad_gate_sigma;
     std::vector<float> best;
     std::string unusable;  // why the last surface's classifier was not used
     for (const auto& [surface, rings] : by_surface) {
@@ -485,15 +472,8 @@ class ClassifierPipeline : public BasePipeline {
 
  private:
   ColorClassifierOptions classifierOptions() const {
-    ColorClassifierOptions co;
+    ColorClassifierOptions co = options_.classifier;
     co.space = space_;
-    co.blend = options_.blend;
-    co.max_mean_shift_sigma = options_.max_mean_shift_sigma;
-    co.min_pixels = options_.min_training_pixels;
-    co.nonroad_gate_sigma = options_.nonroad_gate_sigma;
-    co.brightness_sigma = options_.brightness_sigma;
-    co.brightness_separation = options_.brightness_separation;
-    co.noise_sigma = options_.noise_sigma;
     co.stride = 1;  // train() gathers the training cells
     return co;
   }

@@ -7,7 +7,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 
 namespace mapnav {
 
@@ -20,21 +19,25 @@ int cells(double min, double max, double step) {
 }
 }  // namespace
 
-void RectifyOptions::validate() const {
-  constexpr std::string_view owner = "RectifyOptions";
-  requireOption(std::isfinite(x_min_m), owner, "x_min_m", x_min_m, "finite");
-  requireOption(std::isfinite(x_max_m) && x_max_m > x_min_m, owner, "x_max_m", x_max_m, "finite and > x_min_m");
-  requireOption(std::isfinite(y_min_m), owner, "y_min_m", y_min_m, "finite");
-  requireOption(std::isfinite(y_max_m) && y_max_m > y_min_m, owner, "y_max_m", y_max_m, "finite and > y_min_m");
-  requireOption(std::isfinite(metres_per_pixel) && metres_per_pixel > 0, owner, "metres_per_pixel", metres_per_pixel,
-                "finite and > 0");
-  const double w = (y_max_m - y_min_m) / metres_per_pixel;
-  const double h = (x_max_m - x_min_m) / metres_per_pixel;
-  requireOption(w <= kMaxSide, owner, "metres_per_pixel", metres_per_pixel,
-                "such that (y_max_m - y_min_m) / metres_per_pixel <= 16384");
-  requireOption(h <= kMaxSide, owner, "metres_per_pixel", metres_per_pixel,
-                "such that (x_max_m - x_min_m) / metres_per_pixel <= 16384");
+const OptionTable<RectifyOptions>& rectifyOptionTable() {
+  using O = RectifyOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("RectifyOptions")
+          .field("x_min_m", &O::x_min_m, "the ground rectified: nearest x (ahead), vehicle frame, m")
+          .field("x_max_m", &O::x_max_m, "... farthest x, m")
+          .field("y_min_m", &O::y_min_m, "... rightmost y (left positive), m")
+          .field("y_max_m", &O::y_max_m, "... leftmost y, m")
+          .field("metres_per_pixel", &O::metres_per_pixel, above(0), "ground size of one rectified pixel, m")
+          .check("x_max_m", [](const O& o) { return o.x_max_m > o.x_min_m; }, "> x_min_m")
+          .check("y_max_m", [](const O& o) { return o.y_max_m > o.y_min_m; }, "> y_min_m")
+          .check("metres_per_pixel", [](const O& o) { return (o.y_max_m - o.y_min_m) / o.metres_per_pixel <= kMaxSide; },
+                 "such that (y_max_m - y_min_m) / metres_per_pixel <= 16384")
+          .check("metres_per_pixel", [](const O& o) { return (o.x_max_m - o.x_min_m) / o.metres_per_pixel <= kMaxSide; },
+                 "such that (x_max_m - x_min_m) / metres_per_pixel <= 16384");
+  return table;
 }
+
+void RectifyOptions::validate() const { rectifyOptionTable().validate(*this); }
 
 int RectifyOptions::width() const { return cells(y_min_m, y_max_m, metres_per_pixel); }
 int RectifyOptions::height() const { return cells(x_min_m, x_max_m, metres_per_pixel); }

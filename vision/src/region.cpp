@@ -10,7 +10,6 @@
 #include "binary_morph.h"
 #include "cv_view.h"
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 
 namespace mapnav {
 
@@ -170,17 +169,30 @@ void keepLargeHoles(const cv::Mat& px, double max_hole_fraction, cv::Mat& out) {
 
 }  // namespace
 
-void RegionOptions::validate() const {
-  requireOption(block_size >= 1, "RegionOptions", "block_size", block_size, ">= 1");
-  requireOption(block_fraction > 0 && block_fraction <= 1, "RegionOptions", "block_fraction", block_fraction,
-                "in (0, 1]");
-  requireOption(morph_iterations >= 0, "RegionOptions", "morph_iterations", morph_iterations, ">= 0");
-  requireOption(refine_margin_blocks >= 0, "RegionOptions", "refine_margin_blocks", refine_margin_blocks, ">= 0");
-  requireOption(pixel_morph_px >= 0, "RegionOptions", "pixel_morph_px", pixel_morph_px, ">= 0");
-  requireOption(max_hole_fraction >= 0 && max_hole_fraction <= 1, "RegionOptions", "max_hole_fraction",
-                max_hole_fraction, "in [0, 1]");
-  requireOption(min_part_fraction >= 0, "RegionOptions", "min_part_fraction", min_part_fraction, ">= 0");
+const OptionTable<RegionOptions>& regionOptionTable() {
+  using O = RegionOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("RegionOptions")
+          .field("block_size", &O::block_size, inRange(1, 256), "region reproduction: block side, pixels")
+          .field("block_fraction", &O::block_fraction, aboveUpTo(0, 1),
+                 "a block is road when at least this fraction of its pixels is")
+          .field("morph_iterations", &O::morph_iterations, inRange(0, 10), "block-level closings then openings (3 x 3)")
+          .field("refine_margin_blocks", &O::refine_margin_blocks, inRange(0, 10),
+                 "pixel region may reach this many blocks beyond the block region")
+          .field("pixel_morph_px", &O::pixel_morph_px, inRange(0, 50), "pixel-level closing then opening radius, pixels")
+          .field("max_hole_fraction", &O::max_hole_fraction, inRange(0, 1),
+                 "fill the region's holes up to this fraction of its area (leaves, cracks, slab gaps); larger "
+                 "holes (a car on the road) stay out of the region; 0 = fill none, 1 = fill every hole")
+          .field("min_part_fraction", &O::min_part_fraction, inRange(0, 1e6),
+                 "where a line (a lane marking, a kerb) splits the road-coloured pixels inside the block region, "
+                 "every part within two blocks of the main part holding at least this fraction of what the main "
+                 "part holds of the block region joins the mask (the outline stays the main part's); above 1 = the "
+                 "main part only")
+          .field("reference", &O::reference, "OpenCV's morphology instead of the fast binary one (the same answer)");
+  return table;
 }
+
+void RegionOptions::validate() const { regionOptionTable().validate(*this); }
 
 Image rasterizePolygon(const Polygon2& ring, int width, int height) {
   cv::Mat m = cv::Mat::zeros(height, width, CV_8UC1);

@@ -159,8 +159,12 @@ struct ClusterPerceptronOptions {
   /// a quantisation error of ±0.5 px. On point-sampled frames (WorldOptions::paved_edge_samples 1)
   /// the pair holds one pixel of each class and the colours add their texture's noise.
   bool subpixel_edges = false;
+  /// clusterPerceptronOptionTable()'s rules. Throws InvalidInput naming the first bad field.
   void validate() const;
 };
+/// Its table: each option's name (the member's; road_model "line" or "arc"), rule and description.
+/// The pipeline's table (clusterPerceptronPipelineOptionTable()) shares its rows, rules and all.
+const OptionTable<ClusterPerceptronOptions>& clusterPerceptronOptionTable();
 
 /// A road edge on the ground as the arc model's fit used it: vehicle frame (m, x ahead, y left), the
 /// road side it bounds (+1 left, −1 right) and its image row's columns per metre of lateral offset
@@ -392,10 +396,13 @@ struct ClusterPerceptronPipelineOptions : ClusterPerceptronOptions {
   /// texture features, not normalized_color).
   bool log_color_when_gated = true;
 
-  /// The table's ranges, then ClusterPerceptronOptions::validate(). Throws InvalidInput naming the field.
+  /// The table's rules, then clusterPerceptronOptionTable()'s (carry_frames, not an option of the
+  /// pipeline). Throws InvalidInput naming the field.
   void validate() const;
 };
-/// Its table: the options' names, ranges and descriptions, and the presets ("park-shadows").
+/// Its table: the options' names, rules and descriptions (the finder's rows as
+/// clusterPerceptronOptionTable() has them, but "arc" for road_model and no carry_frames), and the
+/// presets ("park-shadows").
 const OptionTable<ClusterPerceptronPipelineOptions>& clusterPerceptronPipelineOptionTable();
 
 /// The pipeline's road region (beyond the paper, whose answer is the centre line): the perceptron's

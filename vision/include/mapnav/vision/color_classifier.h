@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/types.h"
 
 namespace mapnav {
@@ -61,15 +62,19 @@ struct ColorClassifierOptions {
   /// With brightness_sigma > 0: the brightness is used only while rg alone separates the road and
   /// non-road models by less than this Bhattacharyya distance. Where colour tells road from its
   /// surroundings (grey path, green lawn: 5 and more), rg alone stays robust to shadows; where it
-  /// does not (a grey road among grey cars and walls: 2 to 4), the brightness is needed. ≥ 0.
-  double brightness_separation = std::numeric_limits<double>::infinity();
+  /// does not (a grey road among grey cars and walls: 2 to 4), the brightness is needed. ≥ 0 and
+  /// finite (an option's number is); the default, the largest double, is "whatever the separation".
+  double brightness_separation = std::numeric_limits<double>::max();
   /// The camera's noise, 8-bit levels per channel: its variance is added to every class's (scaled to
   /// one level's effect at mid-grey: in rg by 1/500², in log RGB by (255 / ln 256 / 129)²). 1 suits rendered frames;
   /// a real camera's noise and compression call for more (the colour pipelines' 3). > 0.
   double noise_sigma = 1;
 
+  /// colorClassifierOptionTable()'s rules. Throws InvalidInput naming the first bad field.
   void validate() const;
 };
+/// Its table: each option's name (the member's), rule and description.
+const OptionTable<ColorClassifierOptions>& colorClassifierOptionTable();
 
 /// Feature dimensions: 2 (rg), 3 (rg and log brightness, or log RGB).
 int featureDims(const ColorClassifierOptions& options);

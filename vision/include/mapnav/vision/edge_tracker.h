@@ -164,7 +164,7 @@ struct EdgeTrackerOptions {
   /// of its shadow) and counts as lost. 45: CamVid's kerbs on curves run within 30.
   double max_heading_deg = 45;
 
-  /// The table's ranges and max_points >= min_points. Throws InvalidInput naming the field.
+  /// edgeTrackerOptionTable()'s rules (max_points >= min_points among them). Throws InvalidInput naming the field.
   void validate() const;
 };
 

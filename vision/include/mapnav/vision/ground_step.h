@@ -8,6 +8,7 @@
 //
 // Frames: the vehicle frame (x ahead, y left, m, on the ground) and the image (u right, v down, px).
 // Colours: 8-bit RGB levels, compared as their sum.
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/motion.h"
 #include "mapnav/tokens/detected_object.h"
 #include "mapnav/vision_iface/pipeline.h"
@@ -54,9 +55,11 @@ struct GroundStepOptions {
   /// small vehicle's pitch on smooth paving; 0.8 cm on a 0.8 m step of the Terregator camera.
   double pitch_sigma_deg = 0.2;
 
-  /// Throws InvalidInput naming the first bad field and its value.
+  /// groundStepOptionTable()'s rules. Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+/// Its table: each option's name (the member's), rule and description.
+const OptionTable<GroundStepOptions>& groundStepOptionTable();
 
 /// The motion from `previous` to `current` (two frames of the same camera) along the vehicle's
 /// heading, starting from `predicted` (the odometry's, corrected as the Map believes it). Not found,

@@ -12,6 +12,7 @@
 // Frames: the image (u right, v down, px). Colours: 8-bit RGB levels.
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/tokens/detected_object.h"
 #include "mapnav/tokens/predicted_object.h"
 #include "mapnav/vision_iface/pipeline.h"
@@ -55,9 +56,11 @@ struct LandmarkFinderOptions {
   double base_sigma_u_px = 2.0;
   double base_sigma_v_px = 2.0;
 
-  /// Throws InvalidInput naming the first bad field and its value.
+  /// landmarkFinderOptionTable()'s rules. Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+/// Its table: each option's name (the member's), rule and description.
+const OptionTable<LandmarkFinderOptions>& landmarkFinderOptionTable();
 
 /// Looks for every landmark `prediction` lists in `frame` (which needs its camera); one result per
 /// predicted landmark, in the prediction's order. Throws InvalidInput for bad options or a frame

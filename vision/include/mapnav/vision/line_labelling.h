@@ -6,6 +6,7 @@
 // position on the ground, then checked against the predicted relations (parallel separations).
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/image/image.h"
 #include "mapnav/tokens/detected_object.h"
@@ -31,8 +32,11 @@ struct LineOptions {
   /// frame edges) instead of the fast ones with the same answers (tested).
   bool reference = false;
 
+  /// lineOptionTable()'s rules. Throws InvalidInput naming the first bad field.
   void validate() const;
 };
+/// Its table: each option's name (the member's), rule and description.
+const OptionTable<LineOptions>& lineOptionTable();
 
 /// The closed `contour` (pixels) as straight lines with image and ground coordinates; frame edges
 /// marked (`valid`: 1 channel, non-zero where pixels see the ground). The same as

@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "mapnav/core/option_table.h"
+#include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/line_labelling.h"
+#include "mapnav/vision/region.h"
 #include "mapnav/vision_iface/pipeline.h"
 
 namespace mapnav {
@@ -36,22 +38,12 @@ struct RegionPipelineOptions {
   int min_predicted_px = 500;         ///< fewer predicted road pixels in view: "nothing predicted in view"
   double min_region_fraction = 0.15;  ///< region / predicted road area below which: "no road-coloured region"
   int smooth_px = 2;                  ///< box-filter radius on the per-pixel road score
-  int block_size = 8;                 ///< region reproduction: block side, pixels
-  double block_fraction = 0.5;        ///< a block is road when at least this fraction of it is
-  int morph_iterations = 1;           ///< block-level 3 x 3 closings, then openings
-  int refine_margin_blocks = 1;       ///< the pixel region reaches at most this many blocks beyond the blocks'
-  int pixel_morph_px = 2;             ///< pixel-level closing, then opening radius
-  double max_hole_fraction = 0.02;    ///< fill the region's holes up to this fraction of its area
-  double min_part_fraction = 0.1;     ///< the region's parts split off by a thin line join it from this fraction
+  /// Region reproduction: blocks, morphology, holes, parts (its `reference` is this struct's).
+  RegionOptions region;
   double region_tolerance_px = 0.75;  ///< polygon tolerance of the region outline (region_image)
-  double simplify_tolerance_px = 3.0; ///< polygon fit tolerance for the lines
-  double min_line_length_px = 12;     ///< shorter polygon edges are dropped
-  double frame_edge_px = 4;           ///< lines this near the image border or the ground's edge are frame edges
-  double max_angle_deg = 10;          ///< label match: angle on the ground
-  double max_distance_m = 0.4;        ///< label match: both end points this near the predicted line
-  double gate_sigma = LineOptions{}.gate_sigma;  ///< ... or this many sigma of the prediction's pose uncertainty
-  double min_overlap = 0.5;           ///< label match: this fraction of the line overlaps the predicted segment
-  double relation_tolerance_m = 0.5;  ///< a labelled parallel pair within this of the predicted separation
+  /// The polygon's lines and their labels; `min_length_px` is the JSON's "min_line_length_px" (its
+  /// `reference` is this struct's).
+  LineOptions lines;
   /// Classify and reproduce the region on cells of grid_px x grid_px pixels (the frame averaged over
   /// each); 1 = every pixel. 2 runs the loop ~2.6 times faster with the same localisation.
   int grid_px = 2;
@@ -67,15 +59,14 @@ struct RegionPipelineOptions {
 /// class, trained from the prediction each frame (ColorClassifier).
 struct ColorPipelineOptions : RegionPipelineOptions {
   bool adaptive = true;               ///< keep the models from frame to frame, blending in each frame's
-  double blend = 0.5;                 ///< weight of a frame's estimate in the blended model, (0, 1]
-  double max_mean_shift_sigma = 4;    ///< drift guard: refuse an estimate whose mean moved more sigma
-  int min_training_pixels = 400;      ///< refuse an estimate from fewer labelled training cells
+  /// Each surface's classes. The pipeline's defaults, tuned on frames and photos, where they are not
+  /// the classifier's: the space is the pipeline's ("sidewalk": normalised rg, "color-rgb": log RGB);
+  /// `min_pixels` is the JSON's "min_training_pixels" (labelled training cells). Its `space` and
+  /// `stride` are the pipeline's to set (the pipeline gathers the training cells itself).
+  ColorClassifierOptions classifier = {.nonroad_gate_sigma = 8, .brightness_sigma = 0.1, .brightness_separation = 5,
+                                       .noise_sigma = 3};
   int label_erosion_px = 6;           ///< training labels: the predicted road and the rest eroded by this
-  double nonroad_gate_sigma = 8;      ///< non-road trains only on cells this many sigma from the road colour
-  double nonroad_gate_sigma_mapped = 3;  ///< ... where the prediction comes from a pose estimate (a mission)
-  double brightness_sigma = 0.1;      ///< spread in log brightness added to every class; sidewalk: 0 = rg only
-  double brightness_separation = 5;   ///< sidewalk: the brightness only while rg separates the classes by less
-  double noise_sigma = 3;             ///< the camera's noise, levels per channel, added to every class's spread
+  double nonroad_gate_sigma_mapped = 3;  ///< classifier.nonroad_gate_sigma where the prediction comes from a pose estimate (a mission)
   double outlier_llr = 6;             ///< adaptive: drop training pixels the model contradicts by more log-odds
   double llr_threshold = 0;           ///< road where the smoothed log-odds exceed this
   double min_separation = 0.5;        ///< Bhattacharyya distance of the classes below which: "no road-coloured region"

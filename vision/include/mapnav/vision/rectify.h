@@ -16,6 +16,7 @@
 // black.
 #include <memory>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/image/image.h"
@@ -29,13 +30,15 @@ struct RectifyOptions {
   /// Ground size of one rectified pixel, m. > 0.
   double metres_per_pixel = 0.02;
 
-  /// Throws InvalidInput naming the first bad field (non-finite, min ≥ max, metres_per_pixel ≤ 0,
-  /// or an output larger than 16384 pixels a side).
+  /// rectifyOptionTable()'s rules: throws InvalidInput naming the first bad field (non-finite, min ≥
+  /// max, metres_per_pixel ≤ 0, or an output larger than 16384 pixels a side).
   void validate() const;
   /// Rectified image size, pixels: ceil((max − min) / metres_per_pixel).
   int width() const;
   int height() const;
 };
+/// Its table: each option's name (the member's), rule and description.
+const OptionTable<RectifyOptions>& rectifyOptionTable();
 
 class Rectifier {
  public:

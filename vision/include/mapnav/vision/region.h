@@ -8,6 +8,7 @@
 // its main part, and the parts a line (a lane marking, a kerb) splits from it.
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/image/image.h"
 
@@ -30,8 +31,11 @@ struct RegionOptions {
   double min_part_fraction = 0.1;
   bool reference = false;        ///< OpenCV's morphology instead of the fast binary one (same answer)
 
+  /// regionOptionTable()'s rules. Throws InvalidInput naming the first bad field.
   void validate() const;
 };
+/// Its table: each option's name (the member's), rule and description.
+const OptionTable<RegionOptions>& regionOptionTable();
 
 struct RegionResult {
   bool found = false;
