@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Lists C++ functions longer than a limit (default 150 lines) and files longer than a limit
-(default 800 lines): the project's size rule (docs/architecture.md, Conventions).
+"""Lists C++ functions longer than a limit (default 120 lines) and files longer than a limit
+(default 700 lines): the project's size rule (docs/architecture.md, Conventions).
 
 Usage: funclen.py [--max-function N] [--max-file N] [--top K] [PATH...]
 PATHs are files or folders (searched for .cpp/.h/.hpp, build*/ skipped); none: the whole source
@@ -123,8 +123,8 @@ def sources(paths):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--max-function', type=int, default=150)
-    ap.add_argument('--max-file', type=int, default=800)
+    ap.add_argument('--max-function', type=int, default=120)
+    ap.add_argument('--max-file', type=int, default=700)
     ap.add_argument('--top', type=int, default=0, help='also list the K longest functions')
     ap.add_argument('paths', nargs='*')
     a = ap.parse_args()

@@ -112,7 +112,7 @@ void collectMembers(const std::vector<OptionFieldSpec>& fields, const nlohmann::
                     Issues& issues, std::vector<std::pair<std::size_t, OptionValue>>& out) {
   for (const auto& member : object.items()) {
     const std::string& key = member.key();
-    if (key == "preset") continue;
+    if (key == "preset" || key.rfind("x-", 0) == 0 || key == "$schema") continue;  // extensions, as in every file
     const std::string where = pointerJoin(pointer, key);
     const OptionFieldSpec* field = findField(fields, key);
     if (!field) {
@@ -179,7 +179,9 @@ std::vector<std::pair<std::size_t, OptionValue>> readOptionMembers(const std::ve
                                                                    const std::string& pointer, std::string_view text,
                                                                    Issues& issues) {
   std::vector<std::pair<std::size_t, OptionValue>> out;
-  const nlohmann::json j = nlohmann::json::parse(text.empty() ? std::string_view("{}") : text, nullptr, false);
+  const std::optional<Json> parsed = parseJson(text.empty() ? std::string_view("{}") : text, issues);
+  if (!parsed) return out;  // the syntax error is an Issue with its line and column
+  const nlohmann::json j = nlohmann::json::parse(parsed->dump());
   if (!j.is_object()) {
     addIssue(issues, Severity::Error, "schema.type", pointer, "options must be a JSON object");
     return out;

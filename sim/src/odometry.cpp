@@ -2,8 +2,6 @@
 
 #include "mapnav/geometry/types.h"
 
-#include "option_block.h"
-
 namespace mapnav {
 
 const OptionTable<OdometryNoiseOptions>& odometryNoiseOptionTable() {
@@ -23,7 +21,7 @@ const OptionTable<OdometryNoiseOptions>& odometryNoiseOptionTable() {
 void OdometryNoiseOptions::validate() const { odometryNoiseOptionTable().validate(*this); }
 
 OdometryNoiseOptions parseOdometryNoise(const std::string& json, const std::string& pointer, Issues& issues) {
-  return sim_detail::readOptionBlock(odometryNoiseOptionTable(), json, pointer, issues);
+  return odometryNoiseOptionTable().read(json, {}, pointer, issues);
 }
 
 OdometrySensor::OdometrySensor(const OdometryNoiseOptions& options) : options_(options), rng_(options.seed) {

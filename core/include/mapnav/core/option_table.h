@@ -99,7 +99,9 @@ std::vector<std::pair<std::size_t, OptionValue>> parseOptionMembers(const std::v
 /// As parseOptionMembers, for a block of a file at JSON Pointer `pointer`: every member that is
 /// unknown, of the wrong type or out of its range becomes an Issue at POINTER/NAME
 /// ("schema.unknown_field", "schema.type", "schema.range"), and only the good members are returned.
-/// Text that is not a JSON object is one Issue at `pointer`.
+/// Members named "x-..." (extensions) and "$schema" are skipped, as in every object of mapnav's
+/// files; a syntax error is a "json.syntax" Issue with its line and column, text that is not a JSON
+/// object one Issue at `pointer`.
 std::vector<std::pair<std::size_t, OptionValue>> readOptionMembers(const std::vector<OptionFieldSpec>& fields,
                                                                    const std::vector<OptionPreset>& presets,
                                                                    const std::string& pointer, std::string_view text,
