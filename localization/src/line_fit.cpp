@@ -34,17 +34,21 @@ const OptionTable<LineMatchOptions>& lineMatchOptionTable() {
   using O = LineMatchOptions;
   static const OptionTable<O> table =
       OptionTable<O>("LineMatchOptions")
-          .choice("loss", &O::loss, {{RobustLoss::None, "none"}, {RobustLoss::Huber, "huber"}, {RobustLoss::Cauchy, "cauchy"}},
+          .choice("loss", &O::loss,
+                  {{RobustLoss::None, "none"}, {RobustLoss::Huber, "huber"}, {RobustLoss::Cauchy, "cauchy"}},
                   "the robust loss on each normalised residual")
           .field("loss_scale", &O::loss_scale, above(0), "the loss's scale, sigmas of the normalised residual")
           .field("inlier_threshold", &O::inlier_threshold, above(0),
                  "after the robust solve, an end point farther than this many sigmas from its line is an outlier")
-          .field("max_iterations", &O::max_iterations, atLeast(1), "Gauss-Newton / Levenberg-Marquardt iterations at most, per stage")
-          .field("step_tolerance", &O::step_tolerance, above(0), "stop when a step is shorter than this (m and rad together)")
+          .field("max_iterations", &O::max_iterations, atLeast(1),
+                 "Gauss-Newton / Levenberg-Marquardt iterations at most, per stage")
+          .field("step_tolerance", &O::step_tolerance, above(0),
+                 "stop when a step is shorter than this (m and rad together)")
           .field("min_information", &O::min_information, atLeast(0),
                  "an eigen-direction of the information with less than this is unobserved, 1/m^2 or 1/rad^2")
           .field("reassociate_max_angle_deg", &O::reassociate_max_angle_deg, aboveUpTo(0, 90),
-                 "re-association takes a candidate line at more than this angle only when none is closer in angle, degrees");
+                 "re-association takes a candidate line at more than this angle only when none is closer in "
+                 "angle, degrees");
   return table;
 }
 

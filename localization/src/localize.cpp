@@ -19,8 +19,10 @@ const OptionTable<LocalizeOptions>& localizeOptionTable() {
   using O = LocalizeOptions;
   static const OptionTable<O> table =
       OptionTable<O>("LocalizeOptions")
-          .field("edge_sigma_m", &O::edge_sigma_m, above(0), "1-sigma of a detected edge's end points across their line, m")
-          .field("centerline_sigma_m", &O::centerline_sigma_m, above(0), "the same for a detected centre line (park mode), m")
+          .field("edge_sigma_m", &O::edge_sigma_m, above(0),
+                 "1-sigma of a detected edge's end points across their line, m")
+          .field("centerline_sigma_m", &O::centerline_sigma_m, above(0),
+                 "the same for a detected centre line (park mode), m")
           .field("min_line_length_m", &O::min_line_length_m, atLeast(0), "shorter detected lines are ignored, m")
           .field("centerline_search_m", &O::centerline_search_m, above(0),
                  "park mode: roads at most this far from the centre line, m")
@@ -28,11 +30,14 @@ const OptionTable<LocalizeOptions>& localizeOptionTable() {
                  "labelled edges are matched piecewise against the map's edges, pieces at most this long, m (0: the "
                  "predicted chord)")
           .field("edge_sigma_px", &O::edge_sigma_px, atLeast(0),
-                 "an edge's sigma also covers this many pixels across the line in the image, px (0: edge_sigma_m alone)")
+                 "an edge's sigma also covers this many pixels across the line in the image, px (0: edge_sigma_m "
+                 "alone)")
           .field("landmark_sigma_px", &O::landmark_sigma_px, atLeast(0),
                  "a landmark's base pixel covariance is widened by this many pixels each way, px")
-          .field("use_ground_step", &O::use_ground_step, "fuse the ground's step (false: the odometry's scale from lines and landmarks alone)")
-          .field("step_sigma_m", &O::step_sigma_m, atLeast(0), "the ground step's 1-sigma is widened by this, in quadrature, m");
+          .field("use_ground_step", &O::use_ground_step,
+                 "fuse the ground's step (false: the odometry's scale from lines and landmarks alone)")
+          .field("step_sigma_m", &O::step_sigma_m, atLeast(0),
+                 "the ground step's 1-sigma is widened by this, in quadrature, m");
   return table;
 }
 

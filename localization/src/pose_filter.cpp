@@ -29,11 +29,14 @@ const OptionTable<MotionNoiseOptions>& motionNoiseOptionTable() {
                  "a priori 1-sigma of the gyro's bias, the state b, deg/s (0: not estimated)")
           .field("gyro_noise_deg_per_sqrt_s", &O::gyro_noise_deg_per_sqrt_s, atLeast(0),
                  "angle random walk: the heading variance grows by this^2 per second, deg per sqrt(s)")
-          .field("distance_sigma_per_m", &O::distance_sigma_per_m, atLeast(0), "random distance error per metre driven, m/m")
-          .field("heading_sigma_per_rad", &O::heading_sigma_per_rad, atLeast(0), "heading sigma per radian turned, rad/rad")
+          .field("distance_sigma_per_m", &O::distance_sigma_per_m, atLeast(0),
+                 "random distance error per metre driven, m/m")
+          .field("heading_sigma_per_rad", &O::heading_sigma_per_rad, atLeast(0),
+                 "heading sigma per radian turned, rad/rad")
           .field("heading_sigma_per_m", &O::heading_sigma_per_m, atLeast(0), "heading sigma per metre driven, rad/m")
           .field("base_sigma_m", &O::base_sigma_m, atLeast(0), "added to x and y every step, m")
-          .field("base_heading_sigma_rad", &O::base_heading_sigma_rad, atLeast(0), "added to the heading every step, rad");
+          .field("base_heading_sigma_rad", &O::base_heading_sigma_rad, atLeast(0),
+                 "added to the heading every step, rad");
   return table;
 }
 

@@ -26,7 +26,8 @@ const OptionTable<ReportOptions>& reportOptionTable() {
                  "... of them the first frames of vision failures, at most")
           .field("thumbnail_width_px", &O::thumbnail_width_px, inRange(16, 2048),
                  "a thumbnail is the frame shrunk by the whole factor that brings its width nearest to this, px")
-          .field("figure_width_px", &O::figure_width_px, inRange(200, 4096), "width of the map picture and of the plots, px")
+          .field("figure_width_px", &O::figure_width_px, inRange(200, 4096),
+                 "width of the map picture and of the plots, px")
           .check("max_failure_thumbnails", [](const O& o) { return o.max_failure_thumbnails < o.max_thumbnails; },
                  "< max_thumbnails");
   return table;

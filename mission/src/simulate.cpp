@@ -23,7 +23,8 @@ const OptionTable<SimulateOptions>& simulateOptionTable() {
   static const OptionTable<O> table =
       OptionTable<O>("SimulateOptions")
           .field("max_frames", &O::max_frames, "stop after this many frames (0: drive to the goal)")
-          .field("control_dt_s", &O::control_dt_s, aboveUpTo(0, 0.5), "the controller's and the vehicle's time step, s");
+          .field("control_dt_s", &O::control_dt_s, aboveUpTo(0, 0.5),
+                 "the controller's and the vehicle's time step, s");
   return table;
 }
 

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <iterator>
 
-
 namespace mapnav {
 
 std::optional<RoadProjection> projectToRoad(const Map& map, const Pose2& pose, double max_distance_m) {

@@ -127,10 +127,11 @@ const OptionTable<PurePursuitOptions>& purePursuitOptionTable() {
                  "facing more than this away from the path's heading, the vehicle turns in place towards it, degrees")
           .field("turn_in_place_until_deg", &O::turn_in_place_until_deg,
                  "... until it faces within this of the path's heading, degrees")
-          .check(
-              "turn_in_place_until_deg",
-              [](const O& o) { return o.turn_in_place_until_deg > 0 && o.turn_in_place_until_deg < o.turn_in_place_deg; },
-              "in (0, turn_in_place_deg)");
+          .check("turn_in_place_until_deg",
+                 [](const O& o) {
+                   return o.turn_in_place_until_deg > 0 && o.turn_in_place_until_deg < o.turn_in_place_deg;
+                 },
+                 "in (0, turn_in_place_deg)");
   return table;
 }
 

@@ -502,7 +502,8 @@ TEST(SteeringOptions, TheRulesBetweenFieldsAndTheArgumentsAreWordedExactly) {
   EXPECT_EQ(rejection([&] { CenterServo::matchedGain(*camera, 2.5, -1.0); }),
             "CenterServo::matchedGain: speed_mps = -1: must be finite and > 0");
   SkidSteerVehicle vehicle;
-  EXPECT_EQ(rejection([&] { vehicle.step({0.5, 0.0}, 0.0); }), "SkidSteerVehicle::step: dt = 0: must be finite and > 0");
+  EXPECT_EQ(rejection([&] { vehicle.step({0.5, 0.0}, 0.0); }),
+            "SkidSteerVehicle::step: dt = 0: must be finite and > 0");
   EXPECT_EQ(rejection([&] { vehicle.step({std::nan(""), 0.0}, 0.1); }),
             "SkidSteerVehicle::step: command.speed_mps = nan: must be finite");
   EXPECT_EQ(rejection([&] { vehicle.step({0.0, INFINITY}, 0.1); }),
