@@ -9,7 +9,6 @@
 #include <Eigen/Cholesky>
 
 #include "line_problem.h"
-#include "mapnav/core/options.h"
 
 namespace mapnav {
 
@@ -31,20 +30,29 @@ std::optional<RobustLoss> robustLossFromString(std::string_view text) {
   return std::nullopt;
 }
 
-void LineMatchOptions::validate() const {
-  auto require = [](bool ok, const char* field, double value, const char* rule) {
-    requireOption(ok, "LineMatchOptions", field, value, rule);
-  };
-  require(std::isfinite(loss_scale) && loss_scale > 0, "loss_scale", loss_scale, "finite and > 0");
-  require(std::isfinite(inlier_threshold) && inlier_threshold > 0, "inlier_threshold", inlier_threshold,
-          "finite and > 0");
-  require(max_iterations >= 1, "max_iterations", max_iterations, ">= 1");
-  require(std::isfinite(step_tolerance) && step_tolerance > 0, "step_tolerance", step_tolerance, "finite and > 0");
-  require(std::isfinite(min_information) && min_information >= 0, "min_information", min_information,
-          "finite and >= 0");
-  require(reassociate_max_angle_deg > 0 && reassociate_max_angle_deg <= 90, "reassociate_max_angle_deg",
-          reassociate_max_angle_deg, "in (0, 90]");
+const OptionTable<LineMatchOptions>& lineMatchOptionTable() {
+  using O = LineMatchOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("LineMatchOptions")
+          .choice("loss", &O::loss,
+                  {{RobustLoss::None, "none"}, {RobustLoss::Huber, "huber"}, {RobustLoss::Cauchy, "cauchy"}},
+                  "the robust loss on each normalised residual")
+          .field("loss_scale", &O::loss_scale, above(0), "the loss's scale, sigmas of the normalised residual")
+          .field("inlier_threshold", &O::inlier_threshold, above(0),
+                 "after the robust solve, an end point farther than this many sigmas from its line is an outlier")
+          .field("max_iterations", &O::max_iterations, atLeast(1),
+                 "Gauss-Newton / Levenberg-Marquardt iterations at most, per stage")
+          .field("step_tolerance", &O::step_tolerance, above(0),
+                 "stop when a step is shorter than this (m and rad together)")
+          .field("min_information", &O::min_information, atLeast(0),
+                 "an eigen-direction of the information with less than this is unobserved, 1/m^2 or 1/rad^2")
+          .field("reassociate_max_angle_deg", &O::reassociate_max_angle_deg, aboveUpTo(0, 90),
+                 "re-association takes a candidate line at more than this angle only when none is closer in "
+                 "angle, degrees");
+  return table;
 }
+
+void LineMatchOptions::validate() const { lineMatchOptionTable().validate(*this); }
 
 namespace {
 

@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "mapnav/core/options.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/localization/correspondences.h"
 #include "mapnav/localization/observability.h"
@@ -16,23 +15,33 @@
 
 namespace mapnav {
 
-void LocalizeOptions::validate() const {
-  auto require = [](bool ok, const char* field, double value, const char* rule) {
-    requireOption(ok, "LocalizeOptions", field, value, rule);
-  };
-  require(std::isfinite(edge_sigma_m) && edge_sigma_m > 0, "edge_sigma_m", edge_sigma_m, "finite and > 0");
-  require(std::isfinite(centerline_sigma_m) && centerline_sigma_m > 0, "centerline_sigma_m", centerline_sigma_m,
-          "finite and > 0");
-  require(std::isfinite(min_line_length_m) && min_line_length_m >= 0, "min_line_length_m", min_line_length_m,
-          "finite and >= 0");
-  require(std::isfinite(centerline_search_m) && centerline_search_m > 0, "centerline_search_m", centerline_search_m,
-          "finite and > 0");
-  require(std::isfinite(curve_piece_m) && curve_piece_m >= 0, "curve_piece_m", curve_piece_m, "finite and >= 0");
-  require(std::isfinite(edge_sigma_px) && edge_sigma_px >= 0, "edge_sigma_px", edge_sigma_px, "finite and >= 0");
-  require(std::isfinite(landmark_sigma_px) && landmark_sigma_px >= 0, "landmark_sigma_px", landmark_sigma_px,
-          "finite and >= 0");
-  require(std::isfinite(step_sigma_m) && step_sigma_m >= 0, "step_sigma_m", step_sigma_m, "finite and >= 0");
+const OptionTable<LocalizeOptions>& localizeOptionTable() {
+  using O = LocalizeOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("LocalizeOptions")
+          .field("edge_sigma_m", &O::edge_sigma_m, above(0),
+                 "1-sigma of a detected edge's end points across their line, m")
+          .field("centerline_sigma_m", &O::centerline_sigma_m, above(0),
+                 "the same for a detected centre line (park mode), m")
+          .field("min_line_length_m", &O::min_line_length_m, atLeast(0), "shorter detected lines are ignored, m")
+          .field("centerline_search_m", &O::centerline_search_m, above(0),
+                 "park mode: roads at most this far from the centre line, m")
+          .field("curve_piece_m", &O::curve_piece_m, atLeast(0),
+                 "labelled edges are matched piecewise against the map's edges, pieces at most this long, m (0: the "
+                 "predicted chord)")
+          .field("edge_sigma_px", &O::edge_sigma_px, atLeast(0),
+                 "an edge's sigma also covers this many pixels across the line in the image, px (0: edge_sigma_m "
+                 "alone)")
+          .field("landmark_sigma_px", &O::landmark_sigma_px, atLeast(0),
+                 "a landmark's base pixel covariance is widened by this many pixels each way, px")
+          .field("use_ground_step", &O::use_ground_step,
+                 "fuse the ground's step (false: the odometry's scale from lines and landmarks alone)")
+          .field("step_sigma_m", &O::step_sigma_m, atLeast(0),
+                 "the ground step's 1-sigma is widened by this, in quadrature, m");
+  return table;
 }
+
+void LocalizeOptions::validate() const { localizeOptionTable().validate(*this); }
 
 std::optional<LandmarkObservation> landmarkObservation(const Camera& camera, const std::string& id, const Vec2& image_base,
                                                        const Mat2& pixel_covariance, const Vec2& map_world) {

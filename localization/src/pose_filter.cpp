@@ -13,37 +13,54 @@
 
 #include "line_problem.h"
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 #include "mapnav/core/strprintf.h"
 
 namespace mapnav {
 
 using namespace localization::detail;
 
-void MotionNoiseOptions::validate() const {
-  auto require = [](double value, const char* field) {
-    requireOption(std::isfinite(value) && value >= 0, "MotionNoiseOptions", field, value, "finite and >= 0");
-  };
-  require(scale_sigma, "scale_sigma");
-  require(gyro_bias_sigma_deg_s, "gyro_bias_sigma_deg_s");
-  require(gyro_noise_deg_per_sqrt_s, "gyro_noise_deg_per_sqrt_s");
-  require(distance_sigma_per_m, "distance_sigma_per_m");
-  require(heading_sigma_per_rad, "heading_sigma_per_rad");
-  require(heading_sigma_per_m, "heading_sigma_per_m");
-  require(base_sigma_m, "base_sigma_m");
-  require(base_heading_sigma_rad, "base_heading_sigma_rad");
+const OptionTable<MotionNoiseOptions>& motionNoiseOptionTable() {
+  using O = MotionNoiseOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("MotionNoiseOptions")
+          .field("scale_sigma", &O::scale_sigma, atLeast(0),
+                 "a priori 1-sigma of the encoders' relative scale error, the state e (0: not estimated)")
+          .field("gyro_bias_sigma_deg_s", &O::gyro_bias_sigma_deg_s, atLeast(0),
+                 "a priori 1-sigma of the gyro's bias, the state b, deg/s (0: not estimated)")
+          .field("gyro_noise_deg_per_sqrt_s", &O::gyro_noise_deg_per_sqrt_s, atLeast(0),
+                 "angle random walk: the heading variance grows by this^2 per second, deg per sqrt(s)")
+          .field("distance_sigma_per_m", &O::distance_sigma_per_m, atLeast(0),
+                 "random distance error per metre driven, m/m")
+          .field("heading_sigma_per_rad", &O::heading_sigma_per_rad, atLeast(0),
+                 "heading sigma per radian turned, rad/rad")
+          .field("heading_sigma_per_m", &O::heading_sigma_per_m, atLeast(0), "heading sigma per metre driven, rad/m")
+          .field("base_sigma_m", &O::base_sigma_m, atLeast(0), "added to x and y every step, m")
+          .field("base_heading_sigma_rad", &O::base_heading_sigma_rad, atLeast(0),
+                 "added to the heading every step, rad");
+  return table;
+}
+
+void MotionNoiseOptions::validate() const { motionNoiseOptionTable().validate(*this); }
+
+const OptionTable<FilterOptions>& filterOptionTable() {
+  using O = FilterOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("FilterOptions")
+          .field("gate_probability", &O::gate_probability,
+                 OptionRule{.min = 0, .max = 1, .min_open = true, .max_open = true},
+                 "measurements beyond the chi-square quantile of this probability are rejected")
+          .field("frame_sigma_m", &O::frame_sigma_m, atLeast(0),
+                 "the error all lines of a frame share, position 1-sigma, m (0: lines independent)")
+          .field("frame_heading_sigma_deg", &O::frame_heading_sigma_deg, atLeast(0), "... heading 1-sigma, degrees")
+          .field("update_iterations", &O::update_iterations, atLeast(1),
+                 "iterated EKF: relinearisations of the update at most (1: a plain EKF update)");
+  return table;
 }
 
 void FilterOptions::validate() const {
   match.validate();
   motion.validate();
-  requireOption(gate_probability > 0 && gate_probability < 1, "FilterOptions", "gate_probability", gate_probability,
-                "in (0, 1)");
-  requireOption(std::isfinite(frame_sigma_m) && frame_sigma_m >= 0, "FilterOptions", "frame_sigma_m", frame_sigma_m,
-                "finite and >= 0");
-  requireOption(std::isfinite(frame_heading_sigma_deg) && frame_heading_sigma_deg >= 0, "FilterOptions",
-                "frame_heading_sigma_deg", frame_heading_sigma_deg, "finite and >= 0");
-  requireOption(update_iterations >= 1, "FilterOptions", "update_iterations", update_iterations, ">= 1");
+  filterOptionTable().validate(*this);
 }
 
 namespace {

@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 
 namespace mapnav {
 
@@ -80,15 +79,19 @@ double tokenTime(const Token& token) {
   return std::visit([](const auto& t) { return timeOf(t); }, token);
 }
 
-void BlackboardOptions::validate() const {
-  auto require = [](double v, const char* field) {
-    requireOption(std::isfinite(v) && v > 0, "BlackboardOptions", field, v, "finite and > 0");
-  };
-  require(prediction_validity_s, "prediction_validity_s");
-  require(detection_validity_s, "detection_validity_s");
-  require(position_validity_s, "position_validity_s");
-  require(command_validity_s, "command_validity_s");
+const OptionTable<BlackboardOptions>& blackboardOptionTable() {
+  using O = BlackboardOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("BlackboardOptions")
+          .field("prediction_validity_s", &O::prediction_validity_s, above(0),
+                 "a PredictedObject may be used this long after its timestamp, s")
+          .field("detection_validity_s", &O::detection_validity_s, above(0), "... a DetectedObject, s")
+          .field("position_validity_s", &O::position_validity_s, above(0), "... a CurrentPosition, s")
+          .field("command_validity_s", &O::command_validity_s, above(0), "... a MotionCommand, s");
+  return table;
 }
+
+void BlackboardOptions::validate() const { blackboardOptionTable().validate(*this); }
 
 Blackboard::Blackboard(const BlackboardOptions& options) : options_(options) { options_.validate(); }
 

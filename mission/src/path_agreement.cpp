@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 
-#include "mapnav/core/options.h"
 #include "mapnav/geometry/polygon.h"
 #include "mapnav/geometry/polyline2.h"
 #include "mapnav/geometry/pose2.h"
@@ -71,23 +70,36 @@ std::optional<double> groundShare(const Polygon2& region, const Camera& camera) 
 
 }  // namespace
 
-void PathAgreementOptions::validate() const {
-  constexpr const char* kOwner = "PathAgreementOptions";
-  requireOption(std::isfinite(near_m) && near_m >= 0, kOwner, "near_m", near_m, ">= 0");
-  requireOption(std::isfinite(far_m) && far_m > near_m, kOwner, "far_m", far_m, "> near_m");
-  requireOption(std::isfinite(step_m) && step_m > 0, kOwner, "step_m", step_m, "> 0");
-  requireOption(std::isfinite(min_reach_m) && min_reach_m >= near_m && min_reach_m <= far_m, kOwner, "min_reach_m",
-                min_reach_m, "in [near_m, far_m]");
-  requireOption(std::isfinite(direction_near_m) && direction_near_m >= near_m, kOwner, "direction_near_m",
-                direction_near_m, ">= near_m");
-  requireOption(std::isfinite(direction_far_m) && direction_far_m > direction_near_m && direction_far_m <= far_m, kOwner,
-                "direction_far_m", direction_far_m, "in (direction_near_m, far_m]");
-  requireOption(std::isfinite(offset_ahead_m) && offset_ahead_m > 0, kOwner, "offset_ahead_m", offset_ahead_m, "> 0");
-  requireOption(inside_goal >= 0 && inside_goal <= 1, kOwner, "inside_goal", inside_goal, "in [0, 1]");
-  requireOption(angle_goal_deg >= 0 && angle_goal_deg <= 90, kOwner, "angle_goal_deg", angle_goal_deg, "in [0, 90]");
-  requireOption(std::isfinite(offset_jump_goal_m) && offset_jump_goal_m >= 0, kOwner, "offset_jump_goal_m",
-                offset_jump_goal_m, ">= 0");
+const OptionTable<PathAgreementOptions>& pathAgreementOptionTable() {
+  using O = PathAgreementOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("PathAgreementOptions")
+          .field("near_m", &O::near_m, atLeast(0), "the first sample's arc length along the path from the vehicle, m")
+          .field("far_m", &O::far_m, "the last sample's, m")
+          .field("step_m", &O::step_m, above(0), "the samples' spacing in arc length, m")
+          .field("min_reach_m", &O::min_reach_m, "a path that reaches less far than this is \"path too short\", m")
+          .field("direction_near_m", &O::direction_near_m,
+                 "the path's direction is the line fitted to its samples from this arc length, m ...")
+          .field("direction_far_m", &O::direction_far_m, "... to this one, m")
+          .field("offset_ahead_m", &O::offset_ahead_m, above(0),
+                 "the lateral offset between the path and the centre line is measured at this x ahead, m")
+          .field("inside_goal", &O::inside_goal, inRange(0, 1),
+                 "a frame agrees when at least this fraction of its path in view lies inside the road found")
+          .field("angle_goal_deg", &O::angle_goal_deg, inRange(0, 90),
+                 "a centre line agrees when it is within this angle of the path's direction, degrees")
+          .field("offset_jump_goal_m", &O::offset_jump_goal_m, atLeast(0),
+                 "consecutive frames agree when their offsets differ by at most this, m")
+          .check("far_m", [](const O& o) { return o.far_m > o.near_m; }, "> near_m")
+          .check("min_reach_m", [](const O& o) { return o.min_reach_m >= o.near_m && o.min_reach_m <= o.far_m; },
+                 "in [near_m, far_m]")
+          .check("direction_near_m", [](const O& o) { return o.direction_near_m >= o.near_m; }, ">= near_m")
+          .check("direction_far_m",
+                 [](const O& o) { return o.direction_far_m > o.direction_near_m && o.direction_far_m <= o.far_m; },
+                 "in (direction_near_m, far_m]");
+  return table;
 }
+
+void PathAgreementOptions::validate() const { pathAgreementOptionTable().validate(*this); }
 
 std::string_view toString(PathStatus status) {
   switch (status) {

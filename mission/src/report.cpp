@@ -8,7 +8,6 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
-#include "mapnav/core/options.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/geodesy.h"
@@ -18,15 +17,23 @@
 
 namespace mapnav {
 
-void ReportOptions::validate() const {
-  requireOption(max_thumbnails >= 2, "ReportOptions", "max_thumbnails", static_cast<double>(max_thumbnails), ">= 2");
-  requireOption(max_failure_thumbnails < max_thumbnails, "ReportOptions", "max_failure_thumbnails",
-                static_cast<double>(max_failure_thumbnails), "< max_thumbnails");
-  requireOption(thumbnail_width_px >= 16 && thumbnail_width_px <= 2048, "ReportOptions", "thumbnail_width_px",
-                thumbnail_width_px, "in 16..2048");
-  requireOption(figure_width_px >= 200 && figure_width_px <= 4096, "ReportOptions", "figure_width_px", figure_width_px,
-                "in 200..4096");
+const OptionTable<ReportOptions>& reportOptionTable() {
+  using O = ReportOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("ReportOptions")
+          .field("max_thumbnails", &O::max_thumbnails, atLeast(2), "thumbnails in the strip at most")
+          .field("max_failure_thumbnails", &O::max_failure_thumbnails,
+                 "... of them the first frames of vision failures, at most")
+          .field("thumbnail_width_px", &O::thumbnail_width_px, inRange(16, 2048),
+                 "a thumbnail is the frame shrunk by the whole factor that brings its width nearest to this, px")
+          .field("figure_width_px", &O::figure_width_px, inRange(200, 4096),
+                 "width of the map picture and of the plots, px")
+          .check("max_failure_thumbnails", [](const O& o) { return o.max_failure_thumbnails < o.max_thumbnails; },
+                 "< max_thumbnails");
+  return table;
 }
+
+void ReportOptions::validate() const { reportOptionTable().validate(*this); }
 
 // ---------------------------------------------------------------------------------------------
 // The strip's frames

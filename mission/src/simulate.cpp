@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "mapnav/core/error.h"
-#include "mapnav/core/options.h"
 #include "mapnav/map/camera_io.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/navigator/path.h"
@@ -19,10 +18,17 @@
 
 namespace mapnav {
 
-void SimulateOptions::validate() const {
-  requireOption(std::isfinite(control_dt_s) && control_dt_s > 0 && control_dt_s <= 0.5, "SimulateOptions",
-                "control_dt_s", control_dt_s, "in (0, 0.5]");
+const OptionTable<SimulateOptions>& simulateOptionTable() {
+  using O = SimulateOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("SimulateOptions")
+          .field("max_frames", &O::max_frames, "stop after this many frames (0: drive to the goal)")
+          .field("control_dt_s", &O::control_dt_s, aboveUpTo(0, 0.5),
+                 "the controller's and the vehicle's time step, s");
+  return table;
 }
+
+void SimulateOptions::validate() const { simulateOptionTable().validate(*this); }
 
 SimulateResult simulate(const MissionFile& mission, const std::filesystem::path& log_dir, const SimulateOptions& options) {
   options.validate();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/options.h"
@@ -190,7 +191,9 @@ TrackRun trackLog(const ReplayLog& log, VisionPipeline& pipeline, const Camera& 
   const int w = camera.width(), h = camera.height();
   TrackRun run;
   run.row = options.row >= 0 ? options.row : std::round(0.85 * (h - 1));
-  requireOption(run.row <= h - 1, "TrackOptions", "row", run.row, "at most the image's last row");
+  // A rule between an option and the camera: no table can state it.
+  requireArgument(run.row <= h - 1, "trackLog", "options.row", run.row,
+                  "at most the camera image's last row, " + std::to_string(h - 1));
   options.path.validate();
   run.path_options = options.path;
   const PredictedObject first = bootstrapPrediction(bootstrap, camera);

@@ -4,8 +4,6 @@
 #include <cmath>
 #include <iterator>
 
-#include "mapnav/core/options.h"
-
 namespace mapnav {
 
 std::optional<RoadProjection> projectToRoad(const Map& map, const Pose2& pose, double max_distance_m) {
@@ -24,14 +22,20 @@ std::optional<RoadProjection> projectToRoad(const Map& map, const Pose2& pose, d
   return best;
 }
 
-void ProgressOptions::validate() const {
-  requireOption(std::isfinite(off_route_tolerance_m) && off_route_tolerance_m > 0, "ProgressOptions",
-                "off_route_tolerance_m", off_route_tolerance_m, "finite and > 0");
-  requireOption(std::isfinite(search_ahead_m) && search_ahead_m > 0, "ProgressOptions", "search_ahead_m", search_ahead_m,
-                "finite and > 0");
-  requireOption(std::isfinite(turnaround_reach_m) && turnaround_reach_m >= 0, "ProgressOptions", "turnaround_reach_m",
-                turnaround_reach_m, "finite and >= 0");
+const OptionTable<ProgressOptions>& progressOptionTable() {
+  using O = ProgressOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("ProgressOptions")
+          .field("off_route_tolerance_m", &O::off_route_tolerance_m, above(0),
+                 "farther than this from the route's centre line is off the route, m")
+          .field("search_ahead_m", &O::search_ahead_m, above(0),
+                 "the next position is looked for up to this far ahead of the last, m")
+          .field("turnaround_reach_m", &O::turnaround_reach_m, atLeast(0),
+                 "within this of a turnaround it is reached and progress moves onto the way back, m");
+  return table;
 }
+
+void ProgressOptions::validate() const { progressOptionTable().validate(*this); }
 
 std::vector<double> turnaroundArcs(const Route& route) {
   // The line's vertices where it folds back, with their arc lengths: the legs' metres say which,

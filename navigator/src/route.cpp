@@ -8,17 +8,23 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
-#include "mapnav/core/options.h"
 #include "route_network.h"
 
 namespace mapnav {
 
-void RouteOptions::validate() const {
-  requireOption(std::isfinite(turn_penalty_m_per_90deg) && turn_penalty_m_per_90deg >= 0, "RouteOptions",
-                "turn_penalty_m_per_90deg", turn_penalty_m_per_90deg, "finite and >= 0");
-  requireOption(std::isfinite(u_turn_penalty_m) && u_turn_penalty_m >= 0, "RouteOptions", "u_turn_penalty_m",
-                u_turn_penalty_m, "finite and >= 0");
+const OptionTable<RouteOptions>& routeOptionTable() {
+  using O = RouteOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("RouteOptions")
+          .field("turn_penalty_m_per_90deg", &O::turn_penalty_m_per_90deg, atLeast(0),
+                 "cost of turning, metres of driving per 90 degrees of turn")
+          .field("u_turn_penalty_m", &O::u_turn_penalty_m, atLeast(0),
+                 "cost of turning back along the road just driven, at an intersection, m")
+          .field("use_astar", &O::use_astar, "bidirectional A* with landmark bounds (ALT); false: Dijkstra");
+  return table;
 }
+
+void RouteOptions::validate() const { routeOptionTable().validate(*this); }
 
 std::string turnDirection(double angle) {
   if (std::abs(angle) <= degToRad(15)) return "straight";

@@ -47,7 +47,7 @@ double clampTurnRate(double omega, const VehicleLimits& limits) {
 // PathTracker
 
 PathTracker::PathTracker(std::vector<PathPoint> path, double window_m) : path_(std::move(path)), window_m_(window_m) {
-  requireOption(std::isfinite(window_m) && window_m > 0, "PathTracker", "window_m", window_m, "finite and > 0");
+  requireArgument(std::isfinite(window_m) && window_m > 0, "PathTracker", "window_m", window_m, "finite and > 0");
   if (path_.size() < 2) throw InvalidInput("PathTracker: a path needs at least 2 points");
   for (std::size_t i = 0; i < path_.size(); ++i) {
     const PathPoint& p = path_[i];
@@ -116,17 +116,26 @@ Vec2 PathTracker::pointAt(double s) const {
 // ---------------------------------------------------------------------------------------------
 // PurePursuit
 
-void PurePursuitOptions::validate() const {
-  requireOption(std::isfinite(lookahead_m) && lookahead_m > 0, "PurePursuitOptions", "lookahead_m", lookahead_m,
-                "finite and > 0");
-  requireOption(std::isfinite(speed_mps) && speed_mps > 0, "PurePursuitOptions", "speed_mps", speed_mps,
-                "finite and > 0");
-  requireOption(std::isfinite(turn_in_place_deg) && turn_in_place_deg > 0 && turn_in_place_deg <= 180,
-                "PurePursuitOptions", "turn_in_place_deg", turn_in_place_deg, "in (0, 180]");
-  requireOption(std::isfinite(turn_in_place_until_deg) && turn_in_place_until_deg > 0 &&
-                    turn_in_place_until_deg < turn_in_place_deg,
-                "PurePursuitOptions", "turn_in_place_until_deg", turn_in_place_until_deg, "in (0, turn_in_place_deg)");
+const OptionTable<PurePursuitOptions>& purePursuitOptionTable() {
+  using O = PurePursuitOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("PurePursuitOptions")
+          .field("lookahead_m", &O::lookahead_m, above(0),
+                 "distance along the path, from the closest point, to the goal point, m")
+          .field("speed_mps", &O::speed_mps, above(0), "cruise speed, m/s")
+          .field("turn_in_place_deg", &O::turn_in_place_deg, aboveUpTo(0, 180),
+                 "facing more than this away from the path's heading, the vehicle turns in place towards it, degrees")
+          .field("turn_in_place_until_deg", &O::turn_in_place_until_deg,
+                 "... until it faces within this of the path's heading, degrees")
+          .check("turn_in_place_until_deg",
+                 [](const O& o) {
+                   return o.turn_in_place_until_deg > 0 && o.turn_in_place_until_deg < o.turn_in_place_deg;
+                 },
+                 "in (0, turn_in_place_deg)");
+  return table;
 }
+
+void PurePursuitOptions::validate() const { purePursuitOptionTable().validate(*this); }
 
 PurePursuit::PurePursuit(std::vector<PathPoint> path, PurePursuitOptions options, VehicleLimits limits)
     : tracker_(std::move(path)), options_(options), limits_(limits), goal_(tracker_.path().front().position) {
@@ -171,13 +180,18 @@ double PurePursuit::crossTrackError(const Pose2& pose) const { return tracker_.c
 // ---------------------------------------------------------------------------------------------
 // CenterServo
 
-void CenterServoOptions::validate() const {
-  requireOption(std::isfinite(lookahead_m) && lookahead_m > 0, "CenterServoOptions", "lookahead_m", lookahead_m,
-                "finite and > 0");
-  requireOption(std::isfinite(gain) && gain > 0, "CenterServoOptions", "gain", gain, "finite and > 0");
-  requireOption(std::isfinite(speed_mps) && speed_mps > 0, "CenterServoOptions", "speed_mps", speed_mps,
-                "finite and > 0");
+const OptionTable<CenterServoOptions>& centerServoOptionTable() {
+  using O = CenterServoOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("CenterServoOptions")
+          .field("lookahead_m", &O::lookahead_m, above(0),
+                 "distance along the path, from the closest point, to the road-centre point servoed on, m")
+          .field("gain", &O::gain, above(0), "turn rate per pixel of x = u - cx, rad/s/px (CenterServo::matchedGain)")
+          .field("speed_mps", &O::speed_mps, above(0), "cruise speed, m/s");
+  return table;
 }
+
+void CenterServoOptions::validate() const { centerServoOptionTable().validate(*this); }
 
 CenterServo::CenterServo(std::vector<PathPoint> path, const Camera& camera, CenterServoOptions options,
                          VehicleLimits limits)
@@ -187,10 +201,10 @@ CenterServo::CenterServo(std::vector<PathPoint> path, const Camera& camera, Cent
 }
 
 double CenterServo::matchedGain(const Camera& camera, double lookahead_m, double speed_mps) {
-  requireOption(std::isfinite(lookahead_m) && lookahead_m > 0, "CenterServo::matchedGain", "lookahead_m", lookahead_m,
-                "finite and > 0");
-  requireOption(std::isfinite(speed_mps) && speed_mps > 0, "CenterServo::matchedGain", "speed_mps", speed_mps,
-                "finite and > 0");
+  requireArgument(std::isfinite(lookahead_m) && lookahead_m > 0, "CenterServo::matchedGain", "lookahead_m", lookahead_m,
+                  "finite and > 0");
+  requireArgument(std::isfinite(speed_mps) && speed_mps > 0, "CenterServo::matchedGain", "speed_mps", speed_mps,
+                  "finite and > 0");
   const double dy = 1e-3 * lookahead_m;
   const std::optional<Vec2> left = camera.projectGround(Vec2(lookahead_m, dy));
   const std::optional<Vec2> right = camera.projectGround(Vec2(lookahead_m, -dy));

@@ -7,17 +7,19 @@
 
 namespace mapnav {
 
-void VehicleLimits::validate() const {
-  auto require = [](bool ok, const char* field, double value, const char* rule) {
-    requireOption(ok, "VehicleLimits", field, value, rule);
-  };
-  require(std::isfinite(max_speed_mps) && max_speed_mps > 0, "max_speed_mps", max_speed_mps, "finite and > 0");
-  require(std::isfinite(min_speed_mps) && min_speed_mps <= max_speed_mps, "min_speed_mps", min_speed_mps,
-          "finite and <= max_speed_mps");
-  require(std::isfinite(max_turn_rate_rad_s) && max_turn_rate_rad_s > 0, "max_turn_rate_rad_s", max_turn_rate_rad_s,
-          "finite and > 0");
-  require(std::isfinite(max_accel_mps2) && max_accel_mps2 > 0, "max_accel_mps2", max_accel_mps2, "finite and > 0");
+const OptionTable<VehicleLimits>& vehicleLimitsOptionTable() {
+  using O = VehicleLimits;
+  static const OptionTable<O> table =
+      OptionTable<O>("VehicleLimits")
+          .field("max_speed_mps", &O::max_speed_mps, above(0), "highest forward speed, m/s")
+          .field("min_speed_mps", &O::min_speed_mps, "lowest speed, m/s (0: no backing up; negative allows reversing)")
+          .field("max_turn_rate_rad_s", &O::max_turn_rate_rad_s, above(0), "highest turn rate either way, rad/s")
+          .field("max_accel_mps2", &O::max_accel_mps2, above(0), "largest change of speed, either way, m/s^2")
+          .check("min_speed_mps", [](const O& o) { return o.min_speed_mps <= o.max_speed_mps; }, "<= max_speed_mps");
+  return table;
 }
+
+void VehicleLimits::validate() const { vehicleLimitsOptionTable().validate(*this); }
 
 Pose2 integrateUnicycle(const Pose2& pose, double speed_mps, double turn_rate_rad_s, double dt) {
   // exp of the body twist (v dt, 0, ω dt) is the arc of curvature ω / v (a straight line at ω = 0,
@@ -28,15 +30,16 @@ Pose2 integrateUnicycle(const Pose2& pose, double speed_mps, double turn_rate_ra
 SkidSteerVehicle::SkidSteerVehicle(Pose2 pose, VehicleLimits limits, double speed_mps)
     : pose_(pose), limits_(limits), speed_(speed_mps) {
   limits_.validate();
-  requireOption(std::isfinite(speed_mps) && speed_mps >= limits_.min_speed_mps && speed_mps <= limits_.max_speed_mps,
-                "SkidSteerVehicle", "speed_mps", speed_mps, "in [min_speed_mps, max_speed_mps]");
+  requireArgument(std::isfinite(speed_mps) && speed_mps >= limits_.min_speed_mps && speed_mps <= limits_.max_speed_mps,
+                  "SkidSteerVehicle", "speed_mps", speed_mps, "in [min_speed_mps, max_speed_mps]");
 }
 
 VehicleCommand SkidSteerVehicle::step(const VehicleCommand& command, double dt) {
-  requireOption(std::isfinite(dt) && dt > 0, "SkidSteerVehicle::step", "dt", dt, "finite and > 0");
-  requireOption(std::isfinite(command.speed_mps), "VehicleCommand", "speed_mps", command.speed_mps, "finite");
-  requireOption(std::isfinite(command.turn_rate_rad_s), "VehicleCommand", "turn_rate_rad_s", command.turn_rate_rad_s,
-                "finite");
+  requireArgument(std::isfinite(dt) && dt > 0, "SkidSteerVehicle::step", "dt", dt, "finite and > 0");
+  requireArgument(std::isfinite(command.speed_mps), "SkidSteerVehicle::step", "command.speed_mps", command.speed_mps,
+                  "finite");
+  requireArgument(std::isfinite(command.turn_rate_rad_s), "SkidSteerVehicle::step", "command.turn_rate_rad_s",
+                  command.turn_rate_rad_s, "finite");
   VehicleCommand applied;
   const double dv = limits_.max_accel_mps2 * dt;
   applied.speed_mps = std::clamp(command.speed_mps, limits_.min_speed_mps, limits_.max_speed_mps);

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include "mapnav/core/error.h"
 #include "mapnav/vision_iface/pipeline.h"
@@ -284,6 +286,37 @@ TEST(PathAgreementOptions, DefaultsAreValidAndABadFieldIsNamed) {
   EXPECT_THROW(o.validate(), InvalidInput);
 }
 
+TEST(PathAgreementOptions, TheRulesBetweenFieldsComeAfterTheFieldsOwn) {
+  const auto rejection = [](const PathAgreementOptions& o) -> std::string {
+    try {
+      o.validate();
+    } catch (const InvalidInput& e) {
+      return e.what();
+    }
+    return "";
+  };
+  PathAgreementOptions o;
+  o.far_m = 2;
+  EXPECT_EQ(rejection(o), "PathAgreementOptions::far_m = 2: must be > near_m");
+  o.step_m = -1;  // its own rule is named first
+  EXPECT_EQ(rejection(o), "PathAgreementOptions::step_m = -1: must be finite and > 0");
+  o = {};
+  o.min_reach_m = 16;
+  EXPECT_EQ(rejection(o), "PathAgreementOptions::min_reach_m = 16: must be in [near_m, far_m]");
+  o = {};
+  o.direction_near_m = 1;
+  EXPECT_EQ(rejection(o), "PathAgreementOptions::direction_near_m = 1: must be >= near_m");
+  o = {};
+  o.direction_far_m = 20;
+  EXPECT_EQ(rejection(o), "PathAgreementOptions::direction_far_m = 20: must be in (direction_near_m, far_m]");
+  o = {};
+  o.far_m = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(rejection(o), "PathAgreementOptions::far_m = inf: must be finite");
+  o = {};
+  o.angle_goal_deg = 91;
+  EXPECT_EQ(rejection(o), "PathAgreementOptions::angle_goal_deg = 91: must be in [0, 90]");
+}
+
 /// A pipeline that finds the same ground rectangle in every frame.
 class FixedRoad : public VisionPipeline {
  public:
@@ -356,6 +389,12 @@ TEST(TrackLogPath, EachFrameIsHeldAgainstTheLogsTruthAhead) {
   EXPECT_EQ(drawn, (std::vector<std::size_t>{53, 53, 53, 53, 53, 49}));
   EXPECT_DOUBLE_EQ(*six.frames[0].path.inside_fraction, 27.0 / 53.0);  // 2 .. 8.5 m of 2 .. 15 m
   EXPECT_DOUBLE_EQ(*six.frames[5].path.inside_fraction, 27.0 / 49.0);  // of 2 .. 14 m
+  try {  // a row below the camera's image: a rule between the options and the camera
+    trackLog(log, pipeline, *camera, bootstrap, TrackOptions{480, 1, {}});
+    ADD_FAILURE() << "row 480 of a 480-row image was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_STREQ(e.what(), "trackLog: options.row = 480: must be at most the camera image's last row, 479");
+  }
 
   // The whole log: frames 13 to 19 have less than 7 m ahead.
   const TrackRun all = trackLog(log, pipeline, *camera, bootstrap);

@@ -136,11 +136,17 @@ TEST(ReportOptions, ValidateNamesTheField) {
     o.validate();
     FAIL() << "no throw";
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("ReportOptions::max_failure_thumbnails"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()), "ReportOptions::max_failure_thumbnails = 24: must be < max_thumbnails");
   }
   ReportOptions w;
   w.thumbnail_width_px = 8;
   EXPECT_THROW(ReportFrames{w}, InvalidInput);
+  try {
+    w.validate();
+    FAIL() << "no throw";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "ReportOptions::thumbnail_width_px = 8: must be in [16, 2048]");
+  }
 }
 
 TEST(ReportHtml, IsSelfContainedWithEveryPart) {

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -459,6 +460,56 @@ TEST(SteeringOptions, DefaultsAreValidAndBadFieldsAreNamed) {
   servo = {};
   servo.gain = -1;
   EXPECT_THROW(CenterServo(path, *camera, servo), InvalidInput);
+}
+
+/// The InvalidInput message of `f()`, or "" when it does not throw.
+template <typename F>
+std::string rejection(F f) {
+  try {
+    f();
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SteeringOptions, TheRulesBetweenFieldsAndTheArgumentsAreWordedExactly) {
+  PurePursuitOptions pursuit;
+  pursuit.turn_in_place_until_deg = 95;  // beyond turn_in_place_deg
+  EXPECT_EQ(rejection([&] { pursuit.validate(); }),
+            "PurePursuitOptions::turn_in_place_until_deg = 95: must be in (0, turn_in_place_deg)");
+  pursuit.turn_in_place_until_deg = 0;
+  EXPECT_EQ(rejection([&] { pursuit.validate(); }),
+            "PurePursuitOptions::turn_in_place_until_deg = 0: must be in (0, turn_in_place_deg)");
+  pursuit = {};
+  pursuit.turn_in_place_deg = 181;
+  EXPECT_EQ(rejection([&] { pursuit.validate(); }), "PurePursuitOptions::turn_in_place_deg = 181: must be in (0, 180]");
+  pursuit = {};
+  pursuit.speed_mps = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(rejection([&] { pursuit.validate(); }), "PurePursuitOptions::speed_mps = inf: must be finite and > 0");
+
+  VehicleLimits limits;
+  limits.min_speed_mps = 2;
+  EXPECT_EQ(rejection([&] { limits.validate(); }), "VehicleLimits::min_speed_mps = 2: must be <= max_speed_mps");
+  limits.min_speed_mps = std::nan("");
+  EXPECT_EQ(rejection([&] { limits.validate(); }), "VehicleLimits::min_speed_mps = nan: must be finite");
+
+  const std::vector<PathPoint> path = densePath(Polyline2({Vec2(0, 0), Vec2(10, 0)}), 0.5);
+  EXPECT_EQ(rejection([&] { PathTracker(path, 0.0); }), "PathTracker: window_m = 0: must be finite and > 0");
+  const auto camera = testing::terregatorPinhole();
+  EXPECT_EQ(rejection([&] { CenterServo::matchedGain(*camera, 0.0, 0.6); }),
+            "CenterServo::matchedGain: lookahead_m = 0: must be finite and > 0");
+  EXPECT_EQ(rejection([&] { CenterServo::matchedGain(*camera, 2.5, -1.0); }),
+            "CenterServo::matchedGain: speed_mps = -1: must be finite and > 0");
+  SkidSteerVehicle vehicle;
+  EXPECT_EQ(rejection([&] { vehicle.step({0.5, 0.0}, 0.0); }),
+            "SkidSteerVehicle::step: dt = 0: must be finite and > 0");
+  EXPECT_EQ(rejection([&] { vehicle.step({std::nan(""), 0.0}, 0.1); }),
+            "SkidSteerVehicle::step: command.speed_mps = nan: must be finite");
+  EXPECT_EQ(rejection([&] { vehicle.step({0.0, INFINITY}, 0.1); }),
+            "SkidSteerVehicle::step: command.turn_rate_rad_s = inf: must be finite");
+  EXPECT_EQ(rejection([&] { SkidSteerVehicle(Pose2(), VehicleLimits{}, 1.5); }),
+            "SkidSteerVehicle: speed_mps = 1.5: must be in [min_speed_mps, max_speed_mps]");
 }
 
 }  // namespace

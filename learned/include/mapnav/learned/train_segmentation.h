@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mapnav/core/options.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/image/image.h"
 #include "mapnav/learned/segmentation_model.h"
 
@@ -34,21 +34,13 @@ struct SegmentationTrainOptions {
   int threads = 2;                 ///< Torch's CPU threads (the answer is deterministic for a given count)
 
   /// Throws InvalidInput "SegmentationTrainOptions::FIELD = VALUE: must be ..." for a field out of range.
-  /// (Inline, so that a program that opens learned/ only when it trains checks its options first.)
+  /// (In mapnav_learned_options, without Torch, so that a program that opens learned/ only when it
+  /// trains checks its options first.)
   void validate() const;
 };
 
-inline void SegmentationTrainOptions::validate() const {
-  constexpr const char* kOwner = "SegmentationTrainOptions";
-  requireOption(epochs >= 1 && epochs <= 100000, kOwner, "epochs", epochs, "in [1, 100000]");
-  requireOption(width >= 8 && width <= 4096, kOwner, "width", width, "in [8, 4096]");
-  requireOption(height >= 8 && height <= 4096, kOwner, "height", height, "in [8, 4096]");
-  requireOption(batch >= 1 && batch <= 1024, kOwner, "batch", batch, "in [1, 1024]");
-  requireOption(learning_rate > 0 && learning_rate <= 1, kOwner, "learning_rate", learning_rate, "in (0, 1]");
-  requireOption(validation_fraction >= 0 && validation_fraction <= 0.5, kOwner, "validation_fraction",
-                validation_fraction, "in [0, 0.5]");
-  requireOption(threads >= 0 && threads <= 256, kOwner, "threads", threads, "in [0, 256]");
-}
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<SegmentationTrainOptions>& segmentationTrainOptionTable();
 
 /// One epoch's figures, for a progress bar.
 struct EpochReport {

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/geometry/types.h"
@@ -55,6 +56,9 @@ struct LineMatchOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<LineMatchOptions>& lineMatchOptionTable();
 
 struct LineFit {
   Pose2 pose;                         ///< world frame

@@ -9,6 +9,7 @@
 // they give), pose_filter.h (the filter), observability.h (what they constrain).
 #include <optional>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/localization/pose_filter.h"
 #include "mapnav/tokens/current_position.h"
@@ -55,6 +56,9 @@ struct LocalizeOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<LocalizeOptions>& localizeOptionTable();
 
 /// The Map module's step: predict `filter` with `motion`, match `detected`'s labelled lines to
 /// `prediction`'s interest segments and update. Park mode: when no labelled line is usable and

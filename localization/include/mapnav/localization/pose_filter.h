@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
@@ -54,6 +55,9 @@ struct MotionNoiseOptions {
   void validate() const;
 };
 
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<MotionNoiseOptions>& motionNoiseOptionTable();
+
 struct FilterOptions {
   LineMatchOptions match;
   MotionNoiseOptions motion;
@@ -72,9 +76,12 @@ struct FilterOptions {
   /// Iterated EKF: relinearisations of the update at most (1: a plain EKF update).
   int update_iterations = 5;
 
-  /// Throws InvalidInput naming the first bad field and its value.
+  /// Throws InvalidInput naming match's, then motion's, then this table's first broken rule.
   void validate() const;
 };
+
+/// The options' own fields (match and motion have their tables); validate() checks them.
+const OptionTable<FilterOptions>& filterOptionTable();
 
 /// The filter's full state: x, y (m), heading (rad), the odometry scale error e (relative) and the
 /// gyro bias b (rad/s).

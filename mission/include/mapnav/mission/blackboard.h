@@ -21,6 +21,7 @@
 #include <variant>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/vehicle.h"
@@ -115,6 +116,9 @@ struct BlackboardOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<BlackboardOptions>& blackboardOptionTable();
 
 class Blackboard {
  public:

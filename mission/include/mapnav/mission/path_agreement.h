@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
@@ -44,9 +45,13 @@ struct PathAgreementOptions {
   /// Consecutive frames agree when their offsets differ by at most this, m.
   double offset_jump_goal_m = 0.3;
 
-  /// Throws InvalidInput ("PathAgreementOptions::step_m = 0: must be > 0") for a bad field.
+  /// Throws InvalidInput ("PathAgreementOptions::step_m = 0: must be finite and > 0") for a bad field.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions, the rules between fields (far_m > near_m, ...) after
+/// the fields' own; validate() checks them.
+const OptionTable<PathAgreementOptions>& pathAgreementOptionTable();
 
 /// The truth poses of a run's frames by frame index, world frame; nothing where a frame has none:
 /// what futurePath reads (`log track` takes a log's, a mission run the log's or the simulator's).

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/segment2.h"
 #include "mapnav/map/map.h"
 #include "mapnav/mission/runner.h"
@@ -26,14 +27,17 @@ struct ReportOptions {
   std::size_t max_thumbnails = 24;
   std::size_t max_failure_thumbnails = 6;
   /// A thumbnail is the frame shrunk by the whole factor that brings its width nearest to this, px
-  /// (16..2048).
+  /// (in [16, 2048]).
   int thumbnail_width_px = 256;
-  /// Width of the map picture and of the plots, px (200..4096).
+  /// Width of the map picture and of the plots, px (in [200, 4096]).
   int figure_width_px = 960;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<ReportOptions>& reportOptionTable();
 
 /// A frame of the strip: the shrunk picture and what to draw on it, in the full frame's pixels.
 struct ReportThumbnail {

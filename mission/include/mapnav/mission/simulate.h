@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/mission/mission_file.h"
 
 namespace mapnav {
@@ -23,6 +24,10 @@ struct SimulateOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions (`seed`, which may be unset, is not in it: it has no
+/// rule); validate() checks them.
+const OptionTable<SimulateOptions>& simulateOptionTable();
 
 struct SimulateResult {
   std::size_t frames = 0;

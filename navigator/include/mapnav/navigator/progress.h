@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/map/map.h"
 #include "mapnav/navigator/road_position.h"
@@ -36,6 +37,9 @@ struct ProgressOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<ProgressOptions>& progressOptionTable();
 
 struct ProgressStatus {
   std::size_t leg = 0;      ///< index into Route::legs of the drive leg under way

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/polyline2.h"
 #include "mapnav/map/map.h"
 #include "mapnav/navigator/road_position.h"
@@ -31,6 +32,10 @@ struct RouteOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions (`blocked`, a list of ids, is not in it: it has no
+/// rule); validate() checks them.
+const OptionTable<RouteOptions>& routeOptionTable();
 
 enum class LegAction { Drive, Turn };
 

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
@@ -97,6 +98,9 @@ struct PurePursuitOptions {
   void validate() const;
 };
 
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<PurePursuitOptions>& purePursuitOptionTable();
+
 /// Pure pursuit: the goal point lies `lookahead_m` along the path from the closest point (beyond
 /// the end, on the end's straight continuation); in the vehicle frame at (x, y), at distance
 /// d = √(x² + y²), the arc through it has curvature κ = 2 y / d², and the turn rate is speed · κ,
@@ -168,6 +172,9 @@ struct CenterServoOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The options' names, rules and descriptions; validate() checks them.
+const OptionTable<CenterServoOptions>& centerServoOptionTable();
 
 /// The paper's servo. Each command: the road-centre point `lookahead_m` along the path from the
 /// closest point is taken into the vehicle frame and projected with the camera; x = u − cx (pixels,

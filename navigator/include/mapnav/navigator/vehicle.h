@@ -2,6 +2,7 @@
 // The vehicle Motion Control drives: a skid-steer platform like the CMU Terregator, modelled as a
 // unicycle (it turns about its reference point, so a speed and a turn rate are all it takes).
 // Deterministic: odometry and actuation noise belong to the simulator.
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/pose2.h"
 
 namespace mapnav {
@@ -22,6 +23,9 @@ struct VehicleLimits {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// The limits' names, rules and descriptions; validate() checks them.
+const OptionTable<VehicleLimits>& vehicleLimitsOptionTable();
 
 /// A motion command, held for one control period.
 struct VehicleCommand {
