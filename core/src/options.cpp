@@ -7,24 +7,12 @@
 
 namespace mapnav {
 
-namespace {
-
-std::string broken(std::string_view who, std::string_view separator, std::string_view what, double value,
-                   std::string_view rule) {
+void requireArgument(bool ok, std::string_view function, std::string_view argument, double value, std::string_view rule) {
+  if (ok) return;
   std::ostringstream text;
   text.precision(17);
-  text << who << separator << what << " = " << value << ": must be " << rule;
-  return text.str();
-}
-
-}  // namespace
-
-void requireArgument(bool ok, std::string_view function, std::string_view argument, double value, std::string_view rule) {
-  if (!ok) throw InvalidInput(broken(function, ": ", argument, value, rule));
-}
-
-void requireOption(bool ok, std::string_view owner, std::string_view field, double value, std::string_view rule) {
-  if (!ok) throw InvalidInput(broken(owner, "::", field, value, rule));
+  text << function << ": " << argument << " = " << value << ": must be " << rule;
+  throw InvalidInput(text.str());
 }
 
 }  // namespace mapnav

@@ -1,6 +1,6 @@
 // The option table (core/option_table.h) on a small struct of every kind of field: the listing is
 // the struct's defaults, parsing errors name the option and its value, validate() words its rules
-// as requireOption does, presets apply before the other members, and every field round-trips.
+// "OWNER::FIELD = VALUE: must be RULE", presets apply before the other members, and every field round-trips.
 #include "mapnav/core/option_table.h"
 
 #include <gtest/gtest.h>
@@ -141,7 +141,7 @@ TEST(OptionTable, AFailedParseLeavesTheBaseAsItWas) {
   EXPECT_EQ(base.count, 9);
 }
 
-TEST(OptionTable, ValidateWordsTheRulesAsRequireOption) {
+TEST(OptionTable, ValidateNamesTheOwnerTheFieldTheValueAndTheRule) {
   Toy t;
   t.count = 0;
   EXPECT_EQ(validateError(t), "Toy::count = 0: must be in [1, 30]");

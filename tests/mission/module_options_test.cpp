@@ -1,5 +1,5 @@
 // The mission's option structs validate through their option tables (core/option_table.h) in the
-// words the hand-written requireOption chains used.
+// words "OWNER::FIELD = VALUE: must be RULE".
 #include <gtest/gtest.h>
 
 #include <functional>

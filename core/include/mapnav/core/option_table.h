@@ -8,7 +8,7 @@
 //   parse()    a JSON object of options onto a struct, `"preset": "NAME"` applied before the other
 //              members; errors name who is configured, the option and its bad value,
 //   read()     the same for a block of a file, every bad member an Issue at its JSON Pointer,
-//   validate() the rules, in requireOption's words ("OWNER::FIELD = VALUE: must be RULE"),
+//   validate() the rules, as Ceres words them ("OWNER::FIELD = VALUE: must be RULE"),
 //   list()     the documented options with their defaults as JSON text (`mapnav pipelines`),
 //   json()     a struct's values as a JSON object (parse() reads it back).
 // The JSON is read and written in core/src/option_table.cpp: this header needs no JSON library.
@@ -108,7 +108,7 @@ std::vector<std::pair<std::size_t, OptionValue>> readOptionMembers(const std::ve
                                                                    Issues& issues);
 /// "OWNER::FIELD = VALUE: must be RULE" unless `value` keeps the field's own rule; "" when it does.
 std::string brokenOptionValue(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value);
-/// "OWNER::FIELD = VALUE: must be RULE", VALUE as requireOption writes it (17 digits for a number).
+/// "OWNER::FIELD = VALUE: must be RULE", a number VALUE with 17 digits (it reads back exactly).
 std::string optionRuleText(const OptionFieldSpec& field, std::string_view owner, const OptionValue& value,
                            std::string_view rule);
 /// The value as JSON text: true, 12, 0.5, 1e-06, "luminance".

@@ -8,8 +8,4 @@ namespace mapnav {
 /// Throws InvalidInput "FUNCTION: ARGUMENT = VALUE: must be RULE" unless `ok` (VALUE with 17 digits).
 void requireArgument(bool ok, std::string_view function, std::string_view argument, double value, std::string_view rule);
 
-/// Throws InvalidInput "OWNER::FIELD = VALUE: must be RULE" unless `ok`. Being replaced by the
-/// option tables' rules (option_table.h); do not add callers.
-void requireOption(bool ok, std::string_view owner, std::string_view field, double value, std::string_view rule);
-
 }  // namespace mapnav
