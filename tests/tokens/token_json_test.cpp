@@ -59,7 +59,12 @@ TEST(TokenJson, APositionsSigmasAreAcrossAndAlongItsHeading) {
 TEST(TokenJson, APredictionWritesItsSegmentsWithTheirOwnerAndItsRelationsByType) {
   PredictedObject view;
   view.footprint = {Vec2(1, -2), Vec2(10, -5), Vec2(10, 5), Vec2(1, 2)};
-  view.regions.push_back({.id = "R1", .kind = "straight road", .surface = "asphalt", .segments = {"R1.left.0"}});
+  PredictedRegion region;
+  region.id = "R1";
+  region.kind = "straight road";
+  region.surface = "asphalt";
+  region.segments = {"R1.left.0"};
+  view.regions.push_back(region);
   InterestSegment s;
   s.id = "R1.left.0";
   s.owner = "R1";

@@ -144,7 +144,7 @@ TEST(PipelineOptions, ErrorsNameTheOptionAndItsValue) {
   EXPECT_EQ(configureError("sidewalk", R"({"no_such": 1})"), "pipeline \"sidewalk\": unknown option \"no_such\"");
   EXPECT_EQ(configureError("sidewalk", R"({"adaptive": 1})"),
             "pipeline \"sidewalk\": option adaptive = 1: must be true or false");
-  EXPECT_EQ(configureError("color-rgb", R"({"blend": 2})"), "pipeline \"color-rgb\": option blend = 2: must be in [1e-09, 1]");
+  EXPECT_EQ(configureError("color-rgb", R"({"blend": 2})"), "pipeline \"color-rgb\": option blend = 2: must be in (0, 1]");
   EXPECT_EQ(configureError("blue-band", R"({"block_size": 2.5})"),
             "pipeline \"blue-band\": option block_size = 2.5: must be an integer");
   EXPECT_EQ(configureError("blue-band", R"({"threshold": "otsu"})"),
