@@ -54,7 +54,7 @@ struct MemberValue {
   bool wrong_type = false;
 };
 
-MemberValue memberValue(const OptionFieldSpec& field, const nlohmann::json& value) {
+MemberValue memberValue(const OptionFieldSpec& field, const Json& value) {
   const auto bad = [&](const std::string& rule, bool wrong_type) {
     return MemberValue{.error = "option " + field.name + " = " + value.dump() + ": must be " + rule, .wrong_type = wrong_type};
   };
@@ -93,7 +93,7 @@ const OptionFieldSpec* findField(const std::vector<OptionFieldSpec>& fields, con
 
 /// The members of `object` (but "preset") as (field index, value), appended to `out`; throws
 /// InvalidInput "WHO: ..." at the first bad one.
-void readMembers(const std::vector<OptionFieldSpec>& fields, const nlohmann::json& object, std::string_view who,
+void readMembers(const std::vector<OptionFieldSpec>& fields, const Json& object, std::string_view who,
                  std::vector<std::pair<std::size_t, OptionValue>>& out) {
   for (const auto& member : object.items()) {
     const std::string& key = member.key();  // not a structured binding: clang 14 (scripts/fuzz) cannot capture one
@@ -108,7 +108,7 @@ void readMembers(const std::vector<OptionFieldSpec>& fields, const nlohmann::jso
 
 /// The members of `object` (but "preset") that are good, as (field index, value), appended to `out`;
 /// every other member is an Issue at POINTER/KEY.
-void collectMembers(const std::vector<OptionFieldSpec>& fields, const nlohmann::json& object, const std::string& pointer,
+void collectMembers(const std::vector<OptionFieldSpec>& fields, const Json& object, const std::string& pointer,
                     Issues& issues, std::vector<std::pair<std::size_t, OptionValue>>& out) {
   for (const auto& member : object.items()) {
     const std::string& key = member.key();
@@ -150,9 +150,9 @@ namespace detail {
 std::vector<std::pair<std::size_t, OptionValue>> parseOptionMembers(const std::vector<OptionFieldSpec>& fields,
                                                                     const std::vector<OptionPreset>& presets,
                                                                     std::string_view who, std::string_view text) {
-  nlohmann::json j;
+  Json j;
   try {
-    j = nlohmann::json::parse(text.empty() ? std::string_view("{}") : text);
+    j = Json::parse(text.empty() ? std::string_view("{}") : text);
   } catch (const nlohmann::json::exception& e) {
     throw InvalidInput(std::string(who) + ": options are not JSON: " + e.what());
   }
@@ -165,7 +165,7 @@ std::vector<std::pair<std::size_t, OptionValue>> parseOptionMembers(const std::v
     if (preset == presets.end())
       throw InvalidInput(std::string(who) + ": unknown preset \"" + name + "\" (" + presetNames(presets) + ")");
     const std::string in_preset = std::string(who) + ", preset \"" + name + "\"";
-    const nlohmann::json values = nlohmann::json::parse(preset->json, nullptr, false);
+    const Json values = Json::parse(preset->json, nullptr, false);
     if (!values.is_object() || values.contains("preset"))
       throw InvalidInput(in_preset + ": must be a JSON object of options (without \"preset\")");
     readMembers(fields, values, in_preset, out);
@@ -181,7 +181,7 @@ std::vector<std::pair<std::size_t, OptionValue>> readOptionMembers(const std::ve
   std::vector<std::pair<std::size_t, OptionValue>> out;
   const std::optional<Json> parsed = parseJson(text.empty() ? std::string_view("{}") : text, issues);
   if (!parsed) return out;  // the syntax error is an Issue with its line and column
-  const nlohmann::json j = nlohmann::json::parse(parsed->dump());
+  const Json& j = *parsed;
   if (!j.is_object()) {
     addIssue(issues, Severity::Error, "schema.type", pointer, "options must be a JSON object");
     return out;
@@ -193,7 +193,7 @@ std::vector<std::pair<std::size_t, OptionValue>> readOptionMembers(const std::ve
       addIssue(issues, Severity::Error, p->is_string() ? "schema.range" : "schema.type", pointer + "/preset",
                "unknown preset " + p->dump() + " (" + presetNames(presets) + ")");
     } else {
-      collectMembers(fields, nlohmann::json::parse(preset->json), pointer + "/preset", issues, out);
+      collectMembers(fields, Json::parse(preset->json), pointer + "/preset", issues, out);
     }
   }
   collectMembers(fields, j, pointer, issues, out);

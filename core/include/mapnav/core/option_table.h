@@ -10,7 +10,9 @@
 //   read()     the same for a block of a file, every bad member an Issue at its JSON Pointer,
 //   validate() the rules, as Ceres words them ("OWNER::FIELD = VALUE: must be RULE"),
 //   list()     the documented options with their defaults as JSON text (`mapnav pipelines`),
-//   json()     a struct's values as a JSON object (parse() reads it back).
+//   json()     a struct's values as a JSON object (parse() reads it back),
+//   describe() the table as data, from which optionSchemaJson() and optionMarkdown() write the JSON
+//              Schema of its options object and its reference in docs (`mapnav options`).
 // The JSON is read and written in core/src/option_table.cpp: this header needs no JSON library.
 //
 //   const OptionTable<FooOptions>& fooOptionTable() {
@@ -86,6 +88,28 @@ struct OptionFieldSpec {
   std::vector<std::string> choices = {};    ///< Choice: the names of the enum's values
   std::string doc = {};
 };
+
+/// What a table says of itself: the data the generated schemas and docs are written from.
+struct OptionTableDescription {
+  std::string owner = {};
+  std::vector<OptionFieldSpec> fields = {};
+  std::vector<std::string> defaults = {};  ///< parallel to fields: a default-constructed struct's value, JSON text
+  std::vector<OptionPreset> presets = {};
+  /// The rules between fields as (field, rule): ("far_m", "> near_m").
+  std::vector<std::pair<std::string, std::string>> rules = {};
+};
+
+/// The JSON Schema (draft 2020-12) of the options object the table reads, as one line of JSON: an
+/// object of the fields (each with its type, its range as minimum / exclusiveMinimum / maximum /
+/// exclusiveMaximum, an integer's type bounds, "odd" as not a multiple of 2, a choice's names as an
+/// enum, its default unless that is not finite, its doc as the description, a rule between fields
+/// appended to it as "; must be RULE"), no other members but "x-..." ones, and "preset" when the table has
+/// presets. Rules a schema cannot state (a number must be finite; the rules between fields) are
+/// still the table's.
+std::string optionSchemaJson(const OptionTableDescription& table);
+/// The table as a Markdown section of docs/options.md: "### OWNER", one row per field (option,
+/// default, allowed values, meaning), then the rules between fields and the presets.
+std::string optionMarkdown(const OptionTableDescription& table);
 
 namespace detail {
 
@@ -325,6 +349,15 @@ class OptionTable {
     std::vector<OptionInfo> out;
     for (std::size_t i = 0; i < specs_.size(); ++i)
       out.push_back({specs_[i].name, detail::optionValueJson(specs_[i], getters_[i](defaults)), specs_[i].doc});
+    return out;
+  }
+
+  /// The table as data (optionSchemaJson(), optionMarkdown()), with a default-constructed T's values.
+  OptionTableDescription describe() const {
+    const T defaults{};
+    OptionTableDescription out{.owner = owner_, .fields = specs_, .presets = presets_};
+    for (std::size_t i = 0; i < specs_.size(); ++i) out.defaults.push_back(detail::optionValueJson(specs_[i], getters_[i](defaults)));
+    for (const Check& c : checks_) out.rules.emplace_back(specs_[c.field].name, c.rule);
     return out;
   }
 
