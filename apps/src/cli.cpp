@@ -26,6 +26,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   registerLogCommands(app, commands);
   registerMissionCommands(app, commands);
   registerPipelinesCommand(app, commands);
+  registerOptionsCommand(app, commands);
   registerDetectCommands(app, commands);
   registerVisionCommands(app, commands);
   registerEvalCommands(app, commands);

@@ -69,6 +69,7 @@ void registerLogCommands(CLI::App& app, Commands& commands);      // log info|fr
 void registerTrackCommand(CLI::App& log, Commands& commands);     // log track (under `log`)
 void registerMissionCommands(CLI::App& app, Commands& commands);  // replay, run, demo, trace show
 void registerPipelinesCommand(CLI::App& app, Commands& commands); // pipelines
+void registerOptionsCommand(CLI::App& app, Commands& commands);   // options
 void registerDetectCommands(CLI::App& app, Commands& commands);   // detect, segment
 void registerVisionCommands(CLI::App& app, Commands& commands);   // rectify, calibrate chessboard|tilt
 void registerEvalCommands(CLI::App& app, Commands& commands);     // eval segmentation

@@ -12,20 +12,6 @@
 
 namespace mapnav {
 
-const OptionTable<LearnedPipelineOptions>& learnedPipelineOptionTable() {
-  using O = LearnedPipelineOptions;
-  static const OptionTable<O> table =
-      OptionTable<O>("LearnedPipelineOptions")
-          .field("model", &O::model,
-                 "a model file (mapnav train segmentation), or a committed model's name: camvid (real streets: road "
-                 "and pavement, trained on CamVid photos) or sim (the simulator's paths, trained on its logs)")
-          .field("threads", &O::threads, inRange(0, 256), "Torch's CPU threads for the process; 0 = every core")
-          .include(scorePipelineOptionTable());
-  return table;
-}
-
-void LearnedPipelineOptions::validate() const { learnedPipelineOptionTable().validate(*this); }
-
 std::filesystem::path resolveSegmentationModel(const std::string& name_or_path) {
   namespace fs = std::filesystem;
   std::error_code ec;

@@ -11,8 +11,6 @@
 
 namespace mapnav {
 
-namespace {
-
 const OptionTable<RelocalizeOptions>& relocalizeOptionTable() {
   using O = RelocalizeOptions;
   static const OptionTable<O> table =
@@ -38,6 +36,8 @@ const OptionTable<RelocalizeOptions>& relocalizeOptionTable() {
           .field("cell_m", &O::cell_m, above(0), "the ground grid's cell, m");
   return table;
 }
+
+namespace {
 
 /// Cells of a grid on the ground (vehicle frame) over a box, each set when its centre is inside.
 class GroundGrid {

@@ -8,6 +8,16 @@
 
 namespace mapnav {
 
+const OptionTable<MissionFile>& missionFileOptionTable() {
+  using O = MissionFile;
+  static const OptionTable<O> table =
+      OptionTable<O>("MissionFile")
+          .field("speed_mps", &O::speed_mps, inRange(0.01, 40), "cruise speed, m/s (a replayed car log: its own speed)")
+          .field("frame_rate_hz", &O::frame_rate_hz, inRange(0.01, 100), "camera frames per second")
+          .field("wander_m", &O::wander_m, inRange(0, 5), "amplitude of a gentle lateral wander around the route, m");
+  return table;
+}
+
 std::optional<MissionFile> parseMission(std::string_view text, const std::filesystem::path& path, Issues& issues) {
   const std::size_t before = countSeverity(issues, Severity::Error);
   const auto json = parseJson(text, issues);
@@ -54,9 +64,10 @@ std::optional<MissionFile> parseMission(std::string_view text, const std::filesy
         }
       }
     }
-    m.speed_mps = top.number("speed_mps", false, 0.01, 40.0).value_or(m.speed_mps);
-    m.frame_rate_hz = top.number("frame_rate_hz", false, 0.01, 100.0).value_or(m.frame_rate_hz);
-    m.wander_m = top.number("wander_m", false, 0.0, 5.0).value_or(m.wander_m);
+    Json numbers = Json::object();  // the mission's numbers, read by their table
+    for (const OptionFieldSpec& field : missionFileOptionTable().fields())
+      if (const Json* value = top.member(field.name, false)) numbers[field.name] = *value;
+    m = missionFileOptionTable().read(numbers.dump(), m, "", issues);
     // Blocks read by the modules that own them; here only their shape is checked.
     for (const auto& [key, target] : {std::pair{"world", &m.world_json}, std::pair{"odometry", &m.odometry_json}}) {
       if (const Json* block = top.member(key, false)) {

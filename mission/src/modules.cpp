@@ -15,8 +15,6 @@ namespace mapnav {
 // ---------------------------------------------------------------------------------------------
 // Map
 
-namespace {
-
 const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
   using O = MapModuleOptions;
   static const OptionTable<O> table =
@@ -40,8 +38,6 @@ const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
                  "map lines, m");
   return table;
 }
-
-}  // namespace
 
 void MapModuleOptions::validate() const {
   predict.validate();
@@ -293,8 +289,6 @@ std::string VisionModule::pipelineName() const { return pipeline_->name(); }
 // ---------------------------------------------------------------------------------------------
 // Navigator
 
-namespace {
-
 const OptionTable<NavigatorOptions>& navigatorOptionTable() {
   using O = NavigatorOptions;
   static const OptionTable<O> table =
@@ -304,8 +298,6 @@ const OptionTable<NavigatorOptions>& navigatorOptionTable() {
           .field("plan_ahead_m", &O::plan_ahead_m, above(0), "... and ends this far ahead of it, m");
   return table;
 }
-
-}  // namespace
 
 void NavigatorOptions::validate() const {
   route.validate();

@@ -19,8 +19,6 @@
 
 namespace mapnav {
 
-namespace {
-
 const OptionTable<RunOptions>& runOptionTable() {
   using O = RunOptions;
   static const OptionTable<O> table =
@@ -39,8 +37,6 @@ const OptionTable<RunOptions>& runOptionTable() {
                  "the vehicle's width for \"stays on the path\", m");
   return table;
 }
-
-}  // namespace
 
 void RunOptions::validate() const {
   runOptionTable().validate(*this);

@@ -67,11 +67,11 @@ TEST(OdometryNoiseOptions, DefaultsAreValidAndTheMissionBlockIsChecked) {
 TEST(OdometryNoiseOptions, TheMissionBlockAndValidateHaveOneRuleSet) {
   Issues issues;
   parseOdometryNoise(R"({"scale_error": 0.495, "gyro_bias_deg_s": 20, "x-why": "a note"})", "/odometry", issues);
-  ASSERT_EQ(issues.size(), 2u);
-  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.range", "/odometry/gyro_bias_deg_s",
-                              "option gyro_bias_deg_s = 20: must be in [-10, 10]"}));
-  EXPECT_EQ(issues[1], (Issue{Severity::Error, "schema.range", "/odometry/scale_error",
+  ASSERT_EQ(issues.size(), 2u);  // in the block's order
+  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.range", "/odometry/scale_error",
                               "option scale_error = 0.495: must be in [-0.49, 0.49]"}));
+  EXPECT_EQ(issues[1], (Issue{Severity::Error, "schema.range", "/odometry/gyro_bias_deg_s",
+                              "option gyro_bias_deg_s = 20: must be in [-10, 10]"}));
   OdometryNoiseOptions o;
   o.gyro_bias_deg_s = 20;  // validate() took any finite bias
   EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { o.validate(); },

@@ -280,11 +280,11 @@ TEST(WorldOptions, TheWorldBlockNamesEveryBadMemberAtItsPointer) {
   const WorldOptions o = parseWorldOptions(
       R"({"seed": 9, "shadow_k": 2, "paved_edge_samples": 2.5, "dust": "x", "shadw": 1, "x-note": "fine", "leaf_density": 0.5})",
       "/world", issues);
-  ASSERT_EQ(issues.size(), 4u);
-  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.type", "/world/dust", "option dust = \"x\": must be a number"}));
+  ASSERT_EQ(issues.size(), 4u);  // in the block's order
+  EXPECT_EQ(issues[0], (Issue{Severity::Error, "schema.range", "/world/shadow_k", "option shadow_k = 2: must be in (0, 1]"}));
   EXPECT_EQ(issues[1], (Issue{Severity::Error, "schema.type", "/world/paved_edge_samples",
                               "option paved_edge_samples = 2.5: must be an integer"}));  // no longer rounded to 3
-  EXPECT_EQ(issues[2], (Issue{Severity::Error, "schema.range", "/world/shadow_k", "option shadow_k = 2: must be in (0, 1]"}));
+  EXPECT_EQ(issues[2], (Issue{Severity::Error, "schema.type", "/world/dust", "option dust = \"x\": must be a number"}));
   EXPECT_EQ(issues[3], (Issue{Severity::Error, "schema.unknown_field", "/world/shadw", "unknown option \"shadw\""}));
   EXPECT_EQ(o.seed, 9u);  // the good members apply
   EXPECT_EQ(o.leaf_density, 0.5);

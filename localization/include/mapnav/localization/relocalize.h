@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <string>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
@@ -56,6 +57,8 @@ struct RelocalizeOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+const OptionTable<RelocalizeOptions>& relocalizeOptionTable();
 
 /// How the detected road region (vehicle frame) compares with a view's predicted paved area
 /// (view.regions), both within the view's footprint, on a grid of `cell_m` cells.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mapnav/core/issue.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/navigator/road_position.h"
 
 namespace mapnav {
@@ -42,6 +43,10 @@ struct MissionFile {
   std::string odometry_json = "{}";  ///< the `odometry` block, for the odometry noise model
   HaltPolicy halt;                   ///< the `halt` block
 };
+
+/// The mission's numbers (speed_mps, frame_rate_hz, wander_m) with their rules; the other members of
+/// a mission file are files, road positions and blocks that other tables read.
+const OptionTable<MissionFile>& missionFileOptionTable();
 
 /// A mission document's text; the structure and values are checked (issues with JSON Pointers), the
 /// files it names must exist. `path` is where the text came from: the map and camera resolve against

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/localization/localize.h"
 #include "mapnav/localization/pose_filter.h"
@@ -88,6 +89,9 @@ struct MapModuleOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// MapModuleOptions' own fields (the park reset); its components have tables of their own.
+const OptionTable<MapModuleOptions>& mapModuleOptionTable();
 
 class MapModule {
  public:
@@ -194,6 +198,9 @@ struct NavigatorOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// NavigatorOptions' own fields (the plan's extent); its components have tables of their own.
+const OptionTable<NavigatorOptions>& navigatorOptionTable();
 
 class NavigatorModule {
  public:

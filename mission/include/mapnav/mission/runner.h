@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/image/image.h"
 #include "mapnav/mission/metrics.h"
 #include "mapnav/mission/mission_file.h"
@@ -119,6 +120,8 @@ struct RunOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+const OptionTable<RunOptions>& runOptionTable();
 
 struct MissionRun {
   std::string mode;           ///< "replay" or "closed-loop"
