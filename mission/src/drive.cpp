@@ -13,7 +13,7 @@ PlantOptions simulationSettings(const MissionFile& mission, const std::optional<
   Issues issues;
   PlantOptions s{parseWorldOptions(mission.world_json, "/world", issues),
                        parseOdometryNoise(mission.odometry_json, "/odometry", issues)};
-  if (hasErrors(issues)) throw ValidationError(mission.name, std::move(issues));
+  if (hasErrors(issues)) throw ValidationError(mission.file.empty() ? mission.name : mission.file.string(), std::move(issues));
   if (seed) {
     s.world.seed = *seed;
     s.odometry.seed = *seed + 1;

@@ -22,6 +22,7 @@ std::optional<MissionFile> parseMission(std::string_view text, const std::filesy
   const std::size_t before = countSeverity(issues, Severity::Error);
   const auto json = parseJson(text, issues);
   MissionFile m;
+  m.file = path;
   if (json) {
     JsonObject top(*json, "", issues);
     if (const auto format = top.string("format"); format && *format != kMissionFormat) {

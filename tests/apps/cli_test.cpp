@@ -329,6 +329,31 @@ TEST(Cli, ABadMissionExitsOneNamingTheProblem) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("m.json:/map: error: mission.missing_file"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "log"));
+  // A mission whose world and odometry blocks are wrong: every bad member, named by the file and its
+  // pointer, the mission's numbers too.
+  nlohmann::json mission = nlohmann::json::parse(readFile(testing::fixturePath("missions/short_crossing.json")));
+  for (const char* key : {"map", "camera"})
+    mission[key] = (testing::fixturePath("missions") / mission[key].get<std::string>()).string();
+  mission["world"] = {{"shadow_k", 2}, {"shadw", 1}};
+  mission["odometry"] = {{"gyro_bias_deg_s", 20}};
+  writeFileAtomic(dir / "blocks.json", std::string_view(mission.dump()));
+  const auto blocks = runCli({"simulate", "--mission", str(dir / "blocks.json"), "-o", str(dir / "log")});
+  EXPECT_EQ(blocks.exit_code, 1);
+  for (const std::string line :
+       {":/world/shadow_k: error: schema.range: option shadow_k = 2: must be in (0, 1]",
+        ":/world/shadw: error: schema.unknown_field: unknown option \"shadw\"",
+        ":/odometry/gyro_bias_deg_s: error: schema.range: option gyro_bias_deg_s = 20: must be in [-10, 10]"})
+    EXPECT_NE(blocks.err.find(str(dir / "blocks.json") + line), std::string::npos) << blocks.err;
+  mission.erase("world");
+  mission.erase("odometry");
+  mission["speed_mps"] = 50;
+  writeFileAtomic(dir / "numbers.json", std::string_view(mission.dump()));
+  const auto numbers = runCli({"simulate", "--mission", str(dir / "numbers.json"), "-o", str(dir / "log")});
+  EXPECT_EQ(numbers.exit_code, 1);
+  EXPECT_NE(numbers.err.find(str(dir / "numbers.json") + ":/speed_mps: error: schema.range: option speed_mps = 50: must be in [0.01, 40]"),
+            std::string::npos)
+      << numbers.err;
+  EXPECT_FALSE(fs::exists(dir / "log"));
 }
 
 TEST(Cli, VisionCommandsOnASimulatedFrame) {

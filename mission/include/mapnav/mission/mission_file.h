@@ -27,6 +27,7 @@ struct HaltPolicy {
 };
 
 struct MissionFile {
+  std::filesystem::path file;    ///< where it was read from (parseMission's path): what errors in its blocks name
   std::string name;
   std::filesystem::path map;     ///< resolved against the mission file's folder
   std::filesystem::path camera;  ///< likewise
