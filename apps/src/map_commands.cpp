@@ -164,6 +164,8 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
 
 int runExportGeoJson(const ExportGeoJsonConfig& config, std::ostream& out, std::ostream& err) {
   return withMap(config.input, err, [&](const Map& map) {
+    if (!config.origin && !map.data().origin)
+      throw InvalidInput("map \"" + map.data().name + "\" has no geodetic origin: give one with --origin LAT,LON to export GeoJSON");
     writeFileAtomic(config.output, exportGeoJson(map.data(), config.origin));
     out << "wrote " << config.output << " ("
         << map.intersections().size() + map.roads().size() + map.landmarks().size() << " features)\n";

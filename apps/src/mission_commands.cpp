@@ -17,6 +17,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/map/map_io.h"
+#include "mapnav/mission/pipeline_choice.h"
 #include "mapnav/mission/report.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/mission/simulate.h"
@@ -142,7 +143,11 @@ int runMissionCommand(const MissionRunConfig& config, std::ostream& out, std::os
   return guarded(err, [&] {
     const MissionFile mission = loadMission(config.mission);
     loadPlugins(config.plugins, config.pipeline.empty() ? mission.vision_pipeline : config.pipeline);
-    return finish(runReported(mission, config, err, runner), config.json, false, out);
+    try {
+      return finish(runReported(mission, config, err, runner), config.json, false, out);
+    } catch (const NoPipelineChosen& e) {
+      throw InvalidInput(std::string(e.what()) + "; on the command line: --pipeline NAME");
+    }
   });
 }
 

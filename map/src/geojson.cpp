@@ -429,7 +429,7 @@ void addKept(Json& out, const Properties& kept, const std::set<std::string, std:
 std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& origin_override) {
   const std::optional<GeoOrigin> origin = origin_override ? origin_override : map.origin;
   if (!origin) {
-    throw InvalidInput("map \"" + map.name + "\" has no geodetic origin; give one (--origin LAT,LON) to export GeoJSON");
+    throw InvalidInput("map \"" + map.name + "\" has no geodetic origin: give one to export GeoJSON (latitude, longitude)");
   }
   const LocalFrame frame(*origin);
   auto position = [&](const Vec2& p) {

@@ -23,7 +23,7 @@ std::string pipelineForRoads(const Map& map, const std::vector<std::string>& roa
     if (it == surfaces.end()) it = surfaces.insert(surfaces.end(), {surface, {}});
     if (std::find(it->second.begin(), it->second.end(), id) == it->second.end()) it->second.push_back(id);
   }
-  if (surfaces.empty()) throw InvalidInput(what + ": names no vision pipeline and drives on no road to choose one by");
+  if (surfaces.empty()) throw NoPipelineChosen(what + ": names no vision pipeline and drives on no road to choose one by");
   const std::string first = pipelineForSurface(surfaces.front().first);
   const bool decided = !first.empty() && std::all_of(surfaces.begin(), surfaces.end(), [&](const auto& s) {
     return pipelineForSurface(s.first) == first;
@@ -37,9 +37,9 @@ std::string pipelineForRoads(const Map& map, const std::vector<std::string>& roa
     said += (said.empty() ? "" : "; ") + surface + " (" + list + ") " +
             (pipeline.empty() ? "calls for no pipeline known to follow it" : "calls for " + pipeline);
   }
-  throw InvalidInput(what + ": names no vision pipeline, and the surfaces of the roads its route drives do not decide one: " +
-                     said + ". Name the pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or with --pipeline " +
-                     "(`mapnav pipelines` lists them)");
+  throw NoPipelineChosen(what + ": names no vision pipeline, and the surfaces of the roads its route drives do not decide one: " +
+                         said + ". Name the pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or for the run " +
+                         "(`mapnav pipelines` lists them)");
 }
 
 }  // namespace mapnav

@@ -110,7 +110,7 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
     if (m.reached_goal) {
       run.outcome = text("goal reached (%.2f m from it)", m.goal_distance_m);
     } else if (run.stopped_early) {
-      run.outcome = "stopped after " + std::to_string(run.frames.size()) + " frames (--max-frames), " +
+      run.outcome = "stopped after " + std::to_string(run.frames.size()) + " frames (the run's max_frames), " +
                     text("%.1f m before the goal", loop.navigator().status().to_go_m);
     } else {
       run.outcome = text("the log ended %.2f m from the goal", m.goal_distance_m);
@@ -157,7 +157,7 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
     } else if (source.finished()) {
       run.outcome = text("stopped where it believed the goal was, %.2f m from it", m.goal_distance_m);
     } else if (run.stopped_early) {
-      run.outcome = "stopped after " + std::to_string(source.frames()) + " frames (--max-frames), " +
+      run.outcome = "stopped after " + std::to_string(source.frames()) + " frames (the run's max_frames), " +
                     text("%.1f m before the goal", loop.navigator().status().to_go_m);
     } else {
       run.outcome = text("time limit (%.0f s) reached %.2f m from the goal", drive.time_limit_s, m.goal_distance_m);

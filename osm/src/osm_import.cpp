@@ -330,7 +330,7 @@ class Importer {
             if (!options_.repair) {
               warn("osm.duplicate_node", nodeRef(other),
                    "lies " + fixed(distance) + " m from node " + std::to_string(id) +
-                       " without being the same node (--repair merges them)");
+                       " without being the same node (the import's repair merges them)");
             } else if (sets.join(id, other)) {
               result_.report.repairs.push_back("merged node " + std::to_string(other) + " with node " + std::to_string(id) +
                                                " (" + fixed(distance) + " m apart)");
@@ -395,7 +395,7 @@ class Importer {
           if (!options_.repair) {
             warn("osm.crossing_without_node", wayRef(wa),
                  "crosses way " + std::to_string(wb) + " at (" + fixed(where.x(), 1) + ", " + fixed(where.y(), 1) +
-                     ") m where neither has a node (--repair adds an intersection)");
+                     ") m where neither has a node (the import's repair adds an intersection)");
             continue;
           }
           const NodeId id = next_id--;
@@ -492,7 +492,7 @@ class Importer {
       const auto [meters, least] = comparedText(length, options_.min_piece_m);
       warn("osm.tiny_piece", wayRef(way),
            "piece " + p.id + " is only " + meters + " m long (< " + least + " m)" +
-               (loop || stub ? std::string(" (--repair drops it)") : std::string()));
+               (loop || stub ? std::string(" (the import's repair drops it)") : std::string()));
       kept.push_back(p);
     }
     pieces_ = std::move(kept);

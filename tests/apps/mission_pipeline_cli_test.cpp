@@ -47,8 +47,8 @@ TEST(CliMissionPipeline, AMissionWithoutVisionOnAsphaltThenBrickSaysToNameOne) {
   EXPECT_EQ(run.err,
             "mapnav: error: mission \"m\": names no vision pipeline, and the surfaces of the roads its route drives do "
             "not decide one: asphalt (H0_0) calls for color-rgb; brick (V1_0) calls for sidewalk. Name the "
-            "pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or with --pipeline (`mapnav pipelines` "
-            "lists them)\n");
+            "pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or for the run (`mapnav pipelines` "
+            "lists them); on the command line: --pipeline NAME\n");
   // Named, in the mission or on the command line, it runs.
   writeFileAtomic(dir / "named.json", mission + R"(, "vision": {"pipeline": "sidewalk"}})");
   const auto named = runCli({"run", "--mission", (dir / "named.json").string(), "--max-frames", "2", "--json"});

@@ -55,11 +55,11 @@ TEST(PipelineForRoads, RoadsThatCallForDifferentPipelinesOrNoneAreAnErrorSayingT
   try {
     pipelineForRoads(mixed, {"H0_0", "V1_0", "H0_1", "H0_0"}, "mission \"m\"");
     ADD_FAILURE() << "no error";
-  } catch (const InvalidInput& e) {
+  } catch (const NoPipelineChosen& e) {
     EXPECT_EQ(std::string(e.what()),
               "mission \"m\": names no vision pipeline, and the surfaces of the roads its route drives do not decide "
               "one: asphalt (H0_0) calls for color-rgb; brick (V1_0, H0_1) calls for sidewalk. Name the pipeline "
-              "in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or with --pipeline (`mapnav pipelines` lists "
+              "in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or for the run (`mapnav pipelines` lists "
               "them)");
   }
   // Roads the route does not drive do not count; a surface no pipeline follows decides nothing.

@@ -1,13 +1,21 @@
 #pragma once
 // Which vision pipeline a mission runs (docs/mission-format.md, "Which pipeline"): the one the
-// caller names (`--pipeline`), else the mission's `vision.pipeline`, else the one the surfaces of
+// caller names (RunOptions::pipeline), else the mission's `vision.pipeline`, else the one the surfaces of
 // the roads its route drives call for — or an error that says to name one, never a silent default.
 #include <string>
 #include <vector>
 
+#include "mapnav/core/error.h"
 #include "mapnav/map/map.h"
 
 namespace mapnav {
+
+/// A mission that names no pipeline, on roads whose surfaces do not decide one (pipelineForRoads);
+/// what() says which roads call for which pipeline. The CLI adds its flag to the advice.
+class NoPipelineChosen : public InvalidInput {
+ public:
+  using InvalidInput::InvalidInput;
+};
 
 /// The pipeline that each of the map format's six surfaces calls for, when a mission names none:
 ///   concrete, brick        → "sidewalk"      (Wallace 1985 §2: the campus sidewalks, a colour
@@ -23,9 +31,9 @@ namespace mapnav {
 std::string pipelineForSurface(const std::string& surface);
 
 /// The pipeline that the surfaces of `roads` (ids of `map`, the roads a route drives) call for, when
-/// they all call for the same one. Throws InvalidInput otherwise, saying which roads call for which
-/// pipeline (or for none) and to name the pipeline in the mission's `vision.pipeline` or with
-/// `--pipeline`; `what` (the mission) starts the message. Throws NotFound for an unknown road id.
+/// they all call for the same one. Throws NoPipelineChosen otherwise, saying which roads call for
+/// which pipeline (or for none) and to name the pipeline in the mission's `vision.pipeline` or for
+/// the run; `what` (the mission) starts the message. Throws NotFound for an unknown road id.
 std::string pipelineForRoads(const Map& map, const std::vector<std::string>& roads, const std::string& what);
 
 }  // namespace mapnav
