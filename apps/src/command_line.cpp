@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -40,6 +41,21 @@ CLI::Validator Commands::valueCheck(const CLI::Validator& check, bool numeric) {
         return message;
       },
       check.get_description(), check.get_name());
+}
+
+CLI::Validator Commands::fieldRule(const OptionFieldSpec& field) {
+  const bool integer = field.kind == OptionKind::Integer;
+  const std::string rule = (integer ? "an integer " : "") + field.rule.rangeText(false);
+  return CLI::Validator(
+      [field, rule, integer](std::string& text) {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size()) return std::string();  // CLI11's type check says it
+        const bool ok = field.rule.allows(value) && (!integer || value == std::floor(value)) &&
+                        (!field.rule.odd || std::fmod(std::abs(value), 2.0) == 1.0);
+        return ok ? std::string() : "Value " + text + " must be " + rule + (field.rule.odd ? ", odd" : "");
+      },
+      rule, field.name);
 }
 
 CLI::Validator outputFile(bool geojson) {

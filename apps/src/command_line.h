@@ -8,8 +8,12 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "mapnav/core/option_table.h"
 
 namespace mapnav::cli {
 
@@ -37,6 +41,14 @@ class Commands {
   /// still reports it in its words. A value that is not a number at all stays a usage error (exit 2),
   /// as CLI11's type check has it.
   CLI::Validator numberCheck(const CLI::Validator& range) { return valueCheck(range, true); }
+  /// The rule of `table`'s field `field` as numberCheck() of a flag's value, in the table's words
+  /// ("must be in [1, 8]"): a flag that sets an option states no range of its own.
+  template <class T>
+  CLI::Validator ruleCheck(const OptionTable<T>& table, std::string_view field) {
+    for (const OptionFieldSpec& spec : table.fields())
+      if (spec.name == field) return numberCheck(fieldRule(spec));
+    throw std::logic_error(table.owner() + " has no field \"" + std::string(field) + "\"");
+  }
   /// `names` (CLI::IsMember) as a check of the value: a name not among them is wrong input (exit 1).
   CLI::Validator nameCheck(const CLI::Validator& names) { return valueCheck(names, false); }
   /// Whether a numberCheck() or nameCheck() rejected a value of the line parsed (cli.cpp: the exit
@@ -45,6 +57,7 @@ class Commands {
 
  private:
   CLI::Validator valueCheck(const CLI::Validator& check, bool numeric);
+  static CLI::Validator fieldRule(const OptionFieldSpec& field);
 
   std::vector<std::shared_ptr<void>> held_;
   Body chosen_;

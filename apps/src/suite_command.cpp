@@ -46,11 +46,8 @@ class TemporaryFolder {
 }  // namespace
 
 int runSuiteCommand(const SuiteConfig& config, std::ostream& out, std::ostream& err) {
-  SuiteOptions options;
+  SuiteOptions options = config.options;
   options.seeds = namingFlag("--seeds", [&] { return parseSeedList(config.seeds); });
-  options.junctions = config.junctions;
-  options.max_frames = config.max_frames;
-  options.threads = config.threads;
   options.camera = dataPath("maps/cameras/terregator_pinhole.json");
   return guarded(err, [&] {
     loadPlugins({});
@@ -91,15 +88,15 @@ void registerSuiteCommand(CLI::App& app, Commands& commands) {
       "random-campus", "Random small campuses and their missions (map/random_campus.h), closed loop at the defaults");
   rc->add_option("--seeds", config->seeds, "Seeds, one map and mission each: ranges and lists, e.g. 1-30 or 1,4,9-12")
       ->default_str("1-30");
-  rc->add_option("--junctions", config->junctions, "Junctions along each campus' spine")
-      ->default_val(3)
-      ->check(commands.numberCheck(CLI::Range(1, 8)));
-  rc->add_option("--max-frames", config->max_frames, "Stop each run after this many frames (default: to the goal)");
+  rc->add_option("--junctions", config->options.campus.junctions, "Junctions along each campus' spine")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(suiteOptionTable(), "junctions"));
+  rc->add_option("--max-frames", config->options.max_frames, "Stop each run after this many frames (default: to the goal)");
   rc->add_option("-o,--output", config->output,
                  "Keep each seed's map.json and mission.json in DIR/seed-N/ (default: a temporary folder, removed)");
-  rc->add_option("--threads", config->threads, "Seeds run at once (the results do not depend on it)")
-      ->default_val(1)
-      ->check(commands.numberCheck(CLI::Range(1, 64)));
+  rc->add_option("--threads", config->options.threads, "Seeds run at once (the results do not depend on it)")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(suiteOptionTable(), "threads"));
   rc->add_flag("--json", config->json, "Print one JSON object (rows go to stderr as progress)");
   rc->add_flag("--no-wall-time", *no_wall_time, "Leave out wall times: the same bytes for the same seeds");
   rc->footer(

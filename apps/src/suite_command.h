@@ -6,14 +6,16 @@
 #include <iosfwd>
 #include <string>
 
+#include "mapnav/mission/suite.h"
+
 namespace mapnav::cli {
 
 struct SuiteConfig {
   std::string seeds = "1-30";  ///< --seeds, parsed by parseSeedList
-  int junctions = 3;
-  std::size_t max_frames = 0;
+  /// --junctions, --max-frames, --threads: the library's options and defaults (the seeds, the camera
+  /// and the folder are set from the other flags).
+  SuiteOptions options;
   std::string output;          ///< -o: keep each seed's map and mission there ("": a temporary folder, removed)
-  int threads = 1;
   bool json = false;
   bool wall_time = true;       ///< false (--no-wall-time): the same bytes for the same seeds
 };

@@ -26,13 +26,22 @@ namespace mapnav {
 
 namespace fs = std::filesystem;
 
+const OptionTable<SuiteOptions>& suiteOptionTable() {
+  using O = SuiteOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("SuiteOptions")
+          .nest(&O::campus, randomCampusOptionTable(), {}, {"seed"})
+          .field("max_frames", &O::max_frames, "per run; 0: to the goal")
+          .field("world_json", &O::world_json, "the missions' `world` object but its seed (the run's)")
+          .field("odometry_json", &O::odometry_json, "the missions' `odometry` object but its seed (the run's + 1)")
+          .field("threads", &O::threads, inRange(1, 64), "seeds run at once; the results do not depend on it");
+  return table;
+}
+
 void SuiteOptions::validate() const {
-  if (seeds.empty()) throw InvalidInput("SuiteOptions.seeds: empty; give at least one seed");
-  if (threads < 1) throw InvalidInput("SuiteOptions.threads: " + std::to_string(threads) + " is below 1");
-  if (folder.empty()) throw InvalidInput("SuiteOptions.folder: empty; each seed's map and mission are written there");
-  RandomCampusOptions campus;
-  campus.junctions = junctions;
-  campus.validate();
+  if (seeds.empty()) throw InvalidInput("SuiteOptions::seeds: empty; give at least one seed");
+  if (folder.empty()) throw InvalidInput("SuiteOptions::folder: empty; each seed's map and mission are written there");
+  suiteOptionTable().validate(*this);
 }
 
 namespace {
@@ -89,7 +98,7 @@ Json missionJson(std::uint64_t seed, const RandomCampus& campus, const SuiteOpti
   Json m{{"format", kMissionFormat},
          {"name", "random campus " + std::to_string(seed)},
          {"x-note", "mapnav suite random-campus: makeRandomCampus(seed " + std::to_string(seed) + ", " +
-                        std::to_string(options.junctions) + " junctions); nothing tuned to this map"},
+                        std::to_string(options.campus.junctions) + " junctions); nothing tuned to this map"},
          {"map", "map.json"},
          {"camera", fs::absolute(options.camera).lexically_normal().string()},
          {"start", campus.start}};
@@ -126,9 +135,8 @@ std::string surfacesText(const RandomCampus& campus) {
 
 SuiteRun runSuiteSeed(std::uint64_t seed, const SuiteOptions& options) {
   options.validate();
-  RandomCampusOptions campus_options;
+  RandomCampusOptions campus_options = options.campus;
   campus_options.seed = seed;
-  campus_options.junctions = options.junctions;
   const RandomCampus campus = makeRandomCampus(campus_options);
   const fs::path folder = options.folder / ("seed-" + std::to_string(seed));
   std::error_code ec;
@@ -366,7 +374,7 @@ std::string suiteJson(const SuiteOptions& options, const std::vector<SuiteRun>& 
                  {"within_2sigma", 0.9}}}};
   if (wall_time) summary["wall_s"] = roundTo(s.wall_s, 1e2);
   Json j{{"suite", "random-campus"},
-         {"junctions", options.junctions},
+         {"junctions", options.campus.junctions},
          {"max_frames", options.max_frames},
          {"goal_tolerance_m", kSuiteGoalToleranceM},
          {"runs", list},

@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
+#include "mapnav/map/random_campus.h"
 #include "mapnav/mission/metrics.h"
 
 namespace mapnav {
@@ -25,7 +27,8 @@ inline constexpr double kSuiteGoalToleranceM = 0.3;
 
 struct SuiteOptions {
   std::vector<std::uint64_t> seeds;  ///< one map and mission each (parseSeedList)
-  int junctions = 3;                 ///< RandomCampusOptions::junctions
+  /// Each seed's campus (its seed is the run's): RandomCampusOptions' junctions, widths and lengths.
+  RandomCampusOptions campus;
   std::size_t max_frames = 0;        ///< per run, 0: to the goal (RunOptions::max_frames)
   std::filesystem::path camera;      ///< the missions' camera file (the shipped missions': terregator_pinhole)
   /// Where each seed's map.json and mission.json go, in seed-N/ (created; existing files replaced).
@@ -43,6 +46,10 @@ struct SuiteOptions {
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
+
+/// SuiteOptions' options (the campus's but its seed, max_frames, world_json, odometry_json, threads);
+/// the seeds, the camera and the folder are the caller's.
+const OptionTable<SuiteOptions>& suiteOptionTable();
 
 /// What one seed's run came to.
 struct SuiteRun {
