@@ -218,9 +218,9 @@ void addLogImportKitti(CLI::App& log, Commands& commands) {
   CLI::App* lk = log.add_subcommand("import-kitti", "Turn a KITTI odometry sequence (images, poses.txt, calib.txt) into a log with truth (docs/kitti.md)");
   lk->add_option("dir", kitti->dir, "KITTI sequence folder")->required()->check(CLI::ExistingDirectory);
   lk->add_option("-o,--output", kitti->output, "Log folder to write (must not exist, or be empty)")->required();
-  lk->add_option("--camera-height", kitti->options.camera_height_m, "Camera height above the road, m")->default_val(1.65);
-  lk->add_option("--camera-tilt", kitti->options.camera_tilt_deg, "Camera pitch below the horizon, degrees")->default_val(0.0);
-  lk->add_option("--frame-rate", kitti->options.frame_rate_hz, "Frame rate when there is no times.txt, Hz")->default_val(10.0);
+  lk->add_option("--camera-height", kitti->options.camera_height_m, "Camera height above the road, m")->capture_default_str();
+  lk->add_option("--camera-tilt", kitti->options.camera_tilt_deg, "Camera pitch below the horizon, degrees")->capture_default_str();
+  lk->add_option("--frame-rate", kitti->options.frame_rate_hz, "Frame rate when there is no times.txt, Hz")->capture_default_str();
   lk->add_option("--images", kitti->options.images, "Image folder inside the sequence (default: the first image_* folder)");
   lk->add_option("--name", kitti->options.name, "The log's name (default: KITTI and the folder's name)");
   lk->footer("Exit codes: 0 written, 1 invalid input (a malformed poses.txt line, fewer poses than images; the file and "
@@ -238,17 +238,17 @@ void addLogImportKittiRaw(CLI::App& log, Commands& commands) {
       ->check(CLI::ExistingDirectory);
   lr->add_option("-o,--output", raw->output, "Log folder to write (must not exist, or be empty)")->required();
   lr->add_option("--camera", raw->options.camera, "The camera: image_NN and P_rect_NN (02: the left colour camera)")
-      ->default_val(raw->options.camera);
+      ->capture_default_str();
   lr->add_option("--origin", raw->origin, "The world frame's origin LAT,LON, degrees (default: the first OXTS fix; use "
                                           "the map's origin to replay on a map)");
   lr->add_option("--imu-height", raw->options.imu_height_m, "The OXTS unit's height above the road, m (KITTI's set-up drawing)")
-      ->default_val(raw->options.imu_height_m);
-  lr->add_option("--gnss-every", raw->options.gnss_every, "A GNSS fix every n-th frame (0 = none)")->default_val(raw->options.gnss_every);
+      ->capture_default_str();
+  lr->add_option("--gnss-every", raw->options.gnss_every, "A GNSS fix every n-th frame (0 = none)")->capture_default_str();
   lr->add_option("--odometry-scale-error", raw->options.scale_error, "Degrade the odometry: relative distance error (0.02 = 2 % long)")
-      ->default_val(0.0);
+      ->capture_default_str();
   lr->add_option("--gyro-bias-deg-s", raw->options.gyro_bias_deg_s, "Degrade the odometry: constant yaw-rate bias, deg/s")
-      ->default_val(0.0);
-  lr->add_option("--seed", raw->options.seed, "Seed of the odometry's degradation")->default_val(raw->options.seed);
+      ->capture_default_str();
+  lr->add_option("--seed", raw->options.seed, "Seed of the odometry's degradation")->capture_default_str();
   lr->add_option("--name", raw->options.name, "The log's name (default: KITTI raw and the drive folder's name)");
   lr->footer("Exit codes: 0 written, 1 invalid input (a malformed OXTS packet, calibration entry or timestamp: the file "
              "and line are named and nothing is written), 2 usage or I/O error (a missing folder or file).");

@@ -60,10 +60,7 @@ int runInfo(const InfoConfig& config, std::ostream& out, std::ostream& err) {
 
 int runRender(const RenderConfig& config, std::ostream& out, std::ostream& err) {
   return withMap(config.file, err, [&](const Map& map) {
-    MapRenderOptions options;
-    options.width_px = config.width_px;
-    options.labels = config.labels;
-    const MapPicture picture = renderMap(map, options);
+    const MapPicture picture = renderMap(map, config.options);
     picture.canvas.save(config.output);
     out << "wrote " << config.output << " (" << picture.canvas.width() << "×" << picture.canvas.height() << " px, "
         << picture.view.pixelsPerMetre() << " px/m)\n";
@@ -73,14 +70,9 @@ int runRender(const RenderConfig& config, std::ostream& out, std::ostream& err) 
 
 int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
-    GeoJsonImportOptions options;
-    options.origin = config.origin;
-    options.snap_tolerance_m = config.snap_tolerance_m;
-    if (config.default_width_m) options.default_width_m = *config.default_width_m;
-    if (config.default_surface) options.default_surface = *config.default_surface;
     Issues issues;
     const std::string text = readFile(config.input);
-    auto imported = importGeoJson(text, issues, options);
+    auto imported = importGeoJson(text, issues, config.options);
     if (imported) {
       if (config.name) imported->map.name = *config.name;
       for (Issue issue : validateMap(imported->map)) {
@@ -211,12 +203,12 @@ void addRender(CLI::App& map, Commands& commands) {
   r->add_option("-o,--output", render->output, "Picture to write: OUT.png or OUT.svg")
       ->required()
       ->check(outputFile(false));
-  r->add_option("--width", render->width_px, "Picture width in pixels; the height follows the map")
-      ->default_val(1600)
-      ->check(commands.numberCheck(CLI::Range(64, 20000)));
+  r->add_option("--width", render->options.width_px, "Picture width in pixels; the height follows the map")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(mapRenderOptionTable(), "width_px"));
   r->add_flag("--no-labels", *no_labels, "Leave out road and intersection ids");
   r->callback(commands.choose([render, no_labels](std::ostream& out, std::ostream& err) {
-    render->labels = !*no_labels;
+    render->options.labels = !*no_labels;
     return runRender(*render, out, err);
   }));
 }
@@ -229,22 +221,24 @@ void addImportGeoJson(CLI::App& map, Commands& commands) {
   im->add_option("input", import->input, "GeoJSON FeatureCollection in lon/lat")->required()->check(CLI::ExistingFile);
   im->add_option("-o,--output", import->output, "mapnav-map/1 JSON to write (only when the import is valid)")->required();
   addOrigin(im, *origin);
-  im->add_option("--snap", import->snap_tolerance_m, "Road ends this close (m) to an intersection or to each other share it")
-      ->default_val(1.0)
-      ->check(commands.numberCheck(CLI::Range(0.0, 100.0)));
-  im->add_option("--default-width", import->default_width_m,
-                 "Width (m) of the roads whose features give none, e.g. a street's carriageway from centre lines (default 2)")
-      ->check(commands.numberCheck(CLI::Range(0.01, 1000.0)));
-  im->add_option("--default-surface", import->default_surface,
-                 "Surface of the roads whose features give none (default concrete; the map's surfaces: concrete, asphalt, "
-                 "brick, gravel, grass, dirt)");
+  im->add_option("--snap", import->options.snap_tolerance_m, "Road ends this close (m) to an intersection or to each other share it")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(geoJsonImportOptionTable(), "snap_tolerance_m"));
+  im->add_option("--default-width", import->options.default_width_m,
+                 "Width (m) of the roads whose features give none, e.g. a street's carriageway from centre lines")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(geoJsonImportOptionTable(), "default_width_m"));
+  im->add_option("--default-surface", import->options.default_surface,
+                 "Surface of the roads whose features give none (the map's surfaces: concrete, asphalt, brick, gravel, "
+                 "grass, dirt)")
+      ->capture_default_str();
   im->add_option("--name", import->name, "The map's name (default: the file's, or \"imported from GeoJSON\")");
   im->footer("Without --origin, the origin is the file's mapnav.origin, else the centroid of its coordinates. Plain "
              "street centre lines (LineString or MultiLineString features with only a name, as OpenStreetMap extracts "
              "give them) import too: each part is a road named after its feature, cut where its vertices meet another "
              "line's (--snap), with the default width and surface; what was assumed is printed after the counts.");
   im->callback(commands.choose([import, origin](std::ostream& out, std::ostream& err) {
-    if (!origin->empty()) import->origin = parseOrigin(*origin);
+    if (!origin->empty()) import->options.origin = parseOrigin(*origin);
     return runImportGeoJson(*import, out, err);
   }));
 }

@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/map/geojson.h"
 #include "mapnav/map/map.h"
+#include "mapnav/map/map_render.h"
 
 namespace mapnav::cli {
 
@@ -24,19 +26,15 @@ int runInfo(const InfoConfig& config, std::ostream& out, std::ostream& err);
 
 struct RenderConfig {
   std::string file;
-  std::string output;  ///< .png or .svg
-  int width_px = 1600;
-  bool labels = true;
+  std::string output;         ///< .png or .svg
+  MapRenderOptions options;   ///< --width, --no-labels
 };
 int runRender(const RenderConfig& config, std::ostream& out, std::ostream& err);
 
 struct ImportGeoJsonConfig {
   std::string input;
   std::string output;
-  std::optional<GeoOrigin> origin;
-  double snap_tolerance_m = 1.0;
-  std::optional<double> default_width_m;       ///< GeoJsonImportOptions' default when not given
-  std::optional<std::string> default_surface;  ///< GeoJsonImportOptions' default when not given
+  GeoJsonImportOptions options;  ///< --origin, --snap, --default-width, --default-surface
   std::optional<std::string> name;
 };
 int runImportGeoJson(const ImportGeoJsonConfig& config, std::ostream& out, std::ostream& err);

@@ -131,12 +131,12 @@ void registerTrainCommand(CLI::App& app, Commands& commands) {
                  "Camera file of the photos (where it sees the ground is an input of the network; default: the "
                  "assumed level pin-hole of docs/eval.md)")
       ->check(CLI::ExistingFile);
-  ts->add_option("--epochs", config->options.epochs, "Passes over the training photos")->default_val(config->options.epochs);
+  ts->add_option("--epochs", config->options.epochs, "Passes over the training photos")->capture_default_str();
   ts->add_option("--seed", config->options.seed, "Seed of the initial weights, the order and the augmentation")
-      ->default_val(config->options.seed);
+      ->capture_default_str();
   ts->add_option("--size", text->size, "The network's input size WxH, pixels (photos are resized to it)")->default_val("240x180");
   ts->add_option("--threads", config->options.threads, "CPU threads (the model is the same for the same count)")
-      ->default_val(config->options.threads);
+      ->capture_default_str();
   ts->add_option("-o,--output", config->output, "Model file to write")->required();
   ts->add_flag("--json", config->json, "Print the result as JSON");
   ts->footer("Exit codes: 0 trained and written, 1 invalid input (an image without its label, a label of another "

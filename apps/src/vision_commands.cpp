@@ -139,11 +139,11 @@ void addRectify(CLI::App& app, Commands& commands) {
   CLI::App* rc = app.add_subcommand("rectify", "Warp a camera frame to a top view of the ground (Wallace 1985, 3.5.1)");
   rc->add_option("image", rectify->image, "Camera frame (PNG or JPEG)")->required()->check(CLI::ExistingFile);
   rc->add_option("--camera", rectify->camera, "Camera file")->required()->check(CLI::ExistingFile);
-  rc->add_option("--x-min", rectify->options.x_min_m, "Nearest ground ahead, m")->default_val(1.0);
-  rc->add_option("--x-max", rectify->options.x_max_m, "Farthest ground ahead, m")->default_val(15.0);
-  rc->add_option("--y-min", rectify->options.y_min_m, "Rightmost ground, m (right negative)")->default_val(-6.0);
-  rc->add_option("--y-max", rectify->options.y_max_m, "Leftmost ground, m")->default_val(6.0);
-  rc->add_option("--resolution", rectify->options.metres_per_pixel, "Metres per output pixel")->default_val(0.02);
+  rc->add_option("--x-min", rectify->options.x_min_m, "Nearest ground ahead, m")->capture_default_str();
+  rc->add_option("--x-max", rectify->options.x_max_m, "Farthest ground ahead, m")->capture_default_str();
+  rc->add_option("--y-min", rectify->options.y_min_m, "Rightmost ground, m (right negative)")->capture_default_str();
+  rc->add_option("--y-max", rectify->options.y_max_m, "Leftmost ground, m")->capture_default_str();
+  rc->add_option("--resolution", rectify->options.metres_per_pixel, "Metres per output pixel")->capture_default_str();
   rc->add_option("-o,--output", rectify->output, "Top view to write (PNG): far at the top, left on the left")->required();
   rc->add_flag("--undistort", rectify->undistort,
                "Write the frame undistorted instead (same size, as the camera's ideal pin-hole would see it: "
