@@ -11,6 +11,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/learned/learned_pipeline.h"
 #include "mapnav/learned/train_segmentation.h"
+#include "mapnav/localization/filter_supervisor.h"
 #include "mapnav/localization/line_fit.h"
 #include "mapnav/localization/localize.h"
 #include "mapnav/localization/pose_filter.h"
@@ -86,6 +87,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&filterOptionTable, "localization/include/mapnav/localization/pose_filter.h", kCode),
       entry(&motionNoiseOptionTable, "localization/include/mapnav/localization/pose_filter.h", kCode),
       entry(&relocalizeOptionTable, "localization/include/mapnav/localization/relocalize.h", kCode),
+      entry(&filterSupervisorOptionTable, "localization/include/mapnav/localization/filter_supervisor.h",
+            "the Map module (MapModuleOptions::supervisor, as park_reset_*); C++"),
       entry(&clusterPerceptronOptionTable, "vision/include/mapnav/vision/cluster_perceptron.h", kCode),
       entry(&clusterPerceptronPipelineOptionTable, "vision/include/mapnav/vision/cluster_perceptron.h", kPipeline + " (cluster-perceptron)"),
       entry(&colorClassifierOptionTable, "vision/include/mapnav/vision/color_classifier.h", kCode),

@@ -24,18 +24,13 @@ const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
                  "1-sigma of the start heading, degrees")
           .field("min_visible_px", &O::min_visible_px, atLeast(0),
                  "a prediction whose paved area covers fewer image pixels is \"no road in view\"")
-          .field("park_reset_after_rejections", &O::park_reset_after_rejections, atLeast(0),
-                 "park mode: widen the covariance after this many consecutive frames the gate rejected (0: never)")
-          .field("park_reset_sigma_m", &O::park_reset_sigma_m, above(0), "park mode's widened position sigma, m")
-          .field("park_reset_heading_sigma_deg", &O::park_reset_heading_sigma_deg, above(0),
-                 "park mode's widened heading sigma, degrees")
-          .field("park_reset_agreement_m", &O::park_reset_agreement_m, above(0),
-                 "park mode widens only when the rejected frames' fits agree within this across the road, m")
-          .field("park_reset_agreement_deg", &O::park_reset_agreement_deg, above(0),
-                 "... and within this in heading, degrees")
-          .field("park_reset_max_rms_m", &O::park_reset_max_rms_m, above(0),
-                 "... and when each rejected frame's lines fit together: no outlier, within this RMS distance of their "
-                 "map lines, m");
+          .nest(&O::supervisor, filterSupervisorOptionTable(),
+                {{"after_rejections", "park_reset_after_rejections"},
+                 {"sigma_m", "park_reset_sigma_m"},
+                 {"heading_sigma_deg", "park_reset_heading_sigma_deg"},
+                 {"agreement_m", "park_reset_agreement_m"},
+                 {"agreement_deg", "park_reset_agreement_deg"},
+                 {"max_rms_m", "park_reset_max_rms_m"}});
   return table;
 }
 
@@ -84,7 +79,8 @@ MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, c
       camera_(camera),
       options_(options),
       predictor_(map, options.predict),
-      filter_(start, initialCovariance(options), options.filter) {
+      filter_(start, initialCovariance(options), options.filter),
+      supervisor_(options.supervisor) {
   position_ = filter_.current(0.0, "start");
 }
 
@@ -133,24 +129,14 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
       std::none_of(prediction_.view.relations.begin(), prediction_.view.relations.end(),
                    [](const SegmentRelation& r) { return r.type == SegmentRelation::Type::Crossing; });
   const bool park = centerline_only || no_crossing;
-  if (park && position_.status == PositionStatus::Rejected && position_.rejected_fit &&
-      position_.outliers.empty() && position_.rejected_fit_rms_m <= options_.park_reset_max_rms_m &&
-      options_.park_reset_after_rejections > 0) {
-    const Pose2 change = position_.pose.inverse() * *position_.rejected_fit;
-    park_rejections_.emplace_back(change.x(), change.y(), change.heading());
-    if (static_cast<int>(park_rejections_.size()) > options_.park_reset_after_rejections) park_rejections_.pop_front();
-  } else {
-    park_rejections_.clear();
-  }
-  if (options_.park_reset_after_rejections > 0 &&
-      static_cast<int>(park_rejections_.size()) == options_.park_reset_after_rejections && rejectionsAgree()) {
+  // The supervisor is shown park mode's frames: another frame ends its run of rejections.
+  if (!park) supervisor_.clear();
+  if (const SupervisorDecision d = park ? supervisor_.observe(position_) : SupervisorDecision{}; d.widen) {
     // The gate has refused the centre line or the road edges too often, the same way each time:
     // the filter is surer than it should be.
-    const double s = options_.park_reset_sigma_m, h = degToRad(options_.park_reset_heading_sigma_deg);
-    filter_.resetPoseCovariance(Vec3(s * s, s * s, h * h).asDiagonal());
+    filter_.resetPoseCovariance(d.covariance);
     position_ = mapnav::localize(filter_, MotionIncrement{}, prediction_, *detected, options_.localize, &map_, &camera_);
-    position_.reason += " (after " + std::to_string(park_rejections_.size()) + " rejected frames, the covariance widened)";
-    park_rejections_.clear();
+    position_.reason += " (after " + std::to_string(d.rejections) + " rejected frames, the covariance widened)";
   }
   recover(*detected, t);
   position_.timestamp = t;
@@ -159,15 +145,6 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
   last_t_ = t;
   board.post(Module::Map, position_);
   return position_;
-}
-
-bool MapModule::rejectionsAgree() const {
-  double lo_y = 1e9, hi_y = -1e9, lo_h = 1e9, hi_h = -1e9;
-  for (const Vec3& c : park_rejections_) {
-    lo_y = std::min(lo_y, c.y()), hi_y = std::max(hi_y, c.y());
-    lo_h = std::min(lo_h, c.z()), hi_h = std::max(hi_h, c.z());
-  }
-  return hi_y - lo_y <= options_.park_reset_agreement_m && hi_h - lo_h <= degToRad(options_.park_reset_agreement_deg);
 }
 
 void MapModule::recover(const DetectedObject& detected, double t) {

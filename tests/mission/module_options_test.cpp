@@ -49,7 +49,7 @@ TEST(MissionOptions, BadValuesAreNamedInTheSameWords) {
             "MotionNoiseOptions::scale_sigma = -0.5: must be finite and >= 0");
   EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.filter.motion.gyro_bias_sigma_deg_s = NAN; }),
             "MotionNoiseOptions::gyro_bias_sigma_deg_s = nan: must be finite and >= 0");
-  EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.park_reset_after_rejections = -1; }),
+  EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.supervisor.after_rejections = -1; }),
             "MapModuleOptions::park_reset_after_rejections = -1: must be >= 0");
   EXPECT_EQ(rejectionOf<MapModuleOptions>([](MapModuleOptions& o) { o.initial_heading_sigma_deg = 0; }),
             "MapModuleOptions::initial_heading_sigma_deg = 0: must be finite and > 0");

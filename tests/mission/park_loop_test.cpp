@@ -113,7 +113,7 @@ TEST(CenterlineCorrespondence, TheNearPieceAgainstTheMapsChordOnACurve) {
 /// The Map module in park mode, started on R1 10 m in (straight for its first 39 m) but 6 deg off
 /// the road's heading with 1 deg sigma, so the gate refuses the correct lines; shown for three
 /// frames what the truth sees (`seen`, from the prediction and the true pose). With
-/// park_reset_after_rejections 3 it rejects frames 1 and 2, then widens its covariance and takes
+/// supervisor.after_rejections 3 it rejects frames 1 and 2, then widens its covariance and takes
 /// frame 3; with 0 it rejects all three.
 void expectTheResetTakesTheThirdFrame(const std::function<DetectedObject(const Prediction&, const Pose2&)>& seen) {
   const auto camera = testing::terregatorPinhole();
@@ -124,7 +124,7 @@ void expectTheResetTakesTheThirdFrame(const std::function<DetectedObject(const P
   for (const int after : {3, 0}) {
     SCOPED_TRACE(after);
     MapModuleOptions options;
-    options.park_reset_after_rejections = after;
+    options.supervisor.after_rejections = after;
     MapModule map(parkMap(), *camera, wrong, options);
     Blackboard board;
     for (int frame = 1; frame <= 3; ++frame) {
@@ -157,7 +157,7 @@ TEST(ParkMapModule, WidensItsCovarianceAfterRejectedCentreLinesAndTakesThem) {
 
 // Centre lines that disagree with the estimate and with one another (a pipeline misreading a curve's
 // shadows, not an estimate gone wrong): 1.5 m left, then 1.5 m right, then 1.5 m left. All three are
-// rejected and the covariance is kept: the rejected fits do not agree (park_reset_agreement_m).
+// rejected and the covariance is kept: the rejected fits do not agree (FilterSupervisorOptions::agreement_m).
 TEST(ParkMapModule, KeepsItsCovarianceWhenTheRejectedCentreLinesDisagree) {
   const auto camera = testing::terregatorPinhole();
   const Polyline2& line = parkMap().road("R1").centerline;
@@ -208,7 +208,7 @@ TEST(ParkMapModule, WidensItsCovarianceAfterRejectedRoadEdgesAndTakesThem) {
 
 // The same edges but the right ones 0.6 m inside the road (a tree shadow's edge taken for it: random
 // campus 15), the same way every frame: the rejected fits agree, but their lines do not fit together
-// (park_reset_max_rms_m), and the covariance is kept.
+// (FilterSupervisorOptions::max_rms_m), and the covariance is kept.
 TEST(ParkMapModule, KeepsItsCovarianceWhenTheRejectedEdgesDoNotFitTogether) {
   const auto camera = testing::terregatorPinhole();
   const Polyline2& line = parkMap().road("R1").centerline;
@@ -225,7 +225,7 @@ TEST(ParkMapModule, KeepsItsCovarianceWhenTheRejectedEdgesDoNotFitTogether) {
     board.post(Module::Vision, detected);
     const CurrentPosition& p = map.localize(board, t);
     EXPECT_EQ(p.status, PositionStatus::Rejected) << frame << ": " << p.reason;
-    EXPECT_TRUE(p.rejected_fit_rms_m > MapModuleOptions{}.park_reset_max_rms_m || !p.outliers.empty())
+    EXPECT_TRUE(p.rejected_fit_rms_m > MapModuleOptions{}.supervisor.max_rms_m || !p.outliers.empty())
         << frame << ": RMS " << p.rejected_fit_rms_m;
     EXPECT_NEAR(p.pose.heading(), wrong.heading(), 1e-3) << frame;
   }

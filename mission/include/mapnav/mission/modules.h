@@ -14,7 +14,6 @@
 // Each module's step is callable on its own (tests), and the runners (runner.h) call them in the
 // paper's order once a frame.
 #include <cstddef>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +21,7 @@
 
 #include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
+#include "mapnav/localization/filter_supervisor.h"
 #include "mapnav/localization/localize.h"
 #include "mapnav/localization/pose_filter.h"
 #include "mapnav/localization/relocalize.h"
@@ -56,28 +56,15 @@ struct MapModuleOptions {
   /// "no road in view": Vision is not asked to find what the camera can hardly see (looking over the
   /// corner in a 90 degree turn) and the Map dead-reckons. 2000 px is 0.8 % of 512 x 480.
   double min_visible_px = 2000.0;
-  /// Park mode (a centre line and no labelled line, or no crossing line predicted in view): after
-  /// this many consecutive frames whose lines the gate rejected, the filter's covariance is widened
-  /// to park_reset_sigma_m and park_reset_heading_sigma_deg and the frame matched again (0: never).
-  /// A centre line or road edges observe lateral position and heading but not the position along
-  /// the road; on a tight curve an along-road error of d gives a heading error of d / radius that
-  /// the filter does not know of (docs/measurements.md), and out of the curve the gate then rejects
-  /// every correct measurement while the estimate runs off the path on odometry.
-  int park_reset_after_rejections = 3;
-  double park_reset_sigma_m = 0.5;            ///< m (> 0)
-  double park_reset_heading_sigma_deg = 10.0; ///< degrees (> 0)
-  /// ... and only when the poses those rejected frames' lines give (CurrentPosition::rejected_fit),
-  /// seen from the estimate, agree within this across the road (m, > 0) and in heading (degrees,
-  /// > 0): an estimate gone wrong is refused the same way frame after frame, while a pipeline
-  /// misreading a curve's shadows gives a different wrong line each frame (docs/measurements.md).
-  double park_reset_agreement_m = 0.3;
-  double park_reset_agreement_deg = 3.0;
-  /// ... and only when each of those frames' lines fit together: none is an outlier of their fit,
-  /// and put where their fit puts the vehicle, their end points lie within this RMS distance of
-  /// their map lines (m, > 0; CurrentPosition::rejected_fit_rms_m). Correct lines refusing a wrong
-  /// estimate fit together to their noise (one line exactly); a misread line among correct ones
-  /// cannot lie on its map line with them (docs/measurements.md).
-  double park_reset_max_rms_m = 0.05;
+  /// The filter's supervisor (localization/filter_supervisor.h), shown park mode's frames: a centre
+  /// line and no labelled line, or no crossing line predicted in view. A centre line or road edges
+  /// observe lateral position and heading but not the position along the road; on a tight curve an
+  /// along-road error of d gives a heading error of d / radius that the filter does not know of
+  /// (docs/measurements.md), and out of the curve the gate then rejects every correct measurement
+  /// while the estimate runs off the path on odometry. When the supervisor says so, the covariance
+  /// is widened and the frame matched again. In the option table its options keep the names they
+  /// had before it was a component: park_reset_ and theirs (park_reset_after_rejections, ...).
+  FilterSupervisorOptions supervisor;
   /// Recovery: when Vision's road region disagrees with the map seen from the estimate, pose
   /// hypotheses around it are tried against the region (relocalize.h). The first frame with a clear
   /// winner makes the position Lost (the Navigator stops); the next frame's search, the vehicle
@@ -90,7 +77,8 @@ struct MapModuleOptions {
   void validate() const;
 };
 
-/// MapModuleOptions' own fields (the park reset); its components have tables of their own.
+/// MapModuleOptions' own fields and the supervisor's (as park_reset_*); its other components have
+/// tables of their own.
 const OptionTable<MapModuleOptions>& mapModuleOptionTable();
 
 class MapModule {
@@ -131,18 +119,13 @@ class MapModule {
   double last_t_ = 0;        // the previous frame's time (the start: 0), s
   Prediction prediction_;
   CurrentPosition position_;
-  /// Consecutive park-mode frames the gate rejected: what their lines' fits would have changed of
-  /// the estimate, in the vehicle's frame (forward m, left m, heading rad), oldest first; at most
-  /// park_reset_after_rejections.
-  std::deque<Vec3> park_rejections_;
+  FilterSupervisor supervisor_;  // shown park mode's frames
   /// Recovery: the last search's clear winner, as an offset from the estimate it was searched
   /// around (the vehicle's own frame: it moves with the odometry as the estimate does).
   std::optional<Pose2> candidate_;
   std::size_t relocalisations_ = 0;
   int lost_frames_ = 0;             ///< consecutive Lost frames
   bool search_suspended_ = false;   ///< the search gave up: until lines are fused or the region agrees
-  /// Whether the rejected frames' fits (park_rejections_) agree (park_reset_agreement_*).
-  bool rejectionsAgree() const;
   /// Recovery after this frame's localisation: the region's agreement, the search, Lost or re-localised.
   void recover(const DetectedObject& detected, double t);
 };
