@@ -101,6 +101,15 @@ struct CentreModel {
 /// weights (IRLS, `k` pixels), starting from the model's own coefficients for the weights.
 bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreModel& model);
 
+/// The arc model's per-row tables of a camera (cluster_perceptron_arc.cpp; ClusterPerceptron::
+/// setCamera() keeps them): per image row, the ground distance (m) it sees along the principal column,
+/// the column of lateral offset 0 there and the columns per metre of lateral offset; NaN where the row
+/// sees no ground. Exact for a pin-hole without distortion, yaw or roll.
+struct RowTables {
+  std::vector<double> x, a, b;
+};
+RowTables rowTablesOf(const Camera& camera);
+
 /// The camera's per-row geometry for the arc model (ClusterPerceptron::setCamera()).
 struct RowGeometry {
   const std::vector<double>& x;  // ground distance, m

@@ -1,9 +1,12 @@
-// The cluster-perceptron's runtime (Jochem & Baluja 1993 §5-6): find() runs a frame's steps, every
-// pixel classified and its road certainty summed per block (classifyFrame(),
-// cluster_perceptron_classify.cpp), the Hough over (top-row intercept × angle × curvature step) with
-// its sub-block refinement (houghCentre(), cluster_perceptron_hough.cpp), then the edge refinement of
-// the centre model it found (cluster_perceptron_edges.cpp, cluster_perceptron_arc.cpp). See
-// cluster_perceptron.h.
+// The cluster-perceptron's construction and runtime (Jochem & Baluja 1993 §5-6): the members that
+// set it up for frames (the options, the camera's row tables) and those that run one, keeping what
+// goes from frame to frame. find() runs a frame's steps, every pixel classified and its road
+// certainty summed per block (classifyFrame(), cluster_perceptron_classify.cpp), the Hough over
+// (top-row intercept × angle × curvature step) with its sub-block refinement (houghCentre(),
+// cluster_perceptron_hough.cpp), then the edge refinement of the centre model it found
+// (cluster_perceptron_edges.cpp, cluster_perceptron_arc.cpp); track() adds the adaptive cluster
+// management (§9) around it; advance() carries the ground edges to the next frame. The training
+// members are in cluster_perceptron_training.cpp. See cluster_perceptron.h.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -16,6 +19,22 @@
 #include "mapnav/vision/cluster_perceptron.h"
 
 namespace mapnav {
+
+ClusterPerceptron::ClusterPerceptron(ClusterPerceptronOptions options) : opt_(std::move(options)) { opt_.validate(); }
+
+void ClusterPerceptron::setThreads(int threads) {
+  ClusterPerceptronOptions o = opt_;
+  o.threads = threads;
+  o.validate();
+  opt_ = o;
+}
+
+void ClusterPerceptron::setCamera(const Camera& camera) {
+  RowTables t = rowTablesOf(camera);
+  row_x_ = std::move(t.x);
+  row_a_ = std::move(t.a);
+  row_b_ = std::move(t.b);
+}
 
 namespace {
 
@@ -106,6 +125,52 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
   res.curvature = ground ? ground->k : arc ? model.p[2] : 0.0;
   res.ok = true;
   return res;
+}
+
+RoadFinding ClusterPerceptron::track(const std::uint8_t* rgb, int width, int height, bool want_mask,
+                                     const std::optional<Segment2>& prior) {
+  if (!opt_.adaptive) return find(rgb, width, height, want_mask, prior);
+  const double err = reconstructionError(rgb, width, height, opt_.adaptive_stride);
+  // The reference: the median error of the training frame and the recent frames that fitted. Frames
+  // differ from the one the clusters were trained on (another mix of surfaces and shadows), so the
+  // typical runtime error, not the training error, is what a changed world stands out against.
+  if (recent_errors_.empty()) recent_errors_.push_back(train_error_);
+  std::vector<double> sorted = recent_errors_;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double reference = sorted[sorted.size() / 2];
+  const bool fits = err <= opt_.adaptive_error_ratio * reference;
+  bool retrained = false;
+  int added = 0;
+  if (!fits && trained_ && !trusted_curve_.empty() && static_cast<int>(row_widths_.size()) == height) {
+    // §9: the clusters no longer describe the scene. Adapt them to this frame's colours and retrain
+    // the perceptron on the road where it was last found.
+    const Image outline = fillPolygonMask({roadBand(trusted_curve_, row_widths_, width)}, width, height);
+    added = adaptClusters(rgb, width, height, opt_.adaptive_error_ratio * reference);
+    trainPerceptron(rgb, width, height, outline.data.data());
+    recent_errors_.assign(1, train_error_);
+    retrained = true;
+  } else if (fits) {
+    recent_errors_.push_back(err);
+    if (static_cast<int>(recent_errors_.size()) > opt_.adaptive_window + 1)  // + the training error
+      recent_errors_.erase(recent_errors_.begin() + 1);
+  }
+  RoadFinding res = find(rgb, width, height, want_mask, prior);
+  res.reconstruction_error = err;
+  res.training_error = reference;
+  res.retrained = retrained;
+  res.clusters_added = added;
+  if (res.ok && (fits || retrained)) trusted_curve_ = res.centerline_curve;
+  return res;
+}
+
+void ClusterPerceptron::advance(const RoadFinding& last, const Pose2& motion) {
+  if (opt_.carry_frames == 0) return;
+  carried_.push_back(last.ground_edges);
+  if (static_cast<int>(carried_.size()) > opt_.carry_frames) carried_.erase(carried_.begin());
+  for (auto& frame : carried_) {
+    for (RoadEdgePoint& e : frame) e.p = motion.inverseTransform(e.p);
+    std::erase_if(frame, [](const RoadEdgePoint& e) { return !(e.p.x() >= 0.0); });
+  }
 }
 
 }  // namespace mapnav
