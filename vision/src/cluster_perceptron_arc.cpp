@@ -1,7 +1,9 @@
 // The cluster-perceptron's arc model on the ground (beyond the paper, §9): the camera's row geometry,
 // the road's edges taken to the ground (placed within their pixel pair by colour where asked), the
 // circle fitted to them (a consensus of exact circles, then robust Gauss-Newton; the line where the
-// curvature does not pay), and the edges carried from frame to frame. See cluster_perceptron.h.
+// curvature does not pay). Free functions on explicit inputs; ClusterPerceptron::setCamera() and
+// advance(), which keep the tables and the carried edges, are in cluster_perceptron_runtime.cpp. See
+// cluster_perceptron.h.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,33 +21,25 @@
 
 namespace mapnav {
 
-void ClusterPerceptron::setCamera(const Camera& camera) {
+RowTables rowTablesOf(const Camera& camera) {
   // Pin-hole, tilt only: the ground point (x, y) is at depth Z = (x − cx)·cos φ + h·sin φ and height
   // Y = −(x − cx)·sin φ + h·cos φ in the camera frame, so its row v = v_c + f·Y/Z depends on x alone,
   // and its column u = u_c − f·(y − cy)/Z is affine in y at that row: b_r = −f/Z.
   const int h = camera.height();
-  row_x_.assign(static_cast<std::size_t>(h), std::nan(""));
-  row_a_.assign(static_cast<std::size_t>(h), std::nan(""));
-  row_b_.assign(static_cast<std::size_t>(h), std::nan(""));
+  RowTables t;
+  t.x.assign(static_cast<std::size_t>(h), std::nan(""));
+  t.a.assign(static_cast<std::size_t>(h), std::nan(""));
+  t.b.assign(static_cast<std::size_t>(h), std::nan(""));
   for (int v = 0; v < h; ++v) {
     const auto g = camera.backproject(Vec2(camera.intrinsics().cx, v));
     if (!g) continue;
     const auto p0 = camera.projectGround(Vec2(g->x(), 0.0)), p1 = camera.projectGround(Vec2(g->x(), 1.0));
     if (!p0 || !p1) continue;
-    row_x_[v] = g->x();
-    row_a_[v] = p0->x();
-    row_b_[v] = p1->x() - p0->x();
+    t.x[v] = g->x();
+    t.a[v] = p0->x();
+    t.b[v] = p1->x() - p0->x();
   }
-}
-
-void ClusterPerceptron::advance(const RoadFinding& last, const Pose2& motion) {
-  if (opt_.carry_frames == 0) return;
-  carried_.push_back(last.ground_edges);
-  if (static_cast<int>(carried_.size()) > opt_.carry_frames) carried_.erase(carried_.begin());
-  for (auto& frame : carried_) {
-    for (RoadEdgePoint& e : frame) e.p = motion.inverseTransform(e.p);
-    std::erase_if(frame, [](const RoadEdgePoint& e) { return !(e.p.x() >= 0.0); });
-  }
+  return t;
 }
 
 namespace {

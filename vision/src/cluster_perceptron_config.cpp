@@ -1,7 +1,6 @@
 // The cluster-perceptron's options (the finder's table and the pipeline's, which share the finder's
-// rows and so their rules; the road model's names) and its construction. See cluster_perceptron.h.
+// rows and so their rules; the road model's names). See cluster_perceptron.h.
 #include <string>
-#include <utility>
 
 #include "mapnav/core/error.h"
 #include "mapnav/vision/cluster_perceptron.h"
@@ -183,15 +182,6 @@ RoadModel roadModelFromString(const std::string& text) {
   if (text == "line") return RoadModel::Line;
   if (text == "arc") return RoadModel::Arc;
   throw InvalidInput("unknown road model \"" + text + "\" (expected line or arc)");
-}
-
-ClusterPerceptron::ClusterPerceptron(ClusterPerceptronOptions options) : opt_(std::move(options)) { opt_.validate(); }
-
-void ClusterPerceptron::setThreads(int threads) {
-  ClusterPerceptronOptions o = opt_;
-  o.threads = threads;
-  o.validate();
-  opt_ = o;
 }
 
 }  // namespace mapnav

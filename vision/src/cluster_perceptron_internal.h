@@ -2,8 +2,8 @@
 // Internal to vision/: what the cluster-perceptron's files share (see cluster_perceptron.h): the
 // certainty levels of the perceptron's output (lookup table, runtime), the per-pixel classification
 // that find() calls (runtime), the image centre model and its fit (runtime, edge refinement,
-// pipeline), the row's edge candidates (image and ground refinement), and the arc model's ground road
-// and its refinement (runtime).
+// pipeline), the Hough that finds the first centre model (runtime), the row's edge candidates (image
+// and ground refinement), and the arc model's ground road and its refinement (runtime).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -101,6 +101,61 @@ struct CentreModel {
 /// weights (IRLS, `k` pixels), starting from the model's own coefficients for the weights.
 bool fitCentreModel(const std::vector<Vec2>& vu, int degree, double k, CentreModel& model);
 
+/// The arc model's per-row tables of a camera (cluster_perceptron_arc.cpp; ClusterPerceptron::
+/// setCamera() keeps them): per image row, the ground distance (m) it sees along the principal column,
+/// the column of lateral offset 0 there and the columns per metre of lateral offset; NaN where the row
+/// sees no ground. Exact for a pin-hole without distortion, yaw or roll.
+struct RowTables {
+  std::vector<double> x, a, b;
+};
+RowTables rowTablesOf(const Camera& camera);
+
+/// The camera's per-row geometry for the arc model (ClusterPerceptron::setCamera()).
+struct RowGeometry {
+  const std::vector<double>& x;  // ground distance, m
+  const std::vector<double>& a;  // column of lateral offset 0
+  const std::vector<double>& b;  // columns per metre of lateral offset
+};
+
+// --- The Hough (cluster_perceptron_hough.cpp) -------------------------------------------------------------
+
+/// The prior's window (ClusterPerceptronOptions::prior_px): the centre line's columns on the top and
+/// the bottom road rows (v0, v1; the arc's offset vanishes on both, so bends do not move them) within
+/// prior_px of the prior's. Without a prior (or with prior_px 0) every centre line is in it.
+struct PriorWindow {
+  bool windowed = false;
+  double top = 0, bottom = 0, px = 0;
+  bool admits(double u_top, double u_bottom) const {
+    return !windowed || (std::abs(u_top - top) <= px && std::abs(u_bottom - bottom) <= px);
+  }
+};
+
+/// What the Hough found: the centre model (the line, or the arc of the best curvature; its rows v0
+/// and v1 the top and bottom road block rows' centres), the prior's window the refinement keeps to,
+/// the top road row (pixels), the coarse peak (RoadFinding::intercept_col and shift, blocks) and the
+/// confidence; or why it found nothing (`failure`; then only what was set before it is).
+struct HoughAnswer {
+  const char* failure = nullptr;
+  CentreModel model;
+  PriorWindow window;
+  int v_top = 0;
+  double intercept_col = 0;
+  int shift = 0;
+  double confidence = 0;
+  HoughAnswer& fails(const char* why) {
+    failure = why;
+    return *this;
+  }
+};
+
+/// §5: the Hough over the road block rows of a frame's block sums (FrameScratch::bsum, blocks of
+/// opt.block_size), each row's summation kernel the bootstrap's road width there (`row_widths`, per
+/// image row): the coarse search over intercept, angle and (opt.road_model Arc, with `rows` the
+/// camera's) curvature, then its sub-block refinement; with opt.prior_px and a `prior`, only near it.
+HoughAnswer houghCentre(const std::vector<std::uint32_t>& bsum, const std::vector<double>& row_widths,
+                        const RowGeometry& rows, int width, int height, const ClusterPerceptronOptions& opt,
+                        const std::optional<Segment2>& prior);
+
 // --- Edge candidates (cluster_perceptron_edges.cpp) ------------------------------------------------------
 
 /// A place in a row where the class changes and stays changed for 3 pixels on each side (isolated
@@ -174,13 +229,6 @@ struct GroundArc {
     if (std::abs(s) >= 1.0) return std::nan("");
     return y0 + x * (k * x + 2.0 * std::sin(th)) / (std::cos(th) + std::sqrt(1.0 - s * s));
   }
-};
-
-/// The camera's per-row geometry for the arc model (ClusterPerceptron::setCamera()).
-struct RowGeometry {
-  const std::vector<double>& x;  // ground distance, m
-  const std::vector<double>& a;  // column of lateral offset 0
-  const std::vector<double>& b;  // columns per metre of lateral offset
 };
 
 /// The arc model's refinement of find() on the ground, from the image model `model`: the circle (or

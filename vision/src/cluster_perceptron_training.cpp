@@ -1,8 +1,10 @@
 // The cluster-perceptron's training (Jochem & Baluja 1993 §3-4): colour clustering by competitive
-// learning (isodata), the perceptron over the clusters' code (or raw RGB) by LMS, and the colour
-// lookup table that collapses both for the fast runtime path. See cluster_perceptron.h.
+// learning (isodata) and its adaptation to a changed scene (§9, beyond the paper: track()'s new
+// clusters), the perceptron over the clusters' code (or raw RGB) by LMS, and the colour lookup table
+// that collapses both for the fast runtime path. See cluster_perceptron.h.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -153,6 +155,34 @@ Image ClusterPerceptron::reconstruct(const std::uint8_t* rgb, int width, int hei
       out.data[3 * i + b] = static_cast<std::uint8_t>(std::clamp(std::lround(c[b]), 0L, 255L));
   }
   return out;
+}
+
+int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int height, double threshold) {
+  // A new colour: the mean of the 2 % of pixels the clusters explain worst, when it is itself
+  // unexplained (its mean squared error per band to the nearest cluster above the threshold). Added
+  // as a cluster, one at a time, before the clusters move, so that no cluster has to leave its own
+  // colour for it (a colour nearest the road's cluster would share its output).
+  int added = 0;
+  while (static_cast<int>(means_.size()) < opt_.adaptive_max_clusters) {
+    std::vector<std::pair<double, Vec3>> px;
+    for (int v = 0; v < height; v += opt_.adaptive_stride)
+      for (int u = 0; u < width; u += opt_.adaptive_stride) {
+        const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
+        const Vec3 f = feature(p[0], p[1], p[2]);
+        px.emplace_back((f - means_[static_cast<std::size_t>(nearest(f))]).squaredNorm(), f);
+      }
+    const std::size_t worst = std::max<std::size_t>(1, px.size() / 50);
+    std::nth_element(px.begin(), px.begin() + static_cast<std::ptrdiff_t>(worst), px.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    Vec3 candidate = Vec3::Zero();
+    for (std::size_t i = 0; i < worst; ++i) candidate += px[i].second / static_cast<double>(worst);
+    const Vec3& near = means_[static_cast<std::size_t>(nearest(candidate))];
+    if ((candidate - near).squaredNorm() / 3.0 <= threshold) break;
+    means_.push_back(candidate);
+    ++added;
+  }
+  clusterFrom(rgb, width, height);  // all moved from where they are to this frame's colours
+  return added;
 }
 
 // --- §4 perceptron ---------------------------------------------------------------------------------
