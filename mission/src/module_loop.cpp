@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/mission/pipeline_choice.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/progress.h"

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "mapnav/core/option_table.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/sim/plant.h"
 

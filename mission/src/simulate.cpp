@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "mapnav/core/error.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/progress.h"

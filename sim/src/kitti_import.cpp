@@ -10,8 +10,8 @@
 #include "mapnav/core/error.h"
 #include "kitti_text.h"
 #include "mapnav/core/io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/image/png.h"
-#include "mapnav/map/camera_io.h"
 #include "mapnav/sim/replay_log.h"
 
 namespace mapnav {

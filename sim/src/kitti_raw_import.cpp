@@ -15,9 +15,9 @@
 #include "mapnav/core/error.h"
 #include "kitti_text.h"
 #include "mapnav/core/io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/image/png.h"
-#include "mapnav/map/camera_io.h"
 #include "mapnav/sim/odometry.h"
 #include "mapnav/sim/replay_log.h"
 

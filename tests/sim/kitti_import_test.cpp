@@ -11,8 +11,8 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/image/png.h"
-#include "mapnav/map/camera_io.h"
 #include "mapnav/sim/replay_log.h"
 #include "mapnav/testing/support.h"
 
