@@ -15,7 +15,7 @@
 #include "mapnav/core/json.h"
 #include "mapnav/geometry/camera_io.h"
 #include "mapnav/learned/learned_api.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision/segmentation_eval.h"
 

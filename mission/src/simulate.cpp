@@ -4,14 +4,14 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/geometry/camera_io.h"
+#include "mapnav/logs/odometry.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/progress.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/steering.h"
 #include "mapnav/navigator/vehicle.h"
-#include "mapnav/sim/odometry.h"
-#include "mapnav/sim/replay_log.h"
 #include "mapnav/sim/world_io.h"
 
 #include "drive.h"

@@ -3,7 +3,7 @@
 // with image verification on, so that named images are also decoded and checked.
 #include "fuzz_support.h"
 #include "mapnav/geometry/camera_io.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace mapnav;

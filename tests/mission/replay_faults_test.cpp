@@ -13,12 +13,12 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/image/png.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/report.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/mission/simulate.h"
 #include "mapnav/mission/trace.h"
-#include "mapnav/sim/replay_log.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 
