@@ -32,8 +32,8 @@
 #include "mapnav/mission/path_agreement.h"
 #include "mapnav/mission/report.h"
 #include "mapnav/mission/runner.h"
-#include "mapnav/mission/simulate.h"
-#include "mapnav/mission/suite.h"
+#include "mapnav/mission_sim/simulate.h"
+#include "mapnav/mission_sim/suite.h"
 #include "mapnav/navigator/progress.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/steering.h"
@@ -114,8 +114,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&pathAgreementOptionTable, "mission/include/mapnav/mission/path_agreement.h", kCode),
       entry(&reportOptionTable, "mission/include/mapnav/mission/report.h", "`mapnav replay --report`; C++"),
       entry(&runOptionTable, "mission/include/mapnav/mission/runner.h", "`mapnav replay` and `mapnav run` flags; C++ and Python"),
-      entry(&suiteOptionTable, "mission/include/mapnav/mission/suite.h", "`mapnav suite random-campus`'s flags; C++"),
-      entry(&simulateOptionTable, "mission/include/mapnav/mission/simulate.h", "`mapnav simulate`'s flags; C++ and Python"),
+      entry(&suiteOptionTable, "mission_sim/include/mapnav/mission_sim/suite.h", "`mapnav suite random-campus`'s flags; C++"),
+      entry(&simulateOptionTable, "mission_sim/include/mapnav/mission_sim/simulate.h", "`mapnav simulate`'s flags; C++ and Python"),
   };
   return tables;
 }

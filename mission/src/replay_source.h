@@ -12,10 +12,9 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/motion.h"
 #include "mapnav/logs/replay_log.h"
+#include "mapnav/mission/frame_source.h"
 #include "mapnav/mission/path_agreement.h"
 #include "mapnav/mission/runner.h"
-
-#include "frame_source.h"
 
 namespace mapnav::detail {
 

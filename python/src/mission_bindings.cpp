@@ -7,6 +7,7 @@
 #include "mapnav/logs/replay_log.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/runner.h"
+#include "mapnav/mission_sim/closed_loop.h"
 
 namespace mapnav::python {
 

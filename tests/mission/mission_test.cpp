@@ -1,4 +1,4 @@
-#include "mapnav/mission/simulate.h"
+#include "mapnav/mission_sim/simulate.h"
 
 #include <gtest/gtest.h>
 

@@ -17,8 +17,8 @@
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/report.h"
 #include "mapnav/mission/runner.h"
-#include "mapnav/mission/simulate.h"
 #include "mapnav/mission/trace.h"
+#include "mapnav/mission_sim/simulate.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 

@@ -13,6 +13,7 @@
 #include "mapnav/logs/replay_log.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/runner.h"
+#include "mapnav/mission_sim/closed_loop.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
