@@ -10,7 +10,7 @@
 #include <memory>
 #include <random>
 
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/map/generate.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"

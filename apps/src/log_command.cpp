@@ -11,7 +11,7 @@
 #include "mapnav/core/json.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 
 namespace mapnav::cli {
 

@@ -4,8 +4,8 @@
 #include <iosfwd>
 #include <string>
 
-#include "mapnav/sim/kitti_import.h"
-#include "mapnav/sim/kitti_raw_import.h"
+#include "mapnav/logs/kitti_import.h"
+#include "mapnav/logs/kitti_raw_import.h"
 
 namespace mapnav::cli {
 

@@ -20,8 +20,9 @@
 #include "mapnav/mission/pipeline_choice.h"
 #include "mapnav/mission/report.h"
 #include "mapnav/mission/runner.h"
-#include "mapnav/mission/simulate.h"
 #include "mapnav/mission/trace.h"
+#include "mapnav/mission_sim/closed_loop.h"
+#include "mapnav/mission_sim/simulate.h"
 #include "mapnav/vision/pipelines.h"
 #include "pipelines_command.h"
 

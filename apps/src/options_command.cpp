@@ -16,6 +16,10 @@
 #include "mapnav/localization/localize.h"
 #include "mapnav/localization/pose_filter.h"
 #include "mapnav/localization/relocalize.h"
+#include "mapnav/logs/kitti_import.h"
+#include "mapnav/logs/kitti_raw_import.h"
+#include "mapnav/logs/odometry.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/map/generate.h"
 #include "mapnav/map/geojson.h"
 #include "mapnav/map/map_render.h"
@@ -29,17 +33,13 @@
 #include "mapnav/mission/path_agreement.h"
 #include "mapnav/mission/report.h"
 #include "mapnav/mission/runner.h"
-#include "mapnav/mission/simulate.h"
-#include "mapnav/mission/suite.h"
+#include "mapnav/mission_sim/simulate.h"
+#include "mapnav/mission_sim/suite.h"
 #include "mapnav/navigator/progress.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/steering.h"
 #include "mapnav/navigator/vehicle.h"
 #include "mapnav/osm/osm_import.h"
-#include "mapnav/sim/kitti_import.h"
-#include "mapnav/sim/kitti_raw_import.h"
-#include "mapnav/sim/odometry.h"
-#include "mapnav/sim/replay_log.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/vision/cluster_perceptron.h"
 #include "mapnav/vision/color_classifier.h"
@@ -104,11 +104,11 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&regionOptionTable, "vision/include/mapnav/vision/region.h", kCode),
       entry(&learnedPipelineOptionTable, "learned/include/mapnav/learned/learned_pipeline.h", kPipeline + " (learned)"),
       entry(&segmentationTrainOptionTable, "learned/include/mapnav/learned/train_segmentation.h", "`mapnav train segmentation --options`; C++"),
-      entry(&kittiImportOptionTable, "sim/include/mapnav/sim/kitti_import.h", "`mapnav log import-kitti`'s flags; C++"),
-      entry(&kittiRawImportOptionTable, "sim/include/mapnav/sim/kitti_raw_import.h", "`mapnav log import-kitti-raw`'s flags; C++"),
-      entry(&odometryNoiseOptionTable, "sim/include/mapnav/sim/odometry.h", "a mission's `odometry` object; C++"),
-      entry(&logHeaderOptionTable, "sim/include/mapnav/sim/replay_log.h", "a replay log's header (docs/replay-log-format.md)"),
-      entry(&readOptionTable, "sim/include/mapnav/sim/replay_log.h", kCode),
+      entry(&kittiImportOptionTable, "logs/include/mapnav/logs/kitti_import.h", "`mapnav log import-kitti`'s flags; C++"),
+      entry(&kittiRawImportOptionTable, "logs/include/mapnav/logs/kitti_raw_import.h", "`mapnav log import-kitti-raw`'s flags; C++"),
+      entry(&odometryNoiseOptionTable, "logs/include/mapnav/logs/odometry.h", "a mission's `odometry` object; C++"),
+      entry(&logHeaderOptionTable, "logs/include/mapnav/logs/replay_log.h", "a replay log's header (docs/replay-log-format.md)"),
+      entry(&readOptionTable, "logs/include/mapnav/logs/replay_log.h", kCode),
       entry(&worldOptionTable, "sim/include/mapnav/sim/world.h", "a mission's `world` object; C++"),
       entry(&missionFileOptionTable, "mission/include/mapnav/mission/mission_file.h", "a mission file's numbers (docs/mission-format.md)"),
       entry(&blackboardOptionTable, "mission/include/mapnav/mission/blackboard.h", kCode),
@@ -117,8 +117,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&pathAgreementOptionTable, "mission/include/mapnav/mission/path_agreement.h", kCode),
       entry(&reportOptionTable, "mission/include/mapnav/mission/report.h", "`mapnav replay --report`; C++"),
       entry(&runOptionTable, "mission/include/mapnav/mission/runner.h", "`mapnav replay` and `mapnav run` flags; C++ and Python"),
-      entry(&suiteOptionTable, "mission/include/mapnav/mission/suite.h", "`mapnav suite random-campus`'s flags; C++"),
-      entry(&simulateOptionTable, "mission/include/mapnav/mission/simulate.h", "`mapnav simulate`'s flags; C++ and Python"),
+      entry(&suiteOptionTable, "mission_sim/include/mapnav/mission_sim/suite.h", "`mapnav suite random-campus`'s flags; C++"),
+      entry(&simulateOptionTable, "mission_sim/include/mapnav/mission_sim/simulate.h", "`mapnav simulate`'s flags; C++ and Python"),
   };
   return tables;
 }

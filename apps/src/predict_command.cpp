@@ -8,7 +8,7 @@
 #include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/map/predict_render.h"
 #include "mapnav/navigator/road_position.h"

@@ -7,7 +7,7 @@
 #include "cli.h"
 #include "command_line.h"
 #include "command_support.h"
-#include "mapnav/mission/simulate.h"
+#include "mapnav/mission_sim/simulate.h"
 
 namespace mapnav::cli {
 

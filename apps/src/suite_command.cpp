@@ -10,7 +10,7 @@
 #include "command_support.h"
 #include "pipelines_command.h"
 #include "mapnav/core/error.h"
-#include "mapnav/mission/suite.h"
+#include "mapnav/mission_sim/suite.h"
 #include "mapnav/vision/pipelines.h"
 
 namespace mapnav::cli {

@@ -1,12 +1,12 @@
 #pragma once
-// `mapnav suite random-campus`: the suite of unseen maps (mission/suite.h) — random
+// `mapnav suite random-campus`: the suite of unseen maps (mission_sim/suite.h) — random
 // campuses and their missions run closed loop at the defaults, a row per seed as it finishes, then
 // the summary beside the suite's targets.
 #include <cstddef>
 #include <iosfwd>
 #include <string>
 
-#include "mapnav/mission/suite.h"
+#include "mapnav/mission_sim/suite.h"
 
 namespace mapnav::cli {
 

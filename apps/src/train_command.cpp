@@ -13,9 +13,9 @@
 #include "learned_module.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/learned/learned_api.h"
-#include "mapnav/map/camera_io.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/vision/overlay.h"
 #include "mapnav/vision/segmentation_eval.h"
 

@@ -18,9 +18,9 @@
 #include "command_support.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/image/png.h"
 #include "mapnav/image/read_image.h"
-#include "mapnav/map/camera_io.h"
 #include "mapnav/vision/calibrate.h"
 
 namespace mapnav::cli {

@@ -6,13 +6,12 @@
 #include <memory>
 #include <string>
 
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
+#include "mapnav/mission/mission_route.h"
 #include "mapnav/mission/pipeline_choice.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/progress.h"
 #include "mapnav/navigator/road_position.h"
-
-#include "drive.h"
 
 namespace mapnav::detail {
 

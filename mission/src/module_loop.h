@@ -15,6 +15,7 @@
 #include "mapnav/localization/localize.h"
 #include "mapnav/map/map.h"
 #include "mapnav/mission/blackboard.h"
+#include "mapnav/mission/frame_source.h"
 #include "mapnav/mission/metrics.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/modules.h"
@@ -23,8 +24,6 @@
 #include "mapnav/mission/trace.h"
 #include "mapnav/navigator/steering.h"
 #include "mapnav/navigator/vehicle.h"
-
-#include "frame_source.h"
 
 namespace mapnav::detail {
 

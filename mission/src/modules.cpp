@@ -6,9 +6,8 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/option_table.h"
+#include "mapnav/mission/mission_route.h"
 #include "mapnav/navigator/path.h"
-
-#include "drive.h"
 
 namespace mapnav {
 
@@ -311,7 +310,7 @@ struct NavigatorModule::Impl {
   }
 
   void plan(const RoadPosition& from) {
-    adopt(detail::planThrough(graph, from, remaining, "route from " + toString(from), &remaining_s, options.route));
+    adopt(planThrough(graph, from, remaining, "route from " + toString(from), &remaining_s, options.route));
   }
 
   // Where the vehicle is as a road position, facing the way it heads (a replan's start).

@@ -1,6 +1,6 @@
 #pragma once
 // The frames of a recorded log (internal to mission/): a FrameSource over the log reader
-// (sim/replay_log.h) that owns what a replay does about the log's faults (docs/replay-log-format.md,
+// (logs/replay_log.h) that owns what a replay does about the log's faults (docs/replay-log-format.md,
 // "Faults in replay") and their kinds: a frame whose image is missing, unreadable or not the camera's
 // size is skipped and its odometry goes to the next frame; odometry faster than a vehicle goes is a
 // spike, replaced by the previous frame's rate; lines the reader skipped are reported by kind. With
@@ -11,11 +11,10 @@
 
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/motion.h"
+#include "mapnav/logs/replay_log.h"
+#include "mapnav/mission/frame_source.h"
 #include "mapnav/mission/path_agreement.h"
 #include "mapnav/mission/runner.h"
-#include "mapnav/sim/replay_log.h"
-
-#include "frame_source.h"
 
 namespace mapnav::detail {
 

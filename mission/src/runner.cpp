@@ -1,19 +1,18 @@
-// The mission runner's entry points: runReplay and runClosedLoop build their frame source (a log,
-// or a simulated plant) and the module loop, run the one loop over them, and say how the run ended.
+// The mission runner's entry points: runReplay builds its frame source (a log), runClosedLoopOver
+// takes the one its caller makes (a plant: mission_sim's simulator); both build the module loop, run
+// the one loop over them, and say how the run ended.
 #include "mapnav/mission/runner.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
+#include "mapnav/core/error.h"
 #include "mapnav/core/option_table.h"
-#include "mapnav/map/camera_io.h"
 #include "mapnav/map/map_io.h"
-#include "mapnav/sim/plant.h"
+#include "mapnav/mission/frame_source.h"
 
-#include "closed_loop_source.h"
-#include "drive.h"
-#include "frame_source.h"
 #include "module_loop.h"
 #include "replay_source.h"
 
@@ -51,8 +50,8 @@ namespace {
 
 // The one loop: the source's next frame (its faults first) through the modules, until the source
 // ends or the modules end the mission. A plant is driven between frames by Motion Control.
-void runFrames(detail::FrameSource& source, detail::ModuleLoop& loop, const RunOptions& options) {
-  detail::SourceFrame frame;
+void runFrames(FrameSource& source, detail::ModuleLoop& loop, const RunOptions& options) {
+  SourceFrame frame;
   while (true) {
     const bool got = source.next(loop, frame);
     for (const LogFault& f : frame.faults) loop.fault(f);
@@ -120,27 +119,19 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
   return run;
 }
 
-MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) {
+MissionRun runClosedLoopOver(const MissionFile& mission, const Map& map, const Camera& camera, const RunOptions& options,
+                             const DrivenSourceFactory& make_source) {
   options.validate();
-  const Map map = loadMap(mission.map);
-  const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
-  SimulatedPlant plant(map, *camera, detail::simulationSettings(mission, options.seed));
-
   MissionRun run;
   run.mode = "closed-loop";
   run.mission = mission.name;
   const VehicleLimits limits = missionLimits(mission);
-  detail::ModuleLoop loop(mission, map, *camera, options, true, limits, run);
+  detail::ModuleLoop loop(mission, map, camera, options, true, limits, run);
   loop.header("");
 
-  detail::DriveLoopOptions drive;
-  drive.frame_dt_s = 1.0 / mission.frame_rate_hz;
-  drive.control_dt_s = options.control_dt_s;
-  drive.time_limit_s = 3.0 * run.route.length_m / mission.speed_mps + 60.0;
-  drive.max_frames = options.max_frames;
-  const std::size_t expected = static_cast<std::size_t>(run.route.length_m / mission.speed_mps * mission.frame_rate_hz) + 2;
-  detail::ClosedLoopSource source(plant, run.start, limits, drive,
-                                  options.max_frames > 0 ? std::min(options.max_frames, expected) : expected);
+  const std::unique_ptr<DrivenSource> made = make_source(run, limits);
+  if (!made) throw InvalidInput("runClosedLoopOver: make_source returned no source");
+  DrivenSource& source = *made;
   runFrames(source, loop, options);
   run.duration_s = source.duration_s();
   run.distance_m = source.distance_m();
@@ -160,7 +151,7 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
       run.outcome = "stopped after " + std::to_string(source.frames()) + " frames (the run's max_frames), " +
                     text("%.1f m before the goal", loop.navigator().status().to_go_m);
     } else {
-      run.outcome = text("time limit (%.0f s) reached %.2f m from the goal", drive.time_limit_s, m.goal_distance_m);
+      run.outcome = text("time limit (%.0f s) reached %.2f m from the goal", source.time_limit_s(), m.goal_distance_m);
     }
   }
   loop.writeTrace();

@@ -6,7 +6,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/strprintf.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/map/geojson.h"
 #include "mapnav/map/info.h"
 #include "mapnav/map/map_io.h"

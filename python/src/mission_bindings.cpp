@@ -4,9 +4,10 @@
 #include <optional>
 
 #include "convert.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/runner.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/mission_sim/closed_loop.h"
 
 namespace mapnav::python {
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/map/predict.h"
 

@@ -14,7 +14,7 @@
 #include "mapnav/core/io.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/image/png.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {

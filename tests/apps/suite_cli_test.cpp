@@ -1,4 +1,4 @@
-// `mapnav suite random-campus` (the suite of unseen maps, mission/suite.h) end to end on two
+// `mapnav suite random-campus` (the suite of unseen maps, mission_sim/suite.h) end to end on two
 // seeds cut to a few frames: the table and the JSON's structure, the same bytes with one thread and
 // with two, the figures the same as `mapnav run` gives on the seed's mission file (an independent
 // path through the ordinary runner), and bad seed lists named with exit 2.

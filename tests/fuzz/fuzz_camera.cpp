@@ -2,7 +2,7 @@
 // project and back-project without crashing, and write (cameraToJson) text that reads back.
 #include "fuzz_support.h"
 #include "mapnav/core/error.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace mapnav;

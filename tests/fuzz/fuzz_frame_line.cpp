@@ -2,8 +2,8 @@
 // line), against the log folder tests/fuzz/data/log (8 x 6 frames, some of them broken on purpose)
 // with image verification on, so that named images are also decoded and checked.
 #include "fuzz_support.h"
-#include "mapnav/map/camera_io.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/geometry/camera_io.h"
+#include "mapnav/logs/replay_log.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace mapnav;

@@ -9,7 +9,7 @@
 
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/testing/support.h"
 

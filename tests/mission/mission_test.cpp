@@ -1,4 +1,4 @@
-#include "mapnav/mission/simulate.h"
+#include "mapnav/mission_sim/simulate.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {

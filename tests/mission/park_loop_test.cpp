@@ -14,6 +14,7 @@
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/modules.h"
 #include "mapnav/mission/runner.h"
+#include "mapnav/mission_sim/closed_loop.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 

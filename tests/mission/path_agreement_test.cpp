@@ -12,7 +12,7 @@
 #include "mapnav/vision_iface/pipeline.h"
 #include "mapnav/mission/path_agreement.h"
 #include "mapnav/mission/track.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {

@@ -12,6 +12,7 @@
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/runner.h"
+#include "mapnav/mission_sim/closed_loop.h"
 #include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"

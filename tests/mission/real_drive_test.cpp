@@ -6,9 +6,9 @@
 
 #include <filesystem>
 
+#include "mapnav/logs/kitti_raw_import.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/runner.h"
-#include "mapnav/sim/kitti_raw_import.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"
 

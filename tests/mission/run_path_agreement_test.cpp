@@ -9,10 +9,11 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/runner.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/mission_sim/closed_loop.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/testing/support.h"
 #include "mapnav/vision/pipelines.h"

@@ -1,6 +1,6 @@
-// The suite of unseen maps (mission/suite.h): its seed lists. The runs themselves are tested end to
+// The suite of unseen maps (mission_sim/suite.h): its seed lists. The runs themselves are tested end to
 // end through the CLI (tests/apps/suite_cli_test.cpp).
-#include "mapnav/mission/suite.h"
+#include "mapnav/mission_sim/suite.h"
 
 #include <gtest/gtest.h>
 

@@ -17,7 +17,7 @@
 #include "cluster_perceptron_arc_eval.h"
 #include "cluster_perceptron_test_util.h"
 #include "mapnav/core/error.h"
-#include "mapnav/sim/odometry.h"
+#include "mapnav/logs/odometry.h"
 #include "mapnav/sim/world.h"
 
 namespace mapnav {

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/geometry/pose2.h"
-#include "mapnav/map/camera_io.h"
 #include "mapnav/map/map.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/testing/maps.h"

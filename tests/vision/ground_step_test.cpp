@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "mapnav/core/error.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/testing/maps.h"
 #include "mapnav/testing/support.h"

@@ -13,7 +13,7 @@
 #include <vector>
 #include <random>
 
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/testing/maps.h"

@@ -19,7 +19,7 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/tokens/detected_object.h"
 
 namespace mapnav {

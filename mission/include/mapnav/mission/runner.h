@@ -6,15 +6,19 @@
 // signals the blackboard so that another module (or person) [can] take control. [...] The steering
 // plan is received by the low-level motion control module [...]".
 //
-// One loop over a frame source (mission/src/frame_source.h), two entry points:
-//   runReplay     — open loop over a recorded log (`mapnav simulate`, docs/replay-log-format.md): the
-//                   replay source reads the log and repairs or skips its faults; localisation and
-//                   commands computed frame by frame from the log's images and odometry, compared
-//                   with the log's truth when it has it; Motion Control records.
-//   runClosedLoop — the closed-loop source drives the simulated plant (sim/plant.h) with Motion
-//                   Control's commands and renders each frame from the true pose; odometry from the
-//                   plant's sensor.
+// One loop over a frame source (mission/frame_source.h), two entry points:
+//   runReplay         — open loop over a recorded log (`mapnav simulate`, a KITTI import;
+//                       docs/replay-log-format.md): the replay source reads the log and repairs or
+//                       skips its faults; localisation and commands computed frame by frame from the
+//                       log's images and odometry, compared with the log's truth when it has it;
+//                       Motion Control records.
+//   runClosedLoopOver — (frame_source.h) Motion Control's commands drive the vehicle of a source
+//                       the caller makes; the simulator's is mission_sim's runClosedLoop
+//                       (mission_sim/closed_loop.h: the plant renders each frame from the true pose,
+//                       odometry from its sensor).
 // Both return the metrics and a record per frame, and can write the JSONL trace (docs/trace-format.md).
+// Poses are world frame (x, y in m, heading in rad); times are mission time in s. Nothing here links
+// the renderer: replaying a real drive needs only the log.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -151,9 +155,6 @@ struct MissionRun {
 /// map, start, goal, stops, speed, vision and halt policy. Throws ValidationError / IoError for the
 /// mission, log or map, NotFound for an unknown pipeline, Unreachable for no route.
 MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& log_dir, const RunOptions& options = {});
-
-/// Closed loop in the synthetic world of the mission. Throws as runReplay.
-MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options = {});
 
 /// `--json`: {"frames","reached_goal","lateral_rms_m","along_rms_m","heading_rms_deg","max_error_m",
 /// "odometry_only_max_error_m","vision_failures","replans","latency_ms_median","latency_ms_p99",

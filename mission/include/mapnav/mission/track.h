@@ -16,7 +16,7 @@
 #include "mapnav/geometry/types.h"
 #include "mapnav/image/image.h"
 #include "mapnav/mission/path_agreement.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/tokens/detected_object.h"
 #include "mapnav/vision_iface/pipeline.h"
 #include "mapnav/tokens/predicted_object.h"

@@ -1,13 +1,13 @@
 #pragma once
 // The simulated plant of a closed-loop run: what the vehicle's camera sees at a pose and time (a
 // frame rendered from the synthetic world, sim/world.h) and what its odometry reports for a true
-// motion (the noisy sensor, sim/odometry.h). Poses are world frame (x, y in m, heading in rad);
+// motion (the noisy sensor, logs/odometry.h). Poses are world frame (x, y in m, heading in rad);
 // motions are per interval in the vehicle frame (geometry/motion.h); times in seconds.
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/pose2.h"
+#include "mapnav/logs/odometry.h"
 #include "mapnav/map/map.h"
-#include "mapnav/sim/odometry.h"
 #include "mapnav/sim/world.h"
 
 namespace mapnav {

@@ -1,4 +1,4 @@
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 
 #include <unistd.h>
 
@@ -14,8 +14,8 @@
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 #include "mapnav/core/strprintf.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/image/png.h"
-#include "mapnav/map/camera_io.h"
 
 namespace mapnav {
 

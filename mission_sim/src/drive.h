@@ -1,38 +1,29 @@
 #pragma once
-// What `simulate()` and the closed-loop runner share (internal to mission/): the mission's route
-// through its via points as one Route, the wander path, and the loop that steps the vehicle between
-// camera frames. simulate() steers it with pure pursuit on the TRUE pose; the closed loop with Motion
-// Control on the ESTIMATED pose. Both get the same frame timing and true motion between frames.
+// What `simulate()` and the closed loop share (internal to mission_sim/): the simulated plant's
+// settings from the mission's `world` and `odometry` blocks, the wander path, and the loop that steps
+// the vehicle between camera frames. simulate() steers it with pure pursuit on the TRUE pose; the
+// closed loop with Motion Control on the ESTIMATED pose. Both get the same frame timing and true
+// motion between frames (vehicle frame, m and rad; times in s). The route through the mission's
+// stops is mission/'s (mission/mission_route.h).
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "mapnav/geometry/motion.h"
+#include "mapnav/geometry/polyline2.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/navigator/path.h"
-#include "mapnav/navigator/route.h"
 #include "mapnav/navigator/vehicle.h"
 #include "mapnav/sim/plant.h"
 
 namespace mapnav::detail {
 
-/// The route from `from` through every stop in order, as one Route: legs concatenated (two drive
-/// legs on the same road at a stop are merged), lines joined, intersections in order. `stop_s` gets
-/// the arc length along the joined line at which each stop is reached (the last one: the length).
-/// Throws Unreachable naming `what` and the reason.
-Route planThrough(RoadGraph& graph, const RoadPosition& from, const std::vector<RoadPosition>& stops,
-                  const std::string& what, std::vector<double>* stop_s = nullptr, const RouteOptions& options = {});
-
 /// The synthetic world and odometry noise of a mission's `world` and `odometry` objects, `seed`
 /// overriding the world's seed and the odometry's (seed + 1): same seed, same bytes. Throws
 /// ValidationError naming the mission and every bad field.
 PlantOptions simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed);
-
-/// The mission's stops after the start: its via points, then the goal.
-std::vector<RoadPosition> missionStops(const MissionFile& mission);
 
 /// The path the simulator's driver follows: the route with a gentle lateral wander (a sine of
 /// `amplitude` metres and a 25 m wavelength, faded in and out over the first and last 5 m).

@@ -1,18 +1,19 @@
-#include "mapnav/mission/simulate.h"
+#include "mapnav/mission_sim/simulate.h"
 
 #include <cmath>
 
 #include "mapnav/core/error.h"
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
+#include "mapnav/logs/odometry.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/map/map_io.h"
+#include "mapnav/mission/mission_route.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/progress.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/steering.h"
 #include "mapnav/navigator/vehicle.h"
-#include "mapnav/sim/odometry.h"
-#include "mapnav/sim/replay_log.h"
-#include "mapnav/sim/world_io.h"
+#include "mapnav/sim/world.h"
 
 #include "drive.h"
 
@@ -39,7 +40,7 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   SimulateResult result;
   RoadGraph graph(map);
   const Route planned =
-      detail::planThrough(graph, mission.start, detail::missionStops(mission), "mission \"" + mission.name + "\"");
+      planThrough(graph, mission.start, missionStops(mission), "mission \"" + mission.name + "\"");
   result.intersections = planned.intersections;
   const Polyline2& route = planned.line;
   result.route_length_m = route.length();

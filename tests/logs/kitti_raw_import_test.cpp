@@ -1,7 +1,7 @@
 // importKittiRaw on the real drive of ../shared/data/real/kitti_raw (Ostring, Karlsruhe): frames,
 // truth against an independent east-north computation, odometry against the OXTS track, the camera
 // from the calibration chain, and bad drives (a copy with symlinked images) named and unwritten.
-#include "mapnav/sim/kitti_raw_import.h"
+#include "mapnav/logs/kitti_raw_import.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +18,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/geometry/pose2.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {

@@ -1,6 +1,6 @@
 // The suite of unseen maps: each seed's random campus and mission written as files, run closed loop
 // through the ordinary runner, and the runs summed up against the suite's targets.
-#include "mapnav/mission/suite.h"
+#include "mapnav/mission_sim/suite.h"
 
 #include <algorithm>
 #include <atomic>
@@ -21,6 +21,7 @@
 #include "mapnav/map/random_campus.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/runner.h"
+#include "mapnav/mission_sim/closed_loop.h"
 
 namespace mapnav {
 

@@ -1,4 +1,4 @@
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "mapnav/sim/odometry.h"
+#include "mapnav/logs/odometry.h"
 
 #include "mapnav/geometry/types.h"
 

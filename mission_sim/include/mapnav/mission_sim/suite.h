@@ -1,8 +1,8 @@
 #pragma once
-// The suite of unseen maps: random small campuses (map/random_campus.h), each with its
-// mission, run closed loop at the defaults of a mission file, and what came of them — per seed and
-// summed up against the suite's targets. Nothing in it is tuned per map: every seed's
-// mission is the same document but for the map, its positions and its seeds.
+// The suite of unseen maps: random small campuses (map/random_campus.h), each with its mission, run
+// closed loop in the simulator (closed_loop.h) at the defaults of a mission file, and what came of
+// them — per seed and summed up against the suite's targets. Nothing in it is tuned per map: every
+// seed's mission is the same document but for the map, its positions and its seeds.
 //
 // Each seed's map and mission are written to a folder (SuiteOptions::folder) and the mission is
 // read back with loadMission, so that the run sees exactly what `mapnav run --mission

@@ -1,5 +1,5 @@
 // KITTI raw drives as replay logs (kitti_raw_import.h; docs/real-drive.md).
-#include "mapnav/sim/kitti_raw_import.h"
+#include "mapnav/logs/kitti_raw_import.h"
 
 #include <algorithm>
 #include <charconv>
@@ -15,11 +15,11 @@
 #include "mapnav/core/error.h"
 #include "kitti_text.h"
 #include "mapnav/core/io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/image/png.h"
-#include "mapnav/map/camera_io.h"
-#include "mapnav/sim/odometry.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/odometry.h"
+#include "mapnav/logs/replay_log.h"
 
 namespace mapnav {
 

@@ -1,12 +1,15 @@
 #pragma once
 // Odometry as a real vehicle's wheel encoders and gyro report it: a scale error on distance, a
-// constant gyro bias, and white noise on both, so that dead reckoning drifts.
+// constant gyro bias, and white noise on both, so that dead reckoning drifts. The simulator's sensor
+// (sim/plant.h) and a KITTI raw import's degraded odometry (kitti_raw_import.h) both use it; a
+// reading is a MotionIncrement (distance in m, heading change in rad, vehicle frame).
 #include <cstdint>
 #include <random>
 #include <string>
 
+#include "mapnav/core/issue.h"
 #include "mapnav/core/option_table.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/geometry/motion.h"
 
 namespace mapnav {
 

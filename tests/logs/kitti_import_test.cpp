@@ -1,6 +1,6 @@
 // importKitti on tiny KITTI sequences written by the tests: known poses → hand-computed truth and
 // odometry; bad sequences → errors naming the file and the line, and no log folder.
-#include "mapnav/sim/kitti_import.h"
+#include "mapnav/logs/kitti_import.h"
 
 #include <gtest/gtest.h>
 
@@ -11,9 +11,9 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/image/png.h"
-#include "mapnav/map/camera_io.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/testing/support.h"
 
 namespace mapnav {

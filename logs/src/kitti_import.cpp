@@ -1,4 +1,4 @@
-#include "mapnav/sim/kitti_import.h"
+#include "mapnav/logs/kitti_import.h"
 
 #include <algorithm>
 #include <cctype>
@@ -10,9 +10,9 @@
 #include "mapnav/core/error.h"
 #include "kitti_text.h"
 #include "mapnav/core/io.h"
+#include "mapnav/geometry/camera_io.h"
 #include "mapnav/image/png.h"
-#include "mapnav/map/camera_io.h"
-#include "mapnav/sim/replay_log.h"
+#include "mapnav/logs/replay_log.h"
 
 namespace mapnav {
 

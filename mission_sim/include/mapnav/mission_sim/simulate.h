@@ -1,7 +1,7 @@
 #pragma once
 // `mapnav simulate`: plan the mission's route, drive it with a controller on the true pose (with a
-// gentle lateral wander), render each camera frame from the map, and write a replay log with the
-// ground truth.
+// gentle lateral wander), render each camera frame from the map (the renderer, sim/world.h), and
+// write a replay log (logs/replay_log.h) with the ground truth. Distances m, times s.
 #include <cstdint>
 #include <filesystem>
 #include <optional>

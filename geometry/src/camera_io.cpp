@@ -1,4 +1,4 @@
-#include "mapnav/map/camera_io.h"
+#include "mapnav/geometry/camera_io.h"
 
 #include <algorithm>
 #include <array>

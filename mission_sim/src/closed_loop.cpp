@@ -1,0 +1,37 @@
+// The closed loop in the simulator: the plant of the mission's world and odometry, and the runner's
+// closed loop over the source that carries it (mission/frame_source.h).
+#include "mapnav/mission_sim/closed_loop.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <memory>
+
+#include "mapnav/geometry/camera_io.h"
+#include "mapnav/map/map_io.h"
+#include "mapnav/mission/frame_source.h"
+#include "mapnav/sim/plant.h"
+
+#include "closed_loop_source.h"
+#include "drive.h"
+
+namespace mapnav {
+
+MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) {
+  options.validate();
+  const Map map = loadMap(mission.map);
+  const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
+  SimulatedPlant plant(map, *camera, detail::simulationSettings(mission, options.seed));
+  return runClosedLoopOver(mission, map, *camera, options, [&](const MissionRun& run, const VehicleLimits& limits) {
+    detail::DriveLoopOptions drive;
+    drive.frame_dt_s = 1.0 / mission.frame_rate_hz;
+    drive.control_dt_s = options.control_dt_s;
+    drive.time_limit_s = 3.0 * run.route.length_m / mission.speed_mps + 60.0;
+    drive.max_frames = options.max_frames;
+    const std::size_t expected =
+        static_cast<std::size_t>(run.route.length_m / mission.speed_mps * mission.frame_rate_hz) + 2;
+    return std::make_unique<detail::ClosedLoopSource>(
+        plant, run.start, limits, drive, options.max_frames > 0 ? std::min(options.max_frames, expected) : expected);
+  });
+}
+
+}  // namespace mapnav
