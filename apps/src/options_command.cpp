@@ -40,6 +40,7 @@
 #include "mapnav/sim/odometry.h"
 #include "mapnav/sim/replay_log.h"
 #include "mapnav/sim/world.h"
+#include "mapnav/vision/bev_eval.h"
 #include "mapnav/vision/cluster_perceptron.h"
 #include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/edge_tracker.h"
@@ -49,6 +50,7 @@
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision/rectify.h"
 #include "mapnav/vision/region.h"
+#include "mapnav/vision/segmentation_eval.h"
 
 namespace mapnav::cli {
 
@@ -86,6 +88,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&filterOptionTable, "localization/include/mapnav/localization/pose_filter.h", kCode),
       entry(&motionNoiseOptionTable, "localization/include/mapnav/localization/pose_filter.h", kCode),
       entry(&relocalizeOptionTable, "localization/include/mapnav/localization/relocalize.h", kCode),
+      entry(&bevGridOptionTable, "vision/include/mapnav/vision/bev_eval.h",
+            "`mapnav eval segmentation --bev-range` and `--bev-cell`; C++ and Python"),
       entry(&clusterPerceptronOptionTable, "vision/include/mapnav/vision/cluster_perceptron.h", kCode),
       entry(&clusterPerceptronPipelineOptionTable, "vision/include/mapnav/vision/cluster_perceptron.h", kPipeline + " (cluster-perceptron)"),
       entry(&colorClassifierOptionTable, "vision/include/mapnav/vision/color_classifier.h", kCode),
@@ -99,6 +103,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&scorePipelineOptionTable, "vision/include/mapnav/vision/pipelines.h", kCode),
       entry(&rectifyOptionTable, "vision/include/mapnav/vision/rectify.h", "`mapnav rectify`'s flags; C++"),
       entry(&regionOptionTable, "vision/include/mapnav/vision/region.h", kCode),
+      entry(&trapezoidOptionTable, "vision/include/mapnav/vision/segmentation_eval.h",
+            "`mapnav log track --trapezoid`, the eval's bootstrap region; C++"),
       entry(&learnedPipelineOptionTable, "learned/include/mapnav/learned/learned_pipeline.h", kPipeline + " (learned)"),
       entry(&segmentationTrainOptionTable, "learned/include/mapnav/learned/train_segmentation.h", "`mapnav train segmentation --options`; C++"),
       entry(&kittiImportOptionTable, "sim/include/mapnav/sim/kitti_import.h", "`mapnav log import-kitti`'s flags; C++"),

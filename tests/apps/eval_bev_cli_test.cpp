@@ -120,7 +120,7 @@ TEST(EvalCli, BirdsEyeGridNeedsTheCameraOfThePhotos) {
   // A bad grid names the option and the field.
   r = runCli(bevEvalArgs(dir, {"--camera", (dir / "camera.json").string(), "--bev", "--bev-range", "4,-4,0,8"}));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("--bev-range / --bev-cell: x_max_m"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--bev-range / --bev-cell: BevGrid::x_max_m = -4: must be > x_min_m"), std::string::npos) << r.err;
   r = runCli(bevEvalArgs(dir, {"--camera", (dir / "camera.json").string(), "--bev", "--bev-range", "4,-4,0"}));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--bev-range"), std::string::npos) << r.err;
