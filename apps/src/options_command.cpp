@@ -9,6 +9,7 @@
 #include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
+#include "mapnav/eval/segmentation_evaluation.h"
 #include "mapnav/learned/learned_pipeline.h"
 #include "mapnav/learned/train_segmentation.h"
 #include "mapnav/localization/line_fit.h"
@@ -122,6 +123,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&runOptionTable, "mission/include/mapnav/mission/runner.h", "`mapnav replay` and `mapnav run` flags; C++ and Python"),
       entry(&suiteOptionTable, "mission/include/mapnav/mission/suite.h", "`mapnav suite random-campus`'s flags; C++"),
       entry(&simulateOptionTable, "mission/include/mapnav/mission/simulate.h", "`mapnav simulate`'s flags; C++ and Python"),
+      entry(&segmentationEvalOptionTable, "eval/include/mapnav/eval/segmentation_evaluation.h",
+            "`mapnav eval segmentation`'s flags; C++"),
   };
   return tables;
 }
