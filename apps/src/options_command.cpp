@@ -124,7 +124,7 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&suiteOptionTable, "mission/include/mapnav/mission/suite.h", "`mapnav suite random-campus`'s flags; C++"),
       entry(&simulateOptionTable, "mission/include/mapnav/mission/simulate.h", "`mapnav simulate`'s flags; C++ and Python"),
       entry(&segmentationEvalOptionTable, "eval/include/mapnav/eval/segmentation_evaluation.h",
-            "`mapnav eval segmentation`'s flags; C++"),
+            "`mapnav eval segmentation`'s flags; C++ and Python (evaluate_segmentation)"),
   };
   return tables;
 }

@@ -1,4 +1,5 @@
-// evaluationJson(): the one writer of an evaluation's JSON (`mapnav eval segmentation --json`).
+// evaluationJson(): the one writer of an evaluation's JSON (`mapnav eval segmentation --json`,
+// Python's evaluate_segmentation).
 #include <cmath>
 #include <optional>
 

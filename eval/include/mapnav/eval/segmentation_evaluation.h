@@ -1,9 +1,9 @@
 #pragma once
-// A vision pipeline evaluated on labelled photos (docs/eval.md), as `mapnav eval segmentation` runs
-// it: the photos and their labels read and checked (labelled_photos.h), one pipeline run over them
-// in file-name order from a bootstrap region, its road scored per pixel or in a bird's-eye grid
-// (vision/segmentation_eval.h, vision/bev_eval.h), the two trivial baselines scored the same way
-// over the same photos, and the margin over the better.
+// A vision pipeline evaluated on labelled photos (docs/eval.md), as `mapnav eval segmentation` and
+// Python's evaluate_segmentation run it: the photos and their labels read and checked
+// (labelled_photos.h), one pipeline run over them in file-name order from a bootstrap region, its
+// road scored per pixel or in a bird's-eye grid (vision/segmentation_eval.h, vision/bev_eval.h),
+// the two trivial baselines scored the same way over the same photos, and the margin over the better.
 #include <cstddef>
 #include <filesystem>
 #include <optional>
