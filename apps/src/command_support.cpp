@@ -135,4 +135,14 @@ std::vector<double> parseNumbers(const std::string& option, const std::string& t
   return values;
 }
 
+std::vector<int> parseLabelValues(const std::string& option, const std::string& text) {
+  std::vector<int> out;
+  if (text.empty()) return out;
+  for (double v : parseNumbers(option, text, 1, 256, "label values V[,V...] (0-255)")) {
+    if (v != std::floor(v)) throw InvalidInput(option + " \"" + text + "\": label values are whole numbers");
+    out.push_back(static_cast<int>(v));
+  }
+  return out;
+}
+
 }  // namespace mapnav::cli

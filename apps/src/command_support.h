@@ -21,6 +21,9 @@ std::vector<std::string> splitNames(const std::string& text);
 std::vector<double> parseNumbers(const std::string& option, const std::string& text, std::size_t min_count,
                                  std::size_t max_count, const std::string& expected);
 
+/// "3,4": label values, whole numbers in [0, 255]; "" gives none. Throws InvalidInput naming the option.
+std::vector<int> parseLabelValues(const std::string& option, const std::string& text);
+
 /// --origin: "LAT,LON" or, where `altitude`, "LAT,LON,ALT" (degrees, metres), the latitude in
 /// [-90, 90] and the longitude in [-180, 180]. Throws InvalidInput saying what is wrong.
 GeoOrigin parseOrigin(const std::string& text, bool altitude = true);

@@ -1,14 +1,11 @@
 #pragma once
-// `mapnav eval segmentation` (docs/eval.md): a vision pipeline over a labelled photo set, scored
-// as the KITTI road benchmark and CamVid do.
+// `mapnav eval segmentation` (docs/eval.md): the command line over the library's evaluation
+// (mapnav/eval/segmentation_evaluation.h), which it prints as text or JSON.
 #include <iosfwd>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include "mapnav/geometry/camera.h"
-#include "mapnav/vision/bev_eval.h"
-#include "mapnav/vision/segmentation_eval.h"
+#include "mapnav/eval/segmentation_evaluation.h"
 
 namespace mapnav::cli {
 
@@ -16,14 +13,10 @@ struct EvalSegmentationConfig {
   std::string pipeline = "sidewalk";
   std::string options_json = "{}";
   std::vector<std::string> plugins;
-  std::string images, labels;          ///< folders; an image's label is the PNG of the same stem
+  std::string images, labels;           ///< folders; an image's label is the PNG of the same stem
   LabelClasses classes;
-  std::string bootstrap = "trapezoid";  ///< or "labels-first-frame"
-  TrapezoidOptions trapezoid;
-  std::string camera;                   ///< optional camera file; default: the assumed pin-hole (docs/eval.md)
-  bool bev = false;                     ///< score in a bird's-eye grid (needs `camera`) instead of per pixel
-  BevGrid bev_grid;                     ///< that grid; KITTI's by default
-  std::string overlays;                 ///< folder for TP/FP/FN overlays, or empty
+  std::string bootstrap = "trapezoid";  ///< --bootstrap's text, for options.bootstrap
+  SegmentationEvalOptions options;      ///< the camera, the bird's-eye grid, the overlays' folder
   bool json = false;
 };
 

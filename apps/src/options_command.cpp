@@ -9,6 +9,7 @@
 #include "command_line.h"
 #include "command_support.h"
 #include "mapnav/core/error.h"
+#include "mapnav/eval/segmentation_evaluation.h"
 #include "mapnav/learned/learned_pipeline.h"
 #include "mapnav/learned/train_segmentation.h"
 #include "mapnav/localization/filter_supervisor.h"
@@ -41,6 +42,7 @@
 #include "mapnav/navigator/vehicle.h"
 #include "mapnav/osm/osm_import.h"
 #include "mapnav/sim/world.h"
+#include "mapnav/vision/bev_eval.h"
 #include "mapnav/vision/cluster_perceptron.h"
 #include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/edge_tracker.h"
@@ -50,6 +52,7 @@
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision/rectify.h"
 #include "mapnav/vision/region.h"
+#include "mapnav/vision/segmentation_eval.h"
 
 namespace mapnav::cli {
 
@@ -89,6 +92,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&relocalizeOptionTable, "localization/include/mapnav/localization/relocalize.h", kCode),
       entry(&filterSupervisorOptionTable, "localization/include/mapnav/localization/filter_supervisor.h",
             "the Map module (MapModuleOptions::supervisor, as park_reset_*); C++"),
+      entry(&bevGridOptionTable, "vision/include/mapnav/vision/bev_eval.h",
+            "`mapnav eval segmentation --bev-range` and `--bev-cell`; C++ and Python"),
       entry(&clusterPerceptronOptionTable, "vision/include/mapnav/vision/cluster_perceptron.h", kCode),
       entry(&clusterPerceptronPipelineOptionTable, "vision/include/mapnav/vision/cluster_perceptron.h", kPipeline + " (cluster-perceptron)"),
       entry(&colorClassifierOptionTable, "vision/include/mapnav/vision/color_classifier.h", kCode),
@@ -102,6 +107,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&scorePipelineOptionTable, "vision/include/mapnav/vision/pipelines.h", kCode),
       entry(&rectifyOptionTable, "vision/include/mapnav/vision/rectify.h", "`mapnav rectify`'s flags; C++"),
       entry(&regionOptionTable, "vision/include/mapnav/vision/region.h", kCode),
+      entry(&trapezoidOptionTable, "vision/include/mapnav/vision/segmentation_eval.h",
+            "`mapnav log track --trapezoid`, the eval's bootstrap region; C++"),
       entry(&learnedPipelineOptionTable, "learned/include/mapnav/learned/learned_pipeline.h", kPipeline + " (learned)"),
       entry(&segmentationTrainOptionTable, "learned/include/mapnav/learned/train_segmentation.h", "`mapnav train segmentation --options`; C++"),
       entry(&kittiImportOptionTable, "logs/include/mapnav/logs/kitti_import.h", "`mapnav log import-kitti`'s flags; C++"),
@@ -119,6 +126,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&runOptionTable, "mission/include/mapnav/mission/runner.h", "`mapnav replay` and `mapnav run` flags; C++ and Python"),
       entry(&suiteOptionTable, "mission_sim/include/mapnav/mission_sim/suite.h", "`mapnav suite random-campus`'s flags; C++"),
       entry(&simulateOptionTable, "mission_sim/include/mapnav/mission_sim/simulate.h", "`mapnav simulate`'s flags; C++ and Python"),
+      entry(&segmentationEvalOptionTable, "eval/include/mapnav/eval/segmentation_evaluation.h",
+            "`mapnav eval segmentation`'s flags; C++ and Python (evaluate_segmentation)"),
   };
   return tables;
 }

@@ -134,7 +134,7 @@ std::string withTrackingPrior(const LogTrackConfig& config) {
 
 int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
-    if (config.trapezoid) config.trapezoid->validate();
+    if (config.trapezoid) namingFlag("--trapezoid", [&] { config.trapezoid->validate(); });
     loadPlugins(config.plugins, config.pipeline);
     auto pipeline = createPipeline(config.pipeline, withTrackingPrior(config));
     const ReplayLog log = ReplayLog::open(config.dir);

@@ -1,6 +1,6 @@
 // The Python module `mapnav` (its compiled part, mapnav._mapnav; python/mapnav/__init__.py
 // re-exports it): the library's maps, cameras, predicted views, routes, vision pipelines, replay
-// logs and missions, with numpy arrays for images, masks and point lists (docs/python.md).
+// logs, missions and the evaluation on labelled photos, with numpy arrays for images, masks and point lists (docs/python.md).
 #include "convert.h"
 
 #include "mapnav/core/error.h"
@@ -78,4 +78,5 @@ PYBIND11_MODULE(_mapnav, m) {
   bindPredict(m);
   bindVision(m);
   bindMission(m);
+  bindEval(m);
 }

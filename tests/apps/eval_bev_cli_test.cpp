@@ -120,14 +120,17 @@ TEST(EvalCli, BirdsEyeGridNeedsTheCameraOfThePhotos) {
   // A bad grid names the option and the field.
   r = runCli(bevEvalArgs(dir, {"--camera", (dir / "camera.json").string(), "--bev", "--bev-range", "4,-4,0,8"}));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("--bev-range / --bev-cell: x_max_m"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--bev-range / --bev-cell: BevGrid::x_max_m = -4: must be > x_min_m"), std::string::npos) << r.err;
   r = runCli(bevEvalArgs(dir, {"--camera", (dir / "camera.json").string(), "--bev", "--bev-range", "4,-4,0"}));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--bev-range"), std::string::npos) << r.err;
-  // A grid the camera does not see (behind it).
+  // A grid the camera does not see (behind it): the camera's file and the grid named.
   r = runCli(bevEvalArgs(dir, {"--camera", (dir / "camera.json").string(), "--bev", "--bev-range", "-4,4,-8,-1"}));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("no cell of the grid projects into the image"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find((dir / "camera.json").string() +
+                       ": no cell of the grid (x -4..4 m, z -8..-1 m) projects into the image of the camera"),
+            std::string::npos)
+      << r.err;
 
   // The camera's image must be the photos' size: the error names the file and both sizes.
   const fs::path wide = handMadeSet(dir / "wide", 8);

@@ -63,7 +63,7 @@ TEST(BevEval, KittiDefaultsAndBadGrids) {
       g.validate();
       ADD_FAILURE() << "no error for " << field;
     } catch (const InvalidInput& e) {
-      EXPECT_EQ(std::string(e.what()).rfind(field + ":", 0), 0u) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("BevGrid::" + field + " = ", 0), 0u) << e.what();
     }
   };
   fails({-10, 10, 6, 46, 0.0}, "cell_m");

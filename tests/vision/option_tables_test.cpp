@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mapnav/core/error.h"
+#include "mapnav/vision/bev_eval.h"
 #include "mapnav/vision/cluster_perceptron.h"
 #include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/ground_step.h"
@@ -20,6 +21,7 @@
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision/rectify.h"
 #include "mapnav/vision/region.h"
+#include "mapnav/vision/segmentation_eval.h"
 
 namespace mapnav {
 namespace {
@@ -60,6 +62,8 @@ TEST(VisionOptionTables, EveryDefaultValidates) {
   EXPECT_EQ(validateError(GroundStepOptions{}), "");
   EXPECT_EQ(validateError(ClusterPerceptronOptions{}), "");
   EXPECT_EQ(validateError(ClusterPerceptronPipelineOptions{}), "");
+  EXPECT_EQ(validateError(TrapezoidOptions{}), "");
+  EXPECT_EQ(validateError(BevGrid{}), "");
 }
 
 // The pipelines will hold these structs whole: their tables name the fields as the members are named.
@@ -123,6 +127,17 @@ TEST(VisionOptionTables, ARuleBetweenFieldsNamesTheFieldItIsAbout) {
             "half_width_m)");
   EXPECT_EQ(rejected<GroundStepOptions>([](auto& o) { o.clear_m = 0.01; }),
             "GroundStepOptions::clear_m = 0.01: must be >= cell_m");
+  EXPECT_EQ(rejected<TrapezoidOptions>([](auto& o) { o.top_width = 0.75; }),
+            "TrapezoidOptions::top_width = 0.75: must be <= bottom_width");
+  EXPECT_EQ(rejected<TrapezoidOptions>([](auto& o) { o.top = 1; }), "TrapezoidOptions::top = 1: must be < bottom");
+  EXPECT_EQ(rejected<TrapezoidOptions>([](auto& o) { o.bottom = 0; }), "TrapezoidOptions::bottom = 0: must be in (0, 1]");
+  // KITTI's 20 m x 40 m in 1 mm cells: 800 million; 50 m cells: round(20 / 50) = 0 columns.
+  EXPECT_EQ(rejected<BevGrid>([](auto& o) { o.cell_m = 0.001; }),
+            "BevGrid::cell_m = 0.001: must be such that the grid has at most 20 million cells");
+  EXPECT_EQ(rejected<BevGrid>([](auto& o) { o.cell_m = 50; }),
+            "BevGrid::cell_m = 50: must be such that round((x_max_m - x_min_m) / cell_m) and round((z_max_m - z_min_m) "
+            "/ cell_m) are >= 1");
+  EXPECT_EQ(rejected<BevGrid>([](auto& o) { o.z_max_m = 6; }), "BevGrid::z_max_m = 6: must be > z_min_m");
 }
 
 // One rule set: every field of the pipeline that is the finder's is the finder's row as it is

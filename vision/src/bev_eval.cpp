@@ -12,29 +12,35 @@ namespace {
 
 constexpr double kMaxCells = 20e6;  // 0.05 m cells over 200 m × 100 m; more is a typo, not a grid
 
-int cellsAcross(double min, double max, double cell) { return static_cast<int>(std::lround((max - min) / cell)); }
+// KITTI's count of cells over an extent, round(extent / cell), in doubles (a typo's cell of 1e-12 m
+// would overflow an int).
+double columnsOf(const BevGrid& g) { return std::round((g.x_max_m - g.x_min_m) / g.cell_m); }
+double rowsOf(const BevGrid& g) { return std::round((g.z_max_m - g.z_min_m) / g.cell_m); }
 
 }  // namespace
 
-int BevGrid::columns() const { return cellsAcross(x_min_m, x_max_m, cell_m); }
-int BevGrid::rows() const { return cellsAcross(z_min_m, z_max_m, cell_m); }
+int BevGrid::columns() const { return static_cast<int>(columnsOf(*this)); }
+int BevGrid::rows() const { return static_cast<int>(rowsOf(*this)); }
 
-void BevGrid::validate() const {
-  const std::pair<const char*, double> fields[] = {
-      {"x_min_m", x_min_m}, {"x_max_m", x_max_m}, {"z_min_m", z_min_m}, {"z_max_m", z_max_m}, {"cell_m", cell_m}};
-  for (const auto& [name, v] : fields)
-    if (!std::isfinite(v)) throw InvalidInput(std::string(name) + ": must be a finite number");
-  if (!(cell_m > 0)) throw InvalidInput("cell_m: " + std::to_string(cell_m) + " must be > 0");
-  if (!(x_min_m < x_max_m))
-    throw InvalidInput("x_max_m: " + std::to_string(x_max_m) + " must be greater than x_min_m " + std::to_string(x_min_m));
-  if (!(z_min_m < z_max_m))
-    throw InvalidInput("z_max_m: " + std::to_string(z_max_m) + " must be greater than z_min_m " + std::to_string(z_min_m));
-  const double cells = std::round((x_max_m - x_min_m) / cell_m) * std::round((z_max_m - z_min_m) / cell_m);
-  if (cells > kMaxCells)
-    throw InvalidInput("cell_m: " + std::to_string(cell_m) + " makes " + std::to_string(static_cast<long long>(cells)) +
-                       " cells, more than 20 million");
-  if (columns() < 1 || rows() < 1) throw InvalidInput("cell_m: " + std::to_string(cell_m) + " is larger than the grid");
+const OptionTable<BevGrid>& bevGridOptionTable() {
+  using O = BevGrid;
+  static const OptionTable<O> table =
+      OptionTable<O>("BevGrid")
+          .field("x_min_m", &O::x_min_m, "the bird's-eye grid's left edge, m right of the camera (KITTI's road frame)")
+          .field("x_max_m", &O::x_max_m, "... its right edge, m")
+          .field("z_min_m", &O::z_min_m, "... its near edge, m ahead of the camera (KITTI starts at 6)")
+          .field("z_max_m", &O::z_max_m, "... its far edge, m")
+          .field("cell_m", &O::cell_m, above(0), "the side of a cell, m")
+          .check("x_max_m", [](const O& o) { return o.x_max_m > o.x_min_m; }, "> x_min_m")
+          .check("z_max_m", [](const O& o) { return o.z_max_m > o.z_min_m; }, "> z_min_m")
+          .check("cell_m", [](const O& o) { return columnsOf(o) * rowsOf(o) <= kMaxCells; },
+                 "such that the grid has at most 20 million cells")
+          .check("cell_m", [](const O& o) { return columnsOf(o) >= 1 && rowsOf(o) >= 1; },
+                 "such that round((x_max_m - x_min_m) / cell_m) and round((z_max_m - z_min_m) / cell_m) are >= 1");
+  return table;
 }
+
+void BevGrid::validate() const { bevGridOptionTable().validate(*this); }
 
 BevSampling bevSampling(const Camera& camera, const BevGrid& grid) {
   grid.validate();

@@ -198,12 +198,22 @@ Image drawSegmentationOverlay(const Image& photo, const Image& predicted, const 
   return out;
 }
 
-void TrapezoidOptions::validate() const {
-  if (!(bottom_width > 0 && bottom_width <= 1)) throw InvalidInput("bottom_width: must be in (0, 1]");
-  if (!(top_width > 0 && top_width <= bottom_width)) throw InvalidInput("top_width: must be in (0, bottom_width]");
-  if (!(bottom > 0 && bottom <= 1)) throw InvalidInput("bottom: must be in (0, 1]");
-  if (!(top >= 0 && top < bottom)) throw InvalidInput("top: must be in [0, bottom)");
+const OptionTable<TrapezoidOptions>& trapezoidOptionTable() {
+  using O = TrapezoidOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("TrapezoidOptions")
+          .field("bottom_width", &O::bottom_width, aboveUpTo(0, 1),
+                 "the bottom edge's width, fraction of the image width")
+          .field("top_width", &O::top_width, aboveUpTo(0, 1), "the top edge's width, fraction of the image width")
+          .field("top", &O::top, inRange(0, 1), "the top edge's row, fraction of the image height from the top")
+          .field("bottom", &O::bottom, aboveUpTo(0, 1),
+                 "the bottom edge's row, fraction of the image height from the top")
+          .check("top_width", [](const O& o) { return o.top_width <= o.bottom_width; }, "<= bottom_width")
+          .check("top", [](const O& o) { return o.top < o.bottom; }, "< bottom");
+  return table;
 }
+
+void TrapezoidOptions::validate() const { trapezoidOptionTable().validate(*this); }
 
 Polygon2 bottomTrapezoid(int width, int height, const TrapezoidOptions& o) {
   o.validate();

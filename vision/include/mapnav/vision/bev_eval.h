@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/image/image.h"
 #include "mapnav/vision/segmentation_eval.h"
@@ -28,10 +29,12 @@ struct BevGrid {
   /// Cells across, round((x_max − x_min) / cell) as KITTI counts them; likewise rows().
   int columns() const;
   int rows() const;
-  /// Throws InvalidInput naming the field: non-finite values, min ≥ max, cell ≤ 0, or more than
-  /// 20 million cells.
+  /// bevGridOptionTable()'s rules: throws InvalidInput naming the first bad field (non-finite
+  /// values, min ≥ max, cell ≤ 0, no cell across or along, or more than 20 million cells).
   void validate() const;
 };
+/// Its table: each option's name (the member's), rule and description.
+const OptionTable<BevGrid>& bevGridOptionTable();
 
 /// The grid looked up in one camera's image.
 struct BevSampling {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mapnav/geometry/camera.h"
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/image/image.h"
 
@@ -94,8 +95,11 @@ struct TrapezoidOptions {
   double top = 0.7;           ///< top edge's row, fraction of the height from the top. [0, bottom)
   double bottom = 0.98;       ///< bottom edge's row, fraction of the height from the top. (top, 1]
 
+  /// trapezoidOptionTable()'s rules: throws InvalidInput naming the first bad field.
   void validate() const;
 };
+/// Its table: each option's name (the member's), rule and description.
+const OptionTable<TrapezoidOptions>& trapezoidOptionTable();
 /// Its corners in pixels (u right, v down), counter-clockwise on the screen: bottom left, bottom
 /// right, top right, top left.
 Polygon2 bottomTrapezoid(int width, int height, const TrapezoidOptions& options = {});

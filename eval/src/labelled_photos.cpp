@@ -1,22 +1,27 @@
-#include "labelled_photos.h"
+#include "mapnav/eval/labelled_photos.h"
 
 #include <algorithm>
-#include <cmath>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include "mapnav/core/error.h"
 #include "mapnav/image/png.h"
-#include "command_support.h"
 
-namespace mapnav::cli {
+namespace mapnav {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+std::string sizeText(const Image& image) { return std::to_string(image.width) + "x" + std::to_string(image.height); }
+
+}  // namespace
+
 std::vector<LabelledPhoto> readLabelledPhotos(const fs::path& images, const fs::path& labels, bool same_size) {
-  for (const auto& [option, dir] : {std::pair{"--images", images}, std::pair{"--labels", labels}}) {
+  for (const auto& [dir, what] : {std::pair{images, "the images"}, std::pair{labels, "the labels"}}) {
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw IoError(std::string(option) + " " + dir.string() + ": no such folder");
+    if (!fs::is_directory(dir, ec)) throw IoError(dir.string() + ": no such folder (" + what + ")");
   }
   std::vector<fs::path> files;
   std::error_code ec;
@@ -39,26 +44,15 @@ std::vector<LabelledPhoto> readLabelledPhotos(const fs::path& images, const fs::
     if (s.image.channels != 3) throw InvalidInput(f.string() + ": expected an RGB photo");
     if (s.label.channels != 1) throw InvalidInput(s.label_file.string() + ": expected a 1-channel PNG of class indices");
     if (s.label.width != s.image.width || s.label.height != s.image.height)
-      throw InvalidInput(s.label_file.string() + ": the label is " + std::to_string(s.label.width) + "x" +
-                         std::to_string(s.label.height) + " but its image is " + std::to_string(s.image.width) + "x" +
-                         std::to_string(s.image.height));
+      throw InvalidInput(s.label_file.string() + ": the label is " + sizeText(s.label) + " but its image is " +
+                         sizeText(s.image));
     if (same_size && !set.empty() &&
         (s.image.width != set.front().image.width || s.image.height != set.front().image.height))
-      throw InvalidInput(f.string() + ": every image must have the size of the first (" +
-                         std::to_string(set.front().image.width) + "x" + std::to_string(set.front().image.height) + ")");
+      throw InvalidInput(f.string() + ": every image must have the size of the first (" + sizeText(set.front().image) +
+                         ")");
     set.push_back(std::move(s));
   }
   return set;
 }
 
-std::vector<int> parseLabelValues(const std::string& option, const std::string& text) {
-  std::vector<int> out;
-  if (text.empty()) return out;
-  for (double v : parseNumbers(option, text, 1, 256, "label values V[,V...] (0-255)")) {
-    if (v != std::floor(v)) throw InvalidInput(option + " \"" + text + "\": label values are whole numbers");
-    out.push_back(static_cast<int>(v));
-  }
-  return out;
-}
-
-}  // namespace mapnav::cli
+}  // namespace mapnav

@@ -1,13 +1,12 @@
 #pragma once
 // A folder of photos and a folder of their per-pixel labels, matched by file stem: what `mapnav eval
-// segmentation` scores and `mapnav train segmentation` trains on.
+// segmentation` scores (segmentation_evaluation.h) and `mapnav train segmentation` trains on.
 #include <filesystem>
-#include <string>
 #include <vector>
 
 #include "mapnav/image/image.h"
 
-namespace mapnav::cli {
+namespace mapnav {
 
 struct LabelledPhoto {
   std::filesystem::path image_file, label_file;
@@ -16,14 +15,11 @@ struct LabelledPhoto {
 };
 
 /// Every .png of `images` (in file-name order) with the .png of the same stem in `labels`, read and
-/// checked before anything runs: IoError naming the option for a missing folder ("--images DIR: no
-/// such folder"); InvalidInput naming the file for an image without its label, a label that is not
+/// checked before anything runs: IoError naming the folder for a missing one ("DIR: no such folder
+/// (the images)"); InvalidInput naming the file for an image without its label, a label that is not
 /// 1-channel or not its image's size, a photo that is not RGB, a corrupt PNG, no photos; with
 /// `same_size`, a photo of another size than the first.
 std::vector<LabelledPhoto> readLabelledPhotos(const std::filesystem::path& images, const std::filesystem::path& labels,
                                               bool same_size);
 
-/// "3,4": label values, whole numbers in [0, 255]; "" gives none. Throws InvalidInput naming the option.
-std::vector<int> parseLabelValues(const std::string& option, const std::string& text);
-
-}  // namespace mapnav::cli
+}  // namespace mapnav
