@@ -102,29 +102,10 @@ bool RayTable::matches(const Camera& camera) const {
   return camera.model() == model_ && camera.intrinsics() == intrinsics_ && camera.mount() == mount_;
 }
 
-void World::Impl::textureSums(std::size_t w, RowScratch& rs) const {
-  for (int m = 0; m < kMaterials; ++m) {
-    const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
-    if (group.empty()) continue;
-    const std::size_t n = group.size();
-    rs.xs.resize(n);
-    rs.ys.resize(n);
-    rs.footprints.resize(n);
-    rs.sums.resize(n);
-    for (std::size_t j = 0; j < n; ++j) {
-      rs.xs[j] = rs.points[group[j]].x();
-      rs.ys[j] = rs.points[group[j]].y();
-      rs.footprints[j] = rs.fp[group[j]];
-    }
-    for (int k : materialChannels(static_cast<Material>(m))) {
-      if (k == 0) break;
-      const FbmSpec spec = fbmSpec(k);
-      fbmRow(salts[static_cast<std::size_t>(k)], rs.xs.data(), rs.ys.data(), rs.footprints.data(), n, spec.base_freq,
-             spec.octaves, rs.sums.data());
-      float* values = rs.values.data() + static_cast<std::size_t>(k) * w;
-      for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
-    }
-  }
+World::Impl::Impl(const Map& map, const WorldOptions& opts) : Shading(map, opts) {
+  if (options.texel_cache_mib > 0)
+    texels = std::make_unique<TexelCache>(
+        std::max<std::size_t>(1, static_cast<std::size_t>(options.texel_cache_mib * 1048576.0 / sizeof(TexelTile))));
 }
 
 void World::Impl::shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const RenderTiles& tiles,
@@ -173,49 +154,6 @@ bool World::Impl::texelPixel(const Vec2& p, const RayTable::Ray& r, const CellLi
   c = hazed(shadowed(c, std::max(shadow, marks)), haze);
   mask = paved ? 255 : 0;
   return true;
-}
-
-void World::Impl::addPoint(RowScratch& rs, std::size_t u, const Vec2& p, float footprint, const CellLists& lists,
-                           NoiseCache& nc) const {
-  rs.points[u] = p;
-  rs.fp[u] = footprint;
-  locate(p, lists, &nc, rs.ground[u]);
-  const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
-  rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
-}
-
-void World::Impl::shadeLocated(std::size_t w, RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb,
-                               float* shadows, const LandmarkView* view, std::uint8_t* lmask) const {
-  rs.values.resize(static_cast<std::size_t>(NoiseCache::kChannels) * w);
-  canopyRow(w, rs);
-  textureSums(w, rs);
-  // Each ground point's texture from those sums, then its edge, leaves, shadow and haze.
-  for (const auto& group : rs.group)
-    for (std::uint32_t u : group) {
-      const GroundPoint& g = rs.ground[u];
-      const Vec2& p = rs.points[u];
-      const float fp = rs.fp[u];
-      C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
-      float shadow = rs.flecked[u];
-      if (g.lists.n_marks > 0) {  // the landmarks' shadows and covers
-        int cover = -1;
-        shadow = std::max(shadow, landmarks.marksAt(p, g.lists.marks, g.lists.n_marks, fp, &c, &cover));
-        if (cover >= 0 && lmask != nullptr) {
-          lmask[u] = kShowsCover;
-          if (const int slot = view != nullptr ? view->slot(static_cast<std::uint32_t>(cover)) : -1; slot >= 0)
-            ++rs.shown[static_cast<std::size_t>(slot)];
-        }
-      }
-      if (shadows != nullptr) {
-        c = surfaceFinish(p, g, c, fp, rs.tree[u], &nc);
-        shadows[u] = shadow;
-      } else {
-        c = finish(p, g, c, fp, haze != nullptr ? haze[u] : 0.0f, rs.tree[u], shadow, &nc);
-      }
-      rgb[3 * u] = c.r;
-      rgb[3 * u + 1] = c.g;
-      rgb[3 * u + 2] = c.b;
-    }
 }
 
 std::shared_ptr<const RayExtras> World::Impl::rayExtras(const RayTable& rays) const {

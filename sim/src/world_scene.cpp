@@ -86,7 +86,7 @@ bool world_detail::crossingContains(const PavedPolygon& poly, const Vec2& p) {
   return inside;
 }
 
-int World::Impl::surfaceIndex(const Map& map, const std::string& name) {
+int Scene::surfaceIndex(const Map& map, const std::string& name) {
   const Appearance* a = map.findSurface(name);
   Surface s;
   s.material = materialOf(name);
@@ -101,14 +101,11 @@ int World::Impl::surfaceIndex(const Map& map, const std::string& name) {
   return static_cast<int>(surfaces.size() - 1);
 }
 
-World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
+Scene::Scene(const Map& map, const WorldOptions& opts) : options(opts) {
   options.validate();
   for (std::size_t k = 0; k < salts.size(); ++k) salts[k] = mix64(options.seed * 0x100000001B3ULL + k);
   shadow_everywhere = options.shadow_density >= 0.999;
   leaf_salt = mix64(options.seed ^ 0x1EAFULL);
-  if (options.texel_cache_mib > 0)
-    texels = std::make_unique<TexelCache>(
-        std::max<std::size_t>(1, static_cast<std::size_t>(options.texel_cache_mib * 1048576.0 / sizeof(TexelTile))));
   lawn = surfaceIndex(map, map.findSurface("grass") ? "grass" : "");
   if (!map.findSurface("grass")) surfaces[static_cast<std::size_t>(lawn)] = {Material::Grass, {70, 120, 50}, {14, 18, 12}};
 
@@ -162,7 +159,7 @@ World::Impl::Impl(const Map& map, const WorldOptions& opts) : options(opts) {
   buildGrid(box);
 }
 
-void World::Impl::placeTrees(const Map& map) {
+void Scene::placeTrees(const Map& map) {
   if (options.shadow_density <= 0 || shadow_everywhere) return;
   Stream rng(mix64(options.seed ^ 0x7EE5ULL));
   constexpr double kClusterArea = 22.0;  // mean area of one canopy, m² (measured for the sizes below)
@@ -189,14 +186,14 @@ void World::Impl::placeTrees(const Map& map) {
   }
 }
 
-void World::Impl::cellRange(const Box2& b, int& x0, int& y0, int& x1, int& y1) const {
+void Scene::cellRange(const Box2& b, int& x0, int& y0, int& x1, int& y1) const {
   x0 = std::clamp(static_cast<int>(std::floor((b.min().x() - origin.x()) / kCell)), 0, nx - 1);
   y0 = std::clamp(static_cast<int>(std::floor((b.min().y() - origin.y()) / kCell)), 0, ny - 1);
   x1 = std::clamp(static_cast<int>(std::floor((b.max().x() - origin.x()) / kCell)), 0, nx - 1);
   y1 = std::clamp(static_cast<int>(std::floor((b.max().y() - origin.y()) / kCell)), 0, ny - 1);
 }
 
-std::vector<std::vector<PolyRef>> World::Impl::polygonCells() const {
+std::vector<std::vector<PolyRef>> Scene::polygonCells() const {
   const std::size_t cells = static_cast<std::size_t>(nx) * ny;
   // Polygons: cells an edge's box touches are boundary cells; other cells inside are whole.
   std::vector<std::vector<PolyRef>> pc(cells);
@@ -236,7 +233,7 @@ std::vector<std::vector<PolyRef>> World::Impl::polygonCells() const {
   return pc;
 }
 
-void World::Impl::buildGrid(const Box2& box) {
+void Scene::buildGrid(const Box2& box) {
   origin = box.min();
   nx = std::max(1, static_cast<int>(std::ceil(box.sizes().x() / kCell)));
   ny = std::max(1, static_cast<int>(std::ceil(box.sizes().y() / kCell)));
@@ -291,7 +288,7 @@ void World::Impl::buildGrid(const Box2& box) {
   compress(mc, mark_start, cell_marks);
 }
 
-int World::Impl::pavedAt(const Vec2& p, const CellLists& lists) const {
+int Scene::pavedAt(const Vec2& p, const CellLists& lists) const {
   int found = -1;
   for (std::uint32_t i = 0; i < lists.n_polys; ++i) {
     const PolyRef ref = lists.polys[i];
@@ -305,8 +302,8 @@ int World::Impl::pavedAt(const Vec2& p, const CellLists& lists) const {
 }
 
 template <class Wobble>
-void World::Impl::discShadow(const Vec2& p, const CellLists& lists, double footprint, const Wobble& wobbleAt, float& s,
-                             float& s_bare) const {
+void Scene::discShadow(const Vec2& p, const CellLists& lists, double footprint, const Wobble& wobbleAt, float& s,
+                       float& s_bare) const {
   // The disc edges are smoothed over max(0.25 m, footprint): the same for both unless wide.
   const auto edge = static_cast<float>(std::max(0.25, footprint));
   const bool wide = footprint > 0.25;
@@ -346,8 +343,8 @@ constexpr double kOutlineFreq[2] = {1.3, 4.0}, kFleckFreq[2] = {1.7, 4.1};
 
 }  // namespace
 
-void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint, NoiseCache* nc, float& bare,
-                         float& flecked_out) const {
+void Scene::canopy(const Vec2& p, const CellLists& lists, double footprint, NoiseCache* nc, float& bare,
+                   float& flecked_out) const {
   bare = flecked_out = shadow_everywhere ? 1.0f : 0.0f;
   if (shadow_everywhere || lists.n_discs == 0) return;
   const auto noise = [&](std::uint64_t salt, double f, int channel, int octave) {
@@ -366,7 +363,7 @@ void World::Impl::canopy(const Vec2& p, const CellLists& lists, double footprint
   flecked_out = s;
 }
 
-void World::Impl::canopyRow(std::size_t w, RowScratch& rs) const {
+void Scene::canopyRow(std::size_t w, RowScratch& rs) const {
   rs.tree.assign(w, shadow_everywhere ? 1.0f : 0.0f);
   rs.flecked.assign(w, shadow_everywhere ? 1.0f : 0.0f);
   if (shadow_everywhere) return;

@@ -1,7 +1,9 @@
 #pragma once
-// The synthetic world's scene (internal to sim/src): the map prepared for lookups, and World::Impl,
-// which the scene (world_scene.cpp), the shading (world_shading.cpp) and the renderer
-// (world_render.cpp) share.
+// The synthetic world's scene (internal to sim/src): the map prepared for lookups, and World::Impl in
+// three layers, each using only the one below it: world_detail::Scene (the lookups and the
+// renderer's tiles of them: world_scene.cpp, world_tiles.cpp), world_detail::Shading (the ground's
+// and the sky's colours, a point or a row at a time, and the texel tiles: world_shading.cpp,
+// world_texels.cpp) and World::Impl (the frames: world_render.cpp, world_landmark_view.cpp).
 //
 // Structure. A uniform grid of kCell-metre cells over the map lists, per cell, (1) the paved
 // polygons (road areas, intersection shapes) that touch it, each flagged when it covers the whole
@@ -32,16 +34,16 @@ namespace world_detail {
 constexpr double kCell = 3.0;      // grid cell, m
 constexpr double kEdgeBand = 1.0;  // y-band of a polygon's edge index, m
 constexpr int kTileW = 32, kTileH = 8;  // the renderer's tiles (RenderTiles), pixels
-constexpr C3 kHazeColour{196, 206, 218};  // far ground fades toward it (World::Impl::finish)
+constexpr C3 kHazeColour{196, 206, 218};  // far ground fades toward it (Shading::finish)
 
 // NoiseCache channels of the noise that is not a texture's (a texture's fractal sum k uses
-// channel k, its salt's key in World::Impl::texture).
+// channel k, its salt's key in Shading::texture).
 constexpr int kWobbleChannel = 0;  // the shoulder's ragged edge
 constexpr int kWornChannel = 1;    // the worn strip of lawn beside the pavement
 constexpr int kCanopyChannel = 6;  // the canopies' ragged outlines (two octaves)
 constexpr int kFleckChannel = 7;   // sun flecks (two octaves)
 
-// A texture's fractal sums (World::Impl::texture): channel k is the key of its salt and its
+// A texture's fractal sums (Shading::texture): channel k is the key of its salt and its
 // NoiseCache channel; the renderer evaluates a row's sums channel by channel (fbmBatch).
 struct FbmSpec {
   double base_freq = 0;  // cycles/m of the coarsest octave
@@ -146,14 +148,14 @@ struct RowScratch {
   std::vector<std::uint32_t> group[kMaterials];  // the row's ground pixels by their texture's material
   std::vector<double> xs, ys;                   // one group's points, gathered
   std::vector<float> footprints, sums;
-  std::vector<float> tree, flecked;             // each pixel's canopy shadow (World::Impl::canopyRow)
+  std::vector<float> tree, flecked;             // each pixel's canopy shadow (Scene::canopyRow)
   std::vector<std::uint32_t> cand;              // canopyRow's pixels, their points and noise
   std::vector<double> cx, cy;
   std::vector<float> zeros, n0, n1;
   std::vector<BodyHit> hits;                    // the row's nearest landmark bodies (World::Impl::bodyRow)
   std::vector<int> hit_slot;                    //   their slots in the frame's LandmarkView, -1: none
   std::vector<int> shown;                       // per LandmarkView slot, the pixels that show it
-  std::vector<float> rgb, shadows;              // a texel tile's colours and shadows (World::Impl::texelTile)
+  std::vector<float> rgb, shadows;              // a texel tile's colours and shadows (Shading::texelTile)
 
   /// A row of w points begun: none located (footprint 0: addPoint's), no material groups.
   void begin(std::size_t w) {
@@ -209,7 +211,7 @@ struct RayExtras {
   std::vector<float> dirs;      // each pixel's unit ray, vehicle frame, 3 floats (a world with landmarks)
 };
 
-/// One band of tiles of a frame (World::Impl::tileRow): for each tile, the grid cells its box
+/// One band of tiles of a frame (Scene::tileRow): for each tile, the grid cells its box
 /// meets, each with the cell's lists less what no point of the tile meets (in `polys`, `segs`,
 /// `discs`, `marks`; a polygon that holds the whole tile marked whole). A renderer's thread keeps one.
 struct RenderTiles {
@@ -261,7 +263,7 @@ struct Disc {
   double reach2 = 0;
 };
 
-/// The uniform grid of kCell-metre cells over the map (World::Impl::buildGrid): per cell, in CSR
+/// The uniform grid of kCell-metre cells over the map (Scene::buildGrid): per cell, in CSR
 /// form, the paved polygons, centre-line segments, canopy discs and landmarks' marks that touch it.
 struct Grid {
   Vec2 origin = Vec2::Zero();
@@ -288,21 +290,13 @@ struct Grid {
   }
 };
 
-}  // namespace world_detail
-
-struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
-  using C3 = world_detail::C3;
-  using Surface = world_detail::Surface;
-  using RoadInfo = world_detail::RoadInfo;
-  using PavedPolygon = world_detail::PavedPolygon;
-  using Segment = world_detail::Segment;
-  using Disc = world_detail::Disc;
-  using PolyRef = world_detail::PolyRef;
-  using NoiseCache = world_detail::NoiseCache;
-  using NoiseMemo = world_detail::NoiseMemo;
-
+/// The map prepared for lookups (world_scene.cpp, world_tiles.cpp): the surfaces, roads, paved
+/// polygons, centre-line segments, canopy discs and landmarks, on the grid; which paved polygon holds
+/// a point, the canopies' shadow there; and a frame's tiles of the grid's lists (RenderTiles). What
+/// Shading colours and World::Impl renders; it needs neither.
+struct [[gnu::visibility("hidden")]] Scene : Grid {
   WorldOptions options;
-  std::array<std::uint64_t, world_detail::NoiseCache::kChannels> salts{};  // texture salt k (texture)
+  std::array<std::uint64_t, NoiseCache::kChannels> salts{};  // texture salt k (Shading::texture)
   std::vector<Surface> surfaces;
   int lawn = -1;  // the background surface
   std::vector<RoadInfo> roads;
@@ -310,17 +304,12 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   std::vector<Segment> segments;
   std::vector<Disc> discs;
   bool shadow_everywhere = false;
-  std::uint64_t leaf_salt = 0;  // the fallen leaves' cells' (finish)
-  world_detail::Landmarks landmarks;  // the map's (world_landmarks.cpp)
+  std::uint64_t leaf_salt = 0;  // the fallen leaves' cells' (Shading::surfaceFinish)
+  Landmarks landmarks;  // the map's (world_landmarks.cpp)
 
-  mutable std::mutex cache_mutex;
-  mutable std::vector<std::shared_ptr<const RayTable>> cache;
-  // What the last ray table gave (rayExtras), by the table's id.
-  mutable std::uint64_t extras_id = 0;
-  mutable std::shared_ptr<const world_detail::RayExtras> extras;
-  std::unique_ptr<world_detail::TexelCache> texels;  // options' texel_cache_mib (null: none; world_texels.h)
-
-  Impl(const Map& map, const WorldOptions& opts);
+  /// The options validated (InvalidInput otherwise), the map's surfaces, roads, intersections, trees
+  /// and landmarks placed, and the grid built over them.
+  Scene(const Map& map, const WorldOptions& opts);
   int surfaceIndex(const Map& map, const std::string& name);
   void buildGrid(const Box2& box);
   /// The grid cells [x0, x1] × [y0, y1] a box meets (clamped to the grid).
@@ -328,17 +317,6 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   /// Per grid cell, the paved polygons that touch it (whole ones first).
   std::vector<std::vector<PolyRef>> polygonCells() const;
   void placeTrees(const Map& map);
-  /// The landmarks that may show in a frame seen from pose (cos, sin of the heading, x, y).
-  world_detail::LandmarkView landmarkView(const RayTable& rays, const world_detail::RayExtras& extras,
-                                          const std::array<double, 4>& pose) const;
-  /// Row v's pixels whose ray meets a landmark of the view before the ground: their colour (3
-  /// floats, before the camera), mask 0 and landmark mask kShowsBody, counted in rs.shown. False
-  /// when no body's box holds the row; else rs.hit_slot marks those pixels (-1 the others).
-  bool bodyRow(const RayTable& rays, const world_detail::LandmarkView& view, int v, world_detail::RowScratch& rs,
-               float* rgb, std::uint8_t* mask, std::uint8_t* lmask) const;
-  /// The landmarks of the view that a frame lists (Frame::landmarks), from the pixels that show each.
-  std::vector<LandmarkInView> landmarkTruth(const Camera& camera, const world_detail::LandmarkView& view,
-                                            const std::array<double, 4>& pose, const std::vector<int>& shown) const;
   /// Index of the paved polygon holding p (roads before intersections), or -1.
   int pavedAt(const Vec2& p, const world_detail::CellLists& lists) const;
   /// Tree shadow at p, 0 sunlit … 1 full: `bare` at the point without the sun flecks (where the
@@ -354,6 +332,27 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   /// canopy of a row's w located ground points (rs.points, rs.ground, rs.fp) into rs.tree (bare)
   /// and rs.flecked, the outlines' and the flecks' noise evaluated a row at a time.
   void canopyRow(std::size_t w, world_detail::RowScratch& rs) const;
+  /// Band `band` of the frame's tiles seen from pose (cos, sin of the heading, x, y) into rt.
+  void tileRow(const world_detail::RayExtras& extras, int band, const std::array<double, 4>& pose,
+               world_detail::RenderTiles& rt) const;
+  /// rt emptied of tiles; tile rt.first.size() − 1 added: the lists of the points of a world box.
+  void clearTiles(world_detail::RenderTiles& rt) const;
+  void addTile(const Box2& points, world_detail::RenderTiles& rt) const;
+  /// The lists of grid cell `cell` for the points of a tile (a world box) into rt.
+  void addTileCell(int cell, const Box2& tile, world_detail::RenderTiles& rt) const;
+  /// Whether every point of the box is inside the polygon as crossingContains sees it (false when unsure).
+  bool polygonHoldsBox(const PavedPolygon& poly, const Box2& box) const;
+  /// The lists of point p of tile `tile` in rt (its cell's own when the tile has none for it).
+  world_detail::CellLists tileLists(const world_detail::RenderTiles& rt, int tile, const Vec2& p) const;
+};
+
+/// The colour of the scene's ground (world_shading.cpp, world_texels.cpp): where a point lies, its
+/// surface's texture, its finish (worn edges, fallen leaves, shadows, haze) and the sky; a point at a
+/// time (shade) or a row of located points at a time (addPoint, shadeLocated, with the textures'
+/// fractal sums evaluated channel by channel), and the texel cache's tiles shaded the same way.
+struct [[gnu::visibility("hidden")]] Shading : Scene {
+  using Scene::Scene;
+
   /// The colour of ground point p seen by a pixel `footprint` wide at `range`; `paved` its class.
   /// `nc` (may be nullptr) memoizes the noise lattice between calls (the same colour either way).
   /// It is locate, texture and finish in turn.
@@ -375,21 +374,6 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   template <class Noise>
   [[gnu::always_inline]] inline C3 asphaltTexture(const Surface& sf, const Vec2& p, double footprint,
                                                   const Noise& noise, NoiseCache* nc) const;
-  /// Shades row v of a frame seen from pose (cos, sin of the heading, x, y): its pixels' colours
-  /// (3 floats each, before the camera's drift and noise) and mask. The same as `shade` per pixel,
-  /// with the texture's fractal sums evaluated channel by channel over the row; with `texels`, the
-  /// ground pixels texelPixel gives from them (`lod`: rayExtras' row v). `haze`: rayExtras' row v
-  /// (unread without haze); `tiles`: row v's band (tileRow); `view`: the frame's landmarks
-  /// (nullptr: none), `lmask` row v of the frame's landmark mask (kShowsBody, kShowsCover).
-  void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
-                world_detail::RowScratch& rs, NoiseCache& nc, world_detail::TexelReader* texels,
-                const world_detail::TexelLod* lod, const float* haze, float* rgb, std::uint8_t* mask,
-                const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
-  /// Ground pixel r's colour `c` (before the camera) and `mask` at p from the texels; false (c and
-  /// mask unset) where it is to be shaded on its own: on a manhole cover, or where a texel read is
-  /// paved and p not or the other way round.
-  bool texelPixel(const Vec2& p, const RayTable::Ray& r, const world_detail::CellLists& lists, world_detail::TexelLod lod,
-                  float haze, world_detail::TexelReader& texels, NoiseCache& nc, C3& c, std::uint8_t& mask) const;
   /// The fractal sums of each material group of a row's w ground points (rs.group, rs.points,
   /// rs.fp), channel by channel, into rs.values.
   void textureSums(std::size_t w, world_detail::RowScratch& rs) const;
@@ -401,15 +385,6 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   /// are marked in `lmask` (unless nullptr) and counted in rs.shown when the view lists them.
   void shadeLocated(std::size_t w, world_detail::RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb,
                     float* shadows, const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
-  /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
-  /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel). Pixels that show a
-  /// landmark's body (kShowsBody in `lmask`, nullptr: none) are neither re-sampled nor an edge.
-  void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,
-                   const std::uint8_t* lmask, NoiseCache& nc, float* buf) const;
-  /// Rows [v0, v1) through the camera: illumination drift, TV colour shift, sensor noise (none for
-  /// a pixel outside the lens' field; `any_outside`: some is), bytes.
-  void camera(const RayTable& rays, bool any_outside, int v0, int v1, const Pose2& pose, double t, float* buf,
-              std::uint8_t* rgb) const;
   /// The texture `c` of located point p finished: surfaceFinish, shadowed by `flecked`, hazed.
   /// `haze`: hazeAt(the point's range).
   /// `tree`, `flecked`: canopy's shadow at p.
@@ -425,20 +400,6 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
   /// Aerial perspective: how far ground at `range` m fades toward the horizon's haze (0 … 1; with
   /// haze_distance_m > 0).
   float hazeAt(double range) const;
-  /// The haze of each ground pixel and the boxes of the tiles' ground points (kept for the last table).
-  std::shared_ptr<const world_detail::RayExtras> rayExtras(const RayTable& rays) const;
-  /// Band `band` of the frame's tiles seen from pose (cos, sin of the heading, x, y) into rt.
-  void tileRow(const world_detail::RayExtras& extras, int band, const std::array<double, 4>& pose,
-               world_detail::RenderTiles& rt) const;
-  /// rt emptied of tiles; tile rt.first.size() − 1 added: the lists of the points of a world box.
-  void clearTiles(world_detail::RenderTiles& rt) const;
-  void addTile(const Box2& points, world_detail::RenderTiles& rt) const;
-  /// The lists of grid cell `cell` for the points of a tile (a world box) into rt.
-  void addTileCell(int cell, const Box2& tile, world_detail::RenderTiles& rt) const;
-  /// Whether every point of the box is inside the polygon as crossingContains sees it (false when unsure).
-  bool polygonHoldsBox(const PavedPolygon& poly, const Box2& box) const;
-  /// The lists of point p of tile `tile` in rt (its cell's own when the tile has none for it).
-  world_detail::CellLists tileLists(const world_detail::RenderTiles& rt, int tile, const Vec2& p) const;
   C3 sky(double elevation) const;
   /// Ground point p's colour before its shadow and the canopies' shadow for a pixel of texel levels
   /// `lod`, from the texels; false when a texel read is paved and p not, or the other way round.
@@ -450,7 +411,64 @@ struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Grid {
                                            NoiseCache& nc) const;
 };
 
-inline World::Impl::C3 World::Impl::shadowed(C3 c, float s) const {
+}  // namespace world_detail
+
+/// A world's frames (world_render.cpp, world_landmark_view.cpp): its rays' extras, each row shaded
+/// (the landmarks' bodies, the ground from the texels or the Shading), the paved edge re-sampled, the
+/// camera's drift and noise; and the caches the frames share (ray tables, extras, texels).
+struct [[gnu::visibility("hidden")]] World::Impl : world_detail::Shading {
+  using C3 = world_detail::C3;
+  using NoiseCache = world_detail::NoiseCache;
+
+  mutable std::mutex cache_mutex;
+  mutable std::vector<std::shared_ptr<const RayTable>> cache;
+  // What the last ray table gave (rayExtras), by the table's id.
+  mutable std::uint64_t extras_id = 0;
+  mutable std::shared_ptr<const world_detail::RayExtras> extras;
+  std::unique_ptr<world_detail::TexelCache> texels;  // options' texel_cache_mib (null: none; world_texels.h)
+
+  /// The scene, and the texel cache that options' texel_cache_mib asks for.
+  Impl(const Map& map, const WorldOptions& opts);
+  /// The landmarks that may show in a frame seen from pose (cos, sin of the heading, x, y).
+  world_detail::LandmarkView landmarkView(const RayTable& rays, const world_detail::RayExtras& extras,
+                                          const std::array<double, 4>& pose) const;
+  /// Row v's pixels whose ray meets a landmark of the view before the ground: their colour (3
+  /// floats, before the camera), mask 0 and landmark mask kShowsBody, counted in rs.shown. False
+  /// when no body's box holds the row; else rs.hit_slot marks those pixels (-1 the others).
+  bool bodyRow(const RayTable& rays, const world_detail::LandmarkView& view, int v, world_detail::RowScratch& rs,
+               float* rgb, std::uint8_t* mask, std::uint8_t* lmask) const;
+  /// The landmarks of the view that a frame lists (Frame::landmarks), from the pixels that show each.
+  std::vector<LandmarkInView> landmarkTruth(const Camera& camera, const world_detail::LandmarkView& view,
+                                            const std::array<double, 4>& pose, const std::vector<int>& shown) const;
+  /// Shades row v of a frame seen from pose (cos, sin of the heading, x, y): its pixels' colours
+  /// (3 floats each, before the camera's drift and noise) and mask. The same as `shade` per pixel,
+  /// with the texture's fractal sums evaluated channel by channel over the row; with `texels`, the
+  /// ground pixels texelPixel gives from them (`lod`: rayExtras' row v). `haze`: rayExtras' row v
+  /// (unread without haze); `tiles`: row v's band (tileRow); `view`: the frame's landmarks
+  /// (nullptr: none), `lmask` row v of the frame's landmark mask (kShowsBody, kShowsCover).
+  void shadeRow(const RayTable& rays, int v, const std::array<double, 4>& pose, const world_detail::RenderTiles& tiles,
+                world_detail::RowScratch& rs, NoiseCache& nc, world_detail::TexelReader* texels,
+                const world_detail::TexelLod* lod, const float* haze, float* rgb, std::uint8_t* mask,
+                const world_detail::LandmarkView* view, std::uint8_t* lmask) const;
+  /// Ground pixel r's colour `c` (before the camera) and `mask` at p from the texels; false (c and
+  /// mask unset) where it is to be shaded on its own: on a manhole cover, or where a texel read is
+  /// paved and p not or the other way round.
+  bool texelPixel(const Vec2& p, const RayTable::Ray& r, const world_detail::CellLists& lists, world_detail::TexelLod lod,
+                  float haze, world_detail::TexelReader& texels, NoiseCache& nc, C3& c, std::uint8_t& mask) const;
+  /// Rows [v0, v1) of the pixels the paved area's edge crosses re-sampled n × n (options'
+  /// paved_edge_samples) from the finished mask into `buf` (3 floats a pixel). Pixels that show a
+  /// landmark's body (kShowsBody in `lmask`, nullptr: none) are neither re-sampled nor an edge.
+  void edgeSamples(const RayTable& rays, int v0, int v1, const std::array<double, 4>& pose, const std::uint8_t* mask,
+                   const std::uint8_t* lmask, NoiseCache& nc, float* buf) const;
+  /// Rows [v0, v1) through the camera: illumination drift, TV colour shift, sensor noise (none for
+  /// a pixel outside the lens' field; `any_outside`: some is), bytes.
+  void camera(const RayTable& rays, bool any_outside, int v0, int v1, const Pose2& pose, double t, float* buf,
+              std::uint8_t* rgb) const;
+  /// The haze of each ground pixel and the boxes of the tiles' ground points (kept for the last table).
+  std::shared_ptr<const world_detail::RayExtras> rayExtras(const RayTable& rays) const;
+};
+
+inline world_detail::C3 world_detail::Shading::shadowed(C3 c, float s) const {
   // k·C, tinted toward the skylight.
   if (s > 0) {
     const auto k = static_cast<float>(options.shadow_k), b = static_cast<float>(options.shadow_blue_shift);
@@ -460,7 +478,7 @@ inline World::Impl::C3 World::Impl::shadowed(C3 c, float s) const {
   return c;
 }
 
-inline World::Impl::C3 World::Impl::hazed(C3 c, float haze) const {
+inline world_detail::C3 world_detail::Shading::hazed(C3 c, float haze) const {
   // Aerial perspective: far ground fades toward the haze of the horizon.
   if (options.haze_distance_m <= 0) return c;
   return lerp(c, world_detail::kHazeColour, haze);

@@ -1,7 +1,9 @@
-// The synthetic world's shading: the colour of a ground point (its surface's procedural texture,
-// the shoulder beside a road, fallen leaves, tree shadow, haze) and of the sky. Texture is value
-// noise of the world point, its octaves faded out where they are finer than the pixel's footprint
-// on the ground (no aliasing far away).
+// The synthetic world's shading (world_detail::Shading, world_scene.h): the colour of a ground point
+// (its surface's procedural texture, the shoulder beside a road, fallen leaves, tree shadow, haze)
+// and of the sky; and the same for a row of located ground points at once, the textures' fractal
+// sums evaluated channel by channel (textureSums, addPoint, shadeLocated), as the renderer's rows and
+// the texel tiles shade them. Texture is value noise of the world point, its octaves faded out where
+// they are finer than the pixel's footprint on the ground (no aliasing far away).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,15 +15,15 @@ namespace mapnav {
 
 using namespace world_detail;
 
-C3 World::Impl::sky(double elevation) const {
+C3 Shading::sky(double elevation) const {
   const C3 horizon{206, 216, 228}, zenith{92, 138, 204};
   const float t = static_cast<float>(std::pow(std::clamp(std::sin(elevation), 0.0, 1.0), 0.55));
   return lerp(horizon, zenith, t);
 }
 
 template <class Noise>
-C3 World::Impl::concreteTexture(const Surface& sf, const Vec2& p, double fp, double along, double lateral, int road,
-                                const Noise& noise, NoiseCache* nc) const {
+C3 Shading::concreteTexture(const Surface& sf, const Vec2& p, double fp, double along, double lateral, int road,
+                            const Noise& noise, NoiseCache* nc) const {
   const auto salt = [&](int k) { return salts[static_cast<std::size_t>(k)]; };
   C3 c = sf.rgb;
   const auto pn = static_cast<float>(options.pavement_noise);
@@ -74,7 +76,7 @@ C3 World::Impl::concreteTexture(const Surface& sf, const Vec2& p, double fp, dou
 }
 
 template <class Noise>
-C3 World::Impl::asphaltTexture(const Surface& sf, const Vec2& p, double fp, const Noise& noise, NoiseCache* nc) const {
+C3 Shading::asphaltTexture(const Surface& sf, const Vec2& p, double fp, const Noise& noise, NoiseCache* nc) const {
   const auto salt = [&](int k) { return salts[static_cast<std::size_t>(k)]; };
   C3 c = sf.rgb;
   const auto pn = static_cast<float>(options.pavement_noise);
@@ -104,8 +106,8 @@ C3 World::Impl::asphaltTexture(const Surface& sf, const Vec2& p, double fp, cons
 }
 
 template <class Noise>
-C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double along, double lateral, int road,
-                        const Noise& noise, NoiseCache* nc) const {
+C3 Shading::texture(int surface_index, const Vec2& p, double fp, double along, double lateral, int road,
+                    const Noise& noise, NoiseCache* nc) const {
   const Surface& sf = surfaces[static_cast<std::size_t>(surface_index)];
   const auto salt = [&](int k) { return salts[static_cast<std::size_t>(k)]; };
   C3 c = sf.rgb;
@@ -168,7 +170,7 @@ C3 World::Impl::texture(int surface_index, const Vec2& p, double fp, double alon
   return c;
 }
 
-void World::Impl::locate(const Vec2& p, const CellLists& lists, NoiseCache* nc, GroundPoint& g) const {
+void Shading::locate(const Vec2& p, const CellLists& lists, NoiseCache* nc, GroundPoint& g) const {
   const int poly = pavedAt(p, lists);
   g.lists = lists;
   g.paved = poly >= 0;
@@ -221,7 +223,7 @@ void World::Impl::locate(const Vec2& p, const CellLists& lists, NoiseCache* nc, 
   }
 }
 
-C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved, NoiseCache* nc) const {
+C3 Shading::shade(const Vec2& p, double fp, double range, bool& paved, NoiseCache* nc) const {
   GroundPoint g;
   locate(p, cellLists(cellIndex(p)), nc, g);
   paved = g.paved;
@@ -233,16 +235,16 @@ C3 World::Impl::shade(const Vec2& p, double fp, double range, bool& paved, Noise
   return finish(p, g, c, fp, options.haze_distance_m > 0 ? hazeAt(range) : 0.0f, tree, flecked, nc);
 }
 
-float World::Impl::hazeAt(double range) const {
+float Shading::hazeAt(double range) const {
   return static_cast<float>(1.0 - std::exp(-range / options.haze_distance_m));
 }
 
-C3 World::Impl::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, float tree, float flecked,
-                       NoiseCache* nc) const {
+C3 Shading::finish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float haze, float tree, float flecked,
+                   NoiseCache* nc) const {
   return hazed(shadowed(surfaceFinish(p, g, c, fp, tree, nc), flecked), haze);
 }
 
-C3 World::Impl::surfaceFinish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float tree, NoiseCache* nc) const {
+C3 Shading::surfaceFinish(const Vec2& p, const GroundPoint& g, C3 c, double fp, float tree, NoiseCache* nc) const {
   if (!g.paved && g.best_road >= 0 && surfaces[static_cast<std::size_t>(g.surface)].material == Material::Grass) {
     // Worn, dusty strip where the lawn meets the pavement.
     // (Beyond 0.25 m the smoothstep is 0 and the colour stays: no noise there.)
@@ -282,9 +284,77 @@ C3 World::Impl::surfaceFinish(const Vec2& p, const GroundPoint& g, C3 c, double 
   return c;
 }
 
-template C3 World::Impl::texture<PointNoise>(int, const Vec2&, double, double, double, int, const PointNoise&,
-                                             NoiseCache*) const;
-template C3 World::Impl::texture<RowNoise>(int, const Vec2&, double, double, double, int, const RowNoise&,
-                                           NoiseCache*) const;
+void Shading::textureSums(std::size_t w, RowScratch& rs) const {
+  for (int m = 0; m < kMaterials; ++m) {
+    const std::vector<std::uint32_t>& group = rs.group[static_cast<std::size_t>(m)];
+    if (group.empty()) continue;
+    const std::size_t n = group.size();
+    rs.xs.resize(n);
+    rs.ys.resize(n);
+    rs.footprints.resize(n);
+    rs.sums.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      rs.xs[j] = rs.points[group[j]].x();
+      rs.ys[j] = rs.points[group[j]].y();
+      rs.footprints[j] = rs.fp[group[j]];
+    }
+    for (int k : materialChannels(static_cast<Material>(m))) {
+      if (k == 0) break;
+      const FbmSpec spec = fbmSpec(k);
+      fbmRow(salts[static_cast<std::size_t>(k)], rs.xs.data(), rs.ys.data(), rs.footprints.data(), n, spec.base_freq,
+             spec.octaves, rs.sums.data());
+      float* values = rs.values.data() + static_cast<std::size_t>(k) * w;
+      for (std::size_t j = 0; j < n; ++j) values[group[j]] = rs.sums[j];
+    }
+  }
+}
+
+void Shading::addPoint(RowScratch& rs, std::size_t u, const Vec2& p, float footprint, const CellLists& lists,
+                       NoiseCache& nc) const {
+  rs.points[u] = p;
+  rs.fp[u] = footprint;
+  locate(p, lists, &nc, rs.ground[u]);
+  const Material m = surfaces[static_cast<std::size_t>(rs.ground[u].surface)].material;
+  rs.group[static_cast<std::size_t>(m)].push_back(static_cast<std::uint32_t>(u));
+}
+
+void Shading::shadeLocated(std::size_t w, RowScratch& rs, NoiseCache& nc, const float* haze, float* rgb,
+                           float* shadows, const LandmarkView* view, std::uint8_t* lmask) const {
+  rs.values.resize(static_cast<std::size_t>(NoiseCache::kChannels) * w);
+  canopyRow(w, rs);
+  textureSums(w, rs);
+  // Each ground point's texture from those sums, then its edge, leaves, shadow and haze.
+  for (const auto& group : rs.group)
+    for (std::uint32_t u : group) {
+      const GroundPoint& g = rs.ground[u];
+      const Vec2& p = rs.points[u];
+      const float fp = rs.fp[u];
+      C3 c = texture(g.surface, p, fp, g.along, g.lateral, g.texture_road, RowNoise{rs.values.data(), w, u}, &nc);
+      float shadow = rs.flecked[u];
+      if (g.lists.n_marks > 0) {  // the landmarks' shadows and covers
+        int cover = -1;
+        shadow = std::max(shadow, landmarks.marksAt(p, g.lists.marks, g.lists.n_marks, fp, &c, &cover));
+        if (cover >= 0 && lmask != nullptr) {
+          lmask[u] = kShowsCover;
+          if (const int slot = view != nullptr ? view->slot(static_cast<std::uint32_t>(cover)) : -1; slot >= 0)
+            ++rs.shown[static_cast<std::size_t>(slot)];
+        }
+      }
+      if (shadows != nullptr) {
+        c = surfaceFinish(p, g, c, fp, rs.tree[u], &nc);
+        shadows[u] = shadow;
+      } else {
+        c = finish(p, g, c, fp, haze != nullptr ? haze[u] : 0.0f, rs.tree[u], shadow, &nc);
+      }
+      rgb[3 * u] = c.r;
+      rgb[3 * u + 1] = c.g;
+      rgb[3 * u + 2] = c.b;
+    }
+}
+
+template C3 Shading::texture<PointNoise>(int, const Vec2&, double, double, double, int, const PointNoise&,
+                                         NoiseCache*) const;
+template C3 Shading::texture<RowNoise>(int, const Vec2&, double, double, double, int, const RowNoise&,
+                                       NoiseCache*) const;
 
 }  // namespace mapnav

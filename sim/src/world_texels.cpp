@@ -66,8 +66,8 @@ constexpr double kTexelOffset = 2147483648.0;
 
 }  // namespace
 
-const TexelTile* World::Impl::texelTile(int level, std::int64_t tx, std::int64_t ty, TexelReader& rd,
-                                        NoiseCache& nc) const {
+const TexelTile* Shading::texelTile(int level, std::int64_t tx, std::int64_t ty, TexelReader& rd,
+                                    NoiseCache& nc) const {
   const std::uint64_t key = texelKey(level, tx, ty);
   std::shared_ptr<const TexelTile> tile = rd.cache->find(key);
   if (!tile) {
@@ -114,8 +114,8 @@ TexelLod world_detail::texelLod(double footprint) {
   return lod;
 }
 
-bool World::Impl::texelColour(const Vec2& p, TexelLod lod, bool paved, TexelReader& rd, NoiseCache& nc, C3& colour,
-                              float& shadow) const {
+bool Shading::texelColour(const Vec2& p, TexelLod lod, bool paved, TexelReader& rd, NoiseCache& nc, C3& colour,
+                          float& shadow) const {
   // Level L's and L + 1's bilinear samples at p, weighted 1 − mix and mix, summed as one; false
   // where the paved area's edge passes between the texels read.
   Texel sum{};

@@ -4,14 +4,14 @@
 // ground once per texel rather than once per pixel and frame (WorldOptions::texel_cache_mib).
 //
 // Levels. Level L's texels lie on the world grid of spacing s_L = kTexel0 · 2^L (world frame, m;
-// texel (i, j) at (i · s_L, j · s_L)), each shaded as World::Impl::shade shades a point for a
+// texel (i, j) at (i · s_L, j · s_L)), each shaded as Shading::shade shades a point for a
 // pixel s_L wide, but kept before a shadow darkens it, with the canopies' shadow beside it, and
 // without the marks of the map's landmarks. A pixel of footprint f (RayTable::Ray::footprint) in
 // [s_L, 2 s_L) takes the bilinear sample of level L and of level L + 1 around its ground point,
 // mixed by where f lies in the octave (TexelLod): the texture's detail fades with the footprint as
 // the per-pixel renderer's does, without a step at a level's end, and a pixel outside the middle
 // quarter of an octave reads one level only. The pixel then adds the landmarks' shadows at its
-// own point, the shadow (World::Impl::shadowed) and its haze (that depends on the range), so
+// own point, the shadow (Shading::shadowed) and its haze (that depends on the range), so
 // that the marks change a frame where they lie and nowhere else, as in the per-pixel renderer.
 //
 // Where the texels would blur what the masks say exactly, the pixel is shaded on its own (with

@@ -73,7 +73,7 @@ double boxSegUpperBound(const Box2& box, const Segment& s) {
 
 }  // namespace
 
-bool World::Impl::polygonHoldsBox(const PavedPolygon& poly, const Box2& box) const {
+bool Scene::polygonHoldsBox(const PavedPolygon& poly, const Box2& box) const {
   if (!poly.box.contains(box)) return false;
   const auto band = [&](double y) {
     return static_cast<std::size_t>(
@@ -86,7 +86,7 @@ bool World::Impl::polygonHoldsBox(const PavedPolygon& poly, const Box2& box) con
   return crossingContains(poly, Vec2(box.center()));
 }
 
-void World::Impl::addTileCell(int cell, const Box2& tile, RenderTiles& rt) const {
+void Scene::addTileCell(int cell, const Box2& tile, RenderTiles& rt) const {
   const int cx = cell % nx, cy = cell / nx;
   const Vec2 c0 = origin + Vec2(cx * kCell, cy * kCell);
   Box2 box = tile.intersection(Box2(c0 - Vec2(kSlack, kSlack), c0 + Vec2(kCell + kSlack, kCell + kSlack)));
@@ -145,7 +145,7 @@ void World::Impl::addTileCell(int cell, const Box2& tile, RenderTiles& rt) const
   rt.cells.push_back(tc);
 }
 
-void World::Impl::clearTiles(RenderTiles& rt) const {
+void Scene::clearTiles(RenderTiles& rt) const {
   rt.cells.clear();
   rt.polys.clear();
   rt.segs.clear();
@@ -156,7 +156,7 @@ void World::Impl::clearTiles(RenderTiles& rt) const {
   rt.sure.clear();
 }
 
-void World::Impl::addTile(const Box2& points, RenderTiles& rt) const {
+void Scene::addTile(const Box2& points, RenderTiles& rt) const {
   const Box2 tile(points.min() - Vec2(kSlack, kSlack), points.max() + Vec2(kSlack, kSlack));
   // cellIndex's quotients are monotone in the point: the box's bound every point's.
   const double fx0 = (tile.min().x() - origin.x()) / kCell, fx1 = (tile.max().x() - origin.x()) / kCell;
@@ -171,7 +171,7 @@ void World::Impl::addTile(const Box2& points, RenderTiles& rt) const {
   rt.first.push_back(static_cast<std::uint32_t>(rt.cells.size()));
 }
 
-void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<double, 4>& pose, RenderTiles& rt) const {
+void Scene::tileRow(const RayExtras& extras, int band, const std::array<double, 4>& pose, RenderTiles& rt) const {
   const auto [ch, sh, tx, ty] = pose;
   rt.band = band;
   clearTiles(rt);
@@ -190,7 +190,7 @@ void World::Impl::tileRow(const RayExtras& extras, int band, const std::array<do
   }
 }
 
-CellLists World::Impl::tileLists(const RenderTiles& rt, int tile, const Vec2& p) const {
+CellLists Scene::tileLists(const RenderTiles& rt, int tile, const Vec2& p) const {
   const auto t = static_cast<std::size_t>(tile);
   const int sure = rt.sure[t];
   const int cell = sure >= 0 ? rt.cells[static_cast<std::size_t>(sure)].cell : cellIndex(p);

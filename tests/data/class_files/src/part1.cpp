@@ -1,0 +1,9 @@
+// Fixture of the Architecture.AClassInFourFiles* tests (scripts/class_files.py): one of four
+// files that each define a member of Spread, which the check reports. Never compiled.
+#include "../include/spread.h"
+
+namespace fixture {
+
+int Spread::part1() const { return 1; }
+
+}  // namespace fixture
