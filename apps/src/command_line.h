@@ -73,6 +73,10 @@ CLI::Validator outputFile(bool geojson);
 void addPipelineOptions(CLI::App* command, std::string& pipeline, std::string& options_json,
                         std::vector<std::string>& plugins, const std::string& default_pipeline);
 
+/// --map-options JSON: the Map module's options (MapModuleOptions) for the commands that run missions;
+/// parseMapModuleOptions (command_support.h) reads it.
+void addMapOptionsFlag(CLI::App* command, std::string& map_options_json);
+
 // The registrars, in the order of `mapnav --help`; each is defined in its command group's file.
 void registerMapCommands(CLI::App& app, Commands& commands);      // map validate|info|render|import-*|export-*
 void registerPredictCommand(CLI::App& app, Commands& commands);   // predict

@@ -12,6 +12,7 @@
 #include "mapnav/core/interrupt.h"
 #include "mapnav/core/io.h"
 #include "mapnav/map/geojson.h"
+#include "mapnav/mission/modules.h"
 
 namespace mapnav::cli {
 
@@ -71,6 +72,10 @@ int guarded(std::ostream& err, const std::function<int()>& body) {
 }
 
 // Loads a valid map or explains why not: issues on `err`, then the exit code.
+MapModuleOptions parseMapModuleOptions(const std::string& json) {
+  return namingFlag("--map-options", [&] { return mapModuleOptionTable().parse(json, {}, "MapModuleOptions"); });
+}
+
 int withMap(const std::string& file, std::ostream& err, const std::function<int(const Map&)>& body) {
   return guarded(err, [&] {
     Issues issues;

@@ -11,6 +11,10 @@
 #include "mapnav/core/issue.h"
 #include "mapnav/map/map.h"
 
+namespace mapnav {
+struct MapModuleOptions;
+}
+
 namespace mapnav::cli {
 
 /// The non-empty names of a comma-separated list ("R1,,I5" -> R1, I5; "" -> none).
@@ -65,6 +69,10 @@ auto namingFlag(const std::string& flag, Body&& body) -> decltype(body()) {
     throw InvalidInput(flag + ": " + e.what());
   }
 }
+
+/// --map-options: the Map module's options from a JSON object ("": the defaults). Throws InvalidInput
+/// "--map-options: ..." naming the option and its bad value.
+MapModuleOptions parseMapModuleOptions(const std::string& json);
 
 /// Loads a valid map and runs `body` on it, or explains on `err` why the map is not valid (exit 1).
 int withMap(const std::string& file, std::ostream& err, const std::function<int(const Map&)>& body);

@@ -90,6 +90,7 @@ ReportedRun runReported(const MissionFile& mission, const MissionRunConfig& conf
   if (!config.options_json.empty()) options.pipeline_options_json = config.options_json;
   options.max_frames = config.max_frames;
   if (!config.displace.empty()) options.displace = parseDisplacement(config.displace);
+  options.map = parseMapModuleOptions(config.map_options_json);
   r.trace = config.trace;
   std::optional<ReportFrames> frames;
   bool created_report_dir = false;
@@ -263,6 +264,7 @@ void addMissionOptions(CLI::App* c, MissionRunConfig& config, bool stderr_is_tty
   c->add_option("--displace", config.displace,
                 "Fault injection FRAME,FORWARD,LEFT: at the start of that frame the Map's estimate jumps FORWARD m "
                 "along its heading and LEFT m to its left without the filter knowing (to see recovery)");
+  addMapOptionsFlag(c, config.map_options_json);
   config.progress = stderr_is_tty;
 }
 

@@ -24,6 +24,8 @@ struct MissionRunConfig {
   std::string report_dir;
   /// Fault injection, "FRAME,FORWARD,LEFT" ("": none): RunOptions::displace.
   std::string displace;
+  /// The Map module's options, a JSON object ("": the defaults): RunOptions::map.
+  std::string map_options_json;
 };
 
 struct ReplayConfig : MissionRunConfig {

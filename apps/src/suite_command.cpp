@@ -48,6 +48,7 @@ class TemporaryFolder {
 int runSuiteCommand(const SuiteConfig& config, std::ostream& out, std::ostream& err) {
   SuiteOptions options = config.options;
   options.seeds = namingFlag("--seeds", [&] { return parseSeedList(config.seeds); });
+  options.map = parseMapModuleOptions(config.map_options_json);
   options.camera = dataPath("maps/cameras/terregator_pinhole.json");
   return guarded(err, [&] {
     loadPlugins({});
@@ -97,6 +98,7 @@ void registerSuiteCommand(CLI::App& app, Commands& commands) {
   rc->add_option("--threads", config->options.threads, "Seeds run at once (the results do not depend on it)")
       ->capture_default_str()
       ->check(commands.ruleCheck(suiteOptionTable(), "threads"));
+  addMapOptionsFlag(rc, config->map_options_json);
   rc->add_flag("--json", config->json, "Print one JSON object (rows go to stderr as progress)");
   rc->add_flag("--no-wall-time", *no_wall_time, "Leave out wall times: the same bytes for the same seeds");
   rc->footer(

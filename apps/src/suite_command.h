@@ -16,6 +16,7 @@ struct SuiteConfig {
   /// and the folder are set from the other flags).
   SuiteOptions options;
   std::string output;          ///< -o: keep each seed's map and mission there ("": a temporary folder, removed)
+  std::string map_options_json;  ///< --map-options: SuiteOptions::map as a JSON object ("": the defaults)
   bool json = false;
   bool wall_time = true;       ///< false (--no-wall-time): the same bytes for the same seeds
 };

@@ -156,6 +156,7 @@ SuiteRun runSuiteSeed(std::uint64_t seed, const SuiteOptions& options) {
   try {
     RunOptions run_options;
     run_options.max_frames = options.max_frames;
+    run_options.map = options.map;
     const MissionRun run = runClosedLoop(loadMission(r.mission), run_options);
     r.pipeline = run.pipeline;
     r.route_m = run.route.length_m;
@@ -377,6 +378,7 @@ std::string suiteJson(const SuiteOptions& options, const std::vector<SuiteRun>& 
   Json j{{"suite", "random-campus"},
          {"junctions", options.campus.junctions},
          {"max_frames", options.max_frames},
+         {"map_options", Json::parse(mapModuleOptionTable().json(options.map))},
          {"goal_tolerance_m", kSuiteGoalToleranceM},
          {"runs", list},
          {"summary", summary}};

@@ -46,7 +46,12 @@ TEST(Cli, WrongValuesExitOneInEveryCommand) {
             "--origin \"91,0\""},
            {{"log", "import-kitti-raw", dir.string(), "-o", (dir / "log").string(), "--origin", "91,0"}, "--origin"},
            {{"route", "--map", map, "--from", "R1", "--to", "R3@I3+2"}, "R1"},
-           {{"suite", "random-campus", "--seeds", "1", "--junctions", "0"}, "--junctions"}}) {
+           {{"suite", "random-campus", "--seeds", "1", "--junctions", "0"}, "--junctions"},
+           {{"run", "--mission", testing::mapPath("missions/campus_dialogue.json").string(), "--map-options",
+             R"({"park_reset_sigma_m": 0})"},
+            "--map-options: MapModuleOptions: option park_reset_sigma_m = 0: must be > 0"},
+           {{"suite", "random-campus", "--seeds", "1", "--map-options", R"({"park_reset_sigm": 1})"},
+            "--map-options: MapModuleOptions: unknown option \"park_reset_sigm\""}}) {
     const auto r = runCli(c.args);
     EXPECT_EQ(r.exit_code, 1) << c.args[0] << " " << c.args[1] << ": " << r.err;
     EXPECT_EQ(r.err.rfind("mapnav: error: ", 0), 0u) << r.err;

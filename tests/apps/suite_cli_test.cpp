@@ -29,6 +29,8 @@ TEST(CliSuite, TwoSeedsAgreeWithMapnavRunOnTheirMissionFilesAndDoNotDependOnThre
   EXPECT_EQ(j["junctions"], 3);
   EXPECT_EQ(j["max_frames"], 6);
   EXPECT_EQ(j["goal_tolerance_m"], 0.3);
+  EXPECT_EQ(j["map_options"]["park_reset_after_rejections"], 3);  // MapModuleOptions' defaults
+  EXPECT_EQ(j["map_options"]["initial_sigma_m"], 0.1);
   ASSERT_EQ(j["runs"].size(), 2u);
   EXPECT_EQ(j["runs"][0]["seed"], 3);  // in the order given
   EXPECT_EQ(j["runs"][1]["seed"], 1);
@@ -79,6 +81,29 @@ TEST(CliSuite, TwoSeedsAgreeWithMapnavRunOnTheirMissionFilesAndDoNotDependOnThre
                             "--no-wall-time", "--threads", "2"});
   ASSERT_EQ(both.exit_code, 0) << both.err;
   EXPECT_EQ(both.out, suite.out);
+}
+
+// --map-options reaches every run: the suite's figures are `mapnav run`'s with the same options, and
+// a start sigma five times the default's changes the filter's consistency from the first frame.
+TEST(CliSuite, MapOptionsReachEveryRun) {
+  const fs::path dir = testing::freshTempDir();
+  const std::string wide = R"({"initial_sigma_m": 0.5})";
+  const auto suite = runCli({"suite", "random-campus", "--seeds", "1", "--max-frames", kFrames, "--json",
+                             "--no-wall-time", "-o", dir.string(), "--map-options", wide});
+  ASSERT_EQ(suite.exit_code, 0) << suite.err;
+  const auto j = nlohmann::json::parse(suite.out);
+  EXPECT_EQ(j["map_options"]["initial_sigma_m"], 0.5);
+  const auto& figures = j["runs"][0]["run"];
+  const std::string mission = (dir / "seed-1" / "mission.json").string();
+  const auto figuresOf = [&](std::vector<std::string> args) {
+    const auto run = runCli(args);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    auto m = nlohmann::json::parse(run.out);
+    for (const char* key : {"latency_ms_median", "latency_ms_p99", "latency_ms_max", "vision_ms_median"}) m.erase(key);
+    return m;
+  };
+  EXPECT_EQ(figuresOf({"run", "--mission", mission, "--max-frames", kFrames, "--json", "--map-options", wide}), figures);
+  EXPECT_NE(figuresOf({"run", "--mission", mission, "--max-frames", kFrames, "--json"})["nees_mean"], figures["nees_mean"]);
 }
 
 TEST(CliSuite, BadSeedListsAreWrongInputNamingTheOption) {

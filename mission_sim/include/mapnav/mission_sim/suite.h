@@ -18,6 +18,7 @@
 #include "mapnav/core/option_table.h"
 #include "mapnav/map/random_campus.h"
 #include "mapnav/mission/metrics.h"
+#include "mapnav/mission/modules.h"
 
 namespace mapnav {
 
@@ -42,6 +43,8 @@ struct SuiteOptions {
   /// Seeds run at once (>= 1). Each run is independent and deterministic: the results do not
   /// depend on it, only the wall time does.
   int threads = 1;
+  /// The Map module's options in every run (RunOptions::map; their own table, mapModuleOptionTable).
+  MapModuleOptions map;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
