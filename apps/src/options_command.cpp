@@ -32,6 +32,7 @@
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/modules.h"
 #include "mapnav/mission/path_agreement.h"
+#include "mapnav/mission/track.h"
 #include "mapnav/mission/report.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/mission_sim/simulate.h"
@@ -122,6 +123,7 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&mapModuleOptionTable, "mission/include/mapnav/mission/modules.h", kCode),
       entry(&navigatorOptionTable, "mission/include/mapnav/mission/modules.h", kCode),
       entry(&pathAgreementOptionTable, "mission/include/mapnav/mission/path_agreement.h", kCode),
+      entry(&trackOptionTable, "mission/include/mapnav/mission/track.h", "`mapnav log track --row` and `--max-frames`; C++"),
       entry(&reportOptionTable, "mission/include/mapnav/mission/report.h", "`mapnav replay --report`; C++"),
       entry(&runOptionTable, "mission/include/mapnav/mission/runner.h", "`mapnav replay` and `mapnav run` flags; C++ and Python"),
       entry(&suiteOptionTable, "mission_sim/include/mapnav/mission_sim/suite.h", "`mapnav suite random-campus`'s flags; C++"),

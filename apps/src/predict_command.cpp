@@ -69,10 +69,7 @@ int runPredict(const PredictConfig& config, std::ostream& out, std::ostream& err
   return withMap(config.map, err, [&](const Map& map) {
     const auto camera = loadCamera(config.camera);
     const Pose2 pose = config.at ? toPose(map, *config.at) : *config.pose;
-    PredictOptions options;
-    options.near_m = config.near_m;
-    options.far_m = config.far_m;
-    const Prediction prediction = predictView(map, pose, *camera, options);
+    const Prediction prediction = predictView(map, pose, *camera, config.options);
     if (!config.output.empty()) renderPrediction(map, prediction, *camera).save(config.output);
     if (config.json) {
       out << predictionToJson(prediction);
@@ -102,8 +99,12 @@ void registerPredictCommand(CLI::App& app, Commands& commands) {
   p->add_flag("--json", predict->json, "Print the prediction as JSON instead of sentences");
   p->add_option("-o,--output", predict->output, "Also draw the map with the footprint beside the predicted image: OUT.png or OUT.svg")
       ->check(outputFile(false));
-  p->add_option("--near", predict->near_m, "Nearest ground distance ahead of the camera to predict, m")->default_val(1.0)->check(commands.numberCheck(CLI::Range(0.0, 1000.0)));
-  p->add_option("--far", predict->far_m, "Farthest ground distance ahead of the camera to predict, m")->default_val(15.0)->check(commands.numberCheck(CLI::Range(0.0, 1000.0)));
+  p->add_option("--near", predict->options.near_m, "Nearest ground distance ahead of the camera to predict, m")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(predictOptionTable(), "near_m"));
+  p->add_option("--far", predict->options.far_m, "Farthest ground distance from the camera to predict, m (> --near)")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(predictOptionTable(), "far_m"));
   p->footer("Exactly one of --pose and --at. Exit codes: 0 success (an empty view too), 1 invalid map, camera or\n"
             "position, 2 usage or I/O error.");
   p->callback(commands.choose([predict, text](std::ostream& out, std::ostream& err) {

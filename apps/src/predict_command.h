@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mapnav/geometry/pose2.h"
+#include "mapnav/map/predict.h"
 #include "mapnav/navigator/road_position.h"
 
 namespace mapnav::cli {
@@ -15,8 +16,7 @@ struct PredictConfig {
   std::optional<RoadPosition> at;   ///< on a road
   bool json = false;                ///< print the prediction as JSON
   std::string output;               ///< picture to write (.png / .svg), "" for none
-  double near_m = 1.0;
-  double far_m = 15.0;
+  PredictOptions options;           ///< --near, --far (the footprint); the rest at their defaults
 };
 
 /// "X,Y,HEADING_DEG" (metres, metres, degrees). Throws InvalidInput saying what is wrong.

@@ -141,7 +141,8 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
     const std::shared_ptr<const Camera> camera =
         config.camera.empty() ? log.header().camera : std::shared_ptr<const Camera>(loadCamera(config.camera));
     const int w = camera->width(), h = camera->height();
-    if (config.row > h - 1) throw InvalidInput("--row " + std::to_string(config.row) + ": beyond the image's " + std::to_string(h) + " rows");
+    if (config.track.row > h - 1)
+      throw InvalidInput("--row " + std::to_string(config.track.row) + ": beyond the image's " + std::to_string(h) + " rows");
 
     std::vector<Image> overlays;
     TrackObserver draw;
@@ -154,7 +155,7 @@ int runLogTrack(const LogTrackConfig& config, std::ostream& out, std::ostream& e
     const Polygon2 bootstrap = config.trapezoid ? bottomTrapezoid(w, h, *config.trapezoid)
                                                 : namingFlag("--lane", [&] { return laneOutline(*camera, config.lane_width_m, config.lane_far_m); });
     const TrackRun run = trackLog(log, *pipeline, *camera, bootstrap,
-                                  TrackOptions{config.row, config.max_frames, {}}, draw);
+                                  config.track, draw);
     writeOverlays(config, overlays);
     writeContactSheet(config, overlays);
     if (config.json) {
@@ -190,8 +191,9 @@ void registerTrackCommand(CLI::App& log, Commands& commands) {
                  "road it found a frame before, unless --options sets prior_px; 0: the pipeline's default")
       ->capture_default_str()
       ->check(commands.numberCheck(CLI::Range(0.0, 1e6)));
-  lt->add_option("--row", track->row, "Image row where the edges and the centre line are measured (default: 85 % of the height)");
-  lt->add_option("--max-frames", track->max_frames, "Stop after this many frames (0: all)")->default_val(0);
+  lt->add_option("--row", track->track.row, "Image row where the edges and the centre line are measured (default: 85 % of the height)")
+      ->check(commands.ruleCheck(trackOptionTable(), "row"));
+  lt->add_option("--max-frames", track->track.max_frames, "Stop after this many frames (0: all)")->capture_default_str();
   lt->add_option("--overlays", track->overlays, "Folder to write one overlay per frame to");
   lt->add_option("--contact-sheet", track->contact_sheet, "PNG of 8 overlays spread over the run, half size, two a row");
   lt->add_flag("--json", track->json, "Print the per-frame measurements as JSON");

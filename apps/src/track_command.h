@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/mission/track.h"
 #include "mapnav/vision/segmentation_eval.h"
 
 namespace mapnav::cli {
@@ -32,10 +33,8 @@ struct LogTrackConfig {
   double prior_px = 20;
   std::string overlays;                  ///< folder for one overlay per frame, or ""
   std::string contact_sheet;             ///< a PNG of 8 overlays evenly spread over the run, or ""
-  /// The image row where the edges and the centre line are measured, pixels; −1 = 85 % of the
-  /// height (KITTI: row 314, about 9 m ahead).
-  double row = -1;
-  std::size_t max_frames = 0;            ///< 0 = every frame
+  /// --row, --max-frames; the path agreement's at its defaults.
+  TrackOptions track;
   bool json = false;
 };
 

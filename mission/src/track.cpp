@@ -186,15 +186,27 @@ std::optional<double> TrackRun::maxJump(std::optional<double> TrackedFrame::*mem
   return worst;
 }
 
+const OptionTable<TrackOptions>& trackOptionTable() {
+  using O = TrackOptions;
+  static const OptionTable<O> table =
+      OptionTable<O>("TrackOptions")
+          .field("row", &O::row, atLeast(-1),
+                 "the image row where the edges and the centre line are measured, pixels; -1: 85 % of the height")
+          .field("max_frames", &O::max_frames, "run at most this many frames of the log; 0: every frame")
+          .nest(&O::path, pathAgreementOptionTable())
+          .check("row", [](const O& o) { return o.row == -1 || o.row >= 0; }, "-1 or >= 0");
+  return table;
+}
+
 TrackRun trackLog(const ReplayLog& log, VisionPipeline& pipeline, const Camera& camera, const Polygon2& bootstrap,
                   const TrackOptions& options, const TrackObserver& observer) {
+  trackOptionTable().validate(options);
   const int w = camera.width(), h = camera.height();
   TrackRun run;
   run.row = options.row >= 0 ? options.row : std::round(0.85 * (h - 1));
   // A rule between an option and the camera: no table can state it.
   requireArgument(run.row <= h - 1, "trackLog", "options.row", run.row,
                   "at most the camera image's last row, " + std::to_string(h - 1));
-  options.path.validate();
   run.path_options = options.path;
   const PredictedObject first = bootstrapPrediction(bootstrap, camera);
   const std::size_t total =

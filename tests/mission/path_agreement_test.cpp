@@ -395,6 +395,12 @@ TEST(TrackLogPath, EachFrameIsHeldAgainstTheLogsTruthAhead) {
   } catch (const InvalidInput& e) {
     EXPECT_STREQ(e.what(), "trackLog: options.row = 480: must be at most the camera image's last row, 479");
   }
+  try {  // between the sentinel -1 and the first row: the table's rule
+    trackLog(log, pipeline, *camera, bootstrap, TrackOptions{-0.5, 1, {}});
+    ADD_FAILURE() << "row -0.5 was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_STREQ(e.what(), "TrackOptions::row = -0.5: must be -1 or >= 0");
+  }
 
   // The whole log: frames 13 to 19 have less than 7 m ahead.
   const TrackRun all = trackLog(log, pipeline, *camera, bootstrap);

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/image/image.h"
@@ -33,6 +34,9 @@ struct TrackOptions {
   /// beyond max_frames count too).
   PathAgreementOptions path;
 };
+
+/// TrackOptions' own fields and, nested under their names, the path agreement's.
+const OptionTable<TrackOptions>& trackOptionTable();
 
 /// One frame's result, measured on the run's row.
 struct TrackedFrame {
