@@ -79,7 +79,7 @@ void addPipelineOptions(CLI::App* command, std::string& pipeline, std::string& o
 void addMapOptionsFlag(CLI::App* command, std::string& map_options_json) {
   command->add_option("--map-options", map_options_json,
                       "The Map module's options as a JSON object (`mapnav options MapModuleOptions` lists them; default: "
-                      "theirs), e.g. '{\"park_reset_after_rejections\": 0}' to turn the filter's supervisor off");
+                      "theirs), e.g. '{\"park_reset_after_rejections\": 3}' to turn the filter's supervisor on");
 }
 
 }  // namespace mapnav::cli

@@ -12,7 +12,7 @@ const OptionTable<FilterSupervisorOptions>& filterSupervisorOptionTable() {
   static const OptionTable<O> table =
       OptionTable<O>("FilterSupervisorOptions")
           .field("after_rejections", &O::after_rejections, atLeast(0),
-                 "widen the covariance after this many consecutive frames the gate rejected (0: never)")
+                 "widen the covariance after this many consecutive frames the gate rejected (0: never; 3: as the rule was made)")
           .field("sigma_m", &O::sigma_m, above(0), "the widened position sigma, m")
           .field("heading_sigma_deg", &O::heading_sigma_deg, above(0), "the widened heading sigma, degrees")
           .field("agreement_m", &O::agreement_m, above(0),

@@ -29,7 +29,7 @@ TEST(CliSuite, TwoSeedsAgreeWithMapnavRunOnTheirMissionFilesAndDoNotDependOnThre
   EXPECT_EQ(j["junctions"], 3);
   EXPECT_EQ(j["max_frames"], 6);
   EXPECT_EQ(j["goal_tolerance_m"], 0.3);
-  EXPECT_EQ(j["map_options"]["park_reset_after_rejections"], 3);  // MapModuleOptions' defaults
+  EXPECT_EQ(j["map_options"]["park_reset_after_rejections"], 0);  // MapModuleOptions' defaults
   EXPECT_EQ(j["map_options"]["initial_sigma_m"], 0.1);
   ASSERT_EQ(j["runs"].size(), 2u);
   EXPECT_EQ(j["runs"][0]["seed"], 3);  // in the order given

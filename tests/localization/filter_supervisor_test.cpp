@@ -34,15 +34,18 @@ CurrentPosition rejected(double forward, double left, double turn_deg, double rm
   return rejected(Pose2(), forward, left, turn_deg, rms_m, std::move(outliers));
 }
 
+/// The rule as it was made: three rejected frames in a row (the options' default is 0, off).
+constexpr FilterSupervisorOptions kThree{.after_rejections = 3};
+
 CurrentPosition accepted() {
   CurrentPosition p;
   p.status = PositionStatus::Corrected;
   return p;
 }
 
-// The defaults: 3 frames, widened to 0.5 m and 10 degrees: diag(0.25, 0.25, (10 pi / 180)^2).
+// 3 frames, widened to the defaults 0.5 m and 10 degrees: diag(0.25, 0.25, (10 pi / 180)^2).
 TEST(FilterSupervisor, ThreeAgreeingRejectedFitsWidenTheCovarianceOnTheThird) {
-  FilterSupervisor supervisor;
+  FilterSupervisor supervisor(kThree);
   EXPECT_FALSE(supervisor.observe(rejected(0, -0.8, 4)).widen);
   EXPECT_EQ(supervisor.rejections(), 1u);
   EXPECT_FALSE(supervisor.observe(rejected(0.4, -0.7, 5)).widen);  // N - 1: not yet
@@ -63,7 +66,7 @@ TEST(FilterSupervisor, ThreeAgreeingRejectedFitsWidenTheCovarianceOnTheThird) {
 // north, and each fit is 0.8 m to its right (east) and 4 degrees clockwise, whatever the world
 // coordinates; the along-road offsets (0, 1, 2 m) are not compared.
 TEST(FilterSupervisor, JudgesAgreementInTheEstimatesFrameAsTheVehicleDrives) {
-  FilterSupervisor supervisor;
+  FilterSupervisor supervisor(kThree);
   for (int frame = 0; frame < 3; ++frame) {
     const Pose2 estimate(10, 5 + 2.0 * frame, kPi / 2);
     const SupervisorDecision d = supervisor.observe(rejected(estimate, frame, -0.8, -4));
@@ -73,16 +76,16 @@ TEST(FilterSupervisor, JudgesAgreementInTheEstimatesFrameAsTheVehicleDrives) {
 
 // A pipeline misreading a curve: 1.5 m left, 1.5 m right, ... (park_loop's R4): never.
 TEST(FilterSupervisor, KeepsTheCovarianceWhenTheFitsDisagreeAcrossTheRoad) {
-  FilterSupervisor supervisor;
+  FilterSupervisor supervisor(kThree);
   for (int frame = 0; frame < 6; ++frame) {
     EXPECT_FALSE(supervisor.observe(rejected(0, frame % 2 == 0 ? 1.5 : -1.5, 0)).widen) << frame;
   }
   // 0.25 m apart agree, 0.35 m do not (agreement_m 0.3).
-  FilterSupervisor near;
+  FilterSupervisor near(kThree);
   near.observe(rejected(0, 1.0, 0));
   near.observe(rejected(0, 1.25, 0));
   EXPECT_TRUE(near.observe(rejected(0, 1.1, 0)).widen);
-  FilterSupervisor far;
+  FilterSupervisor far(kThree);
   far.observe(rejected(0, 1.0, 0));
   far.observe(rejected(0, 1.35, 0));
   EXPECT_FALSE(far.observe(rejected(0, 1.1, 0)).widen);
@@ -90,11 +93,11 @@ TEST(FilterSupervisor, KeepsTheCovarianceWhenTheFitsDisagreeAcrossTheRoad) {
 
 // 2.5 degrees apart agree, 3.5 do not (agreement_deg 3).
 TEST(FilterSupervisor, KeepsTheCovarianceWhenTheFitsDisagreeInHeading) {
-  FilterSupervisor near;
+  FilterSupervisor near(kThree);
   near.observe(rejected(0, 0.5, 4));
   near.observe(rejected(0, 0.5, 6.5));
   EXPECT_TRUE(near.observe(rejected(0, 0.5, 5)).widen);
-  FilterSupervisor far;
+  FilterSupervisor far(kThree);
   far.observe(rejected(0, 0.5, 4));
   far.observe(rejected(0, 0.5, 7.5));
   EXPECT_FALSE(far.observe(rejected(0, 0.5, 5)).widen);
@@ -102,7 +105,7 @@ TEST(FilterSupervisor, KeepsTheCovarianceWhenTheFitsDisagreeInHeading) {
 
 // The window is the last N fits: a stray first fit does not stop three agreeing ones after it.
 TEST(FilterSupervisor, JudgesTheLastNFits) {
-  FilterSupervisor supervisor;
+  FilterSupervisor supervisor(kThree);
   EXPECT_FALSE(supervisor.observe(rejected(0, 1.5, 0)).widen);
   EXPECT_FALSE(supervisor.observe(rejected(0, -0.8, 0)).widen);
   EXPECT_FALSE(supervisor.observe(rejected(0, -0.8, 0)).widen);  // 1.5, -0.8, -0.8: 2.3 m apart
@@ -112,7 +115,7 @@ TEST(FilterSupervisor, JudgesTheLastNFits) {
 
 // One frame with an outlier among its lines ends the run: three good ones after it are needed.
 TEST(FilterSupervisor, AnOutlierEndsTheRun) {
-  FilterSupervisor supervisor;
+  FilterSupervisor supervisor(kThree);
   EXPECT_FALSE(supervisor.observe(rejected(0, -0.8, 4)).widen);
   EXPECT_FALSE(supervisor.observe(rejected(0, -0.8, 4)).widen);
   EXPECT_FALSE(supervisor.observe(rejected(0, -0.8, 4, 0, {"R1.left.0"})).widen);
@@ -125,7 +128,7 @@ TEST(FilterSupervisor, AnOutlierEndsTheRun) {
 // Lines that do not fit together (random campus 15's shadow edge, 0.09-0.13 m): max_rms_m 0.05,
 // inclusive.
 TEST(FilterSupervisor, APoorFitEndsTheRun) {
-  FilterSupervisor supervisor;
+  FilterSupervisor supervisor(kThree);
   for (int frame = 0; frame < 5; ++frame) EXPECT_FALSE(supervisor.observe(rejected(0, -0.8, 4, 0.09)).widen) << frame;
   EXPECT_EQ(supervisor.rejections(), 0u);
   supervisor.observe(rejected(0, -0.8, 4, 0.05));
@@ -141,7 +144,7 @@ TEST(FilterSupervisor, AFrameThatIsNotARejectedFitEndsTheRun) {
   CurrentPosition no_fit;
   no_fit.status = PositionStatus::Rejected;
   for (const CurrentPosition& breaker : {accepted(), odometry, no_fit}) {
-    FilterSupervisor supervisor;
+    FilterSupervisor supervisor(kThree);
     supervisor.observe(rejected(0, -0.8, 4));
     supervisor.observe(rejected(0, -0.8, 4));
     EXPECT_FALSE(supervisor.observe(breaker).widen);
@@ -152,7 +155,7 @@ TEST(FilterSupervisor, AFrameThatIsNotARejectedFitEndsTheRun) {
 
 // After a reset the counters start from nothing: N more agreeing fits before the next one.
 TEST(FilterSupervisor, AfterAResetItTakesNMoreFrames) {
-  FilterSupervisor supervisor;
+  FilterSupervisor supervisor(kThree);
   for (int frame = 1; frame <= 9; ++frame) {
     EXPECT_EQ(supervisor.observe(rejected(0, -0.8, 4)).widen, frame % 3 == 0) << frame;
     EXPECT_EQ(supervisor.rejections(), static_cast<std::size_t>(frame % 3)) << frame;
@@ -173,8 +176,10 @@ TEST(FilterSupervisor, NeverWidensAtZeroAndAtOnceAtOne) {
   EXPECT_DOUBLE_EQ(d.covariance(2, 2), kPi * kPi / 4);
 }
 
-TEST(FilterSupervisorOptions, DefaultsAreValidAndABadFieldIsNamed) {
+TEST(FilterSupervisorOptions, DefaultsAreValidAndOffAndABadFieldIsNamed) {
   EXPECT_NO_THROW(FilterSupervisorOptions{}.validate());
+  FilterSupervisor by_default;
+  for (int frame = 0; frame < 5; ++frame) EXPECT_FALSE(by_default.observe(rejected(0, -0.8, 4)).widen);
   try {
     FilterSupervisor bad({.sigma_m = 0});
     FAIL();

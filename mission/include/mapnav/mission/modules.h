@@ -62,7 +62,8 @@ struct MapModuleOptions {
   /// along-road error of d gives a heading error of d / radius that the filter does not know of
   /// (docs/measurements.md), and out of the curve the gate then rejects every correct measurement
   /// while the estimate runs off the path on odometry. When the supervisor says so, the covariance
-  /// is widened and the frame matched again. In the option table its options keep the names they
+  /// is widened and the frame matched again; by default it never does (its after_rejections is 0).
+  /// In the option table its options keep the names they
   /// had before it was a component: park_reset_ and theirs (park_reset_after_rejections, ...).
   FilterSupervisorOptions supervisor;
   /// Recovery: when Vision's road region disagrees with the map seen from the estimate, pose
