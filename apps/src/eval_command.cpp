@@ -99,7 +99,7 @@ void registerEvalCommands(CLI::App& app, Commands& commands) {
   es->add_option("--bootstrap", eval->bootstrap,
                  "The road region the pipeline trains on: trapezoid (bottom centre, docs/eval.md) or labels-first-frame "
                  "(the first photo's largest labelled road region)")
-      ->default_val("trapezoid");
+      ->capture_default_str();
   es->add_option("--camera", eval->options.camera,
                  "Camera file, its image the photos' size (default: an assumed level pin-hole of the photos' size, "
                  "docs/eval.md)")

@@ -15,7 +15,8 @@ struct EvalSegmentationConfig {
   std::vector<std::string> plugins;
   std::string images, labels;           ///< folders; an image's label is the PNG of the same stem
   LabelClasses classes;
-  std::string bootstrap = "trapezoid";  ///< --bootstrap's text, for options.bootstrap
+  /// --bootstrap's text, for options.bootstrap (default: the library's)
+  std::string bootstrap = std::string(toString(SegmentationEvalOptions{}.bootstrap));
   SegmentationEvalOptions options;      ///< the camera, the bird's-eye grid, the overlays' folder
   bool json = false;
 };

@@ -121,15 +121,8 @@ static std::string landmarksLine(const OsmImportReport& report, const OsmImportO
 
 int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream& err) {
   return guarded(err, [&] {
-    OsmImportOptions options;
-    options.bbox = config.bbox;
-    if (config.highways) {
-      options.highways = splitNames(*config.highways);
-    }
-    options.origin = config.origin;
-    options.repair = config.repair;
-    options.keep_far_landmarks = config.keep_far_landmarks;
-    if (config.name) options.name = *config.name;
+    OsmImportOptions options = config.options;
+    if (config.highways) options.highways = splitNames(*config.highways);
     const OsmImport imported = importOsm(config.input, options);
     const OsmImportReport& report = imported.report;
     out << config.input << ": " << report.nodes_read << " nodes, " << report.ways_read << " ways; kept "
@@ -141,7 +134,7 @@ int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream&
     printIssues(issues, config.output, err);
     if (hasErrors(issues)) {
       err << "mapnav: error: " << config.input << ": the imported map is invalid (" << countSeverity(issues, Severity::Error)
-          << " errors" << (config.repair ? "" : repairHint(issues)) << "); nothing written\n";
+          << " errors" << (options.repair ? "" : repairHint(issues)) << "); nothing written\n";
       return static_cast<int>(kInvalid);
     }
     saveMap(imported.map, config.output);
@@ -253,26 +246,34 @@ void addImportOsm(CLI::App& map, Commands& commands) {
   io->add_option("input", osm->input, "OpenStreetMap file: .osm (XML), .osm.pbf, .osm.bz2")->required()->check(CLI::ExistingFile);
   io->add_option("-o,--output", osm->output, "mapnav-map/1 JSON to write (only when the imported map is valid)")->required();
   io->add_option("--bbox", text->bbox, "Keep only W,S,E,N (degrees); ways leaving it are cut at its border");
-  io->add_option("--highways", osm->highways, "highway values kept, comma-separated (default footway,path,pedestrian,steps,cycleway)");
+  const OsmImportOptions defaults;
+  std::string highways, widths;
+  for (const std::string& h : defaults.highways) {
+    highways += (highways.empty() ? "" : ",") + h;
+    widths += (widths.empty() ? "" : ", ") + h + " " + strprintf("%g", defaults.widths.at(h)) + " m";
+  }
+  io->add_option("--highways", osm->highways, "highway values kept, comma-separated (default " + highways + ")");
   addOrigin(io, text->origin);
-  io->add_flag("--repair", osm->repair,
-               "Merge nodes closer than 0.5 m, add an intersection where kept ways cross without a shared node, "
-               "drop stubs and loops shorter than 1 m; every repair is listed");
-  io->add_flag("--keep-far-landmarks", osm->keep_far_landmarks,
-               "Keep the landmarks (trees, street lamps, benches, bollards, manholes) farther than 10 m from every "
-               "imported road; by default they are dropped and counted");
-  io->add_option("--name", osm->name, "The map's name (default: \"imported from FILE\")");
+  io->add_flag("--repair", osm->options.repair,
+               "Merge nodes closer than " + strprintf("%g", defaults.merge_distance_m) +
+                   " m, add an intersection where kept ways cross without a shared node, drop stubs and loops "
+                   "shorter than " + strprintf("%g", defaults.min_piece_m) + " m; every repair is listed");
+  io->add_flag("--keep-far-landmarks", osm->options.keep_far_landmarks,
+               "Keep the landmarks (trees, street lamps, benches, bollards, manholes) farther than " +
+                   strprintf("%g", defaults.max_landmark_distance_m) +
+                   " m from every imported road; by default they are dropped and counted");
+  io->add_option("--name", osm->options.name, "The map's name (default: \"imported from FILE\")");
   io->footer(
       "Ways are split at every node two kept ways share; those nodes and way ends become intersections (id n<node>, "
       "x<k> for one --repair added), roads are w<way> or w<way>-<k>, with the OSM ids in their properties. Widths "
-      "from `width` or per highway (footway 2 m, path 1.5, pedestrian 4, steps 2, cycleway 2), surfaces from "
-      "`surface`, grass shoulders, steps with route cost factor 20. Nodes tagged natural=tree, highway=street_lamp, "
+      "from `width` or per highway (" + widths + "), surfaces from `surface`, " + defaults.shoulder +
+      " shoulders, steps with route cost factor " + strprintf("%g", defaults.steps_cost_factor) + ". Nodes tagged natural=tree, highway=street_lamp, "
       "amenity=bench, barrier=bollard, man_made=manhole or manhole=* become landmarks (size from circumference and "
       "height when given). Without --origin the origin is the centre of the kept data. Data problems are reported "
       "as warnings (where = way/ID or node/ID); nothing is written when the map is invalid.");
   io->callback(commands.choose([osm, text](std::ostream& out, std::ostream& err) {
-    if (!text->origin.empty()) osm->origin = parseOrigin(text->origin);
-    if (!text->bbox.empty()) osm->bbox = parseBbox(text->bbox);
+    if (!text->origin.empty()) osm->options.origin = parseOrigin(text->origin);
+    if (!text->bbox.empty()) osm->options.bbox = parseBbox(text->bbox);
     return runImportOsm(*osm, out, err);
   }));
 }

@@ -9,6 +9,7 @@
 #include "mapnav/map/geojson.h"
 #include "mapnav/map/map.h"
 #include "mapnav/map/map_render.h"
+#include "mapnav/osm/osm_import.h"
 
 namespace mapnav::cli {
 
@@ -49,12 +50,9 @@ int runExportGeoJson(const ExportGeoJsonConfig& config, std::ostream& out, std::
 struct ImportOsmConfig {
   std::string input;                       ///< .osm (XML), .osm.pbf, .osm.bz2, ...
   std::string output;                      ///< mapnav-map/1 JSON (written only when the map is valid)
-  std::optional<std::array<double, 4>> bbox;  ///< west, south, east, north, degrees (parseBbox)
-  std::optional<std::string> highways;     ///< "footway,path,..." (default: OsmImportOptions')
-  std::optional<GeoOrigin> origin;
-  bool repair = false;
-  bool keep_far_landmarks = false;         ///< keep landmarks farther than 10 m from every road
-  std::optional<std::string> name;
+  /// --bbox, --origin, --repair, --keep-far-landmarks, --name; the rest at the library's defaults.
+  OsmImportOptions options;
+  std::optional<std::string> highways;     ///< "footway,path,..." (default: options.highways)
 };
 int runImportOsm(const ImportOsmConfig& config, std::ostream& out, std::ostream& err);
 
