@@ -127,6 +127,7 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
   into.left_path_frames = 0;
   into.lost_frames = 0;
   into.ground_steps_used = 0;
+  into.arrived_frame.reset();
   std::vector<double> latency, vision;
   latency.reserve(frames.size());
   vision.reserve(frames.size());
@@ -136,6 +137,7 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
     if (!f.vision_ok) ++into.vision_failures;
     if (f.status == PositionStatus::Lost) ++into.lost_frames;
     if (f.step_used) ++into.ground_steps_used;
+    if (f.arrived && !into.arrived_frame) into.arrived_frame = f.index;
     if (!f.truth) continue;
     into.has_truth = true;
     into.max_offset_from_centre_m = std::max(into.max_offset_from_centre_m, f.offset_from_centre_m);

@@ -211,6 +211,7 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   r.command = command.kind;
   r.setpoint = command.setpoint;
   r.to_go_m = navigator_.status().to_go_m;
+  r.arrived = navigator_.finished();
   r.latency_ms = std::chrono::duration<double, std::milli>(stop - start).count();
   r.vision_ms = std::chrono::duration<double, std::milli>(vision_stop - vision_start).count();
   if (frame.truth) evaluate(*frame.truth, r);

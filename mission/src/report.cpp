@@ -259,7 +259,12 @@ std::string metricsTable(const MissionRun& run) {
   } else {
     row("errors", "no ground truth", "no ground truth");
   }
-  row("reached goal", m.reached_goal ? "yes" : "no", strprintf("%.2f m from it at the end", m.goal_distance_m));
+  const bool judged_at_arrival = run.mode == "replay" && m.arrived_frame;
+  row("reached goal", m.reached_goal ? "yes" : "no",
+      judged_at_arrival ? strprintf("%.2f m from it when the Navigator arrived (frame %zu)", m.goal_distance_m, *m.arrived_frame)
+                        : strprintf("%.2f m from it at the end", m.goal_distance_m));
+  row("estimate at the end", strprintf("%.2f m from the goal", m.estimate_goal_distance_m),
+      m.arrived_frame ? "the Navigator arrived at frame " + std::to_string(*m.arrived_frame) : "the Navigator never arrived");
   row("frames", std::to_string(m.frames), strprintf("%.1f s", run.duration_s) + ", " + strprintf("%.1f m driven", run.distance_m));
   row("route", strprintf("%.1f m", run.route.length_m),
       std::to_string(run.route.intersections.size()) + " intersections");

@@ -66,6 +66,8 @@ std::string runToJson(const MissionRun& run) {
          {"pipeline", run.pipeline},
          {"outcome", run.outcome},
          {"goal_distance_m", roundTo(m.goal_distance_m, 1e4)},
+         {"arrived_frame", m.arrived_frame ? Json(*m.arrived_frame) : Json(nullptr)},
+         {"estimate_goal_distance_m", roundTo(m.estimate_goal_distance_m, 1e4)},
          {"lateral_max_m", err(m.estimate.lateral_max_m, 1e5)},
          {"along_max_m", err(m.estimate.along_max_m, 1e5)},
          {"heading_max_deg", err(m.estimate.heading_max_deg, 1e4)},

@@ -5,11 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/option_table.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/frame_source.h"
 
@@ -72,12 +72,6 @@ VehicleLimits missionLimits(const MissionFile& mission) {
   return limits;
 }
 
-std::string text(const char* format, double a, double b = 0) {
-  char line[200];
-  std::snprintf(line, sizeof line, format, a, b);
-  return line;
-}
-
 }  // namespace
 
 MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& log_dir, const RunOptions& options) {
@@ -98,21 +92,37 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
   if (!run.frames.empty()) run.duration_s = run.frames.back().t - run.frames.front().t;
   loop.finish(source.truth());
 
+  // The log's path goes where it was driven whatever the estimate did: the vehicle is judged where
+  // it was when the Navigator believed it arrived, never at the log's end. The Navigator arrives
+  // within 0.5 m of the goal by its estimate, so the goal is reached when that estimate was right
+  // to 0.5 m.
   MissionMetrics& m = run.metrics;
+  const auto goalDistance = [&](const Pose2& p) { return (p.translation() - run.goal.translation()).norm(); };
+  const auto arrival = std::find_if(run.frames.begin(), run.frames.end(), [](const FrameRecord& f) { return f.arrived; });
+  const bool arrived = arrival != run.frames.end();
   if (!run.frames.empty()) {
-    const FrameRecord& last = run.frames.back();
-    const Pose2& at = last.truth ? *last.truth : last.estimate;
-    m.goal_distance_m = (at.translation() - run.goal.translation()).norm();
-    m.reached_goal = !run.ended_by_halt && loop.navigator().finished() && m.goal_distance_m <= 0.5;
+    const FrameRecord& judged = arrived ? *arrival : run.frames.back();
+    m.goal_distance_m = goalDistance(judged.truth ? *judged.truth : judged.estimate);
+    m.estimate_goal_distance_m = goalDistance(run.frames.back().estimate);
+    const bool right = arrived && (!arrival->truth ||
+                                   (arrival->truth->translation() - arrival->estimate.translation()).norm() <= 0.5);
+    m.reached_goal = !run.ended_by_halt && right;
   }
   if (run.outcome.empty()) {
+    const std::string vehicle = m.has_truth ? "the vehicle" : "its estimate";
     if (m.reached_goal) {
-      run.outcome = text("goal reached (%.2f m from it)", m.goal_distance_m);
+      run.outcome = strprintf("goal reached (the Navigator arrived at frame %zu, %s %.2f m from the goal)",
+                              arrival->index, vehicle.c_str(), m.goal_distance_m);
+    } else if (arrived) {
+      run.outcome = strprintf("the Navigator believed it arrived at frame %zu, but the vehicle was %.2f m from the goal",
+                              arrival->index, m.goal_distance_m);
     } else if (run.stopped_early) {
       run.outcome = "stopped after " + std::to_string(run.frames.size()) + " frames (the run's max_frames), " +
-                    text("%.1f m before the goal", loop.navigator().status().to_go_m);
+                    strprintf("%.1f m before the goal", loop.navigator().status().to_go_m);
     } else {
-      run.outcome = text("the log ended %.2f m from the goal", m.goal_distance_m);
+      run.outcome = strprintf("the log ended before the Navigator arrived: the estimate %.2f m from the goal",
+                              m.estimate_goal_distance_m);
+      if (m.has_truth) run.outcome += strprintf(", the vehicle %.2f m", m.goal_distance_m);
     }
   }
   loop.writeTrace();
@@ -141,17 +151,18 @@ MissionRun runClosedLoopOver(const MissionFile& mission, const Map& map, const C
 
   MissionMetrics& m = run.metrics;
   m.goal_distance_m = (source.pose().translation() - run.goal.translation()).norm();
+  if (!run.frames.empty()) m.estimate_goal_distance_m = (run.frames.back().estimate.translation() - run.goal.translation()).norm();
   m.reached_goal = !run.ended_by_halt && source.finished() && m.goal_distance_m <= 0.5;
   if (run.outcome.empty()) {
     if (m.reached_goal) {
-      run.outcome = text("goal reached (%.2f m from it)", m.goal_distance_m);
+      run.outcome = strprintf("goal reached (%.2f m from it)", m.goal_distance_m);
     } else if (source.finished()) {
-      run.outcome = text("stopped where it believed the goal was, %.2f m from it", m.goal_distance_m);
+      run.outcome = strprintf("stopped where it believed the goal was, %.2f m from it", m.goal_distance_m);
     } else if (run.stopped_early) {
       run.outcome = "stopped after " + std::to_string(source.frames()) + " frames (the run's max_frames), " +
-                    text("%.1f m before the goal", loop.navigator().status().to_go_m);
+                    strprintf("%.1f m before the goal", loop.navigator().status().to_go_m);
     } else {
-      run.outcome = text("time limit (%.0f s) reached %.2f m from the goal", source.time_limit_s(), m.goal_distance_m);
+      run.outcome = strprintf("time limit (%.0f s) reached %.2f m from the goal", source.time_limit_s(), m.goal_distance_m);
     }
   }
   loop.writeTrace();

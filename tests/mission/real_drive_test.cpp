@@ -34,11 +34,15 @@ TEST(RealDrive, OstringReplayHoldsTheCarriagewayWhereOdometryAloneDrifts) {
   EXPECT_LE(m.estimate.lateral_rms_m, 0.30);
   EXPECT_LE(m.estimate.heading_rms_deg, 1.0);
   EXPECT_LE(m.vision_failures, 7u);  // 5 % of 144
-  EXPECT_TRUE(m.reached_goal) << run.outcome;
+  // Judged where the car was when the Navigator believed it arrived, not at the log's end (which
+  // is the goal by construction): nothing on Ostring observes the position along the road (no
+  // crossing line), so the along error at the end is the corrected odometry's.
+  ASSERT_TRUE(m.arrived_frame.has_value()) << run.outcome;
+  EXPECT_LE(m.goal_distance_m, 2.0) << run.outcome;
   std::printf("Ostring replay: lateral RMS %.3f m, along RMS %.3f m, heading RMS %.2f deg, %zu vision failures; "
-              "odometry alone %.2f m at worst\n",
+              "odometry alone %.2f m at worst; %s\n",
               m.estimate.lateral_rms_m, m.estimate.along_rms_m, m.estimate.heading_rms_deg, m.vision_failures,
-              m.odometry_only.max_error_m);
+              m.odometry_only.max_error_m, run.outcome.c_str());
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
+#include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/trace.h"
@@ -93,6 +94,44 @@ TEST_F(ReplayShortCrossing, ReachesTheGoalWithTheTargetsWhileOdometryAloneDrifts
   }
   EXPECT_EQ(json["frames"], m.frames);
   EXPECT_NE(summaryText(run).find("odometry alone"), std::string::npos);
+}
+
+// The log's recorded path ends at the goal whatever the estimate does, so replay judges the vehicle
+// where it was when the Navigator believed it arrived. An estimate pushed 3 m ahead late in the run
+// (the filter does not know) makes the Navigator arrive early: not the goal reached, though the
+// log's last truth is at the goal. Pushed 2 m back, the Navigator never arrives.
+TEST_F(ReplayShortCrossing, TheGoalIsJudgedWhereTheNavigatorArrivedNotAtTheLogsEnd) {
+  RunOptions ahead;
+  ahead.displace = EstimateDisplacement{40, 3.0, 0.0};
+  const MissionRun early = runReplay(shortCrossing(), log(), ahead);
+  const MissionMetrics& m = early.metrics;
+  ASSERT_TRUE(m.arrived_frame.has_value()) << early.outcome;
+  const FrameRecord& arrival = early.frames.at(*m.arrived_frame);
+  ASSERT_TRUE(arrival.arrived && arrival.truth);
+  EXPECT_FALSE(early.frames.at(*m.arrived_frame - 1).arrived);  // the first such frame
+  EXPECT_LT(*m.arrived_frame + 5, early.frames.size());
+  const double truth_then = (arrival.truth->translation() - early.goal.translation()).norm();
+  EXPECT_DOUBLE_EQ(m.goal_distance_m, truth_then);
+  EXPECT_GT(truth_then, 2.0);
+  ASSERT_TRUE(early.frames.back().truth);
+  EXPECT_LT((early.frames.back().truth->translation() - early.goal.translation()).norm(), 0.5);  // the log's end
+  EXPECT_FALSE(m.reached_goal);
+  EXPECT_EQ(early.outcome, strprintf("the Navigator believed it arrived at frame %zu, but the vehicle was %.2f m from the goal",
+                                     *m.arrived_frame, truth_then));
+  const auto json = nlohmann::json::parse(runToJson(early));
+  EXPECT_EQ(json["arrived_frame"], *m.arrived_frame);
+  EXPECT_EQ(json["reached_goal"], false);
+
+  RunOptions behind;
+  behind.displace = EstimateDisplacement{50, -2.0, 0.0};
+  const MissionRun late = runReplay(shortCrossing(), log(), behind);
+  EXPECT_FALSE(late.metrics.arrived_frame.has_value());
+  EXPECT_FALSE(late.metrics.reached_goal);
+  EXPECT_NEAR(late.metrics.estimate_goal_distance_m,
+              (late.frames.back().estimate.translation() - late.goal.translation()).norm(), 1e-12);
+  EXPECT_GT(late.metrics.estimate_goal_distance_m, 1.0);
+  EXPECT_EQ(late.outcome.rfind("the log ended before the Navigator arrived: the estimate ", 0), 0u) << late.outcome;
+  EXPECT_TRUE(nlohmann::json::parse(runToJson(late))["arrived_frame"].is_null());
 }
 
 TEST_F(ReplayShortCrossing, ReplayingTheSameLogTwiceGivesByteIdenticalTraces) {

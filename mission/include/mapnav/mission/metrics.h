@@ -55,6 +55,7 @@ struct FrameRecord {
   CommandKind command = CommandKind::Stop;
   VehicleCommand setpoint;
   double to_go_m = 0;             ///< the Navigator's estimate of the distance left
+  bool arrived = false;           ///< the Navigator believed the vehicle at the goal after this frame
   /// Loop latency: Map + Vision + Map + Navigator + Motion Control for this frame, ms (steady_clock;
   /// not rendering, not image decoding, not the trace).
   double latency_ms = 0;
@@ -146,8 +147,18 @@ FrameConsistency frameConsistency(const PoseError& error, const Mat3& covariance
 struct MissionMetrics {
   std::size_t frames = 0;
   bool has_truth = false;         ///< the errors below mean something
-  bool reached_goal = false;      ///< within 0.5 m of the goal at the end (the truth when known)
-  double goal_distance_m = 0;     ///< at the end: truth (else estimate) to the goal
+  /// The Navigator arrived (its estimate within 0.5 m of the goal) and: in closed loop the vehicle
+  /// (the truth when known) ended within 0.5 m of the goal; in replay, where the log's recorded
+  /// path goes where it went whatever the estimate did, the estimate was right to 0.5 m when the
+  /// Navigator arrived (so the vehicle was then within 1 m of the goal).
+  bool reached_goal = false;
+  /// The vehicle (truth, else estimate) to the goal, m: at the end in closed loop; in replay at
+  /// arrived_frame, or at the log's end when the Navigator never arrived.
+  double goal_distance_m = 0;
+  /// The first frame after which the Navigator believed the vehicle at the goal (FrameRecord::
+  /// arrived); nothing: it never did.
+  std::optional<std::size_t> arrived_frame;
+  double estimate_goal_distance_m = 0;  ///< the Map's estimate at the end to the goal, m
   ErrorStats estimate;            ///< the Map's CurrentPosition
   ErrorStats odometry_only;       ///< dead reckoning alone
   FilterConsistency consistency;  ///< the estimate's covariance against its true error
@@ -186,8 +197,8 @@ struct MissionMetrics {
 /// The error of `estimate` against `truth` with the road heading `road_heading` at the truth.
 PoseError poseError(const Pose2& estimate, const Pose2& truth, double road_heading);
 
-/// Totals over `frames` (errors already filled in); reached_goal, goal distance, replans, halts and
-/// relocalisations are the runner's and are left as they are in `into`.
+/// Totals over `frames` (errors already filled in), arrived_frame too; reached_goal, the goal
+/// distances, replans, halts and relocalisations are the runner's and are left as they are in `into`.
 void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& route, MissionMetrics& into);
 
 /// Nearest-rank percentile (0..100) of `values`; 0 when empty.
