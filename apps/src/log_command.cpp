@@ -179,11 +179,11 @@ int runLogImportKittiRaw(const LogImportKittiRawConfig& config, std::ostream& ou
     out << strprintf("wrote %s: %zu frames (%dx%d), %.1f s, %.1f m along the OXTS track; world frame east-north about "
                      "%.8f, %.8f; camera %s from the calibration chain: fx %.1f, %.2f m up, tilt %.2f deg, yaw %.2f deg, "
                      "roll %.2f deg, %.2f m ahead of and %.2f m left of the OXTS unit (also in %s/camera.json); %zu GNSS "
-                     "fixes; odometry from the OXTS speed and yaw rate%s\n",
+                     "fixes (sigma %.2f m); odometry from the OXTS speed and yaw rate%s\n",
                      config.output.c_str(), r.frames, r.intrinsics.width, r.intrinsics.height, r.duration_s, r.distance_m,
                      r.origin.lat, r.origin.lon, options.camera.c_str(), r.intrinsics.fx, m.height_m, radToDeg(m.tilt_rad),
                      radToDeg(m.yaw_rad), radToDeg(m.roll_rad), m.offset.x(), m.offset.y(), config.output.c_str(),
-                     r.gnss_fixes,
+                     r.gnss_fixes, options.gnss.statedSigma(),
                      options.scale_error != 0 || options.gyro_bias_deg_s != 0
                          ? strprintf(", degraded: scale error %g, gyro bias %g deg/s (seed %llu)", options.scale_error,
                                      options.gyro_bias_deg_s, static_cast<unsigned long long>(options.seed)).c_str()
@@ -244,11 +244,24 @@ void addLogImportKittiRaw(CLI::App& log, Commands& commands) {
   lr->add_option("--imu-height", raw->options.imu_height_m, "The OXTS unit's height above the road, m (KITTI's set-up drawing)")
       ->capture_default_str();
   lr->add_option("--gnss-every", raw->options.gnss_every, "A GNSS fix every n-th frame (0 = none)")->capture_default_str();
+  lr->add_option("--gnss-sigma", raw->options.gnss.sigma_m,
+                 "The fixes' white noise, 1-sigma per axis, m (the fixes are the OXTS positions as a consumer receiver "
+                 "would give them, never the truth itself)")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(kittiRawImportOptionTable(), "gnss_sigma_m"));
+  lr->add_option("--gnss-bias-sigma", raw->options.gnss.bias_sigma_m,
+                 "The fixes' slowly drifting bias, steady 1-sigma per axis, m")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(kittiRawImportOptionTable(), "gnss_bias_sigma_m"));
+  lr->add_option("--gnss-bias-time", raw->options.gnss.bias_time_s, "The bias's correlation time, s")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(kittiRawImportOptionTable(), "gnss_bias_time_s"));
   lr->add_option("--odometry-scale-error", raw->options.scale_error, "Degrade the odometry: relative distance error (0.02 = 2 % long)")
       ->capture_default_str();
   lr->add_option("--gyro-bias-deg-s", raw->options.gyro_bias_deg_s, "Degrade the odometry: constant yaw-rate bias, deg/s")
       ->capture_default_str();
-  lr->add_option("--seed", raw->options.seed, "Seed of the odometry's degradation")->capture_default_str();
+  lr->add_option("--seed", raw->options.seed, "Seed of the odometry's degradation (the GNSS errors': seed + 1)")
+      ->capture_default_str();
   lr->add_option("--name", raw->options.name, "The log's name (default: KITTI raw and the drive folder's name)");
   lr->footer("Exit codes: 0 written, 1 invalid input (a malformed OXTS packet, calibration entry or timestamp: the file "
              "and line are named and nothing is written), 2 usage or I/O error (a missing folder or file).");

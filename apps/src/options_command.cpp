@@ -19,6 +19,7 @@
 #include "mapnav/localization/relocalize.h"
 #include "mapnav/logs/kitti_import.h"
 #include "mapnav/logs/kitti_raw_import.h"
+#include "mapnav/logs/gnss.h"
 #include "mapnav/logs/odometry.h"
 #include "mapnav/logs/replay_log.h"
 #include "mapnav/map/generate.h"
@@ -115,6 +116,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&kittiImportOptionTable, "logs/include/mapnav/logs/kitti_import.h", "`mapnav log import-kitti`'s flags; C++"),
       entry(&kittiRawImportOptionTable, "logs/include/mapnav/logs/kitti_raw_import.h", "`mapnav log import-kitti-raw`'s flags; C++"),
       entry(&odometryNoiseOptionTable, "logs/include/mapnav/logs/odometry.h", "a mission's `odometry` object; C++"),
+      entry(&gnssReceiverOptionTable, "logs/include/mapnav/logs/gnss.h",
+            "`mapnav log import-kitti-raw --gnss-*` (KittiRawImportOptions::gnss, as gnss_*); C++"),
       entry(&logHeaderOptionTable, "logs/include/mapnav/logs/replay_log.h", "a replay log's header (docs/replay-log-format.md)"),
       entry(&readOptionTable, "logs/include/mapnav/logs/replay_log.h", kCode),
       entry(&worldOptionTable, "sim/include/mapnav/sim/world.h", "a mission's `world` object; C++"),

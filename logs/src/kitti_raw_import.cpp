@@ -179,6 +179,9 @@ const OptionTable<KittiRawImportOptions>& kittiRawImportOptionTable() {
           .field("imu_height_m", &O::imu_height_m, OptionRule{.min = 0, .max = 10, .min_open = true, .max_open = true},
                  "the OXTS unit's height above the road, m")
           .field("gnss_every", &O::gnss_every, atLeast(0), "a GNSS fix every n-th frame; 0: none")
+          .nest(&O::gnss, gnssReceiverOptionTable(),
+                {{"sigma_m", "gnss_sigma_m"}, {"bias_sigma_m", "gnss_bias_sigma_m"}, {"bias_time_s", "gnss_bias_time_s"}},
+                {"seed"})
           .field("scale_error", &O::scale_error, odometryRule("scale_error"), "odometry: relative distance error")
           .field("gyro_bias_deg_s", &O::gyro_bias_deg_s, odometryRule("gyro_bias_deg_s"),
                  "odometry: constant yaw-rate bias, deg/s")
@@ -243,6 +246,9 @@ KittiRawImportResult importKittiRaw(const fs::path& drive, const fs::path& out, 
   noise.scale_error = options.scale_error;
   noise.gyro_bias_deg_s = options.gyro_bias_deg_s;
   OdometrySensor odometry(noise);
+  GnssReceiverOptions receiver_options = options.gnss;
+  receiver_options.seed = options.seed + 1;
+  GnssReceiver receiver(receiver_options);
   ReplayLogWriter writer(out, header);
   std::optional<Pose2> previous;
   for (std::size_t i = 0; i < images.size(); ++i) {
@@ -262,7 +268,7 @@ KittiRawImportResult importKittiRaw(const fs::path& drive, const fs::path& out, 
       result.distance_m += (truth.translation() - previous->translation()).norm();
     }
     if (options.gnss_every > 0 && i % static_cast<std::size_t>(options.gnss_every) == 0) {
-      f.gnss = GnssFix{truth.translation(), std::max(0.05, oxts[i].pos_accuracy)};
+      f.gnss = receiver.measure(truth.translation(), f.t);
       ++result.gnss_fixes;
     }
     previous = truth;

@@ -18,6 +18,7 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
 #include "mapnav/geometry/pose2.h"
+#include "mapnav/logs/gnss.h"
 #include "mapnav/logs/replay_log.h"
 #include "mapnav/testing/support.h"
 
@@ -77,12 +78,25 @@ TEST_F(KittiRawDrive, FramesAndTruthAtTheOxtsFixesEastNorthOfTheFirst) {
     EXPECT_NEAR(log.frames()[i].truth->x(), expected.x(), 0.01) << "frame " << i;
     EXPECT_NEAR(log.frames()[i].truth->y(), expected.y(), 0.01) << "frame " << i;
   }
-  // A GNSS fix every 10th frame, at the truth.
+  // A GNSS fix every 10th frame: the truth degraded as a consumer receiver would, never the truth,
+  // its errors within what it states (4 sigma per axis), and the import's own receiver model's.
   EXPECT_EQ(result_->gnss_fixes, 15u);
   ASSERT_TRUE(log.frames()[10].gnss);
   EXPECT_FALSE(log.frames()[11].gnss);
-  EXPECT_NEAR((log.frames()[10].gnss->position - log.frames()[10].truth->translation()).norm(), 0, 1e-9);
-  EXPECT_GT(log.frames()[10].gnss->sigma_m, 0);
+  const double stated = GnssReceiverOptions{}.statedSigma();
+  GnssReceiverOptions receiver_options;
+  receiver_options.seed = KittiRawImportOptions{}.seed + 1;
+  GnssReceiver receiver(receiver_options);
+  for (std::size_t i = 0; i < log.frames().size(); i += 10) {
+    const LogFrame& f = log.frames()[i];
+    ASSERT_TRUE(f.gnss && f.truth) << "frame " << i;
+    const Vec2 error = f.gnss->position - f.truth->translation();
+    EXPECT_GT(error.norm(), 1e-3) << "frame " << i;
+    EXPECT_LT(error.cwiseAbs().maxCoeff(), 4 * stated) << "frame " << i;
+    EXPECT_DOUBLE_EQ(f.gnss->sigma_m, stated);
+    const GnssFix expected = receiver.measure(f.truth->translation(), f.t);
+    EXPECT_NEAR((f.gnss->position - expected.position).norm(), 0, 1e-3) << "frame " << i;  // the log's rounding
+  }
 }
 
 TEST_F(KittiRawDrive, OdometryIntegratesToTheOxtsTrackWithinOnePercent) {

@@ -21,6 +21,7 @@
 
 #include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
+#include "mapnav/logs/gnss.h"
 #include "mapnav/map/geodesy.h"
 
 namespace mapnav {
@@ -32,6 +33,9 @@ struct KittiRawImportOptions {
   /// 2013, Fig. 3). The camera's height is this plus its height above the unit from the calibration.
   double imu_height_m = 0.93;
   int gnss_every = 10;              ///< a GNSS fix every n-th frame (1 s at 10 Hz); 0 = none
+  /// The fixes: the OXTS positions degraded as a consumer receiver would give them (its seed is
+  /// `seed` + 1). The exact OXTS positions are the log's truth, never its GNSS.
+  GnssReceiverOptions gnss;
   double scale_error = 0.0;         ///< odometry: relative distance error (0.02: 2 % long)
   double gyro_bias_deg_s = 0.0;     ///< odometry: constant yaw-rate bias, degrees per second
   std::uint64_t seed = 1;           ///< odometry's noise (with scale_error / gyro_bias only biases: no noise)
