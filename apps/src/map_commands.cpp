@@ -267,7 +267,8 @@ void addImportOsm(CLI::App& map, Commands& commands) {
       "Ways are split at every node two kept ways share; those nodes and way ends become intersections (id n<node>, "
       "x<k> for one --repair added), roads are w<way> or w<way>-<k>, with the OSM ids in their properties. Widths "
       "from `width` or per highway (" + widths + "), surfaces from `surface`, " + defaults.shoulder +
-      " shoulders, steps with route cost factor " + strprintf("%g", defaults.steps_cost_factor) + ". Nodes tagged natural=tree, highway=street_lamp, "
+      " shoulders, steps with route cost factor " + strprintf("%g", defaults.steps_cost_factor) +
+      ". Nodes tagged natural=tree, highway=street_lamp, "
       "amenity=bench, barrier=bollard, man_made=manhole or manhole=* become landmarks (size from circumference and "
       "height when given). Without --origin the origin is the centre of the kept data. Data problems are reported "
       "as warnings (where = way/ID or node/ID); nothing is written when the map is invalid.");
