@@ -163,6 +163,24 @@ bool PoseFilter::updateStep(double measured_m, double variance) {
   return true;
 }
 
+bool PoseFilter::updatePosition(const Vec2& fix, double sigma_m) {
+  if (!fix.allFinite() || !(std::isfinite(sigma_m) && sigma_m > 0)) {
+    throw InvalidInput(strprintf("PoseFilter::updatePosition: fix (%g, %g) m with sigma %g m: all must be finite, the sigma > 0",
+                                 fix.x(), fix.y(), sigma_m));
+  }
+  step_.reset();
+  // z = (x, y) + v, v ~ N(0, sigma² I): H picks the state's first two entries.
+  const Eigen::Matrix<double, 5, 2> cross = full_.leftCols<2>();  // Cov(state, z) = P H^T
+  const Eigen::Matrix2d s = full_.topLeftCorner<2, 2>() + sigma_m * sigma_m * Eigen::Matrix2d::Identity();
+  const Eigen::Vector2d innovation = fix - pose_.translation();
+  const double limit = boost::math::quantile(boost::math::chi_squared_distribution<double>(2), options_.gate_probability);
+  if (!(innovation.dot(s.ldlt().solve(innovation)) <= limit)) return false;
+  const Eigen::Matrix<double, 5, 2> k = cross * s.inverse();
+  full_ -= k * cross.transpose();
+  applyUpdate(k * innovation);
+  return true;
+}
+
 void PoseFilter::applyUpdate(const Eigen::Matrix<double, 5, 1>& change) {
   full_ = 0.5 * (full_ + full_.transpose());
   covariance_ = full_.topLeftCorner<3, 3>();

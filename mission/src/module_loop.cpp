@@ -162,6 +162,7 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   const DetectedObject& detected =
       vision_.see(board_, VisionFrame{rgb.width, rgb.height, rgb.data.data(), &camera_, t, true});
   const auto vision_stop = std::chrono::steady_clock::now();
+  if (frame.gnss) map_module_.observeGnss(*frame.gnss, frame.gnss_sigma_m);
   const CurrentPosition& position = map_module_.localize(board_, t);
   const MotionCommand& command = navigator_.plan(board_, t);
   const MotionCommand* taken = motion_.receive(board_, t);

@@ -23,6 +23,7 @@ const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
                  "1-sigma of the start heading, degrees")
           .field("min_visible_px", &O::min_visible_px, atLeast(0),
                  "a prediction whose paved area covers fewer image pixels is \"no road in view\"")
+          .field("use_gnss", &O::use_gnss, "fuse the frames' GNSS fixes with their stated sigma, each gated")
           .nest(&O::supervisor, filterSupervisorOptionTable(),
                 {{"after_rejections", "park_reset_after_rejections"},
                  {"sigma_m", "park_reset_sigma_m"},
@@ -137,6 +138,13 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     position_ = mapnav::localize(filter_, MotionIncrement{}, prediction_, *detected, options_.localize, &map_, &camera_);
     position_.reason += " (after " + std::to_string(d.rejections) + " rejected frames, the covariance widened)";
   }
+  if (gnss_ && options_.use_gnss) {
+    const bool fused = filter_.updatePosition(gnss_->first, gnss_->second);
+    position_.pose = filter_.pose();
+    position_.covariance = filter_.covariance();
+    position_.reason += fused ? "; GNSS fix fused" : "; GNSS fix beyond the gate";
+  }
+  gnss_.reset();
   recover(*detected, t);
   position_.timestamp = t;
   pending_ = MotionIncrement{};

@@ -173,6 +173,41 @@ TEST(GroundStepUpdate, AnExactStepMovesThePositionToTheMeasuredDistance) {
   EXPECT_THROW(filter.updateStep(0.8, 0.0), InvalidInput);
 }
 
+// A position fix on a prior without cross terms: per axis the scalar Kalman update, by hand. Prior
+// sigma 2 m in x and 1 m in y, fix sigma 1 m, 1 m off in each: x moves 4/5 of the way and its
+// variance becomes 4/5, y moves 1/2 and its variance 1/2; heading, scale and bias stay.
+TEST(PositionFixUpdate, OnAnUncorrelatedPriorIsTheScalarKalmanUpdatePerAxis) {
+  Mat3 prior = Mat3::Zero();
+  prior.diagonal() << 4.0, 1.0, 0.01;
+  PoseFilter filter(Pose2(10, 20, 0.3), prior);
+  ASSERT_TRUE(filter.updatePosition(Vec2(11, 21), 1.0));
+  EXPECT_NEAR(filter.pose().x(), 10.8, 1e-12);
+  EXPECT_NEAR(filter.pose().y(), 20.5, 1e-12);
+  EXPECT_NEAR(filter.pose().heading(), 0.3, 1e-12);
+  EXPECT_NEAR(filter.covariance()(0, 0), 0.8, 1e-12);
+  EXPECT_NEAR(filter.covariance()(1, 1), 0.5, 1e-12);
+  EXPECT_NEAR(filter.covariance()(2, 2), 0.01, 1e-12);
+  EXPECT_EQ(filter.scaleError(), 0.0);
+  EXPECT_EQ(filter.gyroBias(), 0.0);
+}
+
+// Beyond the 2-dof gate (0.999 by default: chi-squared 13.8) the fix is refused and nothing moves;
+// a fix that is not finite, or a sigma that is not > 0, is named.
+TEST(PositionFixUpdate, AFixBeyondTheGateIsRefusedAndBadOnesAreNamed) {
+  PoseFilter filter(Pose2(0, 0, 0), Mat3::Identity() * 0.01);
+  const double limit = boost::math::quantile(boost::math::chi_squared_distribution<double>(2),
+                                             FilterOptions{}.gate_probability);
+  // S = 0.01 + 1 per axis: a fix d m off in x has Mahalanobis d² / 1.01.
+  const double edge = std::sqrt(limit * 1.01);
+  EXPECT_FALSE(filter.updatePosition(Vec2(edge * 1.01, 0), 1.0));
+  EXPECT_EQ(filter.pose().x(), 0.0);
+  EXPECT_NEAR(filter.covariance()(0, 0), 0.01, 1e-15);
+  EXPECT_TRUE(filter.updatePosition(Vec2(edge * 0.99, 0), 1.0));
+  EXPECT_GT(filter.pose().x(), 0.0);
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { filter.updatePosition(Vec2(NAN, 0), 1.0); }, "updatePosition"));
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([&] { filter.updatePosition(Vec2(0, 0), 0.0); }, "the sigma > 0"));
+}
+
 TEST(MatchingFilter, AGatedOutlierMeasurementIsRejectedAndReported) {
   // The filter is at the truth with a 5 cm / 1 degree covariance; the lines say the vehicle is 1 m
   // to the left.

@@ -163,6 +163,12 @@ class PoseFilter {
   /// measurement or a variance that is not > 0.
   bool updateStep(double measured_m, double variance);
 
+  /// Fuses a fix of the position (a GNSS receiver's, world frame, m) with its 1-sigma per axis, m:
+  /// an EKF update of the full state through its x and y, gated by the Mahalanobis distance (2 dof,
+  /// FilterOptions::gate_probability); false when beyond the gate. Clears the step as every update
+  /// does. Throws InvalidInput for a non-finite fix or a sigma that is not > 0.
+  bool updatePosition(const Vec2& fix, double sigma_m);
+
   /// The filter's state as a CurrentPosition (status OdometryOnly, nothing observed).
   CurrentPosition current(double timestamp, std::string reason) const;
 

@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mapnav/core/option_table.h"
@@ -56,6 +57,10 @@ struct MapModuleOptions {
   /// "no road in view": Vision is not asked to find what the camera can hardly see (looking over the
   /// corner in a 90 degree turn) and the Map dead-reckons. 2000 px is 0.8 % of 512 x 480.
   double min_visible_px = 2000.0;
+  /// Fuse the frames' GNSS fixes (a replay log's, MapModule::observeGnss) into the pose filter with
+  /// their stated sigma, each gated (PoseFilter::updatePosition). Off by default: a receiver's error
+  /// drifts slowly, and the filter takes each fix as independent of the last.
+  bool use_gnss = false;
   /// The filter's supervisor (localization/filter_supervisor.h), shown park mode's frames: a centre
   /// line and no labelled line, or no crossing line predicted in view. A centre line or road edges
   /// observe lateral position and heading but not the position along the road; on a tight curve an
@@ -96,6 +101,10 @@ class MapModule {
   /// jumps") and post the CurrentPosition.
   const CurrentPosition& localize(Blackboard& board, double t);
 
+  /// This frame's GNSS fix (world frame, m, and its 1-sigma per axis), fused in localize() when
+  /// MapModuleOptions::use_gnss; call it between predict() and localize().
+  void observeGnss(const Vec2& fix, double sigma_m) { gnss_ = std::pair{fix, sigma_m}; }
+
   /// Fault injection: moves the estimate `forward_m` along its heading and `left_m` to its left,
   /// the covariance kept (the filter does not know).
   void displaceEstimate(double forward_m, double left_m);
@@ -116,6 +125,7 @@ class MapModule {
   ViewPredictor predictor_;  // of map_ with options_.predict
   PoseFilter filter_;
   MotionIncrement pending_;  // odometry of the frame being processed, as read
+  std::optional<std::pair<Vec2, double>> gnss_;  // ... and its GNSS fix, with its sigma
   double pending_dt_s_ = 0;  // ... and the time it covers, s
   double last_t_ = 0;        // the previous frame's time (the start: 0), s
   Prediction prediction_;
