@@ -267,6 +267,8 @@ void ModuleLoop::finish(const TruthPoses& truth) {
   run_.metrics.relocalisations = map_module_.relocalisations();
   run_.odometry_scale = map_module_.odometryScale();
   accumulateMetrics(run_.frames, run_.route, run_.metrics);
+  if (!run_.frames.empty())
+    run_.metrics.estimate_goal_distance_m = (run_.frames.back().estimate.translation() - run_.goal.translation()).norm();
   run_.path_options = options_.path_agreement;
   if (!run_.metrics.has_truth) return;
   run_.path_agreement.clear();

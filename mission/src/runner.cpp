@@ -97,13 +97,12 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
   // within 0.5 m of the goal by its estimate, so the goal is reached when that estimate was right
   // to 0.5 m.
   MissionMetrics& m = run.metrics;
-  const auto goalDistance = [&](const Pose2& p) { return (p.translation() - run.goal.translation()).norm(); };
-  const auto arrival = std::find_if(run.frames.begin(), run.frames.end(), [](const FrameRecord& f) { return f.arrived; });
+  const auto arrival = std::find_if(run.frames.begin(), run.frames.end(),
+                                    [&](const FrameRecord& f) { return m.arrived_frame && f.index == *m.arrived_frame; });
   const bool arrived = arrival != run.frames.end();
   if (!run.frames.empty()) {
     const FrameRecord& judged = arrived ? *arrival : run.frames.back();
-    m.goal_distance_m = goalDistance(judged.truth ? *judged.truth : judged.estimate);
-    m.estimate_goal_distance_m = goalDistance(run.frames.back().estimate);
+    m.goal_distance_m = ((judged.truth ? *judged.truth : judged.estimate).translation() - run.goal.translation()).norm();
     const bool right = arrived && (!arrival->truth ||
                                    (arrival->truth->translation() - arrival->estimate.translation()).norm() <= 0.5);
     m.reached_goal = !run.ended_by_halt && right;
@@ -151,7 +150,6 @@ MissionRun runClosedLoopOver(const MissionFile& mission, const Map& map, const C
 
   MissionMetrics& m = run.metrics;
   m.goal_distance_m = (source.pose().translation() - run.goal.translation()).norm();
-  if (!run.frames.empty()) m.estimate_goal_distance_m = (run.frames.back().estimate.translation() - run.goal.translation()).norm();
   m.reached_goal = !run.ended_by_halt && source.finished() && m.goal_distance_m <= 0.5;
   if (run.outcome.empty()) {
     if (m.reached_goal) {

@@ -37,6 +37,14 @@ CurrentPosition rejected(double forward, double left, double turn_deg, double rm
 /// The rule as it was made: three rejected frames in a row (the options' default is 0, off).
 constexpr FilterSupervisorOptions kThree{.after_rejections = 3};
 
+/// Whether a fresh supervisor with N = 3 widens on the third of these rejected fits.
+bool widensOnTheThird(const CurrentPosition& first, const CurrentPosition& second, const CurrentPosition& third) {
+  FilterSupervisor supervisor(kThree);
+  supervisor.observe(first);
+  supervisor.observe(second);
+  return supervisor.observe(third).widen;
+}
+
 CurrentPosition accepted() {
   CurrentPosition p;
   p.status = PositionStatus::Corrected;
@@ -81,26 +89,14 @@ TEST(FilterSupervisor, KeepsTheCovarianceWhenTheFitsDisagreeAcrossTheRoad) {
     EXPECT_FALSE(supervisor.observe(rejected(0, frame % 2 == 0 ? 1.5 : -1.5, 0)).widen) << frame;
   }
   // 0.25 m apart agree, 0.35 m do not (agreement_m 0.3).
-  FilterSupervisor near(kThree);
-  near.observe(rejected(0, 1.0, 0));
-  near.observe(rejected(0, 1.25, 0));
-  EXPECT_TRUE(near.observe(rejected(0, 1.1, 0)).widen);
-  FilterSupervisor far(kThree);
-  far.observe(rejected(0, 1.0, 0));
-  far.observe(rejected(0, 1.35, 0));
-  EXPECT_FALSE(far.observe(rejected(0, 1.1, 0)).widen);
+  EXPECT_TRUE(widensOnTheThird(rejected(0, 1.0, 0), rejected(0, 1.25, 0), rejected(0, 1.1, 0)));
+  EXPECT_FALSE(widensOnTheThird(rejected(0, 1.0, 0), rejected(0, 1.35, 0), rejected(0, 1.1, 0)));
 }
 
 // 2.5 degrees apart agree, 3.5 do not (agreement_deg 3).
 TEST(FilterSupervisor, KeepsTheCovarianceWhenTheFitsDisagreeInHeading) {
-  FilterSupervisor near(kThree);
-  near.observe(rejected(0, 0.5, 4));
-  near.observe(rejected(0, 0.5, 6.5));
-  EXPECT_TRUE(near.observe(rejected(0, 0.5, 5)).widen);
-  FilterSupervisor far(kThree);
-  far.observe(rejected(0, 0.5, 4));
-  far.observe(rejected(0, 0.5, 7.5));
-  EXPECT_FALSE(far.observe(rejected(0, 0.5, 5)).widen);
+  EXPECT_TRUE(widensOnTheThird(rejected(0, 0.5, 4), rejected(0, 0.5, 6.5), rejected(0, 0.5, 5)));
+  EXPECT_FALSE(widensOnTheThird(rejected(0, 0.5, 4), rejected(0, 0.5, 7.5), rejected(0, 0.5, 5)));
 }
 
 // The window is the last N fits: a stray first fit does not stop three agreeing ones after it.

@@ -197,8 +197,9 @@ struct MissionMetrics {
 /// The error of `estimate` against `truth` with the road heading `road_heading` at the truth.
 PoseError poseError(const Pose2& estimate, const Pose2& truth, double road_heading);
 
-/// Totals over `frames` (errors already filled in), arrived_frame too; reached_goal, the goal
-/// distances, replans, halts and relocalisations are the runner's and are left as they are in `into`.
+/// Totals over `frames` (errors already filled in), arrived_frame too; reached_goal and the goal
+/// distances (they need the goal), replans, halts and relocalisations are the caller's and are left
+/// as they are in `into`.
 void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& route, MissionMetrics& into);
 
 /// Nearest-rank percentile (0..100) of `values`; 0 when empty.
