@@ -1,6 +1,8 @@
 #include "mapnav/logs/gnss.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "mapnav/core/error.h"
 
