@@ -225,6 +225,11 @@ void addImportGeoJson(CLI::App& map, Commands& commands) {
                  "Surface of the roads whose features give none (the map's surfaces: concrete, asphalt, brick, gravel, "
                  "grass, dirt)")
       ->capture_default_str();
+  im->add_option("--position-sigma", import->options.position_sigma_m,
+                 "How well the roads are placed in the world, 1-sigma per axis (m), when the file's mapnav member does "
+                 "not say: the pose filter takes the map's error into account (0: exact, a survey)")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(geoJsonImportOptionTable(), "position_sigma_m"));
   im->add_option("--name", import->name, "The map's name (default: the file's, or \"imported from GeoJSON\")");
   im->footer("Without --origin, the origin is the file's mapnav.origin, else the centroid of its coordinates. Plain "
              "street centre lines (LineString or MultiLineString features with only a name, as OpenStreetMap extracts "
@@ -263,6 +268,11 @@ void addImportOsm(CLI::App& map, Commands& commands) {
                    strprintf("%g", defaults.max_landmark_distance_m) +
                    " m from every imported road; by default they are dropped and counted");
   io->add_option("--name", osm->options.name, "The map's name (default: \"imported from FILE\")");
+  io->add_option("--position-sigma", osm->options.position_sigma_m,
+                 "How well OSM places the ways in the world, 1-sigma per axis (m): the pose filter takes the map's "
+                 "error into account")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(osmImportOptionTable(), "position_sigma_m"));
   io->footer(
       "Ways are split at every node two kept ways share; those nodes and way ends become intersections (id n<node>, "
       "x<k> for one --repair added), roads are w<way> or w<way>-<k>, with the OSM ids in their properties. Widths "

@@ -24,6 +24,8 @@ const OptionTable<GeoJsonImportOptions>& geoJsonImportOptionTable() {
           .field("default_width_m", &O::default_width_m, above(0), "the width of a LineString without one, m")
           .field("default_surface", &O::default_surface, "the surface of a LineString without one")
           .field("default_shoulder", &O::default_shoulder, "the shoulder of a LineString without one")
+          .field("position_sigma_m", &O::position_sigma_m, OptionRule{.min = 0, .max = 100},
+                 "how well the roads are placed, 1-sigma per axis, m, when the file's mapnav member does not say")
           .check("default_surface", [](const O& o) { return !o.default_surface.empty(); }, "non-empty")
           .check("default_shoulder", [](const O& o) { return !o.default_shoulder.empty(); }, "non-empty");
   return table;
@@ -171,6 +173,7 @@ class MapBuilder {
         road.cost_factor = raw.cost_factor.value_or(1.0);
         road.layer = raw.layer.value_or(0);
         road.structure = raw.structure.value_or(RoadStructure::None);
+        road.position_sigma_m = raw.position_sigma_m;
         road.properties = raw.extra;
         map_.roads.push_back(std::move(road));
         result_.road_features.push_back(raw.pointer);
@@ -365,8 +368,14 @@ std::optional<GeoJsonImport> importGeoJson(std::string_view text, Issues& issues
   map.name = "imported from GeoJSON";
   map.surfaces = standardSurfaces();
   std::optional<GeoOrigin> file_origin;
-  const std::optional<std::vector<RawFeature>> raws = readFeatureCollection(text, issues, map, file_origin);
+  std::optional<double> file_sigma;
+  const std::optional<std::vector<RawFeature>> raws = readFeatureCollection(text, issues, map, file_origin, file_sigma);
   if (!raws || countSeverity(issues, Severity::Error) != errors_before) return std::nullopt;
+  map.position_sigma_m = file_sigma.value_or(options.position_sigma_m);
+  if (!file_sigma) {
+    result.assumptions.push_back(strprintf("the roads placed to %g m (1 sigma; the file's mapnav member does not say)",
+                                           options.position_sigma_m));
+  }
 
   map.origin = chooseOrigin(options, file_origin, *raws);
   MapBuilder builder(options, *map.origin, *raws, result);
@@ -464,6 +473,7 @@ std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& or
     if (r.cost_factor != 1.0) properties["cost_factor"] = r.cost_factor;
     if (r.layer != 0) properties["layer"] = r.layer;
     if (r.structure != RoadStructure::None) properties["structure"] = toString(r.structure);
+    if (r.position_sigma_m) properties["position_sigma_m"] = *r.position_sigma_m;
     addKept(properties, r.properties, kRoadMembers);
     Json geometry = {{"type", "LineString"}, {"coordinates", positions(r.centerline.points())}};
     features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
@@ -476,7 +486,7 @@ std::string exportGeoJson(const MapData& map, const std::optional<GeoOrigin>& or
     features.push_back({{"type", "Feature"}, {"properties", properties}, {"geometry", geometry}});
   }
   Json meta = {{"format", kMapFormat}, {"name", map.name}, {"origin", originToJson(*origin)},
-               {"surfaces", surfacesToJson(map.surfaces)}};
+               {"position_sigma_m", map.position_sigma_m}, {"surfaces", surfacesToJson(map.surfaces)}};
   Json doc = {{"type", "FeatureCollection"}, {"mapnav", meta}, {"features", features}};
   return dumpJson(doc);
 }

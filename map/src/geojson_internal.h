@@ -23,7 +23,7 @@ struct RawFeature {
   std::vector<std::vector<LatLon>> lines;  // a road's centre line: one (LineString) or more (MultiLineString)
   bool id_from_name = false;  // the id is the feature's "id" member or its "name" property, not properties.id
   std::optional<std::string> id, kind_name, from, to, surface, left, right;
-  std::optional<double> width, cost_factor;
+  std::optional<double> width, cost_factor, position_sigma_m;
   std::optional<bool> oneway;
   std::optional<int> layer;
   std::optional<RoadStructure> structure;
@@ -38,15 +38,18 @@ struct RawFeature {
 // A kept property named like one of them (an OSM way's `surface` tag) is written inside the member
 // kShadowed instead, and read back from there.
 inline const std::set<std::string, std::less<>> kRoadMembers{"id",    "from",   "to",          "width", "surface",   "left",
-                                                             "right", "oneway", "cost_factor", "layer", "structure", "mapnav_kept"};
+                                                             "right", "oneway", "cost_factor", "layer", "structure", "position_sigma_m",
+                                                             "mapnav_kept"};
 inline const std::set<std::string, std::less<>> kIntersectionMembers{"id", "kind", "center", "mapnav_kept"};
 inline const std::set<std::string, std::less<>> kLandmarkMembers{"landmark", "id", "radius", "height", "road", "mapnav_kept"};
 inline constexpr const char* kShadowed = "mapnav_kept";
 
 // The FeatureCollection's features as read, and what its "mapnav" member says (the map's name and
-// surfaces into `map`, the local frame's origin into `file_origin`). Nothing when the document is
+// surfaces into `map`, the local frame's origin into `file_origin`, its position_sigma_m into
+// `file_sigma`). Nothing when the document is
 // not a FeatureCollection with a "features" array; bad features are left out with their issues.
 std::optional<std::vector<RawFeature>> readFeatureCollection(std::string_view text, Issues& issues, MapData& map,
-                                                             std::optional<GeoOrigin>& file_origin);
+                                                             std::optional<GeoOrigin>& file_origin,
+                                                             std::optional<double>& file_sigma);
 
 }  // namespace mapnav::geojson

@@ -172,6 +172,7 @@ void readNetworkMembers(const Json& p, const std::string& pptr, RawFeature& raw,
   raw.right = stringProperty(p, pptr, "right", issues);
   raw.width = numberProperty(p, pptr, "width", issues);
   raw.cost_factor = numberProperty(p, pptr, "cost_factor", issues);
+  raw.position_sigma_m = numberProperty(p, pptr, "position_sigma_m", issues);
   if (const auto it = p.find("oneway"); it != p.end() && !it->is_null()) {
     if (it->is_boolean()) {
       raw.oneway = it->get<bool>();
@@ -283,7 +284,7 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
 // surfaces into `map`, the local frame's origin into `file_origin`). Nothing when the document is
 // not a FeatureCollection with a "features" array; bad features are left out with their issues.
 std::optional<std::vector<RawFeature>> readFeatureCollection(std::string_view text, Issues& issues, MapData& map,
-                                                             std::optional<GeoOrigin>& file_origin) {
+                                                             std::optional<GeoOrigin>& file_origin, std::optional<double>& file_sigma) {
   const auto json = parseJson(text, issues);
   if (!json) return std::nullopt;
   if (!json->is_object()) {
@@ -302,6 +303,7 @@ std::optional<std::vector<RawFeature>> readFeatureCollection(std::string_view te
     }
     if (const auto name = meta.string("name", false)) map.name = *name;
     if (const Json* o = meta.member("origin", false)) file_origin = readOrigin(*o, "/mapnav/origin", issues);
+    file_sigma = meta.number("position_sigma_m", false);
     if (auto s = readSurfaces(meta.member("surfaces", false), "/mapnav/surfaces", issues)) map.surfaces = std::move(*s);
     meta.rejectUnknownMembers();
   }

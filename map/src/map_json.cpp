@@ -225,10 +225,12 @@ std::optional<Road> readRoad(const Json& value, const std::string& pointer, Issu
   const auto cost_factor = object.number("cost_factor", false);
   const auto layer = readLayer(object);
   const auto structure = readStructure(object);
+  const auto position_sigma = object.number("position_sigma_m", false);
   Properties properties = readProperties(object, issues);
   object.rejectUnknownMembers();
   const bool optional_ok = (oneway || !object.has("oneway")) && (cost_factor || !object.has("cost_factor")) &&
-                           (layer || !object.has("layer")) && (structure || !object.has("structure"));
+                           (layer || !object.has("layer")) && (structure || !object.has("structure")) &&
+                           (position_sigma || !object.has("position_sigma_m"));
   if (!id || !from || !to || !centerline || !width || !surface || !left || !right || !optional_ok) return std::nullopt;
   Road road;
   road.id = *id;
@@ -243,6 +245,7 @@ std::optional<Road> readRoad(const Json& value, const std::string& pointer, Issu
   road.cost_factor = cost_factor.value_or(1.0);
   road.layer = layer.value_or(0);
   road.structure = structure.value_or(RoadStructure::None);
+  road.position_sigma_m = position_sigma;
   road.properties = std::move(properties);
   return road;
 }
@@ -313,6 +316,7 @@ std::optional<MapData> parseMap(std::string_view text, Issues& issues) {
     }
   }
   if (const Json* origin = top.member("origin", false)) map.origin = readOrigin(*origin, "/origin", issues);
+  map.position_sigma_m = top.number("position_sigma_m", false).value_or(0.0);
   if (auto surfaces = readSurfaces(top.member("surfaces", true), "/surfaces", issues)) map.surfaces = std::move(*surfaces);
   readArray(top.member("intersections", true), "/intersections", issues, map.intersections, readIntersection);
   readArray(top.member("roads", true), "/roads", issues, map.roads, readRoad);
@@ -373,6 +377,7 @@ std::string mapToJson(const MapData& map) {
   doc["format"] = kMapFormat;
   doc["name"] = map.name;
   if (map.origin) doc["origin"] = originToJson(*map.origin);
+  if (map.position_sigma_m != 0) doc["position_sigma_m"] = map.position_sigma_m;
   doc["surfaces"] = surfacesToJson(map.surfaces);
   Json intersections = Json::array();
   for (const Intersection& x : map.intersections) {
@@ -390,6 +395,7 @@ std::string mapToJson(const MapData& map) {
     if (r.cost_factor != 1.0) j["cost_factor"] = r.cost_factor;
     if (r.layer != 0) j["layer"] = r.layer;
     if (r.structure != RoadStructure::None) j["structure"] = toString(r.structure);
+    if (r.position_sigma_m) j["position_sigma_m"] = *r.position_sigma_m;
     if (!r.properties.empty()) j["properties"] = propertiesToJson(r.properties);
     j["centerline"] = pointsToJson(r.centerline.points());
     roads.push_back(std::move(j));

@@ -182,7 +182,15 @@ class Validator {
            (contains(*node.shape, p) || boundaryDistance(*node.shape, p) <= options_.end_tolerance_m);
   }
 
+  // A map's or a road's position_sigma_m: finite, >= 0, at most 100 m (a map that far off is no map).
+  void checkPositionSigma(double sigma, const std::string& ptr) {
+    if (!std::isfinite(sigma) || sigma < 0 || sigma > 100) {
+      error("schema.range", ptr, "position_sigma_m " + fmt(sigma) + " must be >= 0 and <= 100 m");
+    }
+  }
+
   void checkRoads() {
+    checkPositionSigma(map_.position_sigma_m, "/position_sigma_m");
     std::unordered_set<std::string> surfaces;
     for (const auto& [name, appearance] : map_.surfaces) surfaces.insert(name);
     for (std::size_t i = 0; i < map_.roads.size(); ++i) {
@@ -201,6 +209,7 @@ class Validator {
       if (!std::isfinite(road.cost_factor) || road.cost_factor <= 0) {
         error("schema.range", ptr + "/cost_factor", "cost_factor " + fmt(road.cost_factor) + " must be > 0");
       }
+      if (road.position_sigma_m) checkPositionSigma(*road.position_sigma_m, ptr + "/position_sigma_m");
       for (const auto& [member, value] :
            {std::pair{"surface", &road.surface}, std::pair{"left", &road.left}, std::pair{"right", &road.right}}) {
         if (!surfaces.contains(*value)) {

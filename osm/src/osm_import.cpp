@@ -538,6 +538,7 @@ class Importer {
     MapData& map = result_.map;
     map.name = options_.name.empty() ? "imported from " + file_.filename().string() : options_.name;
     map.surfaces = standardSurfaces();
+    map.position_sigma_m = options_.position_sigma_m;
     // Headings leaving each end node, measured 2 m along (short first segments make noisy angles).
     std::map<NodeId, std::vector<double>> headings;
     std::vector<Polyline2> lines;

@@ -138,6 +138,32 @@ TEST(GeoJsonExport, AMapWithoutOriginNeedsOne) {
 
 // Three lines drawn in geojson.io meeting at one point, one ending at a named Point: no ids, no
 // from/to. The junction becomes a T, the free ends dead ends, the named point is used.
+// How well the roads are placed: the file's mapnav.position_sigma_m, else the import's default
+// (kGeoJsonPositionSigmaM, said among the assumptions); a feature's own is its road's; export writes
+// the map's so that export -> import keeps it.
+TEST(GeoJsonImport, PositionSigmaIsTheFilesElseTheImportsDefaultAndAFeaturesIsItsRoads) {
+  const std::string line = R"({"type": "Feature", "properties": {"id": "R", "position_sigma_m": 2}, "geometry": {"type": "LineString", "coordinates": [[-80.0, 40.0], [-80.0, 40.001]]}})";
+  auto doc = [&](const std::string& meta) {
+    return R"({"type": "FeatureCollection", )" + meta + R"("features": [)" + line + "]}";
+  };
+  Issues issues;
+  const auto plain = importGeoJson(doc(""), issues);
+  ASSERT_TRUE(plain) << (issues.empty() ? "" : formatIssue(issues[0], "inline"));
+  EXPECT_EQ(plain->map.position_sigma_m, kGeoJsonPositionSigmaM);
+  EXPECT_EQ(plain->map.roads[0].position_sigma_m, 2.0);
+  EXPECT_EQ(plain->assumptions.front(), "the roads placed to 0.5 m (1 sigma; the file's mapnav member does not say)");
+  const auto stated = importGeoJson(doc(R"("mapnav": {"position_sigma_m": 0.2}, )"), issues);
+  ASSERT_TRUE(stated);
+  EXPECT_EQ(stated->map.position_sigma_m, 0.2);
+  EXPECT_TRUE(stated->assumptions.empty() || stated->assumptions.front().find("placed") == std::string::npos);
+  MapData exact = stated->map;
+  exact.position_sigma_m = 0;
+  const auto back = importGeoJson(exportGeoJson(exact), issues);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->map.position_sigma_m, 0.0);
+  EXPECT_EQ(back->map.roads[0].position_sigma_m, 2.0);
+}
+
 TEST(GeoJsonImport, InfersNodesKindsAndIdsFromSharedEndPoints) {
   const LocalFrame frame(GeoOrigin{40.0, -80.0, 0.0});
   auto pos = [&](double x, double y) {
@@ -296,7 +322,8 @@ TEST(GeoJsonImport, PointsWithALandmarkPropertyAreLandmarksOfEachKind) {
       {"M1", LandmarkKind::Manhole, Vec2(50, 0), 0.3, 0.0, "", {}}};    // a cover's size, flat
   for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_TRUE(testing::landmarkNear(m.landmarks[i], expected[i], 0.005));
   EXPECT_TRUE(validateMap(m).empty());
-  EXPECT_EQ(imported->assumptions, (std::vector<std::string>{"3 landmarks without a radius or a height: their kind's size"}));
+  EXPECT_EQ(imported->assumptions, (std::vector<std::string>{"the roads placed to 0.5 m (1 sigma; the file's mapnav member does not say)",
+                                      "3 landmarks without a radius or a height: their kind's size"}));
   EXPECT_EQ(imported->landmark_features[1], "/features/4");
   EXPECT_EQ(imported->toFeaturePointer("/landmarks/1/kind"), "/features/4/properties/landmark");
   EXPECT_EQ(imported->toFeaturePointer("/landmarks/2/radius"), "/features/5/properties/radius");

@@ -6,6 +6,7 @@
 
 #include "map_fixtures.h"
 #include "mapnav/core/error.h"
+#include "mapnav/map/validation.h"
 #include "mapnav/core/io.h"
 #include "mapnav/core/json.h"
 #include "mapnav/testing/support.h"
@@ -31,6 +32,8 @@ TEST(MapJson, RoundTripKeepsOptionalMembers) {
   data.origin = GeoOrigin{40.4433, -79.9436, 280.5};
   data.roads[1].oneway = true;
   data.roads[2].cost_factor = 2.5;
+  data.position_sigma_m = 0.5;
+  data.roads[0].position_sigma_m = 2.0;
   data.roads[3].centerline = Polyline2({Vec2(0, 0), Vec2(0.1 + 0.2, -7.000000000000001), Vec2(0, -20)});
   data.intersections[0].shape = Polygon2{{-3, -3}, {3, -3}, {3, 3}, {-3, 3}};
   Issues issues;
@@ -38,6 +41,25 @@ TEST(MapJson, RoundTripKeepsOptionalMembers) {
   ASSERT_TRUE(back);
   EXPECT_TRUE(issues.empty());
   EXPECT_EQ(*back, data);
+}
+
+// position_sigma_m: the map's, a road's own, and where either is out of range the issue at its pointer.
+TEST(MapJson, PositionSigmaIsTheRoadsElseTheMapsAndOutOfRangeIsAnError) {
+  MapData data = testing::crossOfFourRoads();
+  EXPECT_EQ(data.position_sigma_m, 0.0);  // a mapnav map is exact unless it says
+  data.position_sigma_m = 0.5;
+  data.roads[1].position_sigma_m = 2.0;
+  EXPECT_EQ(positionSigma(data, data.roads[0]), 0.5);
+  EXPECT_EQ(positionSigma(data, data.roads[1]), 2.0);
+  EXPECT_TRUE(validateMap(data).empty());
+  data.position_sigma_m = -0.1;
+  data.roads[1].position_sigma_m = 1000;
+  const Issues issues = validateMap(data);
+  ASSERT_EQ(issues.size(), 2u);
+  EXPECT_EQ(issues[0].check, "schema.range");
+  EXPECT_EQ(issues[0].where, "/position_sigma_m");
+  EXPECT_EQ(issues[1].where, "/roads/1/position_sigma_m");
+  EXPECT_EQ(issues[1].message, "position_sigma_m 1000 must be >= 0 and <= 100 m");
 }
 
 TEST(MapJson, RoundTripKeepsLandmarks) {

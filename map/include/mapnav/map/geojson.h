@@ -22,6 +22,9 @@ struct GeoJsonImportOptions {
   double default_width_m = 2.0;
   std::string default_surface = "concrete";
   std::string default_shoulder = "grass";
+  /// The map's position_sigma_m when the file's `mapnav` member gives none, m (>= 0): centre lines
+  /// drawn over aerial imagery (kGeoJsonPositionSigmaM). A feature's `position_sigma_m` is its road's.
+  double position_sigma_m = kGeoJsonPositionSigmaM;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;

@@ -92,6 +92,9 @@ struct Road {
   /// without an intersection (a bridge over a path), roads on the same layer may not.
   int layer = 0;
   RoadStructure structure = RoadStructure::None;  ///< see RoadStructure
+  /// How well the road's place is known, 1-sigma per axis, m (>= 0); none: the map's
+  /// (MapData::position_sigma_m). See positionSigma().
+  std::optional<double> position_sigma_m;
   Properties properties = {};  ///< see Properties
   bool operator==(const Road&) const = default;
 };
@@ -144,8 +147,27 @@ struct MapData {
   std::vector<Intersection> intersections;
   std::vector<Road> roads;
   std::vector<Landmark> landmarks;  ///< optional in the file; none by default
+  /// How well the map's roads are placed in the world, 1-sigma per axis of a centre line's position,
+  /// m (>= 0; a road may say otherwise). 0, the default of a mapnav map: exact (the simulator's
+  /// maps, a survey to centimetres). The importers write what their sources give
+  /// (kGeoJsonPositionSigmaM, kOsmPositionSigmaM). The pose filter takes the map's error as slowly
+  /// varying along the road (FilterOptions::map_correlation_m): the lines fix the pose relative to
+  /// the map, and the pose in the world is uncertain by this on top.
+  double position_sigma_m = 0;
   bool operator==(const MapData&) const = default;
 };
+
+/// The default position_sigma_m of a map imported from GeoJSON (`mapnav map import-geojson`): 0.5 m,
+/// centre lines drawn over aerial imagery in QGIS or geojson.io, whose registration is 0.3-1 m.
+inline constexpr double kGeoJsonPositionSigmaM = 0.5;
+/// ... and from OpenStreetMap (`mapnav import-osm`): 1 m, OSM's centre lines, the carriageway's or
+/// the path's middle to within a lane (docs/real-drive.md measures 0.1-0.8 m on Ostring).
+inline constexpr double kOsmPositionSigmaM = 1.0;
+
+/// `road`'s position_sigma_m, else `map`'s.
+inline double positionSigma(const MapData& map, const Road& road) {
+  return road.position_sigma_m.value_or(map.position_sigma_m);
+}
 
 /// A validated map. Invariant: validateMap(data()) reports no error. Lookups are O(1); spatial
 /// queries use an R-tree, so their cost grows with what is found, not with the map.

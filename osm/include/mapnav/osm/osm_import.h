@@ -58,6 +58,8 @@ struct OsmImportOptions {
   bool keep_far_landmarks = false;
   /// The map's name ("" : "imported from <file name>").
   std::string name;
+  /// The map's position_sigma_m, m (>= 0): how well OSM places its ways (kOsmPositionSigmaM).
+  double position_sigma_m = kOsmPositionSigmaM;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
