@@ -53,7 +53,9 @@ const OptionTable<FilterOptions>& filterOptionTable() {
                  "the error all lines of a frame share, position 1-sigma, m (0: lines independent)")
           .field("frame_heading_sigma_deg", &O::frame_heading_sigma_deg, atLeast(0), "... heading 1-sigma, degrees")
           .field("update_iterations", &O::update_iterations, atLeast(1),
-                 "iterated EKF: relinearisations of the update at most (1: a plain EKF update)");
+                 "iterated EKF: relinearisations of the update at most (1: a plain EKF update)")
+          .field("map_correlation_m", &O::map_correlation_m, above(0),
+                 "how far along a road the map's error stays alike, m (its correlation length)");
   return table;
 }
 
@@ -130,7 +132,10 @@ void PoseFilter::predict(const MotionIncrement& motion, double dt_s) {
   const double var_d = std::pow(m.distance_sigma_per_m * d, 2);
   const double var_h = std::pow(m.heading_sigma_per_rad * dh, 2) + std::pow(m.heading_sigma_per_m * d, 2) +
                        std::pow(degToRad(m.gyro_noise_deg_per_sqrt_s), 2) * dt_s;
-  const Mat2 q = Eigen::Vector2d(var_d, var_h).asDiagonal();
+  // The map's direction error changes as the vehicle drives (setMapSigma).
+  const double l = options_.map_correlation_m, slope = map_sigma_m_ / l;
+  const double var_map = 2 * slope * slope * (1 - std::exp(-std::abs(d) / l));
+  const Mat2 q = Eigen::Vector2d(var_d, var_h + var_map).asDiagonal();
   Mat5 base = Mat5::Zero();
   base.diagonal().head<3>() << m.base_sigma_m * m.base_sigma_m, m.base_sigma_m * m.base_sigma_m,
       m.base_heading_sigma_rad * m.base_heading_sigma_rad;
@@ -171,7 +176,9 @@ bool PoseFilter::updatePosition(const Vec2& fix, double sigma_m) {
   step_.reset();
   // z = (x, y) + v, v ~ N(0, sigma² I): H picks the state's first two entries.
   const Eigen::Matrix<double, 5, 2> cross = full_.leftCols<2>();  // Cov(state, z) = P H^T
-  const Eigen::Matrix2d s = full_.topLeftCorner<2, 2>() + sigma_m * sigma_m * Eigen::Matrix2d::Identity();
+  // The state is the pose relative to the map, the fix the pose in the world: the map's error adds.
+  const Eigen::Matrix2d s = full_.topLeftCorner<2, 2>() + mapCovariance().topLeftCorner<2, 2>() +
+                            sigma_m * sigma_m * Eigen::Matrix2d::Identity();
   const Eigen::Vector2d innovation = fix - pose_.translation();
   const double limit = boost::math::quantile(boost::math::chi_squared_distribution<double>(2), options_.gate_probability);
   if (!(innovation.dot(s.ldlt().solve(innovation)) <= limit)) return false;
@@ -189,11 +196,24 @@ void PoseFilter::applyUpdate(const Eigen::Matrix<double, 5, 1>& change) {
   gyro_bias_ += change(4);
 }
 
+void PoseFilter::setMapSigma(double sigma_m) {
+  if (!(std::isfinite(sigma_m) && sigma_m >= 0)) {
+    throw InvalidInput(strprintf("PoseFilter::setMapSigma: sigma %g m must be finite and >= 0", sigma_m));
+  }
+  map_sigma_m_ = sigma_m;
+}
+
+Mat3 PoseFilter::mapCovariance() const {
+  const double s = map_sigma_m_, h = map_sigma_m_ / options_.map_correlation_m;
+  return Vec3(s * s, s * s, h * h).asDiagonal();
+}
+
 CurrentPosition PoseFilter::current(double timestamp, std::string reason) const {
   CurrentPosition out;
   out.timestamp = timestamp;
   out.pose = pose_;
   out.covariance = covariance_;
+  out.map_covariance = mapCovariance();
   out.status = PositionStatus::OdometryOnly;
   out.reason = std::move(reason);
   return out;
@@ -347,6 +367,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
                d2, limit, dof));
     out.status = PositionStatus::Rejected;
     out.mahalanobis_d2 = d2;
+    out.gate_dof = dof;
     out.outliers = fit->outliers;
     out.rejected_fit = fit->pose;
     out.rejected_fit_rms_m = fit->rms_m;
@@ -407,6 +428,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
   out.lines_used = static_cast<int>(inliers.size());
   out.outliers = fit->outliers;
   out.mahalanobis_d2 = d2;
+  out.gate_dof = dof;
   out.reason = "corrected from " + std::to_string(inliers.size()) + " line(s)";
   if (!fit->outliers.empty()) out.reason += ", outliers rejected: " + joined(fit->outliers);
   if (!seen.along) out.reason += "; along-road position from odometry";

@@ -133,7 +133,7 @@ Json toJson(const CurrentPosition& p) {
   const Mat3& c = p.covariance;
   // Standard deviations across and along the vehicle's heading.
   const Mat3 local = rotatePoseCovariance(c, p.pose.rotation().transpose());
-  return Json{{"pose", pose(p.pose)},
+  Json out{{"pose", pose(p.pose)},
               {"covariance", upperTriangle(c)},
               {"sigma",
                {{"lateral_m", significant(std::sqrt(std::max(0.0, local(1, 1))))},
@@ -152,6 +152,12 @@ Json toJson(const CurrentPosition& p) {
               {"rejected_fit", p.rejected_fit ? pose(*p.rejected_fit) : Json()},
               {"rejected_fit_rms_m", p.rejected_fit ? Json(significant(p.rejected_fit_rms_m)) : Json()},
               {"region_agreement", p.region_agreement ? Json(significant(*p.region_agreement)) : Json()}};
+  if (!p.integrity.empty()) out["integrity"] = p.integrity;
+  if (!p.map_covariance.isZero()) {  // the map's own error, only for a map that states one
+    out["map_sigma"] = {{"position_m", significant(std::sqrt(p.map_covariance(0, 0)))},
+                        {"heading_deg", significant(radToDeg(std::sqrt(p.map_covariance(2, 2))))}};
+  }
+  return out;
 }
 
 }  // namespace mapnav

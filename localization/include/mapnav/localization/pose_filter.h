@@ -75,6 +75,11 @@ struct FilterOptions {
   double frame_heading_sigma_deg = 0.3;
   /// Iterated EKF: relinearisations of the update at most (1: a plain EKF update).
   int update_iterations = 5;
+  /// How far along a road the map's error stays alike, m (> 0): the correlation length of a
+  /// centre line's offset from its true place (PoseFilter::setMapSigma). 30 m: OpenStreetMap's and
+  /// hand-drawn centre lines are straight pieces between vertices 10-50 m apart, each off by its
+  /// own offset and a degree or two of direction.
+  double map_correlation_m = 30.0;
 
   /// Throws InvalidInput naming match's, then motion's, then this table's first broken rule.
   void validate() const;
@@ -169,6 +174,19 @@ class PoseFilter {
   /// does. Throws InvalidInput for a non-finite fix or a sigma that is not > 0.
   bool updatePosition(const Vec2& fix, double sigma_m);
 
+  /// How well the map's roads are placed where the vehicle drives: 1-sigma per axis of a centre
+  /// line's position, m (>= 0; 0, the default: an exact map). The lines fix the pose relative to the
+  /// map, so the state is that pose; the map's own error is slowly varying along the road (over
+  /// FilterOptions::map_correlation_m, L): driving d metres, the map-relative heading takes a random
+  /// change of variance 2 (sigma / L)^2 (1 - exp(-d / L)) (a first-order Gauss-Markov direction error
+  /// of sigma / L rad, the slope of a smooth offset of sigma over L) that odometry does not see, so
+  /// that the estimate follows the map's bends. Throws InvalidInput for a negative or non-finite sigma.
+  void setMapSigma(double sigma_m);
+  double mapSigma() const { return map_sigma_m_; }
+  /// The map's own error over (x, y, heading) where the vehicle is: diag(sigma^2, sigma^2,
+  /// (sigma / L)^2). The pose in the world is uncertain by covariance() + mapCovariance().
+  Mat3 mapCovariance() const;
+
   /// The filter's state as a CurrentPosition (status OdometryOnly, nothing observed).
   CurrentPosition current(double timestamp, std::string reason) const;
 
@@ -182,6 +200,7 @@ class PoseFilter {
   Mat5 full_;
   double scale_error_ = 0;
   double gyro_bias_ = 0;
+  double map_sigma_m_ = 0;
   FilterOptions options_;
   // The last predict()'s distance reading, its random error's variance and that error's effect on
   // the state (updateStep); cleared by every update.

@@ -37,7 +37,11 @@ std::string_view toString(AlongCue cue);
 struct CurrentPosition {
   double timestamp = 0;                 ///< seconds, of the frame
   Pose2 pose;                           ///< world frame
-  Mat3 covariance = Mat3::Zero();       ///< of (x, y, heading): m^2, m rad, rad^2
+  /// Of (x, y, heading): m^2, m rad, rad^2, relative to the map (what the lines observe).
+  Mat3 covariance = Mat3::Zero();
+  /// The map's own error where the vehicle is (its position_sigma_m; PoseFilter::mapCovariance):
+  /// the pose in the world is uncertain by covariance + map_covariance. Zero for an exact map.
+  Mat3 map_covariance = Mat3::Zero();
   /// Which directions this frame's lines observed (see localization's Observability: the vehicle's
   /// axes). All false when the estimate comes from odometry alone.
   bool observed_lateral = false;
@@ -53,6 +57,7 @@ struct CurrentPosition {
   AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position, if anything
   std::vector<std::string> outliers;    ///< correspondences the robust fit rejected
   double mahalanobis_d2 = 0;            ///< the gate's statistic (0 when there was no measurement)
+  int gate_dof = 0;                     ///< ... and its degrees of freedom, the directions observed
   /// When the gate rejected the lines: the pose they alone give (world frame), which the estimate
   /// was not moved to. Park mode widens its covariance only after several such fits agree.
   std::optional<Pose2> rejected_fit;
@@ -62,6 +67,11 @@ struct CurrentPosition {
   /// IoU on the ground of Vision's road region and the predicted paved area (regionAgreement);
   /// nothing when there was no region to compare.
   std::optional<double> region_agreement;
+  /// The Map module's check of its own consistency (localization/integrity.h): "ok", "uncertain"
+  /// (the lines' innovations beyond their bound) or "departed" (the estimate was where odometry
+  /// says the vehicle cannot be, and was put back on odometry: the status is then Lost); empty
+  /// when nothing checked it.
+  std::string integrity;
 };
 
 }  // namespace mapnav
