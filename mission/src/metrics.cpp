@@ -126,6 +126,8 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
   into.min_path_clearance_m = std::numeric_limits<double>::infinity();
   into.left_path_frames = 0;
   into.lost_frames = 0;
+  into.uncertain_frames = 0;
+  into.departures = 0;
   into.ground_steps_used = 0;
   into.arrived_frame.reset();
   std::vector<double> latency, vision;
@@ -136,6 +138,8 @@ void accumulateMetrics(const std::vector<FrameRecord>& frames, const Route& rout
     vision.push_back(f.vision_ms);
     if (!f.vision_ok) ++into.vision_failures;
     if (f.status == PositionStatus::Lost) ++into.lost_frames;
+    if (f.position_uncertain) ++into.uncertain_frames;
+    if (f.departed) ++into.departures;
     if (f.step_used) ++into.ground_steps_used;
     if (f.arrived && !into.arrived_frame) into.arrived_frame = f.index;
     if (!f.truth) continue;

@@ -190,8 +190,10 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
   r.t = t;
   r.truth = frame.truth;
   r.estimate = position.pose;
-  r.covariance = position.covariance;
+  r.covariance = position.covariance + position.map_covariance;  // in the world: the map's error on top
   r.status = position.status;
+  r.position_uncertain = position.integrity == "uncertain";
+  r.departed = position.integrity == "departed";
   r.observed_lateral = position.observed_lateral;
   r.observed_along = position.observed_along;
   r.observed_heading = position.observed_heading;

@@ -30,7 +30,14 @@ const OptionTable<MapModuleOptions>& mapModuleOptionTable() {
                  {"heading_sigma_deg", "park_reset_heading_sigma_deg"},
                  {"agreement_m", "park_reset_agreement_m"},
                  {"agreement_deg", "park_reset_agreement_deg"},
-                 {"max_rms_m", "park_reset_max_rms_m"}});
+                 {"max_rms_m", "park_reset_max_rms_m"}})
+          .nest(&O::integrity, integrityOptionTable(),
+                {{"window_frames", "integrity_window_frames"},
+                 {"probability", "integrity_probability"},
+                 {"max_unobserved_m", "integrity_max_unobserved_m"},
+                 {"min_observed_fraction", "integrity_min_observed_fraction"},
+                 {"departure_probability", "integrity_departure_probability"},
+                 {"anchor_every_m", "integrity_anchor_every_m"}});
   return table;
 }
 
@@ -80,13 +87,22 @@ MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, c
       options_(options),
       predictor_(map, options.predict),
       filter_(start, initialCovariance(options), options.filter),
-      supervisor_(options.supervisor) {
+      supervisor_(options.supervisor),
+      integrity_(filter_, options.integrity) {
   position_ = filter_.current(0.0, "start");
+}
+
+double MapModule::mapSigmaAt(const Pose2& pose) const {
+  const MapData& data = map_.data();
+  // The road under the estimate (the map's figure off every road, or on a map without per-road ones).
+  if (const auto p = projectToRoad(map_, pose, 50.0)) return positionSigma(data, map_.road(p->position.road));
+  return data.position_sigma_m;
 }
 
 void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odometry) {
   pending_ = odometry;
   pending_dt_s_ = std::max(0.0, t - last_t_);
+  filter_.setMapSigma(mapSigmaAt(filter_.pose()));
   PoseFilter predicted = filter_;
   predicted.predict(pending_, pending_dt_s_);
   prediction_ = predictor_.predict(predicted.pose(), camera_);
@@ -142,16 +158,38 @@ const CurrentPosition& MapModule::localize(Blackboard& board, double t) {
     const bool fused = filter_.updatePosition(gnss_->first, gnss_->second);
     position_.pose = filter_.pose();
     position_.covariance = filter_.covariance();
+    position_.map_covariance = filter_.mapCovariance();
     position_.reason += fused ? "; GNSS fix fused" : "; GNSS fix beyond the gate";
   }
   gnss_.reset();
   recover(*detected, t);
+  checkIntegrity(t);
   position_.timestamp = t;
   pending_ = MotionIncrement{};
   pending_dt_s_ = 0;
   last_t_ = t;
   board.post(Module::Map, position_);
   return position_;
+}
+
+void MapModule::checkIntegrity(double t) {
+  integrity_.predict(pending_, pending_dt_s_);
+  const IntegrityVerdict v = integrity_.observe(position_, filter_);
+  if (v.state != IntegrityVerdict::State::Departed) {
+    position_.integrity = toString(v.state);
+    if (v.state == IntegrityVerdict::State::Uncertain) position_.reason += "; " + v.reason;
+    return;
+  }
+  // Lines, landmarks or a re-localisation have pulled the estimate where odometry says the vehicle
+  // cannot be: back onto the dead reckoning, as uncertain as it is; the vehicle stops for the frame.
+  const std::optional<double> agreement = position_.region_agreement;
+  filter_.moveTo(v.dead_reckoned);
+  filter_.resetPoseCovariance(v.dead_reckoned_covariance);
+  candidate_.reset();
+  position_ = filter_.current(t, "position lost: " + v.reason + "; the estimate put back on odometry");
+  position_.status = PositionStatus::Lost;
+  position_.region_agreement = agreement;
+  position_.integrity = toString(v.state);
 }
 
 void MapModule::recover(const DetectedObject& detected, double t) {

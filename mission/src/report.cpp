@@ -272,6 +272,8 @@ std::string metricsTable(const MissionRun& run) {
   pathAgreementRow(run, row);
   row("replans", std::to_string(m.replans));
   row("position lost / re-localised", std::to_string(m.lost_frames) + " frames", std::to_string(m.relocalisations) + " times");
+  row("integrity: position uncertain / departed from odometry", std::to_string(m.uncertain_frames) + " frames",
+      std::to_string(m.departures) + " times");
   if (run.mode == "replay") {
     row("log faults", std::to_string(m.log_faults.total()),
         m.log_faults.total() == 0 ? std::string("none") : escape(logFaultsText(m.log_faults)) + ", skipped or repaired");

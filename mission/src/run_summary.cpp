@@ -82,6 +82,8 @@ std::string runToJson(const MissionRun& run) {
          {"halts", m.halts},
          {"lost_frames", m.lost_frames},
          {"relocalisations", m.relocalisations},
+         {"uncertain_frames", m.uncertain_frames},
+         {"departures", m.departures},
          {"ended_by_halt", run.ended_by_halt},
          {"latency_ms_max", roundTo(m.latency_ms_max, 1e3)},
          {"vision_ms_median", roundTo(m.vision_ms_median, 1e3)},
@@ -138,6 +140,12 @@ std::string summaryText(const MissionRun& run) {
   std::snprintf(line, sizeof line, "  vision failures %zu, halts %zu, replans %zu, position lost in %zu frames, re-localised %zu times\n",
                 m.vision_failures, m.halts, m.replans, m.lost_frames, m.relocalisations);
   out += line;
+  if (m.uncertain_frames > 0 || m.departures > 0) {
+    std::snprintf(line, sizeof line,
+                  "  integrity: position uncertain in %zu frames; the estimate departed from odometry %zu times (put back on it)\n",
+                  m.uncertain_frames, m.departures);
+    out += line;
+  }
   if (m.log_faults.total() > 0) {
     out += "  log faults skipped or repaired: " + logFaultsText(m.log_faults) + "\n";
   }

@@ -79,7 +79,8 @@ TEST(CliMissionDisplace, BadTextIsAnErrorNamingTheOptionAndAGoodOneIsRecovered) 
     EXPECT_EQ(run.out, "") << text;
     EXPECT_EQ(run.err, "mapnav: error: --displace \"" + text + "\": " + why + expected + "\n") << text;
   }
-  const auto run = runCli({"run", "--mission", mission, "--displace", "6,1.5,-0.8", "--json"});
+  const auto run = runCli({"run", "--mission", mission, "--displace", "6,1.5,-0.8", "--json", "--map-options",
+                           R"({"integrity_departure_probability": 1})"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto r = nlohmann::json::parse(run.out);
   EXPECT_EQ(r["relocalisations"], 1);

@@ -41,6 +41,10 @@ struct FrameRecord {
   int landmarks_used = 0;
   bool step_used = false;               ///< the ground's step was fused (CurrentPosition::step_used)
   AlongCue along_cue = AlongCue::None;  ///< what observed the along-road position
+  /// Integrity (CurrentPosition::integrity): the lines' innovations beyond their bound ...
+  bool position_uncertain = false;
+  /// ... or the estimate departed from odometry and was put back on it (the status is Lost).
+  bool departed = false;
   Pose2 odometry_only;            ///< dead reckoning alone from the start, same motion model
   /// A GNSS fix the log recorded with this frame (world frame, m) and its 1-sigma error: drawn in the
   /// report beside the truth, not used by the Map module.
@@ -182,6 +186,10 @@ struct MissionMetrics {
   /// times the estimate was re-localised.
   std::size_t lost_frames = 0;
   std::size_t relocalisations = 0;
+  /// Integrity (IntegrityOptions): frames whose position was uncertain, and the frames whose
+  /// estimate had departed from odometry (put back on it; these are Lost frames too).
+  std::size_t uncertain_frames = 0;
+  std::size_t departures = 0;
   /// Frames whose distance driven since the previous one was measured from the ground and fused
   /// (the ground's step observes the odometry's scale).
   std::size_t ground_steps_used = 0;

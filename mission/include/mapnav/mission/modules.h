@@ -23,6 +23,7 @@
 #include "mapnav/core/option_table.h"
 #include "mapnav/geometry/camera.h"
 #include "mapnav/localization/filter_supervisor.h"
+#include "mapnav/localization/integrity.h"
 #include "mapnav/localization/localize.h"
 #include "mapnav/localization/pose_filter.h"
 #include "mapnav/localization/relocalize.h"
@@ -78,13 +79,18 @@ struct MapModuleOptions {
   /// the estimate moves there, with the ties' spread as its covariance. After max_lost_frames Lost
   /// frames without that, the search gives up until lines are fused or the region agrees again.
   RelocalizeOptions relocalize;
+  /// Integrity (localization/integrity.h): the lines' innovations over a window against their
+  /// chi-square bound ("position uncertain", said in the trace and counted), and the estimate's
+  /// departure from a dead reckoning of odometry alone: beyond its bound the estimate is put back on
+  /// the dead reckoning and the frame is Lost (the vehicle stops). In the option table as integrity_*.
+  IntegrityOptions integrity;
 
   /// Throws InvalidInput naming the first bad field and its value.
   void validate() const;
 };
 
-/// MapModuleOptions' own fields and the supervisor's (as park_reset_*); its other components have
-/// tables of their own.
+/// MapModuleOptions' own fields, the supervisor's (as park_reset_*) and integrity's (as
+/// integrity_*); its other components have tables of their own.
 const OptionTable<MapModuleOptions>& mapModuleOptionTable();
 
 class MapModule {
@@ -131,6 +137,7 @@ class MapModule {
   Prediction prediction_;
   CurrentPosition position_;
   FilterSupervisor supervisor_;  // shown park mode's frames
+  IntegrityMonitor integrity_;
   /// Recovery: the last search's clear winner, as an offset from the estimate it was searched
   /// around (the vehicle's own frame: it moves with the odometry as the estimate does).
   std::optional<Pose2> candidate_;
@@ -139,6 +146,10 @@ class MapModule {
   bool search_suspended_ = false;   ///< the search gave up: until lines are fused or the region agrees
   /// Recovery after this frame's localisation: the region's agreement, the search, Lost or re-localised.
   void recover(const DetectedObject& detected, double t);
+  /// Integrity after recovery: the verdict in position_, and a departed estimate put back on odometry.
+  void checkIntegrity(double t);
+  /// The position_sigma_m of the road nearest `pose` (within 50 m), else the map's.
+  double mapSigmaAt(const Pose2& pose) const;
 };
 
 // ---------------------------------------------------------------------------------------------
