@@ -4,8 +4,15 @@
 // the pose, against the OXTS truth. docs/real-drive.md has the figures and how they were reached.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <string>
+#include <vector>
 
+#ifdef MAPNAV_HAVE_LEARNED
+#include "mapnav/learned/learned_pipeline.h"
+#endif
 #include "mapnav/logs/kitti_raw_import.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission/runner.h"
@@ -75,6 +82,61 @@ TEST(RealDrive, OstringReplayFusingUnbiasedGnssFixesHoldsTheAlongRoadPosition) {
   std::printf("Ostring with 0.3 m GNSS: along RMS %.3f m (without %.3f m), lateral RMS %.3f m, max error %.2f m\n",
               with.metrics.estimate.along_rms_m, without.metrics.estimate.along_rms_m,
               with.metrics.estimate.lateral_rms_m, with.metrics.estimate.max_error_m);
+}
+
+// The same drive on the carriageway as OpenStreetMap draws it (maps/real/karlsruhe_ostring_osm.json:
+// no survey, 0.1-0.8 m off the kerbs' centre, position_sigma_m 0.5): the filter follows the map's
+// bends (the map-relative heading's random change) and states the map's error on top of its own,
+// so that the true error lies within its 2 sigma.
+TEST(RealDrive, OstringReplayOnTheOpenStreetMapMapHoldsTheCarriagewayAndKnowsTheMapsError) {
+  ASSERT_TRUE(testing::realDataPresent(kDrive));
+  const std::filesystem::path log = importDegraded();
+  registerBuiltinPipelines();
+  const MissionRun run = runReplay(loadMission(testing::mapPath("missions/karlsruhe_ostring_osm.json")), log);
+  const MissionMetrics& m = run.metrics;
+  ASSERT_EQ(m.frames, 144u);
+  EXPECT_LE(m.estimate.lateral_rms_m, 0.6);
+  EXPECT_LE(m.estimate.heading_rms_deg, 1.5);
+  EXPECT_LE(m.estimate.max_error_m, 3.0);
+  EXPECT_GE(m.consistency.within_2sigma_lateral, 0.8);
+  EXPECT_GE(m.consistency.within_2sigma_along, 0.8);
+  EXPECT_GE(m.consistency.within_2sigma_heading, 0.8);
+  EXPECT_EQ(m.departures, 0u);
+  std::printf("Ostring on OSM: lateral RMS %.3f m, heading RMS %.2f deg, max error %.2f m, within 2 sigma "
+              "%.0f / %.0f / %.0f %%, uncertain in %zu frames; %s\n",
+              m.estimate.lateral_rms_m, m.estimate.heading_rms_deg, m.estimate.max_error_m,
+              100 * m.consistency.within_2sigma_lateral, 100 * m.consistency.within_2sigma_along,
+              100 * m.consistency.within_2sigma_heading, m.uncertain_frames, run.outcome.c_str());
+}
+
+// Whatever the pipeline, an estimate that leaves the carriageway (more than half its 7 m from the
+// truth, across the road) is said to be uncertain or lost in that frame: none drifts off silently.
+TEST(RealDrive, OnTheOpenStreetMapMapEveryPipelineSaysWhenItsEstimateIsOffTheRoad) {
+  ASSERT_TRUE(testing::realDataPresent(kDrive));
+  const std::filesystem::path log = importDegraded();
+  registerBuiltinPipelines();
+  std::vector<std::string> pipelines = {"sidewalk", "color-rgb", "edge-tracker", "cluster-perceptron", "blue-band"};
+#ifdef MAPNAV_HAVE_LEARNED
+  registerLearnedPipeline();
+  pipelines.push_back("learned");
+#endif
+  MissionFile mission = loadMission(testing::mapPath("missions/karlsruhe_ostring_osm.json"));
+  for (const std::string& pipeline : pipelines) {
+    mission.vision_pipeline = pipeline;
+    mission.vision_options_json = "{}";
+    const MissionRun run = runReplay(mission, log);
+    std::size_t off = 0, unsaid = 0;
+    for (const FrameRecord& f : run.frames) {
+      if (!f.truth) continue;
+      if (std::abs(f.error.lateral_m) <= 3.5) continue;
+      ++off;
+      if (!f.position_uncertain && !f.departed && f.status != PositionStatus::Lost) ++unsaid;
+    }
+    EXPECT_EQ(unsaid, 0u) << pipeline << ": " << off << " frames off the road";
+    std::printf("%s on OSM: max error %.2f m, %zu frames off the road, %zu of them unsaid; uncertain %zu, departed %zu\n",
+                pipeline.c_str(), run.metrics.estimate.max_error_m, off, unsaid, run.metrics.uncertain_frames,
+                run.metrics.departures);
+  }
 }
 
 }  // namespace
