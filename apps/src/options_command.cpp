@@ -43,6 +43,7 @@
 #include "mapnav/navigator/steering.h"
 #include "mapnav/navigator/vehicle.h"
 #include "mapnav/osm/osm_import.h"
+#include "mapnav/sim/map_error.h"
 #include "mapnav/sim/world.h"
 #include "mapnav/vision/bev_eval.h"
 #include "mapnav/vision/cluster_perceptron.h"
@@ -121,6 +122,8 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&logHeaderOptionTable, "logs/include/mapnav/logs/replay_log.h", "a replay log's header (docs/replay-log-format.md)"),
       entry(&readOptionTable, "logs/include/mapnav/logs/replay_log.h", kCode),
       entry(&worldOptionTable, "sim/include/mapnav/sim/world.h", "a mission's `world` object; C++"),
+      entry(&mapErrorOptionTable, "sim/include/mapnav/sim/map_error.h",
+            "a mission's `world.map_error` object, `mapnav suite random-campus --map-error-m`; C++"),
       entry(&missionFileOptionTable, "mission/include/mapnav/mission/mission_file.h", "a mission file's numbers (docs/mission-format.md)"),
       entry(&blackboardOptionTable, "mission/include/mapnav/mission/blackboard.h", kCode),
       entry(&mapModuleOptionTable, "mission/include/mapnav/mission/modules.h", kCode),
@@ -186,6 +189,11 @@ std::string optionsSchemaDocument() {
     doc["$defs"][table.owner] = OrderedJson::parse(optionSchemaJson(table));
   }
   doc["$defs"]["VisionPipelineOptions"] = visionPipelineSchema();
+  // A mission's `world`: WorldOptions and the map error the world is drawn with.
+  OrderedJson world = doc["$defs"]["WorldOptions"];
+  world["title"] = "a mission's world: WorldOptions and its map_error (MapErrorOptions)";
+  world["properties"]["map_error"] = {{"$ref", "#/$defs/MapErrorOptions"}};
+  doc["$defs"]["MissionWorld"] = world;
   return doc.dump();
 }
 

@@ -92,6 +92,12 @@ void registerSuiteCommand(CLI::App& app, Commands& commands) {
   rc->add_option("--junctions", config->options.campus.junctions, "Junctions along each campus' spine")
       ->capture_default_str()
       ->check(commands.ruleCheck(suiteOptionTable(), "junctions"));
+  rc->add_option("--map-error-m", config->options.map_error_m,
+                 "How wrong each map is, m: the world is rendered from the map with its roads moved by a smooth random\n"
+                 "lateral offset of this 1-sigma (30 m correlation, widths to 5 %) while the vehicle navigates by the map;\n"
+                 "truth, the path and the goal are the world's (0: the world is the map)")
+      ->capture_default_str()
+      ->check(commands.ruleCheck(suiteOptionTable(), "map_error_m"));
   rc->add_option("--max-frames", config->options.max_frames, "Stop each run after this many frames (default: to the goal)");
   rc->add_option("-o,--output", config->output,
                  "Keep each seed's map.json and mission.json in DIR/seed-N/ (default: a temporary folder, removed)");

@@ -1,9 +1,9 @@
 #include "mapnav/map/random_campus.h"
 
 #include <cmath>
-#include <random>
 
 #include "mapnav/core/error.h"
+#include "mapnav/core/seeded_draw.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/map/geojson.h"
 
@@ -33,18 +33,7 @@ void RandomCampusOptions::validate() const { randomCampusOptionTable().validate(
 
 namespace {
 
-// Uniform draws from a seeded 64-bit Mersenne twister, the same on every platform (no std::
-// distribution, whose algorithms the standard leaves to the library).
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : rng_(seed) {}
-  double uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
-  int index(int n) { return static_cast<int>(uniform(0, n)) % n; }
-  double sign() { return index(2) == 0 ? -1.0 : 1.0; }
-
- private:
-  std::mt19937_64 rng_;
-};
+using Draw = SeededDraw;
 
 struct Builder {
   const RandomCampusOptions& o;

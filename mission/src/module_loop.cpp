@@ -77,10 +77,11 @@ TruthPoses framesTruth(const std::vector<FrameRecord>& frames) {
   return truth;
 }
 
-ModuleLoop::ModuleLoop(const MissionFile& mission, const Map& map, const Camera& camera, const RunOptions& options,
-                       bool execute, const VehicleLimits& limits, MissionRun& run)
+ModuleLoop::ModuleLoop(const MissionFile& mission, const Map& map, const Map& world, const Camera& camera,
+                       const RunOptions& options, bool execute, const VehicleLimits& limits, MissionRun& run)
     : mission_(mission),
       map_(map),
+      world_(world),
       camera_(camera),
       options_(options),
       run_(run),
@@ -130,7 +131,7 @@ void ModuleLoop::header(const std::string& log_dir) {
 }
 
 void ModuleLoop::observeTruth(const Vec2& position) {
-  const PathOffset o = pathOffset(map_, position, options_.vehicle_width_m);
+  const PathOffset o = pathOffset(world_, position, options_.vehicle_width_m);
   if (!between_ || o.offset_m - o.allowed_m > between_->offset_m - between_->allowed_m) between_ = o;
 }
 
@@ -245,7 +246,7 @@ void ModuleLoop::evaluate(const Pose2& truth, FrameRecord& r) {
   double road = truth.heading();
   if (c.distance <= 2.0) {
     road = truth_tracker_.path()[c.segment].heading;
-  } else if (const auto p = projectToRoad(map_, truth)) {
+  } else if (const auto p = projectToRoad(world_, truth)) {
     road = truth.heading() - p->heading_error;
   }
   r.error = poseError(r.estimate, truth, road);

@@ -36,9 +36,12 @@ TruthPoses framesTruth(const std::vector<FrameRecord>& frames);
 class ModuleLoop final : public Driver {
  public:
   /// `execute`: Motion Control drives (closed loop) or only records (replay). Fills the run's
-  /// pipeline, route, start, goal and image size.
-  ModuleLoop(const MissionFile& mission, const Map& map, const Camera& camera, const RunOptions& options, bool execute,
-             const VehicleLimits& limits, MissionRun& run);
+  /// pipeline, route, start, goal and image size. `world`: the map the frames' world is drawn from,
+  /// against which the truth is judged (how far the vehicle is from a road's centre: "on the path");
+  /// the modules navigate by `map`. The two are one map but in a simulated world that differs from
+  /// its map (sim/map_error.h).
+  ModuleLoop(const MissionFile& mission, const Map& map, const Map& world, const Camera& camera,
+             const RunOptions& options, bool execute, const VehicleLimits& limits, MissionRun& run);
 
   /// The trace's header and planned route; `log_dir` as the trace names it ("" in closed loop).
   void header(const std::string& log_dir);
@@ -73,6 +76,7 @@ class ModuleLoop final : public Driver {
 
   const MissionFile& mission_;
   const Map& map_;
+  const Map& world_;
   const Camera& camera_;
   const RunOptions& options_;
   MissionRun& run_;

@@ -12,6 +12,7 @@
 #include "mapnav/core/strprintf.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/frame_source.h"
+#include "mapnav/navigator/road_position.h"
 
 #include "module_loop.h"
 #include "replay_source.h"
@@ -84,7 +85,7 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
   run.mode = "replay";
   run.mission = mission.name;
   run.log = log_dir;
-  detail::ModuleLoop loop(mission, map, source.camera(), options, false, missionLimits(mission), run);
+  detail::ModuleLoop loop(mission, map, map, source.camera(), options, false, missionLimits(mission), run);
   loop.header(detail::absolutePath(log_dir));
   runFrames(source, loop, options);
   run.distance_m = source.odometryDistance();
@@ -129,13 +130,13 @@ MissionRun runReplay(const MissionFile& mission, const std::filesystem::path& lo
 }
 
 MissionRun runClosedLoopOver(const MissionFile& mission, const Map& map, const Camera& camera, const RunOptions& options,
-                             const DrivenSourceFactory& make_source) {
+                             const DrivenSourceFactory& make_source, const Map* world) {
   options.validate();
   MissionRun run;
   run.mode = "closed-loop";
   run.mission = mission.name;
   const VehicleLimits limits = missionLimits(mission);
-  detail::ModuleLoop loop(mission, map, camera, options, true, limits, run);
+  detail::ModuleLoop loop(mission, map, world ? *world : map, camera, options, true, limits, run);
   loop.header("");
 
   const std::unique_ptr<DrivenSource> made = make_source(run, limits);
@@ -149,7 +150,10 @@ MissionRun runClosedLoopOver(const MissionFile& mission, const Map& map, const C
   loop.finish(detail::framesTruth(run.frames));
 
   MissionMetrics& m = run.metrics;
-  m.goal_distance_m = (source.pose().translation() - run.goal.translation()).norm();
+  // Where the goal truly is: its road position on the world's roads (the same metres from the same
+  // intersection: what a person walking the mission would call the goal).
+  const Vec2 goal = world ? toPoseClamped(*world, mission.goal).translation() : run.goal.translation();
+  m.goal_distance_m = (source.pose().translation() - goal).norm();
   m.reached_goal = !run.ended_by_halt && source.finished() && m.goal_distance_m <= 0.5;
   if (run.outcome.empty()) {
     if (m.reached_goal) {

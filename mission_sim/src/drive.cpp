@@ -13,11 +13,13 @@ namespace mapnav::detail {
 PlantOptions simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed) {
   Issues issues;
   PlantOptions s{parseWorldOptions(mission.world_json, "/world", issues),
-                       parseOdometryNoise(mission.odometry_json, "/odometry", issues)};
+                 parseOdometryNoise(mission.odometry_json, "/odometry", issues),
+                 parseMapErrorOptions(mission.world_json, "/world", issues)};
   if (hasErrors(issues)) throw ValidationError(mission.file.empty() ? mission.name : mission.file.string(), std::move(issues));
   if (seed) {
     s.world.seed = *seed;
     s.odometry.seed = *seed + 1;
+    s.map_error.seed = *seed + 2;
   }
   return s;
 }

@@ -35,6 +35,8 @@ const OptionTable<SuiteOptions>& suiteOptionTable() {
           .field("max_frames", &O::max_frames, "per run; 0: to the goal")
           .field("world_json", &O::world_json, "the missions' `world` object but its seed (the run's)")
           .field("odometry_json", &O::odometry_json, "the missions' `odometry` object but its seed (the run's + 1)")
+          .field("map_error_m", &O::map_error_m, inRange(0, 10),
+                 "how wrong each map is: the world's roads offset from the map's by this 1-sigma, m; 0: the world is the map")
           .field("threads", &O::threads, inRange(1, 64), "seeds run at once; the results do not depend on it");
   return table;
 }
@@ -85,6 +87,9 @@ std::vector<std::uint64_t> parseSeedList(std::string_view text) {
 
 namespace {
 
+// The relative error of the roads' widths in a world that differs from its map (SuiteOptions::map_error_m).
+constexpr double kSuiteMapWidthError = 0.05;
+
 // The mission document of one campus: the defaults of a mission file but for the map, the
 // positions and the seeds (SuiteOptions::world_json, odometry_json).
 Json missionJson(std::uint64_t seed, const RandomCampus& campus, const SuiteOptions& options) {
@@ -95,6 +100,9 @@ Json missionJson(std::uint64_t seed, const RandomCampus& campus, const SuiteOpti
     throw InvalidInput("SuiteOptions.world_json / odometry_json: not JSON objects");
   }
   (*world)["seed"] = seed;
+  if (options.map_error_m > 0) {
+    (*world)["map_error"] = {{"offset_sigma_m", options.map_error_m}, {"width_sigma", kSuiteMapWidthError}, {"seed", seed + 2}};
+  }
   (*odometry)["seed"] = seed + 1;
   Json m{{"format", kMissionFormat},
          {"name", "random campus " + std::to_string(seed)},
@@ -138,7 +146,9 @@ SuiteRun runSuiteSeed(std::uint64_t seed, const SuiteOptions& options) {
   options.validate();
   RandomCampusOptions campus_options = options.campus;
   campus_options.seed = seed;
-  const RandomCampus campus = makeRandomCampus(campus_options);
+  RandomCampus campus = makeRandomCampus(campus_options);
+  // A map that is wrong says how wrong, as a map drawn over imagery or imported from OSM does.
+  campus.map.position_sigma_m = options.map_error_m;
   const fs::path folder = options.folder / ("seed-" + std::to_string(seed));
   std::error_code ec;
   fs::create_directories(folder, ec);
@@ -378,6 +388,7 @@ std::string suiteJson(const SuiteOptions& options, const std::vector<SuiteRun>& 
   Json j{{"suite", "random-campus"},
          {"junctions", options.campus.junctions},
          {"max_frames", options.max_frames},
+         {"map_error_m", options.map_error_m},
          {"map_options", Json::parse(mapModuleOptionTable().json(options.map))},
          {"goal_tolerance_m", kSuiteGoalToleranceM},
          {"runs", list},

@@ -112,4 +112,10 @@ Pose2 toPose(const Map& map, const RoadPosition& p) {
   return Pose2(at, heading);
 }
 
+Pose2 toPoseClamped(const Map& map, const RoadPosition& p) {
+  RoadPosition within = p;
+  within.meters = std::clamp(p.meters, 0.0, map.road(p.road).centerline.length());
+  return toPose(map, within);
+}
+
 }  // namespace mapnav

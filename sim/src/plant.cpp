@@ -4,7 +4,8 @@
 namespace mapnav {
 
 SimulatedPlant::SimulatedPlant(const Map& map, const Camera& camera, const PlantOptions& options)
-    : world_(map, options.world), rays_(camera), sensor_(options.odometry) {}
+    : world_map_(perturbedMap(map, options.map_error, "the world of map \"" + map.name() + "\"")),
+      world_(world_map_, options.world), rays_(camera), sensor_(options.odometry) {}
 
 Frame SimulatedPlant::render(const Pose2& pose, double t) const { return world_.render(rays_, pose, t); }
 

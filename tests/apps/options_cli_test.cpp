@@ -51,7 +51,7 @@ TEST(OptionDocs, TheCommittedOptionsDocIsWhatTheTablesSay) {
 TEST(OptionDocs, TheMissionSchemaCarriesTheGeneratedDefinitions) {
   const OrderedJson mission = optionDocJson("maps/schema/mapnav-mission-1.schema.json");
   const OrderedJson options = OrderedJson::parse(cli::optionsSchemaDocument());
-  EXPECT_EQ(mission["properties"]["world"]["$ref"], "#/$defs/WorldOptions");
+  EXPECT_EQ(mission["properties"]["world"]["$ref"], "#/$defs/MissionWorld");
   EXPECT_EQ(mission["properties"]["odometry"]["$ref"], "#/$defs/OdometryNoiseOptions");
   EXPECT_EQ(mission["properties"]["vision"]["$ref"], "#/$defs/VisionPipelineOptions");
   EXPECT_EQ(mission["properties"]["speed_mps"]["$ref"], "#/$defs/MissionFile/properties/speed_mps");
@@ -61,16 +61,16 @@ TEST(OptionDocs, TheMissionSchemaCarriesTheGeneratedDefinitions) {
     EXPECT_EQ(definition, options["$defs"][name]) << "the mission schema's $defs/" << name << kRegenerateOptionDocs;
     ++copied;
   }
-  // MissionFile, WorldOptions, OdometryNoiseOptions, VisionPipelineOptions and the five option
-  // structs of the six pipelines.
-  EXPECT_EQ(copied, 9);
+  // MissionFile, MissionWorld, MapErrorOptions, OdometryNoiseOptions, VisionPipelineOptions and the
+  // five option structs of the six pipelines.
+  EXPECT_EQ(copied, 10);
 }
 
 // Each table's defaults, as a default-constructed struct holds them, are the committed schema's
 // "default"s, and they keep the table's own rules.
 TEST(OptionDocs, EveryTablesDefaultsAreTheCommittedSchemasAndValid) {
   const OrderedJson defs = optionDocJson("maps/schema/mapnav-options-1.schema.json")["$defs"];
-  ASSERT_EQ(cli::optionTables().size(), 54u);
+  ASSERT_EQ(cli::optionTables().size(), 55u);
   for (const cli::OptionTableEntry& entry : cli::optionTables()) {
     const OptionTableDescription table = entry.describe();
     ASSERT_TRUE(defs.contains(table.owner)) << table.owner << kRegenerateOptionDocs;

@@ -85,8 +85,12 @@ using DrivenSourceFactory = std::function<std::unique_ptr<DrivenSource>(const Mi
 /// The closed loop over the source `make_source` makes (mission_sim's runClosedLoop: the simulated
 /// plant): the four modules once a frame, Motion Control driving the source's vehicle between frames;
 /// mode "closed-loop", the truth the source's. `camera` took the source's frames; `map` and `camera`
-/// are used during the call only. Throws as runReplay.
+/// are used during the call only. `world`: the map the source's world is drawn from when it is not
+/// `map` (a world that differs from its map, sim/map_error.h): the truth is judged against it (on
+/// the path, how far the vehicle ends from the goal's road position on the world's roads); the
+/// source's vehicle should start at the mission's start on them. Throws as runReplay.
 MissionRun runClosedLoopOver(const MissionFile& mission, const Map& map, const Camera& camera,
-                             const RunOptions& options, const DrivenSourceFactory& make_source);
+                             const RunOptions& options, const DrivenSourceFactory& make_source,
+                             const Map* world = nullptr);
 
 }  // namespace mapnav

@@ -40,6 +40,12 @@ struct SuiteOptions {
   std::string world_json = R"({"shadow_density": 0.05, "leaf_density": 0.02, "noise_sigma": 2.0})";
   std::string odometry_json =
       R"({"scale_error": 0.01, "gyro_bias_deg_s": 0.05, "distance_sigma_m": 0.005, "heading_sigma_deg": 0.1})";
+  /// How wrong each campus's map is, m: > 0 renders each seed's world from the map perturbed
+  /// (sim/map_error.h: lateral offsets of this standard deviation, correlated over 30 m, widths to
+  /// 5 %; seeded by the run's seed + 2) while the vehicle navigates by the map itself, whose
+  /// position_sigma_m says this, and judges the run against the world's roads and goal. 0 (the
+  /// default): the world is the map. In [0, 10].
+  double map_error_m = 0;
   /// Seeds run at once (>= 1). Each run is independent and deterministic: the results do not
   /// depend on it, only the wall time does.
   int threads = 1;

@@ -8,22 +8,29 @@
 #include "mapnav/geometry/pose2.h"
 #include "mapnav/logs/odometry.h"
 #include "mapnav/map/map.h"
+#include "mapnav/sim/map_error.h"
 #include "mapnav/sim/world.h"
 
 namespace mapnav {
 
 /// The synthetic world and the odometry noise of a simulation (a mission's `world` and `odometry`
-/// objects, their seeds included).
+/// objects, their seeds included), and how the world differs from the map (`world.map_error`).
 struct PlantOptions {
   WorldOptions world;
   OdometryNoiseOptions odometry;
+  MapErrorOptions map_error;
 };
 
 class SimulatedPlant {
  public:
-  /// The world of `map` (copied: the map need not outlive the plant) seen through `camera` (its ray
-  /// table built once). Throws InvalidInput for invalid options.
+  /// The world of `map` (copied: the map need not outlive the plant), perturbed by
+  /// options.map_error (map_error.h), seen through `camera` (its ray table built once). Throws
+  /// InvalidInput for invalid options, ValidationError when the perturbed map is invalid.
   SimulatedPlant(const Map& map, const Camera& camera, const PlantOptions& options);
+
+  /// The map the world is drawn from: the plant's map perturbed (the map itself when
+  /// options.map_error.none()). Truth is judged against it: its roads are where the vehicle can drive.
+  const Map& worldMap() const { return world_map_; }
 
   /// The camera frame at `pose` (world frame) at mission time `t` s, with its ground-truth mask.
   Frame render(const Pose2& pose, double t) const;
@@ -32,6 +39,7 @@ class SimulatedPlant {
   MotionIncrement odometry(const MotionIncrement& truth, double dt_s);
 
  private:
+  Map world_map_;
   World world_;
   RayTable rays_;
   OdometrySensor sensor_;
