@@ -13,7 +13,8 @@ namespace {
 // A crossing line 8 m ahead (the far side of an intersection) and a road edge 1 m to the left, and
 // two detected lines: one 0.8 m beyond the crossing line (an estimate 0.8 m behind along the road),
 // one 0.6 m left of the road edge. The gate at an end point p is max(max_distance_m 0.4,
-// gate_sigma 3 x the predicted line's sigma across itself at p; the default 0 leaves the fixed gate),
+// gate_sigma 3 x the predicted line's sigma across itself at p, no further than halfway to a
+// neighbouring near-parallel segment beside p; the default 0 leaves the fixed gate),
 // that sigma from the pose covariance
 // (x forward, y left, heading): sqrt(j' C j) with j = (n.x, n.y, n.y p.x - n.x p.y), n its normal.
 PredictedObject prediction(const Mat3& covariance) {
@@ -43,6 +44,8 @@ LineOptions widened() {
   return o;
 }
 
+LineOptions fixedGate() { return LineOptions{}; }
+
 std::vector<std::optional<std::string>> labels(const Mat3& covariance, const LineOptions& options = widened()) {
   std::vector<DetectedLine> lines = detected();
   labelLines(lines, prediction(covariance), options);
@@ -65,7 +68,7 @@ TEST(LineLabelling, AlongRoadUncertaintyWidensTheGateOfCrossingLinesOnly) {
   // sigma along 0.25 m: gate 0.75 m < 0.8 m.
   EXPECT_FALSE(labels(Vec3(0.0625, 1e-4, 0).asDiagonal())[0].has_value());
   // gate_sigma 0, the default: the fixed gate alone.
-  EXPECT_FALSE(labels(along, LineOptions{})[0].has_value());
+  EXPECT_FALSE(labels(along, fixedGate())[0].has_value());
 }
 
 TEST(LineLabelling, HeadingUncertaintyWidensTheGateWithRange) {
@@ -77,6 +80,40 @@ TEST(LineLabelling, HeadingUncertaintyWidensTheGateWithRange) {
   EXPECT_EQ(l[1], "R1.left.0");
   // sigma heading 0.04 rad: 0.16 m at x = 4, gate 0.48 m < 0.6 m.
   EXPECT_FALSE(labels(Vec3(0, 0, 0.0016).asDiagonal())[1].has_value());
+}
+
+// Two road edges 1.2 m apart (a narrow road's left and right), both predicted; a detected line 0.5 m
+// right of the left edge (0.7 m left of the right one) with a lateral sigma of 0.3 m: 3 sigma (0.9 m)
+// would take it for either edge, but each edge's wider gate stops halfway to the other (0.6 m): it is
+// the left edge's (0.5 m <= 0.6 m) and not the right's (0.7 m > 0.6 m). Moved to 0.65 m from the left
+// edge it is nearer the right one's (0.55 m) and becomes the right edge's. Without the right edge in
+// the prediction the left's gate is the full 0.9 m.
+TEST(LineLabelling, TheWiderGateStopsHalfwayToTheNeighbouringSegment) {
+  InterestSegment left, right;
+  left.id = "R1.left.0";
+  left.vehicle = {Vec2(3, 0.6), Vec2(12, 0.6)};
+  right.id = "R1.right.0";
+  right.vehicle = {Vec2(3, -0.6), Vec2(12, -0.6)};
+  PredictedObject p;
+  p.segments = {left, right};
+  p.pose_covariance = Vec3(1e-4, 0.09, 0).asDiagonal();
+  const auto label = [&](double y, const PredictedObject& prediction) {
+    std::vector<DetectedLine> lines(1);
+    lines[0].vehicle = {Vec2(4, y), Vec2(10, y)};
+    labelLines(lines, prediction, widened());
+    return lines[0].label;
+  };
+  EXPECT_EQ(label(0.1, p), "R1.left.0");
+  EXPECT_EQ(label(-0.05, p), "R1.right.0");
+  PredictedObject alone = p;
+  alone.segments = {left};
+  EXPECT_EQ(label(-0.25, alone), "R1.left.0");   // 0.85 m <= 0.9 m
+  EXPECT_FALSE(label(-0.35, alone).has_value());  // 0.95 m > 0.9 m
+  // A segment beside the point only counts where it is beside it: the right edge moved beyond the
+  // detected line's ends (x 14-20) leaves the left edge's gate whole.
+  PredictedObject apart = p;
+  apart.segments[1].vehicle = {Vec2(14, -0.6), Vec2(20, -0.6)};
+  EXPECT_EQ(label(-0.25, apart), "R1.left.0");
 }
 
 TEST(LineLabelling, GateSigmaMustNotBeNegative) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 
@@ -25,7 +26,8 @@ const OptionTable<LineOptions>& lineOptionTable() {
                  "label match: both end points within this of the predicted line (the gate's floor)")
           .field("gate_sigma", &O::gate_sigma, inRange(0, 100),
                  "label match: ... or within this many sigma of it, the predicted line's sigma across itself from the "
-                 "prediction's pose covariance (the Map's estimate), where that is wider; 0 = max_distance_m alone")
+                 "prediction's pose covariance (the Map's estimate), where that is wider, but no "
+                 "further than halfway to the neighbouring predicted segment; 0 = max_distance_m alone")
           .field("min_overlap", &O::min_overlap, inRange(0, 1),
                  "label match: this fraction of the line overlaps the predicted segment")
           .field("relation_tolerance_m", &O::relation_tolerance_m, aboveUpTo(0, 100),
@@ -125,6 +127,23 @@ double acrossSigma(const Mat3& cov, const Vec2& point, const Vec2& normal) {
   return std::sqrt(std::max(0.0, j.dot(cov * j)));
 }
 
+// Half the distance from `q`, a point of segment `s`, to the nearest other segment of `segments`
+// within `max_angle` of s's direction whose extent lies beside q (q's foot on it within it):
+// how far a gate at q may reach before it is nearer that segment; infinity when none is beside q.
+double halfwayToNeighbour(const InterestSegment& s, const Vec2& q, const std::vector<InterestSegment>& segments,
+                          double max_angle) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const InterestSegment& other : segments) {
+    if (&other == &s || other.vehicle.length() < 1e-6) continue;
+    if (angleBetweenLines(s.vehicle, other.vehicle) > max_angle) continue;
+    const Vec2 dir = other.vehicle.direction();
+    const double t = (q - other.vehicle.a).dot(dir);
+    if (t < 0 || t > other.vehicle.length()) continue;
+    nearest = std::min(nearest, std::abs(other.vehicle.signedDistance(q)));
+  }
+  return 0.5 * nearest;
+}
+
 }  // namespace
 
 void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& prediction, const LineOptions& options) {
@@ -141,11 +160,16 @@ void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& predict
       const double angle = angleBetweenLines(line.vehicle, s.vehicle);
       if (angle > max_angle) continue;
       // Each end point against the gate at that point: the larger of max_distance_m and gate_sigma
-      // times the predicted line's sigma there. d, for the score: the worse end's distance in units
-      // of its gate, times the floor (exactly the distance where the gate is the floor).
+      // times the predicted line's sigma there, the latter no further than halfway to the
+      // neighbouring segment beside it. d, for the score: the worse end's distance in units of its
+      // gate, times the floor (exactly the distance where the gate is the floor).
       const Vec2 normal(-s.vehicle.direction().y(), s.vehicle.direction().x());
       auto gate = [&](const Vec2& p) {
-        return std::max(options.max_distance_m, options.gate_sigma * acrossSigma(prediction.pose_covariance, p, normal));
+        if (options.gate_sigma <= 0) return options.max_distance_m;
+        const double wide = options.gate_sigma * acrossSigma(prediction.pose_covariance, p, normal);
+        if (wide <= options.max_distance_m) return options.max_distance_m;
+        const Vec2 q = s.vehicle.closestPoint(p);
+        return std::max(options.max_distance_m, std::min(wide, halfwayToNeighbour(s, q, prediction.segments, max_angle)));
       };
       const double ga = gate(line.vehicle.a), gb = gate(line.vehicle.b);
       const double da = std::abs(s.vehicle.signedDistance(line.vehicle.a));

@@ -20,11 +20,14 @@ struct LineOptions {
   double frame_edge_px = 4.0;          ///< within this of the image border / ground edge = frame edge. ≥ 0
   double max_angle_deg = 10.0;         ///< a match is within this angle on the ground. > 0
   double max_distance_m = 0.4;         ///< ... and both end points within this of the predicted line. > 0
-  /// ... or within this many sigma of it, where the prediction's pose covariance puts the predicted
-  /// line's sigma across itself at that point higher (max_distance_m is then the gate's floor, for
-  /// pixel noise and the map's own error). 0 (the default) = the fixed max_distance_m alone: a gate
-  /// wider than half a road's width can label a line with the wrong edge, and nothing checks a label
-  /// against its neighbouring segments (docs/measurements.md). >= 0
+  /// ... or within this many sigma of it, where the prediction's pose covariance (the Map's estimate,
+  /// PredictedObject::pose_covariance) puts the predicted line's sigma across itself at that point
+  /// higher (max_distance_m is then the gate's floor, for pixel noise and the map's own error). The
+  /// wider gate stops halfway to the neighbouring predicted segment (near-parallel, beside the
+  /// point), so that it never takes a line that lies nearer another road edge: a gate wider than
+  /// half a road's width labelled lines with the wrong edge before it stopped there. 0 (the
+  /// default) = the fixed max_distance_m alone: 3 cost the real drive its arrival
+  /// (docs/measurements.md). >= 0
   double gate_sigma = 0.0;
   double min_overlap = 0.5;            ///< ... and this fraction of the line overlaps the segment. [0, 1]
   double relation_tolerance_m = 0.5;   ///< parallel pairs: separation within this of the predicted. > 0
