@@ -91,6 +91,7 @@ ReportedRun runReported(const MissionFile& mission, const MissionRunConfig& conf
   options.max_frames = config.max_frames;
   if (!config.displace.empty()) options.displace = parseDisplacement(config.displace);
   options.map = parseMapModuleOptions(config.map_options_json);
+  options.map.use_gnss = options.map.use_gnss || config.use_gnss;
   r.trace = config.trace;
   std::optional<ReportFrames> frames;
   bool created_report_dir = false;
@@ -275,6 +276,10 @@ void addReplay(CLI::App& app, Commands& commands, bool stderr_is_tty) {
   rp->add_option("--log", replay->log, "Replay log folder (mapnav simulate, docs/replay-log-format.md)")
       ->required()
       ->check(CLI::ExistingDirectory);
+  rp->add_flag("--use-gnss", replay->use_gnss,
+               "Fuse the log's GNSS fixes into the estimate, each with its stated sigma and a chi-square gate "
+               "(as the mission's \"localization\": {\"use_gnss\": true}; a KITTI raw import's fixes are a "
+               "consumer receiver's, never the truth: docs/real-drive.md)");
   rp->add_flag("--strict", replay->strict,
                "Stop at the first fault of the log (missing or corrupt frame, time order, odometry spike, cut line) "
                "with an error naming frames.jsonl and the line; by default faults are skipped, counted and traced");

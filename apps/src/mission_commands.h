@@ -26,6 +26,8 @@ struct MissionRunConfig {
   std::string displace;
   /// The Map module's options, a JSON object ("": the defaults): RunOptions::map.
   std::string map_options_json;
+  /// replay --use-gnss: fuse the log's GNSS fixes (MapModuleOptions::use_gnss on top of the map options).
+  bool use_gnss = false;
 };
 
 struct ReplayConfig : MissionRunConfig {

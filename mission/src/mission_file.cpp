@@ -112,6 +112,11 @@ std::optional<MissionFile> parseMission(std::string_view text, const std::filesy
       }
       h.rejectUnknownMembers();
     }
+    if (const Json* localization = top.member("localization", false)) {
+      JsonObject l(*localization, top.pointer("localization"), issues);
+      if (const auto use = l.boolean("use_gnss", false)) m.use_gnss = *use;
+      l.rejectUnknownMembers();
+    }
     top.rejectUnknownMembers();
   }
   if (!json || countSeverity(issues, Severity::Error) != before) return std::nullopt;

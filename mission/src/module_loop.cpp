@@ -54,6 +54,13 @@ BlackboardOptions boardOptions(const MissionFile& mission, const RunOptions& opt
   return b;
 }
 
+// The run's Map module options, with the mission's GNSS fixes on when it says so.
+MapModuleOptions mapOptions(const MissionFile& mission, const RunOptions& options) {
+  MapModuleOptions m = options.map;
+  m.use_gnss = m.use_gnss || mission.use_gnss;
+  return m;
+}
+
 NavigatorOptions navigatorOptions(const MissionFile& mission, const RunOptions& options) {
   NavigatorOptions n = options.navigator;
   n.steering.speed_mps = mission.speed_mps;
@@ -87,7 +94,7 @@ ModuleLoop::ModuleLoop(const MissionFile& mission, const Map& map, const Map& wo
       run_(run),
       board_(boardOptions(mission, options)),
       navigator_(map, mission.start, missionStops(mission), navigatorOptions(mission, options), limits),
-      map_module_(map, camera, missionStart(map, mission, navigator_.route()), options.map),
+      map_module_(map, camera, missionStart(map, mission, navigator_.route()), mapOptions(mission, options)),
       vision_(missionPipeline(mission, options, map, navigator_.route()), mission.halt),
       motion_(execute, limits, options.navigator.steering.lookahead_m),
       odometry_only_(missionStart(map, mission, navigator_.route()), Mat3::Identity(), options.map.filter),

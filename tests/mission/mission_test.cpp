@@ -157,6 +157,34 @@ TEST(LoadMission, TheHaltBlockSaysWhenTheOperatorHandsControlBack) {
   }
 }
 
+TEST(LoadMission, TheLocalizationBlockTurnsTheGnssFixesOn) {
+  EXPECT_FALSE(mission("campus_dialogue.json").use_gnss);  // the default
+  const fs::path dir = testing::freshTempDir();
+  const std::string head = R"({"format": "mapnav-mission/1", "map": ")" + testing::mapPath("cmu_campus.json").string() +
+                           R"(", "camera": ")" + testing::mapPath("cameras/terregator_pinhole.json").string() +
+                           R"(", "start": "R1@I1+3", "goal": "R3@I3+2", "localization": )";
+  auto load = [&](const std::string& block) {
+    writeFileAtomic(dir / "m.json", head + block + "}");
+    return loadMission(dir / "m.json");
+  };
+  EXPECT_TRUE(load(R"({"use_gnss": true})").use_gnss);
+  EXPECT_FALSE(load(R"({"use_gnss": false})").use_gnss);
+  EXPECT_FALSE(load(R"({})").use_gnss);
+  for (const auto& [block, check, where] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {R"({"use_gnss": 1})", "schema.type", "/localization/use_gnss"},
+           {R"({"gnss": true})", "schema.unknown_field", "/localization/gnss"},
+           {R"(true)", "schema.type", "/localization"}}) {
+    try {
+      load(block);
+      ADD_FAILURE() << block;
+    } catch (const ValidationError& e) {
+      ASSERT_EQ(e.issues().size(), 1u) << block;
+      EXPECT_EQ(e.issues()[0].check, check) << block;
+      EXPECT_EQ(e.issues()[0].where, where) << block;
+    }
+  }
+}
+
 TEST(Simulate, ABadWorldBlockOrAnExistingLogLeavesNothingBehind) {
   const fs::path dir = testing::freshTempDir();
   MissionFile m = mission("campus_dialogue.json");

@@ -43,6 +43,9 @@ struct MissionFile {
   std::string vision_options_json = "{}";
   std::string odometry_json = "{}";  ///< the `odometry` block, for the odometry noise model
   HaltPolicy halt;                   ///< the `halt` block
+  /// `localization.use_gnss`: the Map module fuses the frames' GNSS fixes (MapModuleOptions::use_gnss;
+  /// a run's options may turn it on too, never off).
+  bool use_gnss = false;
 };
 
 /// The mission's numbers (speed_mps, frame_rate_hz, wander_m) with their rules; the other members of
