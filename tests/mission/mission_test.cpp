@@ -16,6 +16,30 @@ namespace fs = std::filesystem;
 
 MissionFile mission(const std::string& name) { return loadMission(testing::mapPath("missions/" + name)); }
 
+// A mission on the campus whose member `key` is `block` (JSON text), written to `dir` and loaded.
+MissionFile missionWith(const fs::path& dir, const std::string& key, const std::string& block) {
+  writeFileAtomic(dir / "m.json", R"({"format": "mapnav-mission/1", "map": ")" + testing::mapPath("cmu_campus.json").string() +
+                                      R"(", "camera": ")" + testing::mapPath("cameras/terregator_pinhole.json").string() +
+                                      R"(", "start": "R1@I1+3", "goal": "R3@I3+2", ")" + key + "\": " + block + "}");
+  return loadMission(dir / "m.json");
+}
+
+// Each (block, check, pointer): the mission with that `key` block fails with that one issue.
+void expectOneIssueEach(const std::string& key,
+                        const std::vector<std::tuple<std::string, std::string, std::string>>& cases) {
+  const fs::path dir = testing::freshTempDir();
+  for (const auto& [block, check, where] : cases) {
+    try {
+      missionWith(dir, key, block);
+      ADD_FAILURE() << block;
+    } catch (const ValidationError& e) {
+      ASSERT_EQ(e.issues().size(), 1u) << block;
+      EXPECT_EQ(e.issues()[0].check, check) << block;
+      EXPECT_EQ(e.issues()[0].where, where) << block;
+    }
+  }
+}
+
 TEST(ExampleMissions, CampusDialogueIsThePapersDialogue) {
   const MissionFile m = mission("campus_dialogue.json");
   EXPECT_EQ(toString(m.start), "R1@I1+3");
@@ -130,59 +154,27 @@ TEST(ParseMission, ANameTheFileSystemRefusesIsAMissingFileNotAnException) {
 TEST(LoadMission, TheHaltBlockSaysWhenTheOperatorHandsControlBack) {
   EXPECT_EQ(mission("campus_dialogue.json").halt.resume_after_frames, std::optional<std::size_t>(2));  // the default
   const fs::path dir = testing::freshTempDir();
-  const std::string head = R"({"format": "mapnav-mission/1", "map": ")" + testing::mapPath("cmu_campus.json").string() +
-                           R"(", "camera": ")" + testing::mapPath("cameras/terregator_pinhole.json").string() +
-                           R"(", "start": "R1@I1+3", "goal": "R3@I3+2", "halt": )";
-  auto load = [&](const std::string& halt) {
-    writeFileAtomic(dir / "m.json", head + halt + "}");
-    return loadMission(dir / "m.json");
-  };
+  auto load = [&](const std::string& halt) { return missionWith(dir, "halt", halt); };
   EXPECT_EQ(load(R"({"resume_after_frames": 5})").halt.resume_after_frames, std::optional<std::size_t>(5));
   EXPECT_EQ(load(R"({"resume_after_frames": 0})").halt.resume_after_frames, std::optional<std::size_t>(0));
   EXPECT_FALSE(load(R"({"resume_after_frames": null})").halt.resume_after_frames);
-  for (const auto& [halt, check, where] : std::vector<std::tuple<std::string, std::string, std::string>>{
-           {R"({"resume_after_frames": -1})", "schema.range", "/halt/resume_after_frames"},
-           {R"({"resume_after_frames": 1.5})", "schema.type", "/halt/resume_after_frames"},
-           {R"({"resume_after_frames": "never"})", "schema.type", "/halt/resume_after_frames"},
-           {R"({"resume": 2})", "schema.unknown_field", "/halt/resume"},
-           {R"([])", "schema.type", "/halt"}}) {
-    try {
-      load(halt);
-      ADD_FAILURE() << halt;
-    } catch (const ValidationError& e) {
-      ASSERT_EQ(e.issues().size(), 1u) << halt;
-      EXPECT_EQ(e.issues()[0].check, check) << halt;
-      EXPECT_EQ(e.issues()[0].where, where) << halt;
-    }
-  }
+  expectOneIssueEach("halt", {{R"({"resume_after_frames": -1})", "schema.range", "/halt/resume_after_frames"},
+                              {R"({"resume_after_frames": 1.5})", "schema.type", "/halt/resume_after_frames"},
+                              {R"({"resume_after_frames": "never"})", "schema.type", "/halt/resume_after_frames"},
+                              {R"({"resume": 2})", "schema.unknown_field", "/halt/resume"},
+                              {R"([])", "schema.type", "/halt"}});
 }
 
 TEST(LoadMission, TheLocalizationBlockTurnsTheGnssFixesOn) {
   EXPECT_FALSE(mission("campus_dialogue.json").use_gnss);  // the default
   const fs::path dir = testing::freshTempDir();
-  const std::string head = R"({"format": "mapnav-mission/1", "map": ")" + testing::mapPath("cmu_campus.json").string() +
-                           R"(", "camera": ")" + testing::mapPath("cameras/terregator_pinhole.json").string() +
-                           R"(", "start": "R1@I1+3", "goal": "R3@I3+2", "localization": )";
-  auto load = [&](const std::string& block) {
-    writeFileAtomic(dir / "m.json", head + block + "}");
-    return loadMission(dir / "m.json");
-  };
+  auto load = [&](const std::string& block) { return missionWith(dir, "localization", block); };
   EXPECT_TRUE(load(R"({"use_gnss": true})").use_gnss);
   EXPECT_FALSE(load(R"({"use_gnss": false})").use_gnss);
   EXPECT_FALSE(load(R"({})").use_gnss);
-  for (const auto& [block, check, where] : std::vector<std::tuple<std::string, std::string, std::string>>{
-           {R"({"use_gnss": 1})", "schema.type", "/localization/use_gnss"},
-           {R"({"gnss": true})", "schema.unknown_field", "/localization/gnss"},
-           {R"(true)", "schema.type", "/localization"}}) {
-    try {
-      load(block);
-      ADD_FAILURE() << block;
-    } catch (const ValidationError& e) {
-      ASSERT_EQ(e.issues().size(), 1u) << block;
-      EXPECT_EQ(e.issues()[0].check, check) << block;
-      EXPECT_EQ(e.issues()[0].where, where) << block;
-    }
-  }
+  expectOneIssueEach("localization", {{R"({"use_gnss": 1})", "schema.type", "/localization/use_gnss"},
+                                      {R"({"gnss": true})", "schema.unknown_field", "/localization/gnss"},
+                                      {R"(true)", "schema.type", "/localization"}});
 }
 
 TEST(Simulate, ABadWorldBlockOrAnExistingLogLeavesNothingBehind) {
