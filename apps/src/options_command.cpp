@@ -118,7 +118,7 @@ const std::vector<OptionTableEntry>& optionTables() {
       entry(&kittiRawImportOptionTable, "logs/include/mapnav/logs/kitti_raw_import.h", "`mapnav log import-kitti-raw`'s flags; C++"),
       entry(&odometryNoiseOptionTable, "logs/include/mapnav/logs/odometry.h", "a mission's `odometry` object; C++"),
       entry(&gnssReceiverOptionTable, "logs/include/mapnav/logs/gnss.h",
-            "`mapnav log import-kitti-raw --gnss-*` (KittiRawImportOptions::gnss, as gnss_*); C++"),
+            "`mapnav log import-kitti-raw --gnss-*` (KittiRawImportOptions::gnss, as gnss_*), a mission's `world.gnss` object; C++"),
       entry(&logHeaderOptionTable, "logs/include/mapnav/logs/replay_log.h", "a replay log's header (docs/replay-log-format.md)"),
       entry(&readOptionTable, "logs/include/mapnav/logs/replay_log.h", kCode),
       entry(&worldOptionTable, "sim/include/mapnav/sim/world.h", "a mission's `world` object; C++"),
@@ -191,8 +191,9 @@ std::string optionsSchemaDocument() {
   doc["$defs"]["VisionPipelineOptions"] = visionPipelineSchema();
   // A mission's `world`: WorldOptions and the map error the world is drawn with.
   OrderedJson world = doc["$defs"]["WorldOptions"];
-  world["title"] = "a mission's world: WorldOptions and its map_error (MapErrorOptions)";
+  world["title"] = "a mission's world: WorldOptions, its map_error (MapErrorOptions) and the vehicle's GNSS receiver (GnssReceiverOptions)";
   world["properties"]["map_error"] = {{"$ref", "#/$defs/MapErrorOptions"}};
+  world["properties"]["gnss"] = {{"$ref", "#/$defs/GnssReceiverOptions"}};
   doc["$defs"]["MissionWorld"] = world;
   return doc.dump();
 }

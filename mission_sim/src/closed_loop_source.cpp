@@ -22,6 +22,10 @@ bool ClosedLoopSource::next(Driver& driver, SourceFrame& frame) {
   frame.truth = vehicle_.pose();
   frame.rgb = plant_.render(vehicle_.pose(), frame.t).rgb;  // not in the latency
   frame.odometry = plant_.odometry(step.motion, step.dt_s);
+  if (const std::optional<GnssFix> fix = plant_.gnss(vehicle_.pose().translation(), frame.t)) {
+    frame.gnss = fix->position;
+    frame.gnss_sigma_m = fix->sigma_m;
+  }
   return true;
 }
 

@@ -14,12 +14,14 @@ PlantOptions simulationSettings(const MissionFile& mission, const std::optional<
   Issues issues;
   PlantOptions s{parseWorldOptions(mission.world_json, "/world", issues),
                  parseOdometryNoise(mission.odometry_json, "/odometry", issues),
-                 parseMapErrorOptions(mission.world_json, "/world", issues)};
+                 parseMapErrorOptions(mission.world_json, "/world", issues),
+                 parseGnssOptions(mission.world_json, "/world", issues)};
   if (hasErrors(issues)) throw ValidationError(mission.file.empty() ? mission.name : mission.file.string(), std::move(issues));
   if (seed) {
     s.world.seed = *seed;
     s.odometry.seed = *seed + 1;
     s.map_error.seed = *seed + 2;
+    if (s.gnss) s.gnss->seed = *seed + 3;
   }
   return s;
 }

@@ -1,5 +1,6 @@
 #include "mapnav/mission_sim/simulate.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "mapnav/core/error.h"
@@ -13,7 +14,7 @@
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/steering.h"
 #include "mapnav/navigator/vehicle.h"
-#include "mapnav/sim/world.h"
+#include "mapnav/sim/plant.h"
 
 #include "drive.h"
 
@@ -36,11 +37,22 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   const Map map = loadMap(mission.map);
   const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
   const PlantOptions settings = detail::simulationSettings(mission, options.seed);
+  // The world the vehicle drives in: the map, or the map perturbed (world.map_error); the driver
+  // follows the route on the world's roads, and the log's map stays the mission's.
+  SimulatedPlant plant(map, *camera, settings);
+  const Map& world = plant.worldMap();
 
   SimulateResult result;
-  RoadGraph graph(map);
-  const Route planned =
-      planThrough(graph, mission.start, missionStops(mission), "mission \"" + mission.name + "\"");
+  RoadGraph graph(world);
+  // The mission's road positions on the world's roads: the same metres from the same intersection
+  // (clamped to a road the perturbation made shorter).
+  const auto onWorld = [&](RoadPosition p) {
+    p.meters = std::clamp(p.meters, 0.0, world.road(p.road).centerline.length());
+    return p;
+  };
+  std::vector<RoadPosition> stops = missionStops(mission);
+  for (RoadPosition& p : stops) p = onWorld(p);
+  const Route planned = planThrough(graph, onWorld(mission.start), stops, "mission \"" + mission.name + "\"");
   result.intersections = planned.intersections;
   const Polyline2& route = planned.line;
   result.route_length_m = route.length();
@@ -66,8 +78,6 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
     while (stretch + 1 < stretches.size() && stretches[stretch].finished(vehicle.pose())) ++stretch;
     return stretches[stretch].finished(vehicle.pose());
   };
-  const World world(map, settings.world);
-  OdometrySensor odometry(settings.odometry);
 
   LogHeader header;
   header.name = mission.name;
@@ -86,11 +96,12 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   const detail::DriveLoopResult driven = detail::driveLoop(
       vehicle, loop,
       [&](double t, const Pose2& pose, const MotionIncrement& motion, double dt_s) {
-        const Frame frame = world.render(*camera, pose, t);
+        const Frame frame = plant.render(pose, t);
         LogFrame entry;
         entry.t = t;
-        entry.odometry = odometry.measure(motion.distance_m, motion.dheading_rad, dt_s);
+        entry.odometry = plant.odometry(motion, dt_s);
         entry.truth = pose;
+        entry.gnss = plant.gnss(pose.translation(), t);
         writer.add(entry, frame.rgb, &frame.mask);
         return true;
       },

@@ -61,9 +61,9 @@ TEST(OptionDocs, TheMissionSchemaCarriesTheGeneratedDefinitions) {
     EXPECT_EQ(definition, options["$defs"][name]) << "the mission schema's $defs/" << name << kRegenerateOptionDocs;
     ++copied;
   }
-  // MissionFile, MissionWorld, MapErrorOptions, OdometryNoiseOptions, VisionPipelineOptions and the
-  // five option structs of the six pipelines.
-  EXPECT_EQ(copied, 10);
+  // MissionFile, MissionWorld, MapErrorOptions, GnssReceiverOptions, OdometryNoiseOptions,
+  // VisionPipelineOptions and the five option structs of the six pipelines.
+  EXPECT_EQ(copied, 11);
 }
 
 // Each table's defaults, as a default-constructed struct holds them, are the committed schema's

@@ -14,6 +14,7 @@
 #include "mapnav/core/io.h"
 #include "mapnav/core/strprintf.h"
 #include "mapnav/image/png.h"
+#include "mapnav/logs/replay_log.h"
 #include "mapnav/map/map_io.h"
 #include "mapnav/mission/trace.h"
 #include "mapnav/mission_sim/closed_loop.h"
@@ -378,6 +379,43 @@ TEST(RunnerClosedLoop, AWorldThatDiffersFromItsMapIsDrivenOnItsOwnRoadsAndJudged
   double off_map = 0;
   for (const FrameRecord& f : run.frames) off_map += pathOffset(map, f.truth->translation(), 0).offset_m;
   EXPECT_GT(off_map / run.frames.size(), 0.3) << "shift " << shift.transpose();
+}
+
+// A receiver on the simulated vehicle (the world's `gnss`): every frame of the closed loop carries a
+// fix with the receiver's stated sigma (sqrt(1^2 + 1.5^2)); with the mission's use_gnss the Map fuses
+// them and the mission still reaches its goal; `mapnav simulate` writes the same fixes into its log.
+TEST(RunnerClosedLoop, TheSimulatedReceiversFixesAreInEveryFrameAndFused) {
+  registerBuiltinPipelines();
+  MissionFile mission = shortCrossing();
+  mission.world_json = R"({"seed": 1985, "shadow_density": 0.05, "gnss": {"sigma_m": 1, "bias_sigma_m": 1.5, "seed": 5}})";
+  mission.use_gnss = true;
+  const fs::path dir = testing::freshTempDir();
+  RunOptions options;
+  options.trace = dir / "run.jsonl";
+  const MissionRun run = runClosedLoop(mission, options);
+  ASSERT_FALSE(run.frames.empty());
+  const std::string trace = readFile(options.trace);
+  std::size_t fused = 0;
+  for (std::size_t at = trace.find("GNSS fix fused"); at != std::string::npos; at = trace.find("GNSS fix fused", at + 1)) ++fused;
+  EXPECT_GE(fused, run.frames.size() / 2) << "of " << run.frames.size() << " frames";
+  double sum_sq = 0;
+  for (const FrameRecord& f : run.frames) {
+    ASSERT_TRUE(f.gnss) << "frame " << f.index;
+    EXPECT_NEAR(f.gnss_sigma_m, std::sqrt(1.0 + 2.25), 1e-9);
+    sum_sq += (*f.gnss - f.truth->translation()).squaredNorm();
+  }
+  // 2 axes of 1.8 m: a mean square of 2 x 3.25 m^2 over many fixes; here one bias draw dominates.
+  EXPECT_GT(sum_sq / run.frames.size(), 0.01);
+  EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
+  SimulateOptions three;
+  three.max_frames = 3;
+  simulate(mission, dir / "log", three);
+  const ReplayLog log = ReplayLog::open(dir / "log");
+  ASSERT_EQ(log.frames().size(), 3u);
+  for (const LogFrame& f : log.frames()) {
+    ASSERT_TRUE(f.gnss);
+    EXPECT_NEAR(f.gnss->sigma_m, std::sqrt(3.25), 1e-9);
+  }
 }
 
 // Integrity at the defaults: the same jump (1.5 m ahead, 0.8 m right, the filter does not know) is

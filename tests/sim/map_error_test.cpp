@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -169,6 +170,23 @@ TEST(MapError, TheWorldBlockReadsItsMapErrorAndNamesEachBadMember) {
   parseMapErrorOptions(R"({"map_error": 3})", "/world", issues);
   ASSERT_EQ(issues.size(), 1u) << text(issues);
   EXPECT_EQ(issues[0].where, "/world/map_error");
+}
+
+// The world's `gnss` object is the vehicle's receiver, GnssReceiverOptions by name; none: no receiver.
+TEST(WorldBlock, ItsGnssObjectIsTheVehiclesReceiver) {
+  Issues issues;
+  const std::string block = R"({"shadow_k": 0.5, "gnss": {"sigma_m": 2, "seed": 4}})";
+  EXPECT_EQ(parseWorldOptions(block, "/world", issues).shadow_k, 0.5);
+  const std::optional<GnssReceiverOptions> gnss = parseGnssOptions(block, "/world", issues);
+  EXPECT_TRUE(issues.empty()) << text(issues);
+  ASSERT_TRUE(gnss);
+  EXPECT_EQ(gnss->sigma_m, 2.0);
+  EXPECT_EQ(gnss->bias_sigma_m, GnssReceiverOptions{}.bias_sigma_m);
+  EXPECT_EQ(gnss->seed, 4u);
+  EXPECT_FALSE(parseGnssOptions(R"({"shadow_k": 0.5})", "/world", issues));
+  parseGnssOptions(R"({"gnss": {"sigma_m": -1}})", "/world", issues);
+  ASSERT_EQ(issues.size(), 1u) << text(issues);
+  EXPECT_EQ(issues[0].where, "/world/gnss/sigma_m");
 }
 
 }  // namespace

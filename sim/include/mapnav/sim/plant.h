@@ -6,6 +6,9 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/pose2.h"
+#include <optional>
+
+#include "mapnav/logs/gnss.h"
 #include "mapnav/logs/odometry.h"
 #include "mapnav/map/map.h"
 #include "mapnav/sim/map_error.h"
@@ -19,6 +22,8 @@ struct PlantOptions {
   WorldOptions world;
   OdometryNoiseOptions odometry;
   MapErrorOptions map_error;
+  /// The vehicle's GNSS receiver (the world's `gnss`): a fix with every frame; none: no receiver.
+  std::optional<GnssReceiverOptions> gnss;
 };
 
 class SimulatedPlant {
@@ -37,12 +42,16 @@ class SimulatedPlant {
   /// What the odometry sensor reports for the true motion `truth` over `dt_s` s (the noise's random
   /// stream advances: the same calls in the same order give the same readings).
   MotionIncrement odometry(const MotionIncrement& truth, double dt_s);
+  /// The receiver's fix at the true position `truth` (world frame) at time `t` (not decreasing from
+  /// call to call); none without a receiver.
+  std::optional<GnssFix> gnss(const Vec2& truth, double t);
 
  private:
   Map world_map_;
   World world_;
   RayTable rays_;
   OdometrySensor sensor_;
+  std::optional<GnssReceiver> receiver_;
 };
 
 }  // namespace mapnav
