@@ -24,7 +24,7 @@ const OptionTable<GeoJsonImportOptions>& geoJsonImportOptionTable() {
           .field("default_width_m", &O::default_width_m, above(0), "the width of a LineString without one, m")
           .field("default_surface", &O::default_surface, "the surface of a LineString without one")
           .field("default_shoulder", &O::default_shoulder, "the shoulder of a LineString without one")
-          .field("position_sigma_m", &O::position_sigma_m, OptionRule{.min = 0, .max = 100},
+          .field("position_sigma_m", &O::position_sigma_m, inRange(0, kMaxPositionSigmaM),
                  "how well the roads are placed, 1-sigma per axis, m, when the file's mapnav member does not say")
           .check("default_surface", [](const O& o) { return !o.default_surface.empty(); }, "non-empty")
           .check("default_shoulder", [](const O& o) { return !o.default_shoulder.empty(); }, "non-empty");

@@ -281,8 +281,9 @@ std::optional<RawFeature> readFeature(const Json& value, const std::string& poin
 }  // namespace
 
 // The FeatureCollection's features as read, and what its "mapnav" member says (the map's name and
-// surfaces into `map`, the local frame's origin into `file_origin`). Nothing when the document is
-// not a FeatureCollection with a "features" array; bad features are left out with their issues.
+// surfaces into `map`, the local frame's origin into `file_origin`, its position_sigma_m into
+// `file_sigma`). Nothing when the document is not a FeatureCollection with a "features" array; bad
+// features are left out with their issues.
 std::optional<std::vector<RawFeature>> readFeatureCollection(std::string_view text, Issues& issues, MapData& map,
                                                              std::optional<GeoOrigin>& file_origin, std::optional<double>& file_sigma) {
   const auto json = parseJson(text, issues);

@@ -182,10 +182,10 @@ class Validator {
            (contains(*node.shape, p) || boundaryDistance(*node.shape, p) <= options_.end_tolerance_m);
   }
 
-  // A map's or a road's position_sigma_m: finite, >= 0, at most 100 m (a map that far off is no map).
+  // A map's or a road's position_sigma_m: finite, in [0, kMaxPositionSigmaM].
   void checkPositionSigma(double sigma, const std::string& ptr) {
-    if (!std::isfinite(sigma) || sigma < 0 || sigma > 100) {
-      error("schema.range", ptr, "position_sigma_m " + fmt(sigma) + " must be >= 0 and <= 100 m");
+    if (!std::isfinite(sigma) || sigma < 0 || sigma > kMaxPositionSigmaM) {
+      error("schema.range", ptr, "position_sigma_m " + fmt(sigma) + " must be >= 0 and <= " + fmt(kMaxPositionSigmaM) + " m");
     }
   }
 

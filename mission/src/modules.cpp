@@ -88,13 +88,16 @@ MapModule::MapModule(const Map& map, const Camera& camera, const Pose2& start, c
       predictor_(map, options.predict),
       filter_(start, initialCovariance(options), options.filter),
       supervisor_(options.supervisor),
-      integrity_(filter_, options.integrity) {
+      integrity_(filter_, options.integrity),
+      per_road_sigma_(std::any_of(map.roads().begin(), map.roads().end(),
+                                  [](const Road& r) { return r.position_sigma_m.has_value(); })) {
   position_ = filter_.current(0.0, "start");
 }
 
 double MapModule::mapSigmaAt(const Pose2& pose) const {
   const MapData& data = map_.data();
-  // The road under the estimate (the map's figure off every road, or on a map without per-road ones).
+  if (!per_road_sigma_) return data.position_sigma_m;
+  // The road under the estimate (the map's figure off every road).
   if (const auto p = projectToRoad(map_, pose, 50.0)) return positionSigma(data, map_.road(p->position.road));
   return data.position_sigma_m;
 }

@@ -152,7 +152,7 @@ MissionRun runClosedLoopOver(const MissionFile& mission, const Map& map, const C
   MissionMetrics& m = run.metrics;
   // Where the goal truly is: its road position on the world's roads (the same metres from the same
   // intersection: what a person walking the mission would call the goal).
-  const Vec2 goal = world ? toPoseClamped(*world, mission.goal).translation() : run.goal.translation();
+  const Vec2 goal = world ? toPose(*world, clampedTo(*world, mission.goal)).translation() : run.goal.translation();
   m.goal_distance_m = (source.pose().translation() - goal).norm();
   m.reached_goal = !run.ended_by_halt && source.finished() && m.goal_distance_m <= 0.5;
   if (run.outcome.empty()) {

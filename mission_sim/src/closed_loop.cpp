@@ -7,8 +7,8 @@
 #include <memory>
 
 #include "mapnav/geometry/camera_io.h"
-#include "mapnav/map/map_io.h"
 #include "mapnav/geometry/types.h"
+#include "mapnav/map/map_io.h"
 #include "mapnav/mission/frame_source.h"
 #include "mapnav/navigator/road_position.h"
 #include "mapnav/sim/plant.h"
@@ -29,7 +29,7 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
     // The vehicle starts at the mission's start on the world's roads, turned as they are there.
     Pose2 start = run.start;
     if (world) {
-      const Pose2 on_map = toPose(map, mission.start), on_world = toPoseClamped(*world, mission.start);
+      const Pose2 on_map = toPose(map, mission.start), on_world = toPose(*world, clampedTo(*world, mission.start));
       start = Pose2(on_world.translation(), run.start.heading() + normalizeAngle(on_world.heading() - on_map.heading()));
     }
     detail::DriveLoopOptions drive;

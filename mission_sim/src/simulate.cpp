@@ -1,6 +1,5 @@
 #include "mapnav/mission_sim/simulate.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "mapnav/core/error.h"
@@ -11,6 +10,7 @@
 #include "mapnav/mission/mission_route.h"
 #include "mapnav/navigator/path.h"
 #include "mapnav/navigator/progress.h"
+#include "mapnav/navigator/road_position.h"
 #include "mapnav/navigator/route.h"
 #include "mapnav/navigator/steering.h"
 #include "mapnav/navigator/vehicle.h"
@@ -46,13 +46,10 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   RoadGraph graph(world);
   // The mission's road positions on the world's roads: the same metres from the same intersection
   // (clamped to a road the perturbation made shorter).
-  const auto onWorld = [&](RoadPosition p) {
-    p.meters = std::clamp(p.meters, 0.0, world.road(p.road).centerline.length());
-    return p;
-  };
   std::vector<RoadPosition> stops = missionStops(mission);
-  for (RoadPosition& p : stops) p = onWorld(p);
-  const Route planned = planThrough(graph, onWorld(mission.start), stops, "mission \"" + mission.name + "\"");
+  for (RoadPosition& p : stops) p = clampedTo(world, p);
+  const Route planned =
+      planThrough(graph, clampedTo(world, mission.start), stops, "mission \"" + mission.name + "\"");
   result.intersections = planned.intersections;
   const Polyline2& route = planned.line;
   result.route_length_m = route.length();

@@ -112,10 +112,9 @@ Pose2 toPose(const Map& map, const RoadPosition& p) {
   return Pose2(at, heading);
 }
 
-Pose2 toPoseClamped(const Map& map, const RoadPosition& p) {
-  RoadPosition within = p;
-  within.meters = std::clamp(p.meters, 0.0, map.road(p.road).centerline.length());
-  return toPose(map, within);
+RoadPosition clampedTo(const Map& map, RoadPosition p) {
+  p.meters = std::clamp(p.meters, 0.0, map.road(p.road).centerline.length());
+  return p;
 }
 
 }  // namespace mapnav

@@ -36,7 +36,7 @@ const OptionTable<OsmImportOptions>& osmImportOptionTable() {
                  "a landmark farther than this from every imported road's paved area is dropped, m")
           .field("keep_far_landmarks", &O::keep_far_landmarks, "keep the landmarks farther than max_landmark_distance_m too")
           .field("name", &O::name, "the map's name (\"\": \"imported from <file name>\")")
-          .field("position_sigma_m", &O::position_sigma_m, OptionRule{.min = 0, .max = 100},
+          .field("position_sigma_m", &O::position_sigma_m, inRange(0, kMaxPositionSigmaM),
                  "how well the ways are placed in the world, 1-sigma per axis, m (the map's position_sigma_m)")
           .check("shoulder", [](const O& o) { return isStandardSurface(o.shoulder); }, "a standard surface");
   return table;

@@ -1,7 +1,6 @@
 #pragma once
 // Integrity: the Map module's check of its own consistency, so that an estimate that has left the
-// road is said to have, instead of being posted with a covariance of centimetres. Two tests, each at
-// a chi-square bound:
+// road is said to have, instead of being posted with a covariance of centimetres. Three tests:
 //
 //   Innovations. The gate rejects a frame's lines when their d^2 is beyond its chi-square bound
 //   (FilterOptions::gate_probability, p): a consistent filter has a frame rejected with probability
@@ -66,8 +65,8 @@ const OptionTable<IntegrityOptions>& integrityOptionTable();
 /// What the monitor says after a frame.
 struct IntegrityVerdict {
   enum class State {
-    Ok,         ///< both tests pass
-    Uncertain,  ///< the innovations exceed their bound: the filter is surer than its lines
+    Ok,         ///< every test passes
+    Uncertain,  ///< the innovations exceed their bound, or the position was rarely observed
     Departed,   ///< the estimate is where odometry says the vehicle cannot be
   };
   State state = State::Ok;
@@ -92,15 +91,14 @@ class IntegrityMonitor {
   void predict(const MotionIncrement& motion, double dt_s);
 
   /// Judges the frame's outcome (`position`, as posted after the update) against the filter's state.
-  /// An Ok frame counts towards re-anchoring; a Departed one empties the innovation window.
+  /// Ok frames count towards re-anchoring (the dead reckoning restarts from the estimate after
+  /// anchor_every_m); a Departed one empties the innovation window.
   IntegrityVerdict observe(const CurrentPosition& position, const PoseFilter& filter);
 
-  /// Restarts the dead reckoning from `filter`'s state (after a reset or a re-localisation).
+ private:
+  // Restarts the dead reckoning from `filter`'s state.
   void anchor(const PoseFilter& filter);
 
-  const IntegrityOptions& options() const { return options_; }
-
- private:
   IntegrityOptions options_;
   PoseFilter dead_reckoning_;
   double since_anchor_m_ = 0;

@@ -164,6 +164,9 @@ inline constexpr double kGeoJsonPositionSigmaM = 0.5;
 /// the path's middle to within a lane (docs/real-drive.md measures 0.1-0.8 m on Ostring).
 inline constexpr double kOsmPositionSigmaM = 1.0;
 
+/// The largest position_sigma_m a map or road may state, m (a map that far off is no map).
+inline constexpr double kMaxPositionSigmaM = 100.0;
+
 /// `road`'s position_sigma_m, else `map`'s.
 inline double positionSigma(const MapData& map, const Road& road) {
   return road.position_sigma_m.value_or(map.position_sigma_m);

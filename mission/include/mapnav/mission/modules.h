@@ -144,11 +144,13 @@ class MapModule {
   std::size_t relocalisations_ = 0;
   int lost_frames_ = 0;             ///< consecutive Lost frames
   bool search_suspended_ = false;   ///< the search gave up: until lines are fused or the region agrees
+  bool per_road_sigma_ = false;     ///< some road states its own position_sigma_m (mapSigmaAt)
   /// Recovery after this frame's localisation: the region's agreement, the search, Lost or re-localised.
   void recover(const DetectedObject& detected, double t);
   /// Integrity after recovery: the verdict in position_, and a departed estimate put back on odometry.
   void checkIntegrity(double t);
-  /// The position_sigma_m of the road nearest `pose` (within 50 m), else the map's.
+  /// The position_sigma_m of the road nearest `pose` (within 50 m), else the map's; without a road
+  /// of its own figure, the map's without a search.
   double mapSigmaAt(const Pose2& pose) const;
 };
 

@@ -34,9 +34,10 @@ double arcFromStart(const Road& road, const RoadPosition& position);
 /// an end of the road or `meters` is beyond its length.
 Pose2 toPose(const Map& map, const RoadPosition& position);
 
-/// As toPose, with the metres clamped to the road's length: a position written for another map of
-/// the same roads (a simulated world that differs from its map, sim/map_error.h, whose roads are a
-/// little longer or shorter) is the same distance from the same intersection on this map's road.
-Pose2 toPoseClamped(const Map& map, const RoadPosition& position);
+/// `position` with its metres clamped to the road's length on `map`: a position written for another
+/// map of the same roads (a simulated world that differs from its map, sim/map_error.h, whose roads
+/// are a little longer or shorter) is the same distance from the same intersection on this map's
+/// road. Throws NotFound for an unknown road.
+RoadPosition clampedTo(const Map& map, RoadPosition position);
 
 }  // namespace mapnav
