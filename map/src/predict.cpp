@@ -201,12 +201,16 @@ void addRelations(PredictedObject& view, const PredictOptions& options) {
       const double angle = angleBetweenLines(a, b);
       if (angle <= parallel) {
         // Parallel when they run side by side (their extents along a overlap) on different lines.
+        // Two pieces of one polyline meet end to end: their overlap is zero but for rounding, and
+        // whether a kink's two sides made a pair turned on the last bit of the pose. Side by side
+        // means for at least kMinParallelOverlapM.
+        constexpr double kMinParallelOverlapM = 0.1;
         const double len = a.length();
         const Vec2 d = a.direction();
         const double t0 = (b.a - a.a).dot(d), t1 = (b.b - a.a).dot(d);
         const double overlap = std::min(len, std::max(t0, t1)) - std::max(0.0, std::min(t0, t1));
         const double separation = std::abs(a.signedDistance(b.pointAt(0.5)));
-        if (overlap > 0 && separation > 1e-3 && separation <= options.max_parallel_separation_m) {
+        if (overlap > kMinParallelOverlapM && separation > 1e-3 && separation <= options.max_parallel_separation_m) {
           view.relations.push_back({SegmentRelation::Type::Parallel, segs[i].id, segs[j].id, separation, angle, Vec2::Zero()});
         }
       } else if (angle >= crossing) {
