@@ -54,7 +54,7 @@ LandmarkUpdateResult PoseFilter::updateLandmarks(const std::vector<LandmarkObser
       result.rejected.push_back(o.id);
       continue;
     }
-    Eigen::Matrix<double, 2, 5> h = Eigen::Matrix<double, 2, 5>::Zero();
+    Eigen::Matrix<double, 2, kStateSize> h = Eigen::Matrix<double, 2, kStateSize>::Zero();
     h.leftCols<3>() = predicted.jacobian;
     const Vec2 innovation(o.range_m - predicted.h.x(), normalizeAngle(o.bearing_rad - predicted.h.y()));
     const Mat2 s = h * full_ * h.transpose() + o.covariance;
@@ -63,9 +63,9 @@ LandmarkUpdateResult PoseFilter::updateLandmarks(const std::vector<LandmarkObser
       result.rejected.push_back(o.id);
       continue;
     }
-    const Eigen::Matrix<double, 5, 2> k = full_ * h.transpose() * s.inverse();
-    const Eigen::Matrix<double, 5, 1> change = k * innovation;
-    const Mat5 i_kh = Mat5::Identity() - k * h;
+    const Eigen::Matrix<double, kStateSize, 2> k = full_ * h.transpose() * s.inverse();
+    const StateVector change = k * innovation;
+    const StateMatrix i_kh = StateMatrix::Identity() - k * h;
     full_ = i_kh * full_ * i_kh.transpose() + k * o.covariance * k.transpose();  // Joseph form
     applyUpdate(change);
     result.information += predicted.jacobian.transpose() * o.covariance.inverse() * predicted.jacobian;

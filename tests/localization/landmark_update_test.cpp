@@ -102,7 +102,7 @@ TEST(LandmarkUpdate, TheJacobianMatchesNumericalDifferencesWithTheCameraOffTheVe
 TEST(LandmarkUpdate, AnObservationBeyondTheGateIsRejectedAndLeavesTheFilterAsItWas) {
   PoseFilter filter(Pose2(20, 0, 0), covarianceOf(0.1, 0.05, 0.5), FilterOptions{});
   const Pose2 before = filter.pose();
-  const Mat5 covariance = filter.fullCovariance();
+  const StateMatrix covariance = filter.fullCovariance();
   // Seen as if the vehicle were 3 m further on: 30 sigma along.
   const auto result = filter.updateLandmarks({seen("P7", Vec2(30, 2), Pose2(23, 0, 0), 0.05, degToRad(0.3))});
   EXPECT_TRUE(result.used.empty());

@@ -99,7 +99,7 @@ TEST(MatchingFilter, AnAlongFixCorrectsTheScaleEstimate) {
   o.motion.scale_sigma = 0.02;
   PoseFilter filter(Pose2(0, 0, 0), diagonalCovariance(0.1, 0.5), o);
   for (int i = 0; i < 40; ++i) filter.predict({0.51, 0.0});
-  const Mat5 p = filter.fullCovariance();
+  const StateMatrix p = filter.fullCovariance();
   // Lines across and along the road seen from the true pose (20, 0, 0).
   const Pose2 truth(20, 0, 0);
   std::vector<LineCorrespondence> lines;
@@ -156,7 +156,7 @@ TEST(GroundStepUpdate, AnExactStepMovesThePositionToTheMeasuredDistance) {
   FilterOptions o;
   PoseFilter filter(Pose2(3, 4, degToRad(30)), diagonalCovariance(1e-6, 1e-6), o);
   filter.predict({0.8, 0.0});
-  const Mat5 p = filter.fullCovariance();
+  const StateMatrix p = filter.fullCovariance();
   const double var_d = std::pow(o.motion.distance_sigma_per_m * 0.8, 2);
   ASSERT_TRUE(filter.updateStep(0.83, 1e-10));
   const Vec2 moved = filter.pose().translation() - Vec2(3, 4);
@@ -173,13 +173,20 @@ TEST(GroundStepUpdate, AnExactStepMovesThePositionToTheMeasuredDistance) {
   EXPECT_THROW(filter.updateStep(0.8, 0.0), InvalidInput);
 }
 
-// A position fix on a prior without cross terms: per axis the scalar Kalman update, by hand. Prior
-// sigma 2 m in x and 1 m in y, fix sigma 1 m, 1 m off in each: x moves 4/5 of the way and its
-// variance becomes 4/5, y moves 1/2 and its variance 1/2; heading, scale and bias stay.
+FilterOptions independentFixes() {
+  FilterOptions o;
+  o.gnss_bias_sigma_m = 0;
+  return o;
+}
+
+// A position fix on a prior without cross terms, the fixes independent (no receiver bias): per axis
+// the scalar Kalman update, by hand. Prior sigma 2 m in x and 1 m in y, fix sigma 1 m, 1 m off in
+// each: x moves 4/5 of the way and its variance becomes 4/5, y moves 1/2 and its variance 1/2;
+// heading, scale and bias stay.
 TEST(PositionFixUpdate, OnAnUncorrelatedPriorIsTheScalarKalmanUpdatePerAxis) {
   Mat3 prior = Mat3::Zero();
   prior.diagonal() << 4.0, 1.0, 0.01;
-  PoseFilter filter(Pose2(10, 20, 0.3), prior);
+  PoseFilter filter(Pose2(10, 20, 0.3), prior, independentFixes());
   ASSERT_TRUE(filter.updatePosition(Vec2(11, 21), 1.0));
   EXPECT_NEAR(filter.pose().x(), 10.8, 1e-12);
   EXPECT_NEAR(filter.pose().y(), 20.5, 1e-12);
@@ -191,14 +198,63 @@ TEST(PositionFixUpdate, OnAnUncorrelatedPriorIsTheScalarKalmanUpdatePerAxis) {
   EXPECT_EQ(filter.gyroBias(), 0.0);
 }
 
+// With the receiver's bias a state (gnss_bias_sigma_m B, the default 1.5 m), a fix stating sigma
+// s has white noise sqrt(s² - B²): the innovation is shared between the pose, the bias and the
+// noise in proportion to their variances. Prior 1 m² per axis, B = 1 m, s² = 2 m²: a fix 3 m off in
+// x moves the pose 1 m and the bias 1 m; both variances become 1 - 1/3, their covariance -1/3.
+// Then the bias forgets itself over its correlation time: after predict over one time constant its
+// estimate is 1/e of itself and its variance B² e^-2 (2/3) + B² (1 - e^-2).
+TEST(PositionFixUpdate, TheReceiversBiasTakesItsShareOfTheInnovationAndForgetsItself) {
+  FilterOptions o;
+  o.gnss_bias_sigma_m = 1.0;
+  o.gnss_bias_time_s = 60.0;
+  Mat3 prior = Mat3::Zero();
+  prior.diagonal() << 1.0, 1.0, 0.01;
+  PoseFilter filter(Pose2(10, 20, 0.3), prior, o);
+  ASSERT_TRUE(filter.updatePosition(Vec2(13, 20), std::sqrt(2.0)));
+  EXPECT_NEAR(filter.pose().x(), 11.0, 1e-12);
+  EXPECT_NEAR(filter.pose().y(), 20.0, 1e-12);
+  EXPECT_NEAR(filter.gnssBias().x(), 1.0, 1e-12);
+  EXPECT_NEAR(filter.gnssBias().y(), 0.0, 1e-12);
+  EXPECT_NEAR(filter.fullCovariance()(0, 0), 2.0 / 3, 1e-12);
+  EXPECT_NEAR(filter.fullCovariance()(5, 5), 2.0 / 3, 1e-12);
+  EXPECT_NEAR(filter.fullCovariance()(0, 5), -1.0 / 3, 1e-12);
+  EXPECT_NEAR(filter.fullCovariance()(1, 1), 2.0 / 3, 1e-12);  // y: the same share of a zero innovation
+  filter.predict({0.0, 0.0}, 60.0);
+  const double phi = std::exp(-1.0);
+  EXPECT_NEAR(filter.gnssBias().x(), phi, 1e-12);
+  EXPECT_NEAR(filter.fullCovariance()(5, 5), phi * phi * 2.0 / 3 + (1 - phi * phi), 1e-12);
+  EXPECT_NEAR(filter.fullCovariance()(0, 5), -phi / 3, 1e-12);
+}
+
+// Fixes a second apart share their bias: driving 10 m/s along x for 30 s (the odometry exact, the
+// start known to 0.1 m), a fix each second 2 m ahead of the truth. Taken as independent
+// (gnss_bias_sigma_m 0) the fixes pull the along-road position, which the scale's uncertainty
+// widens, all the way to them (and the scale with it); with the bias a state, which takes the 2 m
+// while the pose is still well known, the estimate ends less than half as far off.
+TEST(PositionFixUpdate, BiasedFixesDoNotDragThePositionAlongTheRoad) {
+  const auto error = [](const FilterOptions& o) {
+    PoseFilter filter(Pose2(0, 0, 0), Mat3::Identity() * 0.01, o);
+    for (int t = 1; t <= 30; ++t) {
+      filter.predict({10.0, 0.0}, 1.0);
+      filter.updatePosition(Vec2(10.0 * t + 2.0, 0), 1.8);
+    }
+    return filter.pose().x() - 300.0;
+  };
+  const double independent = error(independentFixes());
+  EXPECT_GT(independent, 2.0);
+  EXPECT_LT(std::abs(error(FilterOptions{})), 0.5 * independent);
+}
+
 // Beyond the 2-dof gate (0.999 by default: chi-squared 13.8) the fix is refused and nothing moves;
 // a fix that is not finite, or a sigma that is not > 0, is named.
 TEST(PositionFixUpdate, AFixBeyondTheGateIsRefusedAndBadOnesAreNamed) {
   PoseFilter filter(Pose2(0, 0, 0), Mat3::Identity() * 0.01);
   const double limit = boost::math::quantile(boost::math::chi_squared_distribution<double>(2),
                                              FilterOptions{}.gate_probability);
-  // S = 0.01 + 1 per axis: a fix d m off in x has Mahalanobis d² / 1.01.
-  const double edge = std::sqrt(limit * 1.01);
+  // S = 0.01 + 1.5² (the bias) + max(1 - 1.5², 1/4) (the white noise: a quarter of the stated
+  // variance at least) per axis: a fix d m off in x has Mahalanobis d² / 2.51.
+  const double edge = std::sqrt(limit * 2.51);
   EXPECT_FALSE(filter.updatePosition(Vec2(edge * 1.01, 0), 1.0));
   EXPECT_EQ(filter.pose().x(), 0.0);
   EXPECT_NEAR(filter.covariance()(0, 0), 0.01, 1e-15);
@@ -311,6 +367,36 @@ TEST(MatchingFilter, ALineAFewDegreesOffTheRoadDoesNotMoveTheAlongRoadPosition) 
   // ones (heading, in mixed units with the corner 20 m ahead) keep a small along component.
   EXPECT_LT(std::abs(kept.pose().x() - truth.x()), 0.25 * loose_move);
   EXPECT_GT(kept.covariance()(0, 0), 0.85 * p(0, 0));  // little along information fused
+}
+
+// A prior whose along-road and lateral errors are correlated (0.8: what driving a bend with an
+// uncertain scale leaves) and 0.2 m off across the road; the road edges observe the lateral
+// position and the heading, not the position along. On an exact map the correlation carries the
+// lateral correction along the road (-0.2 m x 8 = -1.6 m, less the lines' noise); on a map known
+// to 0.5 m the along-road position is only considered: it stays, with its variance, while the
+// lateral error is corrected as on the exact map.
+TEST(MatchingFilter, OnAMapThatIsNotExactEdgesAloneDoNotMoveTheAlongRoadPosition) {
+  const Pose2 truth(10.0, 0.0, 0.0), prior(10.0, 0.2, 0.0);
+  Mat3 p = Mat3::Zero();
+  p << 1.0, 0.08, 0.0,  //
+      0.08, 0.01, 0.0,  //
+      0.0, 0.0, std::pow(degToRad(1.0), 2);
+  const std::vector<LineCorrespondence> lines = roadEdges(truth, 0.01);
+
+  PoseFilter exact(prior, p);
+  const CurrentPosition on_exact = exact.update(lines);
+  ASSERT_EQ(on_exact.status, PositionStatus::Corrected) << on_exact.reason;
+  EXPECT_FALSE(on_exact.observed_along);
+  EXPECT_NEAR(exact.pose().y(), 0.0, 0.01);
+  EXPECT_LT(exact.pose().x(), 10.0 - 1.0);
+
+  PoseFilter uncertain(prior, p);
+  uncertain.setMapSigma(0.5);
+  ASSERT_EQ(uncertain.update(lines).status, PositionStatus::Corrected);
+  EXPECT_NEAR(uncertain.pose().y(), exact.pose().y(), 1e-9);
+  EXPECT_NEAR(uncertain.pose().x(), 10.0, 1e-9);
+  EXPECT_NEAR(uncertain.covariance()(0, 0), 1.0, 1e-9);
+  EXPECT_LT(std::abs(uncertain.covariance()(0, 1)), 0.1 * 0.08);
 }
 
 TEST(LineMatchingReassociation, TheFilterUpdateReassociatesToo) {

@@ -49,11 +49,16 @@ TEST(RealDrive, OstringReplayHoldsTheCarriagewayWhereOdometryAloneDrifts) {
   EXPECT_LE(m.estimate.lateral_rms_m, 0.30);
   EXPECT_LE(m.estimate.heading_rms_deg, 1.0);
   EXPECT_LE(m.vision_failures, 7u);  // 5 % of 144
+  // The survey's own error (its position_sigma_m, the fit's 0.3 m) in the filter: the true error
+  // within 2 sigma in most frames, across the road too.
+  EXPECT_GE(m.consistency.within_2sigma_lateral, 0.8);
+  EXPECT_GE(m.consistency.within_2sigma_along, 0.8);
   // Judged where the car was when the Navigator believed it arrived, not at the log's end (which
   // is the goal by construction): nothing on Ostring observes the position along the road (no
-  // crossing line), so the along error at the end is the corrected odometry's.
+  // crossing line), so the along error at the end is the corrected odometry's, the 2 % scale error
+  // of the import over the 176 m driven (3.5 m) at most, and the kerbs hold the lateral.
   ASSERT_TRUE(m.arrived_frame.has_value()) << run.outcome;
-  EXPECT_LE(m.goal_distance_m, 2.0) << run.outcome;
+  EXPECT_LE(m.goal_distance_m, 0.02 * run.distance_m + 0.5) << run.outcome;
   std::printf("Ostring replay: lateral RMS %.3f m, along RMS %.3f m, heading RMS %.2f deg, %zu vision failures; "
               "odometry alone %.2f m at worst; %s\n",
               m.estimate.lateral_rms_m, m.estimate.along_rms_m, m.estimate.heading_rms_deg, m.vision_failures,
@@ -97,7 +102,9 @@ TEST(RealDrive, OstringReplayOnTheOpenStreetMapMapHoldsTheCarriagewayAndKnowsThe
   ASSERT_EQ(m.frames, 144u);
   EXPECT_LE(m.estimate.lateral_rms_m, 0.6);
   EXPECT_LE(m.estimate.heading_rms_deg, 1.5);
-  EXPECT_LE(m.estimate.max_error_m, 3.0);
+  EXPECT_LE(m.estimate.lateral_max_m, 1.5);
+  // Along the road only odometry: at most its 2 % scale error of the distance driven (3.5 m).
+  EXPECT_LE(m.estimate.along_max_m, 0.02 * run.distance_m);
   EXPECT_GE(m.consistency.within_2sigma_lateral, 0.8);
   EXPECT_GE(m.consistency.within_2sigma_along, 0.8);
   EXPECT_GE(m.consistency.within_2sigma_heading, 0.8);
@@ -107,6 +114,30 @@ TEST(RealDrive, OstringReplayOnTheOpenStreetMapMapHoldsTheCarriagewayAndKnowsThe
               m.estimate.lateral_rms_m, m.estimate.heading_rms_deg, m.estimate.max_error_m,
               100 * m.consistency.within_2sigma_lateral, 100 * m.consistency.within_2sigma_along,
               100 * m.consistency.within_2sigma_heading, m.uncertain_frames, run.outcome.c_str());
+}
+
+// The same with the log's GNSS fixes (the default receiver: 1 m white noise and a 1.5 m bias that
+// drifts over a minute, stated 1.8 m) and the receiver's bias a state of the filter: the fixes
+// observe the position along the road, and the bias, taken while the kerbs hold the lateral
+// position, does not pull the estimate off the carriageway.
+TEST(RealDrive, OstringReplayOnTheOpenStreetMapMapWithAConsumerGnssReceiverHoldsTheAlongRoadPosition) {
+  ASSERT_TRUE(testing::realDataPresent(kDrive));
+  const std::filesystem::path log = importDegraded();
+  registerBuiltinPipelines();
+  RunOptions fusing;
+  fusing.map.use_gnss = true;
+  const MissionRun run = runReplay(loadMission(testing::mapPath("missions/karlsruhe_ostring_osm.json")), log, fusing);
+  const MissionMetrics& m = run.metrics;
+  ASSERT_EQ(m.frames, 144u);
+  EXPECT_LE(m.estimate.lateral_rms_m, 0.5);
+  EXPECT_LE(m.estimate.max_error_m, 2.0);
+  EXPECT_GE(m.consistency.within_2sigma_along, 0.8);
+  EXPECT_GE(m.consistency.within_2sigma_lateral, 0.8);
+  std::printf("Ostring on OSM with GNSS: lateral RMS %.3f m, along RMS %.3f m, max error %.2f m, within 2 sigma "
+              "%.0f / %.0f / %.0f %%; %s\n",
+              m.estimate.lateral_rms_m, m.estimate.along_rms_m, m.estimate.max_error_m,
+              100 * m.consistency.within_2sigma_lateral, 100 * m.consistency.within_2sigma_along,
+              100 * m.consistency.within_2sigma_heading, run.outcome.c_str());
 }
 
 // Whatever the pipeline, an estimate that leaves the carriageway (more than half its 7 m from the

@@ -1,13 +1,14 @@
 #pragma once
 // The pose filter (Wallace 1985, 2.2.3: "the location along the road is calculated using the
-// vehicle motion"): an extended Kalman filter over (x, y, heading) and the odometry's scale error
-// and gyro bias — odometry prediction with its error model, line-measurement updates (an iterated
+// vehicle motion"): an extended Kalman filter over (x, y, heading), the odometry's scale error
+// and gyro bias and a GNSS receiver's slowly drifting bias — odometry prediction with its error model, line-measurement updates (an iterated
 // EKF, a frame's lines sharing an error) with a Mahalanobis gate — so that unobserved directions
 // (along a straight road) are carried by odometry and corrected when crossing lines come into view,
 // with a covariance that covers the error. Its output is the CurrentPosition token.
 //
-// State and covariance are in world coordinates (x, y in m, heading in rad; then e, relative, and
-// b, rad/s), the pose's heading wrapped into (-pi, pi]; differences of headings are wrapped before use.
+// State and covariance are in world coordinates (x, y in m, heading in rad; then e, relative, b,
+// rad/s, and the receiver's bias gx, gy, m), the pose's heading wrapped into (-pi, pi]; differences
+// of headings are wrapped before use.
 #include <optional>
 #include <string>
 #include <vector>
@@ -80,6 +81,14 @@ struct FilterOptions {
   /// hand-drawn centre lines are straight pieces between vertices 10-50 m apart, each off by its
   /// own offset and a degree or two of direction.
   double map_correlation_m = 30.0;
+  /// The GNSS receiver's error that drifts slowly (multipath, the atmosphere, the satellites in
+  /// view): the states gx, gy, a first-order Gauss-Markov process per axis of this steady 1-sigma, m
+  /// (0: fixes taken as independent, no bias state), forgetting itself to 1/e over gnss_bias_time_s.
+  /// Fixes a second apart share it: taken as independent, ten of them would pull the estimate to
+  /// the bias as if it were the truth. 1.5 m over 60 s: a consumer receiver's (1.5-3 m horizontal
+  /// accuracy, most of it a bias that changes over minutes); an RTK receiver's is centimetres.
+  double gnss_bias_sigma_m = 1.5;
+  double gnss_bias_time_s = 60.0;  ///< its correlation time, s (> 0)
 
   /// Throws InvalidInput naming match's, then motion's, then this table's first broken rule.
   void validate() const;
@@ -88,9 +97,11 @@ struct FilterOptions {
 /// The options' own fields (match and motion have their tables); validate() checks them.
 const OptionTable<FilterOptions>& filterOptionTable();
 
-/// The filter's full state: x, y (m), heading (rad), the odometry scale error e (relative) and the
-/// gyro bias b (rad/s).
-using Mat5 = Eigen::Matrix<double, 5, 5>;
+/// The filter's full state: x, y (m), heading (rad), the odometry scale error e (relative), the
+/// gyro bias b (rad/s) and the GNSS receiver's bias gx, gy (m, world frame), in that order.
+inline constexpr int kStateSize = 7;
+using StateVector = Eigen::Matrix<double, kStateSize, 1>;
+using StateMatrix = Eigen::Matrix<double, kStateSize, kStateSize>;
 
 /// A landmark seen in one frame: where the map has it and where the camera saw it, as
 /// range and bearing on the ground from the camera's optical centre. Unlike a road edge it fixes
@@ -112,7 +123,8 @@ struct LandmarkUpdateResult {
 };
 
 /// An extended Kalman filter over the pose (x, y, heading) in the world, with the odometry's scale
-/// error and gyro bias as two more states (MotionNoiseOptions).
+/// error and gyro bias as two more states (MotionNoiseOptions) and the GNSS receiver's bias as two
+/// more (FilterOptions::gnss_bias_sigma_m).
 class PoseFilter {
  public:
   /// Throws InvalidInput for bad options or a covariance that is not symmetric positive definite.
@@ -121,12 +133,15 @@ class PoseFilter {
   const Pose2& pose() const { return pose_; }
   /// The pose's covariance (x, y, heading): the top-left block of fullCovariance().
   const Mat3& covariance() const { return covariance_; }
-  /// The covariance of (x, y, heading, e, b).
-  const Mat5& fullCovariance() const { return full_; }
+  /// The covariance of the full state (x, y, heading, e, b, gx, gy).
+  const StateMatrix& fullCovariance() const { return full_; }
   /// The estimated odometry scale error e: the true distance is (1 + e) times the reading.
   double scaleError() const { return scale_error_; }
   /// The estimated gyro bias b, rad/s: the true heading change is the reading minus b dt.
   double gyroBias() const { return gyro_bias_; }
+  /// The estimated bias of the GNSS receiver's fixes, world frame, m: a fix is the true position
+  /// plus this plus white noise.
+  const Vec2& gnssBias() const { return gnss_bias_; }
   const FilterOptions& options() const { return options_; }
 
   /// `motion`, the odometry's reading over `dt_s` seconds, corrected by the estimated scale and bias.
@@ -136,8 +151,8 @@ class PoseFilter {
   /// scale and bias, move by it (along the mid-step heading) and grow the covariance.
   void predict(const MotionIncrement& motion, double dt_s = 0);
 
-  /// Replaces the pose's covariance (a widened search); the scale and bias keep their estimates and
-  /// variances, their correlation with the pose is dropped. Throws InvalidInput as the constructor.
+  /// Replaces the pose's covariance (a widened search); the scale, the biases keep their estimates
+  /// and variances, their correlation with the pose is dropped. Throws InvalidInput as the constructor.
   void resetPoseCovariance(const Mat3& covariance);
 
   /// Moves the estimate to `pose`; the covariances and the scale and bias estimates stay (a
@@ -151,8 +166,7 @@ class PoseFilter {
   /// filter is left as it was.
   CurrentPosition update(const std::vector<LineCorrespondence>& lines, double timestamp = 0);
 
-  /// Fuses landmark observations one after another, each an EKF update of the full state (x, y,
-  /// heading, e, b) with the range and bearing of the landmark from the optical centre: an
+  /// Fuses landmark observations one after another, each an EKF update of the full state with the range and bearing of the landmark from the optical centre: an
   /// observation along the road also estimates the odometry's scale, through its correlation with
   /// the position. Each is gated by its Mahalanobis distance (2 dof, FilterOptions::gate_probability)
   /// and skipped when beyond the gate. Throws InvalidInput for a covariance that is not positive
@@ -168,10 +182,13 @@ class PoseFilter {
   /// measurement or a variance that is not > 0.
   bool updateStep(double measured_m, double variance);
 
-  /// Fuses a fix of the position (a GNSS receiver's, world frame, m) with its 1-sigma per axis, m:
-  /// an EKF update of the full state through its x and y, gated by the Mahalanobis distance (2 dof,
-  /// FilterOptions::gate_probability); false when beyond the gate. Clears the step as every update
-  /// does. Throws InvalidInput for a non-finite fix or a sigma that is not > 0.
+  /// Fuses a fix of the position (a GNSS receiver's, world frame, m) with its stated 1-sigma per
+  /// axis, m: z = (x, y) + (gx, gy) + white noise, an EKF update of the full state, gated by the
+  /// Mahalanobis distance (2 dof, FilterOptions::gate_probability); false when beyond the gate. The
+  /// stated sigma is the fix's whole error; the bias state holds gnss_bias_sigma_m of it, the white
+  /// noise the rest, sqrt(sigma² - bias²), and no less than half the stated sigma (a receiver that
+  /// states better than the bias model: the fix is still used, the bias partly). Clears the step as
+  /// every update does. Throws InvalidInput for a non-finite fix or a sigma that is not > 0.
   bool updatePosition(const Vec2& fix, double sigma_m);
 
   /// How well the map's roads are placed where the vehicle drives: 1-sigma per axis of a centre
@@ -192,21 +209,22 @@ class PoseFilter {
 
  private:
   /// The end of a Kalman update whose posterior covariance the caller has put in full_: full_
-  /// symmetrised, covariance_ from it, the state moved by `change` (x, y, heading, e, b).
-  void applyUpdate(const Eigen::Matrix<double, 5, 1>& change);
+  /// symmetrised, covariance_ from it, the state moved by `change`.
+  void applyUpdate(const StateVector& change);
 
   Pose2 pose_;
   Mat3 covariance_;  // full_'s top-left block
-  Mat5 full_;
+  StateMatrix full_;
   double scale_error_ = 0;
   double gyro_bias_ = 0;
+  Vec2 gnss_bias_ = Vec2::Zero();
   double map_sigma_m_ = 0;
   FilterOptions options_;
   // The last predict()'s distance reading, its random error's variance and that error's effect on
   // the state (updateStep); cleared by every update.
   struct Step {
     double reading_m = 0, variance = 0;
-    Eigen::Matrix<double, 5, 1> effect = Eigen::Matrix<double, 5, 1>::Zero();
+    StateVector effect = StateVector::Zero();
   };
   std::optional<Step> step_;
 };
