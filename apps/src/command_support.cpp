@@ -150,4 +150,19 @@ std::vector<int> parseLabelValues(const std::string& option, const std::string& 
   return out;
 }
 
+ImageSize parseImageSize(const std::string& option, const std::string& text) {
+  const auto bad = [&] {
+    return InvalidInput(option + " \"" + text + "\": expected WIDTHxHEIGHT in pixels, each 1-8192 (e.g. 320x240)");
+  };
+  const std::size_t x = text.find('x');
+  if (x == std::string::npos || x == 0 || x + 1 == text.size()) throw bad();
+  const auto whole = [&](const std::string& part) {
+    if (part.empty() || part.size() > 4 || part.find_first_not_of("0123456789") != std::string::npos) throw bad();
+    const int v = std::stoi(part);
+    if (v < 1 || v > 8192) throw bad();
+    return v;
+  };
+  return ImageSize{whole(text.substr(0, x)), whole(text.substr(x + 1))};
+}
+
 }  // namespace mapnav::cli

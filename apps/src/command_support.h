@@ -9,6 +9,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/issue.h"
+#include "mapnav/image/image.h"
 #include "mapnav/map/map.h"
 
 namespace mapnav {
@@ -27,6 +28,10 @@ std::vector<double> parseNumbers(const std::string& option, const std::string& t
 
 /// "3,4": label values, whole numbers in [0, 255]; "" gives none. Throws InvalidInput naming the option.
 std::vector<int> parseLabelValues(const std::string& option, const std::string& text);
+
+/// "320x240": an image size, WIDTHxHEIGHT in whole pixels, each 1-8192. Throws InvalidInput naming
+/// the option and what it expects.
+ImageSize parseImageSize(const std::string& option, const std::string& text);
 
 /// --origin: "LAT,LON" or, where `altitude`, "LAT,LON,ALT" (degrees, metres), the latitude in
 /// [-90, 90] and the longitude in [-180, 180]. Throws InvalidInput saying what is wrong.

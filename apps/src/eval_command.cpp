@@ -81,7 +81,7 @@ int runEvalSegmentation(const EvalSegmentationConfig& config, std::ostream& out,
 void registerEvalCommands(CLI::App& app, Commands& commands) {
   auto* eval = commands.hold<EvalSegmentationConfig>();
   struct Texts {
-    std::string road = "3", ignore, bev_range;
+    std::string road = "3", ignore, bev_range, resize;
   };
   auto* text = commands.hold<Texts>();
   CLI::App* ev = app.add_subcommand("eval", "Score vision pipelines on labelled real photos (docs/eval.md)");
@@ -117,12 +117,20 @@ void registerEvalCommands(CLI::App& app, Commands& commands) {
   es->add_option("--overlays", eval->options.overlays,
                  "Folder to write overlays to: true positives green, false positives red, false negatives blue, "
                  "ignored pixels dark");
+  es->add_option("--resize", text->resize,
+                 "Score the photos resized to WxH pixels (e.g. 320x240: a small robot's camera): each photo averaged "
+                 "down (or interpolated up), its labels by the nearest pixel; --camera must then be of that size");
   es->add_flag("--json", eval->json, "Print the scores as JSON");
   es->footer("Exit codes: 0 scored, 1 invalid input (an image without its label, a label of another size, a corrupt PNG), "
              "2 usage or I/O error (a missing folder).");
   es->callback(commands.choose([eval, text](std::ostream& out, std::ostream& err) {
     eval->classes.road = parseLabelValues("--road-values", text->road);
     eval->classes.ignore = parseLabelValues("--ignore-values", text->ignore);
+    if (!text->resize.empty()) {
+      const ImageSize size = parseImageSize("--resize", text->resize);
+      eval->options.resize_width = size.width;
+      eval->options.resize_height = size.height;
+    }
     if (!text->bev_range.empty()) {
       const std::vector<double> r = parseNumbers("--bev-range", text->bev_range, 4, 4, "X0,X1,Z0,Z1 (metres)");
       BevGrid& grid = eval->options.bev_grid;

@@ -13,6 +13,7 @@
 #include "mapnav/geometry/camera_io.h"
 #include "mapnav/mission/image_region.h"
 #include "mapnav/vision/overlay.h"
+#include "mapnav/vision/resize.h"
 
 namespace mapnav {
 
@@ -47,6 +48,11 @@ const OptionTable<SegmentationEvalOptions>& segmentationEvalOptionTable() {
                 {{"x_min_m", "bev_x_min_m"}, {"x_max_m", "bev_x_max_m"}, {"z_min_m", "bev_z_min_m"},
                  {"z_max_m", "bev_z_max_m"}, {"cell_m", "bev_cell_m"}})
           .field("overlays", &O::overlays, "a folder for one TP/FP/FN overlay per photo; \"\": none")
+          .field("resize_width", &O::resize_width, inRange(0, 8192),
+                 "score the photos resized to this width, px (0: their own size)")
+          .field("resize_height", &O::resize_height, inRange(0, 8192), "... and this height, px (0: their own size)")
+          .check("resize_height", [](const O& o) { return (o.resize_width > 0) == (o.resize_height > 0); },
+                 "0 exactly when resize_width is 0 (a size needs both)")
           .check("bev", [](const O& o) { return !o.bev || !o.camera.empty(); },
                  "false without a camera (the grid is in metres on the ground the camera sees)");
   return table;
@@ -157,7 +163,14 @@ SegmentationEvaluation evaluateSegmentation(VisionPipeline& pipeline, const fs::
                                             const LabelClasses& classes, const SegmentationEvalOptions& options) {
   classes.validate();
   options.validate();
-  const std::vector<LabelledPhoto> set = readLabelledPhotos(images, labels, true);
+  std::vector<LabelledPhoto> set = readLabelledPhotos(images, labels, true);
+  if (options.resize_width > 0) {
+    const ImageSize size{options.resize_width, options.resize_height};
+    for (LabelledPhoto& p : set) {
+      p.image = resized(p.image, size, ResizeKind::Photo);
+      p.label = resized(p.label, size, ResizeKind::Labels);
+    }
+  }
   const std::unique_ptr<Camera> camera = photoCamera(options, set.front().image.width, set.front().image.height);
   const std::optional<BevSampling> bev = gridSampling(options, *camera);
   const PixelSamples* samples = bev ? &bev->samples : nullptr;

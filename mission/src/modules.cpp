@@ -109,7 +109,8 @@ void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odom
   PoseFilter predicted = filter_;
   predicted.predict(pending_, pending_dt_s_);
   prediction_ = predictor_.predict(predicted.pose(), camera_);
-  if (!prediction_.empty() && visiblePixels(prediction_.view, camera_) < options_.min_visible_px) {
+  if (!prediction_.empty() && visiblePixels(prediction_.view, camera_) <
+                                      options_.min_visible_px * std::pow(pixelScale(camera_.width(), camera_.height()), 2)) {
     Prediction nothing;  // "Vision will see no road from here"
     nothing.pose = prediction_.pose;
     nothing.footprint_world = prediction_.footprint_world;

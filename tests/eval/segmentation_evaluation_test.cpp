@@ -33,6 +33,7 @@ class GreyIsRoad : public VisionPipeline {
   void reset() override {}
   DetectedObject detect(const VisionFrame& frame, const PredictedObject& prediction) override {
     regions_seen.push_back(prediction.regions.size());
+    sizes_seen.push_back({frame.width, frame.height});
     Image mask(frame.width, frame.height, 1);
     int grey = 0;
     for (std::size_t i = 0; i < mask.data.size(); ++i) {
@@ -48,6 +49,7 @@ class GreyIsRoad : public VisionPipeline {
   }
   std::vector<int> seen;
   std::vector<std::size_t> regions_seen;
+  std::vector<ImageSize> sizes_seen;
 
  private:
   bool confidence_;
@@ -153,6 +155,34 @@ TEST(SegmentationEvaluation, AHandMadeSetScoresAsCountedByHand) {
   expectCounts(e.baseline_bootstrap.total, 36, 6, 104);
   EXPECT_DOUBLE_EQ(*e.baseline_bootstrap.iou, 36.0 / 146.0);
   EXPECT_DOUBLE_EQ(*e.margin, 112.0 / 194.0 - 140.0 / 358.0);  // 0.5773 - 0.3911: the horizon is the better
+}
+
+// resize_width / resize_height: the photos and their labels at twice their size before anything
+// runs. The pipeline sees 40 x 24 frames; the labels, doubled by their nearest pixel, hold four times
+// the road pixels (TP + FN: 192, 320, 48); "below the horizon" (rows 12-23 of the assumed camera at
+// 40 x 24) counts exactly four times its 20 x 12 figures: TP 560, FP 872 (the ignored pixels too).
+TEST(SegmentationEvaluation, PhotosAndLabelsAreScoredAtTheAskedSize) {
+  const fs::path dir = handMadeSet();
+  GreyIsRoad pipeline(false);
+  SegmentationEvalOptions options = rectangleBootstrap();
+  options.resize_width = 2 * kW;
+  options.resize_height = 2 * kH;
+  const SegmentationEvaluation e = evaluateSegmentation(pipeline, dir / "images", dir / "labels", kClasses, options);
+  EXPECT_EQ(pipeline.sizes_seen, (std::vector<ImageSize>(3, ImageSize{2 * kW, 2 * kH})));
+  ASSERT_EQ(e.photos.size(), 3u);
+  EXPECT_EQ(e.photos[0].counts.tp + e.photos[0].counts.fn, 192u);
+  EXPECT_EQ(e.photos[1].counts.tp + e.photos[1].counts.fn, 320u);
+  expectCounts(e.photos[2].counts, 0, 0, 48);
+  expectCounts(e.baseline_horizon.total, 560, 872, 0);
+  // A size needs both.
+  options.resize_height = 0;
+  try {
+    options.validate();
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& error) {
+    EXPECT_STREQ(error.what(),
+                 "SegmentationEvalOptions::resize_height = 0: must be 0 exactly when resize_width is 0 (a size needs both)");
+  }
 }
 
 // With the mask as its confidence (255 on its road, a failed photo 0 everywhere), every threshold

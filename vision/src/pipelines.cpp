@@ -170,6 +170,7 @@ class BasePipeline : public VisionPipeline {
     if (frame.width != frame.camera->width() || frame.height != frame.camera->height())
       throw InvalidInput("pipeline \"" + name_ + "\": frame size differs from the camera's image size");
     const Camera& cam = *frame.camera;
+    pixel_scale_ = pixelScale(frame.width, frame.height);
     const int scale = gridScale();
     const Image& full_valid = ground(cam, scale);
     const Image& valid = cache_.grid_valid;
@@ -191,7 +192,7 @@ class BasePipeline : public VisionPipeline {
     Image predicted = fillRings(road_rings, cam, scale, w, h);
     cv::bitwise_and(view(predicted), view(valid), view(predicted));
     const int predicted_px = cv::countNonZero(view(predicted)) * scale * scale;
-    if (predicted_px < common().min_predicted_px) return fail(frame, "nothing predicted in view");
+    if (predicted_px < pxCount(common().min_predicted_px)) return fail(frame, "nothing predicted in view");
 
     // Per-cell road decision.
     std::string why;
@@ -201,8 +202,8 @@ class BasePipeline : public VisionPipeline {
     if (!road) return fail(frame, why);
 
     RegionOptions ro = common().region;  // on the grid: its lengths in cells
-    ro.block_size = onGrid(ro.block_size, scale, 1);
-    ro.pixel_morph_px = onGrid(ro.pixel_morph_px, scale);
+    ro.block_size = onGrid(px(ro.block_size), scale, 1);
+    ro.pixel_morph_px = onGrid(px(ro.pixel_morph_px), scale);
     ro.reference = common().reference;
     RegionResult region = reproduceRegion(*road, valid, predicted, ro);
     const double area_px = region.area_px * scale * scale;
@@ -219,13 +220,16 @@ class BasePipeline : public VisionPipeline {
     if (frame.want_region) {  // only the trace and the report read the outline
       std::vector<Vec2> ring = region.contour;
       ring.push_back(ring.front());
-      std::vector<Vec2> poly = toPixels(simplifyRing(ring, common().region_tolerance_px / scale, common().reference));
+      std::vector<Vec2> poly = toPixels(simplifyRing(ring, px(common().region_tolerance_px) / scale, common().reference));
       d.region_image = poly;
       for (const Vec2& p : poly)
         if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
     }
     LineOptions lo = common().lines;
     lo.reference = common().reference;
+    lo.simplify_tolerance_px = px(lo.simplify_tolerance_px);
+    lo.min_length_px = px(lo.min_length_px);
+    lo.frame_edge_px = px(lo.frame_edge_px);
     const std::vector<Vec2> polygon =
         toPixels(contourPolygon(region.contour, lo.simplify_tolerance_px / scale, lo.reference));
     d.lines = polygonLines(polygon, cam, full_valid, lo);
@@ -246,15 +250,20 @@ class BasePipeline : public VisionPipeline {
   virtual std::optional<Image> classify(const GridFrame& grid, const PredictedObject& prediction,
                                         const Image& valid, const Image& predicted, std::string& why) = 0;
 
-  /// The side of the grid's cells, pixels: 1 for the reference.
-  int gridScale() const { return common().reference ? 1 : common().grid_px; }
+  /// The side of the grid's cells, pixels: 1 for the reference; grid_px at the frame's size (px()).
+  int gridScale() const { return common().reference ? 1 : std::max(1, static_cast<int>(std::lround(px(common().grid_px)))); }
+
+  /// A length in pixels of the options (at kReferenceFramePixels) at this frame's size, and a count
+  /// of pixels (pixelScale(): smaller frames scale them down, larger ones keep them).
+  double px(double length) const { return length * pixel_scale_; }
+  double pxCount(double count) const { return count * pixel_scale_ * pixel_scale_; }
 
   /// Smooths a per-cell score (box filter of radius smooth_px) and thresholds it inside `valid`.
   /// `reach`: how far from `t` the score means "surely" one way or the other, for the confidence
   /// (kept when the frame wants it).
   Image threshold(std::vector<float>& score, int w, int h, const Image& valid, double t, double reach, int scale) {
     cv::Mat s(h, w, CV_32FC1, score.data());
-    const int r = onGrid(common().smooth_px, scale);
+    const int r = onGrid(px(common().smooth_px), scale);
     if (r > 0 && common().reference) {
       cv::blur(s, s, cv::Size(2 * r + 1, 2 * r + 1), cv::Point(-1, -1), cv::BORDER_REPLICATE);
     } else if (r > 0) {  // the same box filter as two passes of single-precision taps, ~3 times faster (to ~1e-6)
@@ -308,6 +317,7 @@ class BasePipeline : public VisionPipeline {
 
   bool want_masks_ = false;
   Image cell_confidence_;  ///< threshold()'s, when want_masks_
+  double pixel_scale_ = 1;  ///< pixelScale() of the frame being detected
 
   DetectedObject fail(const VisionFrame& frame, const std::string& why) {
     DetectedObject d = DetectedObject::failed(why);
@@ -396,7 +406,7 @@ class ClassifierPipeline : public BasePipeline {
     cv::Mat vm = view(view_mask);
     cv::bitwise_and(vm, view(valid), vm);
     Image non_lab(w, h, 1);
-    const int e = onGrid(options_.label_erosion_px, frame.scale);
+    const int e = onGrid(px(options_.label_erosion_px), frame.scale);
     const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * e + 1, 2 * e + 1));
     cv::Mat pm(h, w, CV_8UC1, const_cast<std::uint8_t*>(predicted.data.data()));
     const bool reference = options_.reference;

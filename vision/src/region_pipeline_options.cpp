@@ -32,7 +32,10 @@ const OptionTable<RegionPipelineOptions>& regionPipelineOptionTable() {
                  "pixels; 1 = every pixel. The default 2 runs the loop about 2.6 times faster than 1 "
                  "(campus_dialogue replay: 1.6 against 4.0 ms median) and meets the same localisation targets "
                  "(campus_tour replay: along-road error after intersections 0.12 against 0.10 m) with a coarser "
-                 "edge (lateral RMS 1.6 against 1.0 cm)")
+                 "edge (lateral RMS 1.6 against 1.0 cm). Every option in pixels, this one too, is for a 480 x 360 "
+                 "frame: on a smaller one lengths are multiplied by sqrt(pixels / (480 x 360)) and min_predicted_px "
+                 "by that squared (pixelScale()), so that at 240 x 180 the grid is 1 and a block 4 px; larger "
+                 "frames keep them")
           .field("reference", &O::reference,
                  "run every pixel (grid_px 1) with the reference implementations (double-precision per-pixel "
                  "log-odds, OpenCV's box filter (double-precision sums), morphology and distance transform, CGAL "

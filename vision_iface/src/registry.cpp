@@ -1,6 +1,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <mutex>
 
@@ -8,6 +9,11 @@
 #include "mapnav/vision_iface/pipeline.h"
 
 namespace mapnav {
+
+double pixelScale(int width, int height) {
+  if (width <= 0 || height <= 0) return 1.0;
+  return std::min(1.0, std::sqrt(static_cast<double>(width) * height / kReferenceFramePixels));
+}
 
 namespace {
 

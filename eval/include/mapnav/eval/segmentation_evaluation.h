@@ -40,6 +40,12 @@ struct SegmentationEvalOptions {
   /// A folder for one overlay per photo (STEM.png: TP green, FP red, FN blue; with `bev` also
   /// STEM.bev.png in the grid), written once every photo is scored; "" for none.
   std::string overlays = {};
+  /// Score the photos at this size instead of their own, px (0 and 0: as they are): each photo
+  /// resized (averaged over the pixels it shrinks from) and its labels by their nearest pixel,
+  /// before anything runs; a `camera` must then be of this size. To see whether a pipeline's
+  /// defaults hold on a smaller or larger camera than the photos'.
+  int resize_width = 0;
+  int resize_height = 0;
 
   /// segmentationEvalOptionTable()'s rules: throws InvalidInput naming the first bad field.
   void validate() const;

@@ -56,7 +56,8 @@ struct MapModuleOptions {
   double initial_heading_sigma_deg = 1.0;
   /// A prediction whose paved area covers fewer image pixels than this (>= 0) is announced as
   /// "no road in view": Vision is not asked to find what the camera can hardly see (looking over the
-  /// corner in a 90 degree turn) and the Map dead-reckons. 2000 px is 0.8 % of 512 x 480.
+  /// corner in a 90 degree turn) and the Map dead-reckons. 2000 px is 0.8 % of 512 x 480; on a
+  /// camera smaller than 480 x 360 it is scaled by its area (pixelScale() squared).
   double min_visible_px = 2000.0;
   /// Fuse the frames' GNSS fixes (a replay log's, MapModule::observeGnss) into the pose filter with
   /// their stated sigma, each gated (PoseFilter::updatePosition). Off by default: a receiver's error

@@ -30,7 +30,12 @@ inline constexpr const char* kDefaultPipeline = "sidewalk";
 
 /// What every region pipeline has: the frame's checks, the road score's smoothing, region
 /// reproduction (Wallace 1985, 2.2.1), the polygon's lines and their labels (2.2.2), and the grid.
-/// Lengths in pixels are at full resolution (divided by grid_px on the grid).
+/// Lengths in pixels are at full resolution (divided by grid_px on the grid) of a frame of
+/// kReferenceFramePixels (480 × 360): on a smaller frame each length in pixels, grid_px and
+/// label_erosion_px included, is multiplied by pixelScale() and min_predicted_px by its square, so
+/// that one default serves a 240 × 180 camera and a 1280 × 720 one (a larger frame keeps them). The
+/// classifier's min_training_pixels is a count of samples for its Gaussians, not a share of the
+/// frame, and stays.
 struct RegionPipelineOptions {
   double dark_level = 20;             ///< ground mean grey (0-255) below which: "frame too dark"
   double saturated_level = 250;       ///< a pixel is saturated when all its channels reach this

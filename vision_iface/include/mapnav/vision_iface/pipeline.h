@@ -28,6 +28,18 @@ struct VisionFrame {
   bool want_masks = false;
 };
 
+/// The frame area the pipelines' defaults in pixels were chosen at: 480 × 360 (CamVid's photos; the
+/// simulator's 512 × 480 frames are larger).
+inline constexpr double kReferenceFramePixels = 480.0 * 360.0;
+
+/// How a pipeline's lengths in pixels scale with the frame: sqrt(width × height /
+/// kReferenceFramePixels) on a smaller frame, 1 on one as large or larger. A length in pixels (a
+/// block's side, a filter's radius, a tolerance) is multiplied by it and a count of pixels by its
+/// square, so that on a small camera's frame every threshold keeps its share of the picture; on a
+/// larger frame they stay (what is found is then at least as many pixels across as at the
+/// reference). 1 for a frame without pixels.
+double pixelScale(int width, int height);
+
 class VisionPipeline {
  public:
   virtual ~VisionPipeline() = default;
