@@ -161,6 +161,17 @@ TEST(EvalCli, BaselinesAndTheMarginAreScoredLikeThePipeline) {
   EXPECT_NE(text.out.find("margin over the better baseline "), std::string::npos) << text.out;
 }
 
+// --resize: the three photos scored at 240 x 180, their overlays at that size too.
+TEST(EvalCli, ScoresThePhotosAtTheAskedSize) {
+  ASSERT_TRUE(testing::realDataPresent("camvid"));
+  const fs::path dir = threeImages();
+  const auto r = runCli(evalArgs(dir, {"--resize", "240x180", "--overlays", (dir / "overlays").string(), "--json"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Image overlay = readPng(dir / "overlays" / (kStems[0] + ".png"));
+  EXPECT_EQ(overlay.width, 240);
+  EXPECT_EQ(overlay.height, 180);
+}
+
 TEST(EvalCli, BadInputNamesTheFileAndWritesNothing) {
   ASSERT_TRUE(testing::realDataPresent("camvid"));
   const fs::path dir = threeImages();
@@ -200,6 +211,13 @@ TEST(EvalCli, BadInputNamesTheFileAndWritesNothing) {
               "--road-values", "3", "--ignore-values", "3"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("ignore: label value 3 is also a road value"), std::string::npos) << r.err;
+  for (const std::string bad : {"320by240", "0x240", "320x", "99999x10"}) {
+    r = runCli(evalArgs(dir, {"--resize", bad, "--overlays", overlays}));
+    EXPECT_EQ(r.exit_code, 1) << bad;
+    EXPECT_NE(r.err.find("--resize \"" + bad + "\": expected WIDTHxHEIGHT in pixels, each 1-8192 (e.g. 320x240)"),
+              std::string::npos)
+        << r.err;
+  }
 
   EXPECT_FALSE(fs::exists(overlays));  // nothing written by any failed run
 }
