@@ -29,6 +29,13 @@ std::string pipelineForRoads(const Map& map, const std::vector<std::string>& roa
     return pipelineForSurface(s.first) == first;
   });
   if (decided) return first;
+  // Paved surfaces of both families: the sidewalk pipeline keeps a road class per surface in view
+  // and follows each at its defaults (pipelineForRoads' measurements).
+  const bool paved = std::all_of(surfaces.begin(), surfaces.end(), [](const auto& s) {
+    const std::string p = pipelineForSurface(s.first);
+    return p == "sidewalk" || p == "color-rgb";
+  });
+  if (paved) return "sidewalk";
   std::string said;
   for (const auto& [surface, ids] : surfaces) {
     std::string list;

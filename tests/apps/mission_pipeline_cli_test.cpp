@@ -1,6 +1,7 @@
 // Pipeline choice end to end: every shipped mission names its pipeline (park_loop runs the edge tracker as
-// shipped), and a mission without `vision` whose route's surfaces do not decide one is an error
-// before the first frame that says to name one (docs/mission-format.md, "Which pipeline").
+// shipped), a mission without `vision` over paved roads of both families runs the sidewalk pipeline,
+// and one whose route's surfaces do not decide one is an error before the first frame that says to
+// name one (docs/mission-format.md, "Which pipeline").
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -29,35 +30,56 @@ TEST(CliMissionPipeline, TheParkLoopAsShippedRunsTheEdgeTracker) {
   EXPECT_EQ(r["vision_failures"], 0);
 }
 
-TEST(CliMissionPipeline, AMissionWithoutVisionOnAsphaltThenBrickSaysToNameOne) {
-  const fs::path dir = testing::freshTempDir();
+// A 2 x 2 grid map in `dir` whose road H0_0 is `first` and every other `rest`, and a mission on it
+// without `vision` from H0_0 (5 m from I0_0) right at I1_0 onto V1_0 (10 m along): the file.
+fs::path mixedSurfaceMission(const fs::path& dir, const std::string& first, const std::string& rest,
+                             const std::string& more = "") {
   GridMapOptions o;
   o.columns = o.rows = 2;
   MapData data = makeGridMap(o);
-  for (Road& r : data.roads) r.surface = r.id == "H0_0" ? "asphalt" : "brick";
+  for (Road& r : data.roads) r.surface = r.id == "H0_0" ? first : rest;
   saveMap(data, dir / "grid.json");
-  // From H0_0 (asphalt) right at I1_0 onto V1_0 (brick).
-  const std::string mission = R"({"format": "mapnav-mission/1", "map": "grid.json", "camera": ")" +
-                              testing::mapPath("cameras/terregator_pinhole.json").string() +
-                              R"(", "start": "H0_0@I0_0+5", "goal": "V1_0@I1_0+10")";
-  writeFileAtomic(dir / "m.json", mission + "}");
-  const auto run = runCli({"run", "--mission", (dir / "m.json").string(), "--max-frames", "2"});
+  writeFileAtomic(dir / "m.json", R"({"format": "mapnav-mission/1", "map": "grid.json", "camera": ")" +
+                                      testing::mapPath("cameras/terregator_pinhole.json").string() +
+                                      R"(", "start": "H0_0@I0_0+5", "goal": "V1_0@I1_0+10")" + more + "}");
+  return dir / "m.json";
+}
+
+// Asphalt, then brick, at the defaults: the sidewalk pipeline (a road class per surface in view)
+// drives both and reaches the goal.
+TEST(CliMissionPipeline, AMissionWithoutVisionOnAsphaltThenBrickRunsTheSidewalkPipelineToItsGoal) {
+  const fs::path mission = mixedSurfaceMission(testing::freshTempDir(), "asphalt", "brick");
+  const auto run = runCli({"run", "--mission", mission.string(), "--json"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto r = nlohmann::json::parse(run.out);
+  EXPECT_EQ(r["pipeline"], "sidewalk");
+  EXPECT_EQ(r["reached_goal"], true) << r["outcome"];
+  EXPECT_EQ(r["vision_failures"], 0);
+  EXPECT_EQ(r["left_path_frames"], 0);
+}
+
+// Asphalt, then dirt: no pipeline here is known to follow both at its defaults; the error before
+// the first frame says so and to name one, and named (in the mission or for the run) it runs.
+TEST(CliMissionPipeline, AMissionWithoutVisionOnAsphaltThenDirtSaysToNameOne) {
+  const fs::path dir = testing::freshTempDir();
+  const fs::path mission = mixedSurfaceMission(dir, "asphalt", "dirt");
+  const auto run = runCli({"run", "--mission", mission.string(), "--max-frames", "2"});
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_EQ(run.out, "");
   EXPECT_EQ(run.err,
             "mapnav: error: mission \"m\": names no vision pipeline, and the surfaces of the roads its route drives do "
-            "not decide one: asphalt (H0_0) calls for color-rgb; brick (V1_0) calls for sidewalk. Name the "
+            "not decide one: asphalt (H0_0) calls for color-rgb; dirt (V1_0) calls for edge-tracker. Name the "
             "pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or for the run (`mapnav pipelines` "
             "lists them); on the command line: --pipeline NAME\n");
-  // Named, in the mission or on the command line, it runs.
-  writeFileAtomic(dir / "named.json", mission + R"(, "vision": {"pipeline": "sidewalk"}})");
-  const auto named = runCli({"run", "--mission", (dir / "named.json").string(), "--max-frames", "2", "--json"});
-  ASSERT_EQ(named.exit_code, 0) << named.err;
-  EXPECT_EQ(nlohmann::json::parse(named.out)["pipeline"], "sidewalk");
-  const auto option = runCli({"run", "--mission", (dir / "m.json").string(), "--max-frames", "2", "--json", "--pipeline",
-                              "edge-tracker"});
+  const fs::path named = mixedSurfaceMission(dir, "asphalt", "dirt", R"(, "vision": {"pipeline": "edge-tracker"})");
+  const auto in_mission = runCli({"run", "--mission", named.string(), "--max-frames", "2", "--json"});
+  ASSERT_EQ(in_mission.exit_code, 0) << in_mission.err;
+  EXPECT_EQ(nlohmann::json::parse(in_mission.out)["pipeline"], "edge-tracker");
+  const fs::path unnamed = mixedSurfaceMission(dir, "asphalt", "dirt");
+  const auto option =
+      runCli({"run", "--mission", unnamed.string(), "--max-frames", "2", "--json", "--pipeline", "color-rgb"});
   ASSERT_EQ(option.exit_code, 0) << option.err;
-  EXPECT_EQ(nlohmann::json::parse(option.out)["pipeline"], "edge-tracker");
+  EXPECT_EQ(nlohmann::json::parse(option.out)["pipeline"], "color-rgb");
 }
 
 // --displace: fault injection for recovery, its text checked before the first frame.

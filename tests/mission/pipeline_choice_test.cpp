@@ -53,15 +53,18 @@ Map grid(const std::vector<std::pair<std::string, std::string>>& surfaces) {
 
 TEST(PipelineForRoads, RoadsThatCallForDifferentPipelinesOrNoneAreAnErrorSayingToNameOne) {
   const Map mixed = grid({{"H0_0", "asphalt"}, {"V1_0", "brick"}, {"H0_1", "brick"}});
+  // Paved roads of both families: the pipeline with a road class per surface.
+  EXPECT_EQ(pipelineForRoads(mixed, {"H0_0", "V1_0", "H0_1", "H0_0"}, "mission \"m\""), "sidewalk");
+  const Map park = grid({{"H0_0", "asphalt"}, {"V1_0", "dirt"}, {"H0_1", "brick"}});
   try {
-    pipelineForRoads(mixed, {"H0_0", "V1_0", "H0_1", "H0_0"}, "mission \"m\"");
+    pipelineForRoads(park, {"H0_0", "V1_0", "H0_1", "H0_0"}, "mission \"m\"");
     ADD_FAILURE() << "no error";
   } catch (const NoPipelineChosen& e) {
     EXPECT_EQ(std::string(e.what()),
               "mission \"m\": names no vision pipeline, and the surfaces of the roads its route drives do not decide "
-              "one: asphalt (H0_0) calls for color-rgb; brick (V1_0, H0_1) calls for sidewalk. Name the pipeline "
-              "in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or for the run (`mapnav pipelines` lists "
-              "them)");
+              "one: asphalt (H0_0) calls for color-rgb; dirt (V1_0) calls for edge-tracker; brick (H0_1) calls for "
+              "sidewalk. Name the pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or for the run "
+              "(`mapnav pipelines` lists them)");
   }
   // Roads the route does not drive do not count; a surface no pipeline follows decides nothing.
   EXPECT_EQ(pipelineForRoads(mixed, {"H0_0"}, "m"), "color-rgb");
@@ -136,7 +139,8 @@ TEST(MissionPipeline, WithoutVisionTheRouteSurfacesChooseAndTheCallerOverrides) 
   one.max_frames = 1;
   EXPECT_EQ(runClosedLoop(gridMission(dir, "asphalt", "gravel"), one).pipeline, "color-rgb");
   EXPECT_EQ(runClosedLoop(gridMission(dir, "concrete", "brick"), one).pipeline, "sidewalk");
-  const MissionFile mixed = gridMission(dir, "asphalt", "brick");
+  EXPECT_EQ(runClosedLoop(gridMission(dir, "asphalt", "brick"), one).pipeline, "sidewalk");  // both families
+  const MissionFile mixed = gridMission(dir, "asphalt", "dirt");
   EXPECT_THROW(runClosedLoop(mixed, one), InvalidInput);
   one.pipeline = "cluster-perceptron";
   EXPECT_EQ(runClosedLoop(mixed, one).pipeline, "cluster-perceptron");
