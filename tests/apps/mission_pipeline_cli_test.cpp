@@ -31,18 +31,19 @@ TEST(CliMissionPipeline, TheParkLoopAsShippedRunsTheEdgeTracker) {
 }
 
 // A 2 x 2 grid map in `dir` whose road H0_0 is `first` and every other `rest`, and a mission on it
-// without `vision` from H0_0 (5 m from I0_0) right at I1_0 onto V1_0 (10 m along): the file.
+// from H0_0 (5 m from I0_0) right at I1_0 onto V1_0 (10 m along), without `vision` unless `more`
+// adds it: the mission file, dir / `file`.
 fs::path mixedSurfaceMission(const fs::path& dir, const std::string& first, const std::string& rest,
-                             const std::string& more = "") {
+                             const std::string& file = "m.json", const std::string& more = "") {
   GridMapOptions o;
   o.columns = o.rows = 2;
   MapData data = makeGridMap(o);
   for (Road& r : data.roads) r.surface = r.id == "H0_0" ? first : rest;
   saveMap(data, dir / "grid.json");
-  writeFileAtomic(dir / "m.json", R"({"format": "mapnav-mission/1", "map": "grid.json", "camera": ")" +
+  writeFileAtomic(dir / file, R"({"format": "mapnav-mission/1", "map": "grid.json", "camera": ")" +
                                       testing::mapPath("cameras/terregator_pinhole.json").string() +
                                       R"(", "start": "H0_0@I0_0+5", "goal": "V1_0@I1_0+10")" + more + "}");
-  return dir / "m.json";
+  return dir / file;
 }
 
 // Asphalt, then brick, at the defaults: the sidewalk pipeline (a road class per surface in view)
@@ -71,13 +72,13 @@ TEST(CliMissionPipeline, AMissionWithoutVisionOnAsphaltThenDirtSaysToNameOne) {
             "not decide one: asphalt (H0_0) calls for color-rgb; dirt (V1_0) calls for edge-tracker. Name the "
             "pipeline in the mission, \"vision\": {\"pipeline\": \"NAME\"}, or for the run (`mapnav pipelines` "
             "lists them); on the command line: --pipeline NAME\n");
-  const fs::path named = mixedSurfaceMission(dir, "asphalt", "dirt", R"(, "vision": {"pipeline": "edge-tracker"})");
+  const fs::path named =
+      mixedSurfaceMission(dir, "asphalt", "dirt", "named.json", R"(, "vision": {"pipeline": "edge-tracker"})");
   const auto in_mission = runCli({"run", "--mission", named.string(), "--max-frames", "2", "--json"});
   ASSERT_EQ(in_mission.exit_code, 0) << in_mission.err;
   EXPECT_EQ(nlohmann::json::parse(in_mission.out)["pipeline"], "edge-tracker");
-  const fs::path unnamed = mixedSurfaceMission(dir, "asphalt", "dirt");
   const auto option =
-      runCli({"run", "--mission", unnamed.string(), "--max-frames", "2", "--json", "--pipeline", "color-rgb"});
+      runCli({"run", "--mission", mission.string(), "--max-frames", "2", "--json", "--pipeline", "color-rgb"});
   ASSERT_EQ(option.exit_code, 0) << option.err;
   EXPECT_EQ(nlohmann::json::parse(option.out)["pipeline"], "color-rgb");
 }
