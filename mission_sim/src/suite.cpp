@@ -241,6 +241,79 @@ std::vector<SuiteRun> runSuite(const SuiteOptions& options, const std::function<
   return runs;
 }
 
+// ---- a run as a record ------------------------------------------------------------------------
+
+std::string suiteRunToJson(const SuiteRun& r) {
+  const MissionMetrics& m = r.metrics;
+  const FilterConsistency& c = m.consistency;
+  const Json metrics{{"frames", m.frames},
+                     {"has_truth", m.has_truth},
+                     {"reached_goal", m.reached_goal},
+                     {"goal_distance_m", m.goal_distance_m},
+                     {"lateral_rms_m", m.estimate.lateral_rms_m},
+                     {"along_max_m", m.estimate.along_max_m},
+                     {"heading_rms_deg", m.estimate.heading_rms_deg},
+                     {"left_path_frames", m.left_path_frames},
+                     {"vision_failures", m.vision_failures},
+                     {"replans", m.replans},
+                     {"consistency_frames", c.frames},
+                     {"within_2sigma_along", c.within_2sigma_along},
+                     {"within_2sigma_lateral", c.within_2sigma_lateral},
+                     {"within_2sigma_heading", c.within_2sigma_heading},
+                     {"nees_frames", c.nees_frames},
+                     {"nees_mean", c.nees_mean}};
+  const Json j{{"seed", r.seed},         {"junctions", r.junctions},   {"via", r.via},
+               {"surfaces", r.surfaces}, {"mission", r.mission.string()}, {"pipeline", r.pipeline},
+               {"route_m", r.route_m},   {"outcome", r.outcome},       {"error", r.error},
+               {"reached", r.reached},   {"stopped_early", r.stopped_early}, {"metrics", metrics},
+               {"run_json", r.run_json}, {"wall_s", r.wall_s}};
+  return j.dump();
+}
+
+SuiteRun suiteRunFromJson(std::string_view text) {
+  try {
+    const Json j = Json::parse(text);
+    const Json& m = j.at("metrics");
+    SuiteRun r;
+    r.seed = j.at("seed").get<std::uint64_t>();
+    r.junctions = j.at("junctions").get<std::string>();
+    r.via = j.at("via").get<bool>();
+    r.surfaces = j.at("surfaces").get<std::string>();
+    r.mission = j.at("mission").get<std::string>();
+    r.pipeline = j.at("pipeline").get<std::string>();
+    r.route_m = j.at("route_m").get<double>();
+    r.outcome = j.at("outcome").get<std::string>();
+    r.error = j.at("error").get<bool>();
+    r.reached = j.at("reached").get<bool>();
+    r.stopped_early = j.at("stopped_early").get<bool>();
+    r.run_json = j.at("run_json").get<std::string>();
+    r.wall_s = j.at("wall_s").get<double>();
+    MissionMetrics& out = r.metrics;
+    out.frames = m.at("frames").get<std::size_t>();
+    out.has_truth = m.at("has_truth").get<bool>();
+    out.reached_goal = m.at("reached_goal").get<bool>();
+    out.goal_distance_m = m.at("goal_distance_m").get<double>();
+    out.estimate.lateral_rms_m = m.at("lateral_rms_m").get<double>();
+    out.estimate.along_max_m = m.at("along_max_m").get<double>();
+    out.estimate.heading_rms_deg = m.at("heading_rms_deg").get<double>();
+    out.left_path_frames = m.at("left_path_frames").get<std::size_t>();
+    out.vision_failures = m.at("vision_failures").get<std::size_t>();
+    out.replans = m.at("replans").get<std::size_t>();
+    FilterConsistency& c = out.consistency;
+    c.frames = m.at("consistency_frames").get<std::size_t>();
+    c.within_2sigma_along = m.at("within_2sigma_along").get<double>();
+    c.within_2sigma_lateral = m.at("within_2sigma_lateral").get<double>();
+    c.within_2sigma_heading = m.at("within_2sigma_heading").get<double>();
+    c.nees_frames = m.at("nees_frames").get<std::size_t>();
+    c.nees_mean = m.at("nees_mean").get<double>();
+    return r;
+  } catch (const Json::exception& e) {
+    const std::string head(text.substr(0, 60));
+    throw InvalidInput("not a suite run record (" + std::string(e.what()) + "): '" + head +
+                       (text.size() > 60 ? "...'" : "'"));
+  }
+}
+
 SuiteSummary summarizeSuite(const std::vector<SuiteRun>& runs) {
   SuiteSummary s;
   s.runs = runs.size();

@@ -58,6 +58,7 @@ void bindMap(py::module_& m);
 void bindPredict(py::module_& m);
 void bindVision(py::module_& m);
 void bindMission(py::module_& m);
+void bindSuite(py::module_& m);
 void bindEval(py::module_& m);
 
 }  // namespace mapnav::python

@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <optional>
+#include <tuple>
 
 #include "convert.h"
 #include "mapnav/logs/replay_log.h"
 #include "mapnav/mission/mission_file.h"
+#include "mapnav/mission/modules.h"
 #include "mapnav/mission/runner.h"
 #include "mapnav/mission_sim/closed_loop.h"
 
@@ -83,10 +85,11 @@ void bindReplayLog(py::module_& m) {
 }
 
 RunOptions runOptions(const std::optional<std::string>& pipeline, const py::object& options, std::size_t max_frames,
-                      const std::optional<std::string>& trace) {
+                      const std::optional<std::string>& trace, const py::object& map_options) {
   RunOptions run;
   run.pipeline = pipeline.value_or("");
   if (!options.is_none()) run.pipeline_options_json = optionsText(options);
+  if (!map_options.is_none()) run.map = mapModuleOptionTable().parse(optionsText(map_options), {}, "map_options");
   run.max_frames = max_frames;
   run.trace = trace.value_or("");
   return run;
@@ -96,8 +99,9 @@ void bindRuns(py::module_& m) {
   m.def(
       "replay",
       [](const std::string& mission, const std::string& log, const std::optional<std::string>& pipeline,
-         const py::object& options, std::size_t max_frames, const std::optional<std::string>& trace, bool strict) {
-        RunOptions run = runOptions(pipeline, options, max_frames, trace);
+         const py::object& options, std::size_t max_frames, const std::optional<std::string>& trace, bool strict,
+         const py::object& map_options) {
+        RunOptions run = runOptions(pipeline, options, max_frames, trace, map_options);
         run.strict = strict;
         const MissionFile file = loadMission(mission);
         std::string json;
@@ -109,12 +113,30 @@ void bindRuns(py::module_& m) {
       },
       py::arg("mission"), py::arg("log"), py::arg("pipeline") = py::none(), py::arg("options") = py::none(),
       py::arg("max_frames") = 0, py::arg("trace") = py::none(), py::arg("strict") = false,
-      "A mission in open loop over a replay log: the metrics dict of `mapnav replay --json`.");
+      py::arg("map_options") = py::none(),
+      "A mission in open loop over a replay log: the metrics dict of `mapnav replay --json`. map_options: the\n"
+      "Map module's options (dict or JSON text, `mapnav options MapModuleOptions`; as --map-options).");
+  // For mapnav.distributed: a replay as the bytes `mapnav replay --json` prints, its summary as
+  // `mapnav replay` prints it, and whether its exit code is 0 (the goal reached, or max_frames stopped it).
+  m.def(
+      "_replay_task",
+      [](const std::string& mission, const std::string& log, const std::optional<std::string>& pipeline,
+         const py::object& options, std::size_t max_frames, bool strict, const py::object& map_options) {
+        RunOptions run = runOptions(pipeline, options, max_frames, std::nullopt, map_options);
+        run.strict = strict;
+        const MissionFile file = loadMission(mission);
+        py::gil_scoped_release unlocked;
+        const MissionRun done = runReplay(file, log, run);
+        return std::make_tuple(runToJson(done), summaryText(done), done.metrics.reached_goal || done.stopped_early);
+      },
+      py::arg("mission"), py::arg("log"), py::arg("pipeline") = py::none(), py::arg("options") = py::none(),
+      py::arg("max_frames") = 0, py::arg("strict") = false, py::arg("map_options") = py::none());
   m.def(
       "run",
       [](const std::string& mission, const std::optional<std::uint64_t>& seed, const std::optional<std::string>& pipeline,
-         const py::object& options, std::size_t max_frames, const std::optional<std::string>& trace) {
-        RunOptions run = runOptions(pipeline, options, max_frames, trace);
+         const py::object& options, std::size_t max_frames, const std::optional<std::string>& trace,
+         const py::object& map_options) {
+        RunOptions run = runOptions(pipeline, options, max_frames, trace, map_options);
         run.seed = seed;
         const MissionFile file = loadMission(mission);
         std::string json;
@@ -125,7 +147,7 @@ void bindRuns(py::module_& m) {
         return fromJson(json);
       },
       py::arg("mission"), py::arg("seed") = py::none(), py::arg("pipeline") = py::none(), py::arg("options") = py::none(),
-      py::arg("max_frames") = 0, py::arg("trace") = py::none(),
+      py::arg("max_frames") = 0, py::arg("trace") = py::none(), py::arg("map_options") = py::none(),
       "A mission in closed loop in the simulator: the metrics dict of `mapnav run --json`.");
 }
 

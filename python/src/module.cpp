@@ -72,11 +72,13 @@ PYBIND11_MODULE(_mapnav, m) {
   using namespace mapnav::python;
   m.doc() = "mapnav: map-based navigation of small vehicles with one camera (docs/python.md).";
   m.attr("__version__") = MAPNAV_VERSION;
+  m.attr("_source_dir") = MAPNAV_SOURCE_DIR;  // the shipped maps when not installed (mapnav.distributed)
   mapnav::registerBuiltinPipelines();
   bindErrors(m);
   bindMap(m);
   bindPredict(m);
   bindVision(m);
   bindMission(m);
+  bindSuite(m);
   bindEval(m);
 }

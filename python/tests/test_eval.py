@@ -55,6 +55,14 @@ def test_a_pipeline_by_name_with_options_from_the_first_label(photos):
     assert figures["bootstrap"] == "labels-first-frame" and figures["pipeline"] == "color-rgb"
 
 
+def test_photos_resized_are_scored_as_the_clis_resize(photos):
+    figures = evaluate(photos, "color-rgb", resize=(240, 180))
+    assert figures == cli_json(*eval_args(photos, "--pipeline", "color-rgb", "--resize", "240x180", "--json"))
+    assert figures != evaluate(photos, "color-rgb")
+    with pytest.raises(mapnav.InvalidInput, match="resize_height"):
+        evaluate(photos, "color-rgb", resize=(240, 0))
+
+
 def test_a_birds_eye_grid_and_its_overlays_are_the_clis(photos, tmp_path):
     camera = tmp_path / "camera.json"
     camera.write_text(json.dumps(CAMERA))

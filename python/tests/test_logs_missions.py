@@ -50,6 +50,18 @@ def test_replay_gives_the_clis_metrics(log_dir):
     assert metrics["frames"] == FRAMES and metrics["reached_goal"] is False
 
 
+def test_replay_takes_the_map_modules_options_as_the_cli_does(log_dir):
+    options = {"initial_sigma_m": 0.5, "initial_heading_sigma_deg": 5}
+    metrics = mapnav.replay(DIALOGUE, str(log_dir), map_options=options)
+    printed = json.loads(cli("replay", "--mission", DIALOGUE, "--log", log_dir, "--map-options", json.dumps(options),
+                             "--json", expect=1)[0])
+    assert without_timings(metrics) == without_timings(printed)
+    # A wider start changes what the filter says of itself (its NEES), so the options were used.
+    assert metrics["nees_mean"] != mapnav.replay(DIALOGUE, str(log_dir))["nees_mean"]
+    with pytest.raises(mapnav.InvalidInput, match="map_options.*initial_sigma_m"):
+        mapnav.replay(DIALOGUE, str(log_dir), map_options={"initial_sigma_m": -1})
+
+
 def test_run_gives_the_clis_metrics():
     metrics = mapnav.run(DIALOGUE, max_frames=4, seed=3)
     printed = cli_json("run", "--mission", DIALOGUE, "--max-frames", 4, "--seed", 3, "--json")

@@ -1,10 +1,13 @@
-// The suite of unseen maps (mission_sim/suite.h): its seed lists. The runs themselves are tested end to
-// end through the CLI (tests/apps/suite_cli_test.cpp).
+// The suite of unseen maps (mission_sim/suite.h): its seed lists and a run's record (what a run done
+// on another machine sends home). The runs themselves are tested end to end through the CLI
+// (tests/apps/suite_cli_test.cpp).
 #include "mapnav/mission_sim/suite.h"
 
 #include <gtest/gtest.h>
 
 #include "mapnav/core/error.h"
+#include "mapnav/testing/support.h"
+#include "mapnav/vision/pipelines.h"
 
 namespace mapnav {
 namespace {
@@ -31,6 +34,44 @@ TEST(SuiteSeeds, BadListsSayWhatIsWrong) {
   EXPECT_NE(message("1,"), "no error");
   EXPECT_NE(message("-3"), "no error");
   EXPECT_NE(message("1-2-3"), "no error");
+}
+
+// Two short runs and a run that threw, each sent through its record: the rows, the summary and the
+// suite's JSON (wall times included) are the same bytes as from the runs themselves.
+TEST(SuiteRunRecord, ARunThroughItsRecordPrintsTheSameRowsSummaryAndJson) {
+  registerBuiltinPipelines();
+  SuiteOptions options;
+  options.seeds = {3, 4};
+  options.max_frames = 3;
+  options.camera = testing::mapPath("cameras/terregator_pinhole.json");
+  options.folder = testing::freshTempDir();
+  std::vector<SuiteRun> runs;
+  for (const std::uint64_t seed : options.seeds) runs.push_back(runSuiteSeed(seed, options));
+  SuiteRun threw;
+  threw.seed = 9;
+  threw.junctions = "cross T";
+  threw.error = true;
+  threw.outcome = "error: the map has no road";
+  threw.wall_s = 0.1234567891;
+  runs.push_back(threw);
+  ASSERT_FALSE(runs[0].run_json.empty()) << runs[0].outcome;
+  ASSERT_GT(runs[0].metrics.frames, 0u);
+
+  std::vector<SuiteRun> sent;
+  for (const SuiteRun& r : runs) sent.push_back(suiteRunFromJson(suiteRunToJson(r)));
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    EXPECT_EQ(suiteRowText(sent[i], true), suiteRowText(runs[i], true)) << i;
+    EXPECT_EQ(sent[i].mission, runs[i].mission);
+    EXPECT_EQ(sent[i].route_m, runs[i].route_m);
+  }
+  EXPECT_EQ(suiteSummaryText(summarizeSuite(sent), true), suiteSummaryText(summarizeSuite(runs), true));
+  EXPECT_EQ(suiteJson(options, sent, summarizeSuite(sent), true), suiteJson(options, runs, summarizeSuite(runs), true));
+}
+
+TEST(SuiteRunRecord, ABrokenRecordSaysWhatIsWrong) {
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([] { suiteRunFromJson("{\"seed\": 3"); }, "not a suite run record"));
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([] { suiteRunFromJson(R"({"seed": 3})"); }, "metrics"));
+  EXPECT_TRUE(testing::throwsInvalidInputNaming([] { suiteRunFromJson(R"({"seed": "x", "metrics": {}})"); }, "'{\"seed\""));
 }
 
 }  // namespace

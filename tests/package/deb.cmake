@@ -13,6 +13,8 @@ if(NOT EXISTS "${deb}")
 endif()
 run(dpkg-deb --field "${deb}" Depends)
 expect("python3-numpy.*libc6 \\(>= [0-9.]+\\).*libopencv-core" "Depends")
+run(dpkg-deb --field "${deb}" Recommends)   # Dask for mapnav.distributed, not a dependency of the core
+expect("^python3-distributed\n$" "Recommends")
 
 set(root "${WORK_DIR}/root")
 run(dpkg -x "${deb}" "${root}")
@@ -21,6 +23,10 @@ expect("${VERSION}" "mapnav --version")
 run(${CMAKE_COMMAND} -E env "PYTHONPATH=${root}/usr/lib/python3/dist-packages" "${PYTHON}" -c
     "import mapnav\nprint(mapnav.__version__, mapnav.__file__, len(mapnav.Map.load('${root}/usr/share/mapnav/maps/cmu_campus.json').road_ids))")
 expect("^${VERSION} ${root}/usr/lib/python3/dist-packages/mapnav/__init__.py 25\n$" "import mapnav")
+# mapnav.distributed is in the package and finds the shipped camera beside it, not in the source tree.
+run(${CMAKE_COMMAND} -E env "PYTHONPATH=${root}/usr/lib/python3/dist-packages" "${PYTHON}" -c
+    "from mapnav import distributed\nprint(distributed._data_file('maps/cameras/terregator_pinhole.json'))")
+expect("^${root}/usr/share/mapnav/maps/cameras/terregator_pinhole.json\n$" "mapnav.distributed's data")
 
 set(PREFIX "${root}/usr")
 set(WORK_DIR "${WORK_DIR}/consumer")

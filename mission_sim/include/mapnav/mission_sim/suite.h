@@ -109,6 +109,14 @@ SuiteRun runSuiteSeed(std::uint64_t seed, const SuiteOptions& options);
 /// order of the seeds, on the calling thread, as soon as it and those before it are done.
 std::vector<SuiteRun> runSuite(const SuiteOptions& options, const std::function<void(const SuiteRun&)>& done = {});
 
+/// One run as a one-line JSON record holding every field that the rows, the summary and suiteJson
+/// read (numbers at full precision), and back: what a run done elsewhere sends home (the Python
+/// module's mapnav.distributed runs each seed as a task). suiteRunFromJson(suiteRunToJson(r)) gives
+/// the same rows, summary and suiteJson as r. suiteRunFromJson throws InvalidInput naming what is
+/// missing or wrong in `text`.
+std::string suiteRunToJson(const SuiteRun& run);
+SuiteRun suiteRunFromJson(std::string_view text);
+
 SuiteSummary summarizeSuite(const std::vector<SuiteRun>& runs);
 
 /// The table's header line and one run's row (with the wall time when `wall_time`).
