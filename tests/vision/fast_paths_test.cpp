@@ -1,7 +1,8 @@
 // The sidewalk pipeline's fast paths (for the mission loop's latency) against their reference
 // implementations: binary morphology against OpenCV's, the single-precision log-odds against the
-// double-precision one, the pixel-chain simplification against CGAL's, and the whole pipeline with
-// option "reference" on and off over a drive of rendered frames.
+// double-precision one, the pixel-chain simplification against CGAL's, the whole pipeline with
+// option "reference" on and off over a drive of rendered frames, and the edge tracker's oriented
+// operator against its first, per-sample-checked form.
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -15,6 +16,7 @@
 
 #include "../../vision/src/binary_morph.h"
 #include "../../vision/src/cluster_perceptron_internal.h"
+#include "../../vision/src/edge_tracker_internal.h"
 #include "eval_common.h"
 #include "mapnav/geometry/simplify.h"
 #include "mapnav/map/predict.h"
@@ -435,6 +437,62 @@ void expectParkFastPathEqualsReference(ParkSimd cap) {
   EXPECT_EQ(cases, 18);
   EXPECT_GE(found, 12);
   setParkSimdCap(ParkSimd::Avx512);
+}
+
+// Grey images with a step edge at a random angle and noise; windows centred anywhere from well inside
+// to half outside the image, at the tracker's sizes and the start search's, any polarity and gate:
+// the fast operator's match is the reference's bit for bit (NaN where the reference's is NaN).
+TEST(EdgeOperatorFastPath, SameMatchAsTheReferenceBitForBit) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::normal_distribution<double> noise(0, 4);
+  auto same = [](double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; };
+  int compared = 0, found = 0, clipped = 0;
+  for (int image_k = 0; image_k < 6; ++image_k) {
+    GreyImage g;
+    g.width = image_k % 2 == 0 ? 480 : 173;
+    g.height = image_k % 2 == 0 ? 360 : 97;
+    g.data.resize(static_cast<std::size_t>(g.width) * g.height);
+    const double a = unit(rng) * std::numbers::pi, c = unit(rng) * g.width;
+    for (int v = 0; v < g.height; ++v)
+      for (int u = 0; u < g.width; ++u)
+        g.data[static_cast<std::size_t>(v) * g.width + u] =
+            static_cast<float>((std::cos(a) * (u - c) + std::sin(a) * v > 0 ? 120 : 80) + noise(rng));
+    for (int trial = 0; trial < 60; ++trial) {
+      OrientedEdgeParams p;
+      p.along_px = 8 + static_cast<int>(unit(rng) * 60);
+      p.across_px = 8 + static_cast<int>(unit(rng) * 120);
+      p.step_half_width_px = 1 + static_cast<int>(unit(rng) * 6);
+      p.angle_step_deg = trial % 3 == 0 ? 2.0 : 1.0;
+      p.angle_search_deg = trial % 4 == 0 ? 0.0 : 10.0;
+      if (trial % 5 == 0) p.max_offset_px = 10;
+      Vec2 centre(-0.25 * g.width + 1.5 * g.width * unit(rng), -0.25 * g.height + 1.5 * g.height * unit(rng));
+      double dir = (unit(rng) - 0.5) * std::numbers::pi;
+      if (trial % 7 == 0) {  // upright windows at whole pixels: with an even size, samples at exact halves
+        centre = centre.array().round();
+        dir = 0;
+        p.angle_search_deg = 0;
+        p.across_px += p.across_px % 2;
+        p.along_px += p.along_px % 2;
+      }
+      const int polarity = trial % 3 - 1;
+      const EdgeMatch fast = orientedEdge(g, centre, Vec2(std::sin(dir), -std::cos(dir)), p, polarity);
+      const EdgeMatch ref = orientedEdgeReference(g, centre, Vec2(std::sin(dir), -std::cos(dir)), p, polarity);
+      ASSERT_EQ(fast.found, ref.found) << image_k << " " << trial;
+      EXPECT_TRUE(fast.point == ref.point && fast.direction == ref.direction) << image_k << " " << trial;
+      EXPECT_TRUE(same(fast.contrast, ref.contrast) && same(fast.correlation, ref.correlation) &&
+                  same(fast.width_px, ref.width_px))
+          << image_k << " " << trial;
+      ASSERT_EQ(fast.profile.size(), ref.profile.size());
+      for (std::size_t k = 0; k < ref.profile.size(); ++k) EXPECT_TRUE(same(fast.profile[k], ref.profile[k])) << k;
+      ++compared;
+      found += ref.found;
+      clipped += std::any_of(ref.profile.begin(), ref.profile.end(), [](double v) { return std::isnan(v); });
+    }
+  }
+  EXPECT_EQ(compared, 360);
+  EXPECT_GT(found, 100);   // edges found, so the scores and sub-pixel positions were compared ...
+  EXPECT_GT(clipped, 20);  // ... and windows over the image's border, where samples are checked
 }
 
 TEST(ParkFinderFastPath, SameCertaintiesSumsAndLineAsTheReferenceAtAnyWidthAndBlock) {

@@ -15,6 +15,11 @@ namespace mapnav {
 
 constexpr double kDeg = std::numbers::pi / 180.0;  ///< radians per degree
 
+/// orientedEdge as first written (every sample rounded by std::lround and bounds-checked): the
+/// reference its fast path must equal bit for bit (tests/vision/fast_paths_test.cpp).
+EdgeMatch orientedEdgeReference(const GreyImage& image, const Vec2& centre, const Vec2& direction,
+                                const OrientedEdgeParams& params, int polarity = 0);
+
 /// The median of v (the upper one of an even count); 0 when empty.
 double edgeMedian(std::vector<double> v);
 

@@ -50,8 +50,95 @@ GreyImage toGrey(const std::uint8_t* rgb, int width, int height, GreyBand band) 
   return g;
 }
 
-EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& direction,
-                       const OrientedEdgeParams& params, int polarity) {
+namespace {
+
+// The edge profile: column k (offset o = k − (W − 1) / 2 across, along n) is the mean of the L
+// nearest-pixel samples centre + o n + t d, t = j − (L − 1) / 2; NaN when fewer than L / 4 fall
+// inside the image. As written first: every sample rounded by std::lround and checked.
+void profileReference(const GreyImage& image, const Vec2& centre, const Vec2& d, const Vec2& n, int L,
+                      std::vector<double>& prof) {
+  const int W = static_cast<int>(prof.size());
+  for (int k = 0; k < W; ++k) {
+    const double o = k - (W - 1) / 2.0;
+    double sum = 0;
+    int count = 0;
+    for (int j = 0; j < L; ++j) {
+      const double t = j - (L - 1) / 2.0;
+      const Vec2 p = centre + o * n + t * d;
+      const long u = std::lround(p.x()), v = std::lround(p.y());
+      if (u < 0 || v < 0 || u >= image.width || v >= image.height) continue;
+      sum += image.at(static_cast<int>(u), static_cast<int>(v));
+      ++count;
+    }
+    prof[k] = count * 4 >= L ? sum / count : kNaN;
+  }
+}
+
+// std::lround(x), inline: the integer part by truncation and the exact remainder x − trunc(x).
+// NaN and |x| >= 2^63 give LONG_MIN, outside every image (as lround's unspecified value does).
+inline long roundHalfAway(double x) {
+  if (!(std::abs(x) < 9.2e18)) return std::numeric_limits<long>::min();
+  const long t = static_cast<long>(x);
+  const double f = x - static_cast<double>(t);
+  return t + (f >= 0.5) - (f <= -0.5);
+}
+
+// std::lround(x) for 0 <= x < 2^51, branch-free (the compiler vectorises it): x rounded to the
+// nearest integer with ties to even by the 1.5 · 2^52 trick, then a tie moved up (lround rounds
+// halves away from zero).
+inline int nearestInside(double x) {
+  constexpr double kShift = 6755399441055744.0;  // 1.5 · 2^52: x + kShift has no bits below 1
+  const double r = (x + kShift) - kShift;
+  return static_cast<int>(r) + static_cast<int>(x - r == 0.5);
+}
+
+// The same profile, the same sums of the same samples in the same order (the same bits): each
+// column's base centre + o n computed once (the reference evaluates (centre + o n) + t d too),
+// lround inlined, and, when the window's corners are a pixel inside the image (the samples are
+// affine in o and t, so then every one is inside), no per-sample bounds check and the rounding
+// of a column's samples vectorised.
+void profileFast(const GreyImage& image, const Vec2& centre, const Vec2& d, const Vec2& n, int L,
+                 std::vector<double>& prof) {
+  const int W = static_cast<int>(prof.size());
+  const double o0 = -(W - 1) / 2.0, t0 = -(L - 1) / 2.0;
+  bool inside = true;
+  for (const double o : {o0, -o0})
+    for (const double t : {t0, -t0}) {
+      const double x = centre.x() + o * n.x() + t * d.x(), y = centre.y() + o * n.y() + t * d.y();
+      inside = inside && x >= 1 && y >= 1 && x <= image.width - 2.0 && y <= image.height - 2.0;
+    }
+  const float* pixels = image.data.data();
+  const long width = image.width, height = image.height;
+  const int row = image.width;
+  thread_local std::vector<double> ts;
+  thread_local std::vector<int> index;  // an image has fewer than 2^31 pixels
+  ts.resize(L);
+  index.resize(L);
+  for (int j = 0; j < L; ++j) ts[j] = j - (L - 1) / 2.0;
+  for (int k = 0; k < W; ++k) {
+    const double o = k - (W - 1) / 2.0;
+    const double bx = centre.x() + o * n.x(), by = centre.y() + o * n.y();
+    double sum = 0;
+    int count = 0;
+    if (inside) {
+      for (int j = 0; j < L; ++j) index[j] = nearestInside(by + ts[j] * d.y()) * row + nearestInside(bx + ts[j] * d.x());
+      for (int j = 0; j < L; ++j) sum += pixels[index[j]];
+      count = L;
+    } else {
+      for (int j = 0; j < L; ++j) {
+        const double t = j - (L - 1) / 2.0;
+        const long u = roundHalfAway(bx + t * d.x()), v = roundHalfAway(by + t * d.y());
+        if (u < 0 || v < 0 || u >= width || v >= height) continue;
+        sum += pixels[v * width + u];
+        ++count;
+      }
+    }
+    prof[k] = count * 4 >= L ? sum / count : kNaN;
+  }
+}
+
+EdgeMatch orientedEdgeWith(bool reference, const GreyImage& image, const Vec2& centre, const Vec2& direction,
+                           const OrientedEdgeParams& params, int polarity) {
   EdgeMatch best;
   const int L = std::max(1, params.along_px), W = std::max(4, params.across_px);
   const int h = std::max(1, params.step_half_width_px);
@@ -63,21 +150,8 @@ EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& d
   for (int ai = -na; ai <= na; ++ai) {
     const Vec2 d = rotateVec(d0, ai * params.angle_step_deg * kDeg);
     const Vec2 n = across(d);
-    // The edge profile: the operator's columns (along d) summed over nearest pixels.
-    for (int k = 0; k < W; ++k) {
-      const double o = k - (W - 1) / 2.0;
-      double sum = 0;
-      int count = 0;
-      for (int j = 0; j < L; ++j) {
-        const double t = j - (L - 1) / 2.0;
-        const Vec2 p = centre + o * n + t * d;
-        const long u = std::lround(p.x()), v = std::lround(p.y());
-        if (u < 0 || v < 0 || u >= image.width || v >= image.height) continue;
-        sum += image.at(static_cast<int>(u), static_cast<int>(v));
-        ++count;
-      }
-      prof[k] = count * 4 >= L ? sum / count : kNaN;
-    }
+    if (reference) profileReference(image, centre, d, n, L, prof);
+    else profileFast(image, centre, d, n, L, prof);
     // Correlation with the ideal step at each position (step between k-1 and k).
     int kbest = -1;
     double sbest = -std::numeric_limits<double>::infinity();
@@ -131,6 +205,18 @@ EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& d
     best.profile = prof;
   }
   return best;
+}
+
+}  // namespace
+
+EdgeMatch orientedEdge(const GreyImage& image, const Vec2& centre, const Vec2& direction,
+                       const OrientedEdgeParams& params, int polarity) {
+  return orientedEdgeWith(false, image, centre, direction, params, polarity);
+}
+
+EdgeMatch orientedEdgeReference(const GreyImage& image, const Vec2& centre, const Vec2& direction,
+                                const OrientedEdgeParams& params, int polarity) {
+  return orientedEdgeWith(true, image, centre, direction, params, polarity);
 }
 
 }  // namespace mapnav
