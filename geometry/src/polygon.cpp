@@ -188,6 +188,70 @@ bool contains(const Polygon2& ring, const Vec2& p) {
   return CGAL::bounded_side_2(pts.begin(), pts.end(), toCgal(p), K()) != CGAL::ON_UNBOUNDED_SIDE;
 }
 
+namespace {
+
+// countContained for a simple ring by scanlines: the points grouped by their y, each row's edge
+// crossings computed once, and a point inside when an odd number of them lies to its right. Exact:
+// a point that may lie on the boundary — within `eps` of a crossing, of a vertex on its row or of a
+// horizontal edge on its row, the only places a boundary point can be — is decided by CGAL's exact
+// test instead, and elsewhere the parity does not depend on the crossings' last bits.
+std::size_t countContainedByRows(const Polygon2& ring, const std::vector<Point>& cgal_ring,
+                                 const std::vector<Vec2>& points) {
+  double scale = 1;
+  for (const Vec2& v : ring) scale = std::max({scale, std::abs(v.x()), std::abs(v.y())});
+  const double eps = 1e-9 * scale;
+  auto exact = [&](const Vec2& p) {
+    return CGAL::bounded_side_2(cgal_ring.begin(), cgal_ring.end(), toCgal(p), K()) != CGAL::ON_UNBOUNDED_SIDE;
+  };
+  std::size_t count = 0;
+  std::vector<std::size_t> order;  // the points with a finite y, by y; the others one by one
+  order.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (std::isfinite(points[i].y())) order.push_back(i);
+    else count += exact(points[i]);
+  }
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return points[a].y() < points[b].y(); });
+  std::vector<double> crossings, touches;  // touches: the vertices on the row
+  std::vector<std::pair<double, double>> flat;  // the row's horizontal edges, [lo, hi]
+  const std::size_t n = ring.size();
+  for (std::size_t first = 0; first < order.size();) {
+    const double y = points[order[first]].y();
+    std::size_t last = first;
+    while (last < order.size() && points[order[last]].y() == y) ++last;
+    crossings.clear();
+    touches.clear();
+    flat.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2 &a = ring[i], &b = ring[(i + 1) % n];
+      if (a.y() == y) touches.push_back(a.x());
+      if (a.y() == y && b.y() == y) flat.emplace_back(std::min(a.x(), b.x()), std::max(a.x(), b.x()));
+      else if ((a.y() > y) != (b.y() > y)) crossings.push_back(a.x() + (y - a.y()) * (b.x() - a.x()) / (b.y() - a.y()));
+    }
+    std::sort(crossings.begin(), crossings.end());
+    std::sort(touches.begin(), touches.end());
+    auto near = [&](const std::vector<double>& xs, double x) {
+      const auto it = std::lower_bound(xs.begin(), xs.end(), x - eps);
+      return it != xs.end() && *it <= x + eps;
+    };
+    for (std::size_t k = first; k < last; ++k) {
+      const Vec2& p = points[order[k]];
+      const double x = p.x();
+      bool unsure = !std::isfinite(x) || near(crossings, x) || near(touches, x);
+      for (const auto& [lo, hi] : flat) unsure = unsure || (x >= lo - eps && x <= hi + eps);
+      if (unsure) {
+        count += exact(p);
+      } else {
+        const auto right = crossings.end() - std::upper_bound(crossings.begin(), crossings.end(), x);
+        count += right % 2 == 1;
+      }
+    }
+    first = last;
+  }
+  return count;
+}
+
+}  // namespace
+
 std::size_t countContained(const Polygon2& ring, const std::vector<Vec2>& points) {
   std::size_t count = 0;
   if (ring.size() < 3) {
@@ -197,6 +261,10 @@ std::size_t countContained(const Polygon2& ring, const std::vector<Vec2>& points
   std::vector<Point> pts;
   pts.reserve(ring.size());
   for (const Vec2& v : ring) pts.push_back(toCgal(v));
+  // Many points: by rows, when the ring is simple (where bounded_side_2 is defined as inside/outside;
+  // its answer for a ring that crosses itself is kept as it was).
+  const bool finite = std::all_of(ring.begin(), ring.end(), [](const Vec2& v) { return v.allFinite(); });
+  if (points.size() >= 64 && finite && isSimple(ring)) return countContainedByRows(ring, pts, points);
   for (const Vec2& p : points)
     count += CGAL::bounded_side_2(pts.begin(), pts.end(), toCgal(p), K()) != CGAL::ON_UNBOUNDED_SIDE;
   return count;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <random>
 #include <set>
 #include <utility>
@@ -84,6 +86,63 @@ TEST(Polygon, CountContainedAgreesWithContains) {
   }
   // The 2 x 2 square holds the 9 x 9 lattice points of [0, 2]² at 0.25 spacing.
   EXPECT_EQ(countContained(kSquare, points), 81u);
+}
+
+// Many points (counted by rows): random simple rings — star-shaped ones with vertices on whole
+// numbers or anywhere, and staircases whose edges lie along the lattice's rows and columns — against
+// contains() point by point, over a whole-number lattice (points on edges and vertices) and random
+// points; also points that are NaN or infinite.
+TEST(Polygon, CountContainedByRowsAgreesWithContainsOnRandomRings) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<Polygon2> rings;
+  for (int k = 0; k < 40; ++k) {
+    const int n = 3 + static_cast<int>(unit(rng) * 40);
+    std::vector<double> angles(n);
+    for (double& a : angles) a = unit(rng) * 2 * std::numbers::pi;
+    std::sort(angles.begin(), angles.end());
+    Polygon2 ring;
+    for (const double a : angles) {
+      const double r = 3 + unit(rng) * 12;
+      Vec2 v(20 + r * std::cos(a), 20 + r * std::sin(a));
+      if (k % 2 == 0) v = v.array().round();
+      if (ring.empty() || v != ring.back()) ring.push_back(v);
+    }
+    if (ring.size() >= 3 && isSimple(ring)) rings.push_back(ring);
+  }
+  for (int k = 0; k < 10; ++k) {  // a staircase: right and up in whole steps, then back along the axes
+    Polygon2 ring{Vec2(5, 5)};
+    Vec2 at(5, 5);
+    for (int s = 0; s < 6; ++s) {
+      at.x() += 1 + static_cast<int>(unit(rng) * 4);
+      ring.push_back(at);
+      at.y() += 1 + static_cast<int>(unit(rng) * 4);
+      ring.push_back(at);
+    }
+    ring.push_back(Vec2(5, at.y()));
+    rings.push_back(ring);
+  }
+  ASSERT_GT(rings.size(), 30u);
+  std::vector<Vec2> points;
+  for (int u = 0; u <= 40; ++u)
+    for (int v = 0; v <= 40; ++v) points.emplace_back(u, v);
+  for (int i = 0; i < 400; ++i) points.emplace_back(40 * unit(rng), 40 * unit(rng));
+  for (int i = 0; i < 40; ++i) points.emplace_back(0.5 * static_cast<int>(80 * unit(rng)), 20);  // halves on one row
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  points.insert(points.end(), {Vec2(nan, 20), Vec2(20, nan), Vec2(inf, 20), Vec2(20, -inf)});
+  std::size_t boundary = 0;
+  for (const Polygon2& ring : rings) {
+    std::vector<Vec2> mine = points;
+    mine.insert(mine.end(), ring.begin(), ring.end());  // the vertices themselves
+    for (std::size_t i = 0; i < ring.size(); ++i) mine.push_back(0.5 * (ring[i] + ring[(i + 1) % ring.size()]));
+    std::size_t expected = 0;
+    for (const Vec2& p : mine) {
+      expected += contains(ring, p);
+      boundary += boundaryDistance(ring, p) == 0;
+    }
+    EXPECT_EQ(countContained(ring, mine), expected) << ring.size() << " vertices";
+  }
+  EXPECT_GT(boundary, 1000u);  // many points lay on the boundary, where the exact test decides
 }
 
 TEST(Polygon, BoundaryDistance) {
