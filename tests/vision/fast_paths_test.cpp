@@ -373,6 +373,54 @@ TEST(SidewalkFastPaths, AFrameThatWantsNoRegionGetsTheSameLinesWithoutTheOutline
   }
 }
 
+// The park finder's lookup table holds the reference's certainty for every colour: trained on a noisy
+// road frame in each feature space (RGB, log colour, normalised colour), then frames that hold the
+// colour cube (every red and green, every third blue) classified by both paths, pixel by pixel.
+TEST(ParkFinderLookupTable, EveryColourGetsTheReferencesCertaintyInEveryFeatureSpace) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 28);
+  const int w = 96, h = 64;
+  Image train(w, h, 3), outline(w, h, 1);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const bool road = std::abs(u - 0.5 * w) <= w * (0.1 + 0.3 * v / h);
+      const double c[3] = {road ? 125.0 : 70.0, road ? 122.0 : 125.0, road ? 130.0 : 50.0};
+      for (int b = 0; b < 3; ++b)
+        train.pixel(u, v)[b] = static_cast<std::uint8_t>(std::clamp(std::lround(c[b] + noise(rng)), 0L, 255L));
+      outline.pixel(u, v)[0] = road ? 255 : 0;
+    }
+  for (const int space : {0, 1, 2}) {
+    ClusterPerceptronOptions o;
+    o.clusters = 7;
+    o.log_color = space == 1;
+    o.normalized_color = space == 2;
+    ClusterPerceptron fast(o);
+    fast.trainClusters(train.data.data(), w, h);
+    fast.setRowWidths(trapezoidRowWidths(outline));
+    fast.trainPerceptron(train.data.data(), w, h, outline.data.data());
+    ClusterPerceptron reference = fast;
+    reference.setFast(false);
+    fast.setRowWidths(std::vector<double>(256, 100.0));
+    reference.setRowWidths(std::vector<double>(256, 100.0));
+    std::size_t road = 0, pixels = 0;
+    for (int blue = 0; blue < 256; blue += 3) {
+      Image cube(256, 256, 3);
+      for (int g = 0; g < 256; ++g)
+        for (int r = 0; r < 256; ++r) {
+          std::uint8_t* p = cube.pixel(r, g);
+          p[0] = static_cast<std::uint8_t>(r), p[1] = static_cast<std::uint8_t>(g), p[2] = static_cast<std::uint8_t>(blue);
+        }
+      const RoadFinding a = fast.find(cube.data.data(), 256, 256, true);
+      const RoadFinding b = reference.find(cube.data.data(), 256, 256, true);
+      ASSERT_EQ(a.certainty.data, b.certainty.data) << "space " << space << ", blue " << blue;
+      road += static_cast<std::size_t>(std::count(a.mask.data.begin(), a.mask.data.end(), 255));
+      pixels += a.mask.data.size();
+    }
+    EXPECT_GT(road, pixels / 50) << space;  // both classes in the cube: the comparison saw each
+    EXPECT_LT(road, pixels - pixels / 50) << space;
+  }
+}
+
 // The park finder's fast path (ClusterPerceptron: lookup table, and where the CPU has AVX2 or AVX-512
 // (VBMI, GFNI) with blocks a multiple of 8 pixels, one vector pass per row for the certainties, block
 // sums and road count) against the per-pixel reference, on noisy synthetic frames of widths that leave

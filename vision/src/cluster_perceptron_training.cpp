@@ -3,6 +3,7 @@
 // clusters), the perceptron over the clusters' code (or raw RGB) by LMS, and the colour lookup table
 // that collapses both for the fast runtime path. See cluster_perceptron.h.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +21,53 @@
 #include "mapnav/vision/cluster_perceptron.h"
 
 namespace mapnav {
+
+namespace {
+
+// For features that are channel by channel (RGB and log colour, not normalised colour): each 8-bit
+// value's feature per channel, and its squared float difference to each mean, so that a colour's
+// feature and nearest cluster are table lookups that give what ClusterPerceptron::feature() and
+// nearest() compute (the same float operations in the same order: the same cluster, ties the first).
+class ChannelTables {
+ public:
+  template <class Feature>
+  ChannelTables(const Feature& feature, const std::vector<Vec3>& means) : n_(static_cast<int>(means.size())) {
+    squares_.resize(3 * 256 * means.size());
+    for (int x = 0; x < 256; ++x) {
+      const Vec3 f = feature(x, x, x);
+      for (int c = 0; c < 3; ++c) {
+        value_[c][x] = f[c];
+        for (int k = 0; k < n_; ++k) {
+          const float d = static_cast<float>(f[c]) - static_cast<float>(means[k][c]);
+          squares_[(static_cast<std::size_t>(c) * 256 + x) * n_ + k] = d * d;
+        }
+      }
+    }
+  }
+  Vec3 feature(int r, int g, int b) const { return Vec3(value_[0][r], value_[1][g], value_[2][b]); }
+  int nearest(int r, int g, int b) const {
+    const std::size_t n = static_cast<std::size_t>(n_);
+    const float *sr = &squares_[static_cast<std::size_t>(r) * n], *sg = &squares_[(256 + static_cast<std::size_t>(g)) * n],
+                *sb = &squares_[(512 + static_cast<std::size_t>(b)) * n];
+    int best = 0;
+    float bd = std::numeric_limits<float>::max();
+    for (int k = 0; k < n_; ++k) {
+      const float d = sr[k] + sg[k] + sb[k];
+      if (d < bd) {
+        bd = d;
+        best = k;
+      }
+    }
+    return best;
+  }
+
+ private:
+  int n_;
+  std::array<std::array<double, 256>, 3> value_{};
+  std::vector<float> squares_;  // [channel][value][cluster]
+};
+
+}  // namespace
 
 Vec3 ClusterPerceptron::feature(double r, double g, double b) const {
   if (opt_.normalized_color) {
@@ -76,11 +124,13 @@ std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int wi
     std::fill(db.begin(), db.end(), 0.0);
     Vec3 err = Vec3::Zero();
     double total = 0;
+    std::optional<ChannelTables> tables;  // this pass's means, where the feature is channel by channel
+    if (!opt_.normalized_color) tables.emplace([this](double r, double g, double b) { return feature(r, g, b); }, means_);
     for (int v = 0; v < height; v += st)
       for (int u = 0; u < width; u += st) {
         const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
-        const Vec3 f = feature(p[0], p[1], p[2]);
-        const int k = nearest(f);
+        const Vec3 f = tables ? tables->feature(p[0], p[1], p[2]) : feature(p[0], p[1], p[2]);
+        const int k = tables ? tables->nearest(p[0], p[1], p[2]) : nearest(f);
         const double er = f.x() - means_[k].x(), eg = f.y() - means_[k].y(), eb = f.z() - means_[k].z();
         cnt[k] += 1;
         dr[k] += er;
@@ -392,7 +442,8 @@ void ClusterPerceptron::buildLut() {
   // all and still equals the reference path colour by colour. `uniform` is the proof for one
   // perceptron: the certainty, or nothing.
   std::function<std::optional<std::uint8_t>(int, int, int)> uniform;
-  std::function<std::uint8_t(int, int, int)> exact;
+  // `exact` appends the certainties of cell (r, g, b)'s 512 colours to `out`, blue fastest.
+  std::function<void(int, int, int, std::vector<std::uint8_t>&)> exact;
   std::vector<std::uint8_t> cert, near;
   auto corner = [](int i) { return i % 2 == 0 ? (i / 2) * 8 : (i / 2) * 8 + 7; };  // 8q and 8q + 7
   if (opt_.raw_rgb) {
@@ -413,7 +464,10 @@ void ClusterPerceptron::buildLut() {
       if (c == certaintyOf(std::tanh(hi + 1e-9))) return c;
       return std::nullopt;
     };
-    exact = [&](int r, int g, int b) { return certaintyOf(std::tanh(netRgb(weights_, feature(r, g, b)))); };
+    exact = [&](int r, int g, int b, std::vector<std::uint8_t>& out) {
+      for (int i = 0; i < 512; ++i)
+        out.push_back(certaintyOf(std::tanh(netRgb(weights_, feature(8 * r + (i >> 6), 8 * g + ((i >> 3) & 7), 8 * b + (i & 7))))));
+    };
   } else {
     // A cell whose 8 corners share their nearest cluster lies wholly in that cluster's (convex)
     // Voronoi cell. In normalised colour f = 255 C / (R + G + B), "nearer mean k than mean j" is
@@ -423,12 +477,17 @@ void ClusterPerceptron::buildLut() {
     const int n = static_cast<int>(means_.size());
     cert.resize(n);
     for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
+    // The nearest cluster of a colour, as nearest() finds it: by ChannelTables where the feature is
+    // channel by channel.
+    std::optional<ChannelTables> tables;
+    if (!opt_.normalized_color) tables.emplace([this](double r, double g, double b) { return feature(r, g, b); }, means_);
+    const auto nearestColour = [&](int r, int g, int b) { return tables ? tables->nearest(r, g, b) : nearest(r, g, b); };
     // Nearest cluster of every lattice corner (33 values per band: 8q and 8q + 7 for q < 32).
     near.resize(64 * 64 * 64);
     for (int a = 0; a < 64; ++a)
       for (int b = 0; b < 64; ++b)
         for (int c = 0; c < 64; ++c)
-          near[(a * 64 + b) * 64 + c] = static_cast<std::uint8_t>(nearest(corner(a), corner(b), corner(c)));
+          near[(a * 64 + b) * 64 + c] = static_cast<std::uint8_t>(nearestColour(corner(a), corner(b), corner(c)));
     // (`uniform` and `exact` outlive this block: they use only what the function's scope holds.)
     uniform = [&, n](int r, int g, int b) -> std::optional<std::uint8_t> {
       const int k0 = near[((2 * r) * 64 + 2 * g) * 64 + 2 * b];
@@ -458,7 +517,9 @@ void ClusterPerceptron::buildLut() {
       }
       return c;
     };
-    exact = [&](int r, int g, int b) { return cert[nearest(r, g, b)]; };
+    exact = [&, nearestColour](int r, int g, int b, std::vector<std::uint8_t>& out) {
+      for (int i = 0; i < 512; ++i) out.push_back(cert[nearestColour(8 * r + (i >> 6), 8 * g + ((i >> 3) & 7), 8 * b + (i & 7))]);
+    };
   }
   lut_.assign(32 * 32 * 32 + 3, 0);  // 3 bytes beyond the last cell: the runtime reads 4 from a cell
   sub_offset_.assign(32 * 32 * 32, 0);
@@ -473,7 +534,7 @@ void ClusterPerceptron::buildLut() {
     }
     lut_[cell] = kAmbiguous;
     sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
-    for (int i = 0; i < 512; ++i) sub_.push_back(exact(8 * r + (i >> 6), 8 * g + ((i >> 3) & 7), 8 * b + (i & 7)));
+    exact(r, g, b, sub_);
   }
   sub_.resize(sub_.size() + 3, 0);  // 3 bytes beyond the last colour: the AVX-512 runtime reads 4 from one
 }
