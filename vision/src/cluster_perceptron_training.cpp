@@ -445,6 +445,7 @@ void ClusterPerceptron::buildLut() {
   // `exact` appends the certainties of cell (r, g, b)'s 512 colours to `out`, blue fastest.
   std::function<void(int, int, int, std::vector<std::uint8_t>&)> exact;
   std::vector<std::uint8_t> cert, near;
+  std::optional<ChannelTables> tables;  // nearestColour's, below: `exact` uses it after that block
   auto corner = [](int i) { return i % 2 == 0 ? (i / 2) * 8 : (i / 2) * 8 + 7; };  // 8q and 8q + 7
   if (opt_.raw_rgb) {
     // The net input is linear in the colour: over a cell it lies between its values at the corners,
@@ -479,7 +480,6 @@ void ClusterPerceptron::buildLut() {
     for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
     // The nearest cluster of a colour, as nearest() finds it: by ChannelTables where the feature is
     // channel by channel.
-    std::optional<ChannelTables> tables;
     if (!opt_.normalized_color) tables.emplace([this](double r, double g, double b) { return feature(r, g, b); }, means_);
     const auto nearestColour = [&](int r, int g, int b) { return tables ? tables->nearest(r, g, b) : nearest(r, g, b); };
     // Nearest cluster of every lattice corner (33 values per band: 8q and 8q + 7 for q < 32).
