@@ -14,22 +14,18 @@ Prints one JSON object. Speed is measured here, never asserted in a test.
 """
 import argparse
 import json
-import logging
 import os
 import platform
 import subprocess
 import sys
 import time
 
-from distributed import Client, LocalCluster
-
 from mapnav import distributed
 
 
 def cluster(workers):
-    c = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                     silence_logs=logging.ERROR)
-    return c, Client(c)
+    client, c = distributed._local_client(workers)  # the LocalCluster the module starts itself
+    return c, client
 
 
 def suite_wall(workers, seeds, max_frames):

@@ -519,35 +519,35 @@ def _dispatch(args) -> Gathered:
         raise _mapnav.InvalidInput(f"--retries {args.retries}: expected 0 or more")
     if args.workers is not None and args.workers < 1:
         raise _mapnav.InvalidInput(f"--workers {args.workers}: expected 1 or more")
+    # Each command's flags are read first (bad input is told before any connection), then it runs on
+    # the scheduler's client, which is closed after, or on a LocalCluster of its own (client None).
     if args.command == "suite":
-        seeds = _seed_list(args.seeds)  # before any cluster starts
+        seeds = _seed_list(args.seeds)
         options = {k: v for k, v in (("junctions", args.junctions), ("map_error_m", args.map_error_m),
                                      ("max_frames", args.max_frames)) if v is not None}
         map_options = _json_flag("--map-options", args.map_options)
-        client = _connect(args)
-        try:
+
+        def run(client):
             return run_suite(seeds, client, map_options=map_options, wall_time=not args.no_wall_time,
                              json=args.json, **common, **options)
-        finally:
-            if client is not None:
-                client.close()
-    if args.command == "replay":
+    elif args.command == "replay":
         options, map_options = _json_flag("--options", args.options), _json_flag("--map-options", args.map_options)
-        client = _connect(args)
-        try:
+
+        def run(client):
             return replay_logs(args.mission, args.logs, client, pipeline=args.pipeline, options=options,
                                map_options=map_options, use_gnss=args.use_gnss, max_frames=args.max_frames,
                                strict=args.strict, json=args.json, **common)
-        finally:
-            if client is not None:
-                client.close()
-    options = _json_flag("--options", args.options)
-    settings = {"road_values": _numbers("--road-values", args.road_values),
-                "ignore_values": _numbers("--ignore-values", args.ignore_values), "bootstrap": args.bootstrap,
-                "resize": _size(args.resize) if args.resize else None}
+    else:
+        options = _json_flag("--options", args.options)
+        settings = {"road_values": _numbers("--road-values", args.road_values),
+                    "ignore_values": _numbers("--ignore-values", args.ignore_values), "bootstrap": args.bootstrap,
+                    "resize": _size(args.resize) if args.resize else None}
+
+        def run(client):
+            return evaluate(args.pipeline, args.folders, client, options=options, **settings, **common)
     client = _connect(args)
     try:
-        return evaluate(args.pipeline, args.folders, client, options=options, **settings, **common)
+        return run(client)
     finally:
         if client is not None:
             client.close()
