@@ -191,9 +191,16 @@ std::string optionsSchemaDocument() {
   doc["$defs"]["VisionPipelineOptions"] = visionPipelineSchema();
   // A mission's `world`: WorldOptions and the map error the world is drawn with.
   OrderedJson world = doc["$defs"]["WorldOptions"];
-  world["title"] = "a mission's world: WorldOptions, its map_error (MapErrorOptions) and the vehicle's GNSS receiver (GnssReceiverOptions)";
+  world["title"] =
+      "a mission's world: WorldOptions, the map it is drawn from, its map_error (MapErrorOptions) and the vehicle's GNSS "
+      "receiver (GnssReceiverOptions)";
   world["properties"]["map_error"] = {{"$ref", "#/$defs/MapErrorOptions"}};
   world["properties"]["gnss"] = {{"$ref", "#/$defs/GnssReceiverOptions"}};
+  world["properties"]["map"] = {
+      {"type", "string"},
+      {"description",
+       "the map file the world is drawn from instead of the mission's map (relative to the mission file; its roads "
+       "and intersections carry the mission map's ids): a map that is wrong somewhere"}};
   doc["$defs"]["MissionWorld"] = world;
   return doc.dump();
 }

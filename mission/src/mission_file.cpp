@@ -18,6 +18,22 @@ const OptionTable<MissionFile>& missionFileOptionTable() {
   return table;
 }
 
+namespace {
+
+// `file` resolved against `folder`; an issue at `pointer` when no file is there.
+std::filesystem::path existingFile(const std::string& file, const std::filesystem::path& folder,
+                                   const std::string& pointer, Issues& issues) {
+  std::filesystem::path target = folder / file;
+  std::error_code ec;  // a name the file system refuses (too long) is a missing file, not a throw
+  if (!std::filesystem::is_regular_file(target, ec)) {
+    addIssue(issues, Severity::Error, "mission.missing_file", pointer,
+             "\"" + file + "\" (" + target.string() + ") does not exist" + (ec ? ": " + ec.message() : ""));
+  }
+  return target;
+}
+
+}  // namespace
+
 std::optional<MissionFile> parseMission(std::string_view text, const std::filesystem::path& path, Issues& issues) {
   const std::size_t before = countSeverity(issues, Severity::Error);
   const auto json = parseJson(text, issues);
@@ -32,14 +48,7 @@ std::optional<MissionFile> parseMission(std::string_view text, const std::filesy
     m.name = top.string("name", false).value_or(path.stem().string());
     const std::filesystem::path folder = path.parent_path();
     for (const auto& [key, target] : {std::pair{"map", &m.map}, std::pair{"camera", &m.camera}}) {
-      if (const auto file = top.string(key)) {
-        *target = folder / *file;
-        std::error_code ec;  // a name the file system refuses (too long) is a missing file, not a throw
-        if (!std::filesystem::is_regular_file(*target, ec)) {
-          addIssue(issues, Severity::Error, "mission.missing_file", top.pointer(key),
-                   "\"" + *file + "\" (" + target->string() + ") does not exist" + (ec ? ": " + ec.message() : ""));
-        }
-      }
+      if (const auto file = top.string(key)) *target = existingFile(*file, folder, top.pointer(key), issues);
     }
     for (const auto& [key, target] : {std::pair{"start", &m.start}, std::pair{"goal", &m.goal}}) {
       if (const auto position = top.string(key)) {
@@ -69,14 +78,21 @@ std::optional<MissionFile> parseMission(std::string_view text, const std::filesy
     for (const OptionFieldSpec& field : missionFileOptionTable().fields())
       if (const Json* value = top.member(field.name, false)) numbers[field.name] = *value;
     m = missionFileOptionTable().read(numbers.dump(), m, "", issues);
-    // Blocks read by the modules that own them; here only their shape is checked.
+    // Blocks read by the modules that own them; here only their shape is checked, and the world's
+    // map file resolved (the renderer's options are the rest of the block).
     for (const auto& [key, target] : {std::pair{"world", &m.world_json}, std::pair{"odometry", &m.odometry_json}}) {
       if (const Json* block = top.member(key, false)) {
-        if (block->is_object()) {
-          *target = block->dump();
-        } else {
+        if (!block->is_object()) {
           addIssue(issues, Severity::Error, "schema.type", top.pointer(key), "expected an object");
+          continue;
         }
+        Json rest = *block;
+        if (target == &m.world_json) {
+          JsonObject world(*block, top.pointer(key), issues);
+          if (const auto file = world.string("map", false)) m.world_map = existingFile(*file, folder, world.pointer("map"), issues);
+          rest.erase("map");
+        }
+        *target = rest.dump();
       }
     }
     if (const Json* vision = top.member("vision", false)) {

@@ -22,9 +22,9 @@ MissionRun runClosedLoop(const MissionFile& mission, const RunOptions& options) 
   options.validate();
   const Map map = loadMap(mission.map);
   const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
-  const PlantOptions settings = detail::simulationSettings(mission, options.seed);
+  const PlantOptions settings = detail::simulationSettings(mission, map, options.seed);
   SimulatedPlant plant(map, *camera, settings);
-  const Map* world = settings.map_error.none() ? nullptr : &plant.worldMap();
+  const Map* world = settings.worldIsTheMap() ? nullptr : &plant.worldMap();
   return runClosedLoopOver(mission, map, *camera, options, [&](const MissionRun& run, const VehicleLimits& limits) {
     // The vehicle starts at the mission's start on the world's roads, turned as they are there.
     Pose2 start = run.start;

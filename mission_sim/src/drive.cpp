@@ -6,17 +6,23 @@
 #include "mapnav/core/error.h"
 #include "mapnav/core/interrupt.h"
 #include "mapnav/logs/odometry.h"
+#include "mapnav/map/map_io.h"
 #include "mapnav/sim/world_io.h"
 
 namespace mapnav::detail {
 
-PlantOptions simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed) {
+PlantOptions simulationSettings(const MissionFile& mission, const Map& map, const std::optional<std::uint64_t>& seed) {
   Issues issues;
   PlantOptions s{parseWorldOptions(mission.world_json, "/world", issues),
                  parseOdometryNoise(mission.odometry_json, "/odometry", issues),
                  parseMapErrorOptions(mission.world_json, "/world", issues),
-                 parseGnssOptions(mission.world_json, "/world", issues)};
+                 parseGnssOptions(mission.world_json, "/world", issues),
+                 nullptr};
   if (hasErrors(issues)) throw ValidationError(mission.file.empty() ? mission.name : mission.file.string(), std::move(issues));
+  if (!mission.world_map.empty()) {
+    s.world_map = std::make_shared<const Map>(loadMap(mission.world_map));
+    requireSameRoads(map, *s.world_map, mission.world_map.string());
+  }
   if (seed) {
     s.world.seed = *seed;
     s.odometry.seed = *seed + 1;

@@ -22,9 +22,10 @@ namespace mapnav::detail {
 
 /// The synthetic world (its map error and GNSS receiver too) and odometry noise of a mission's `world`
 /// and `odometry` objects, `seed` overriding the world's seed, the odometry's (seed + 1), the map
-/// error's (seed + 2) and the receiver's (seed + 3): same seed, same bytes. Throws ValidationError
-/// naming the mission and every bad field.
-PlantOptions simulationSettings(const MissionFile& mission, const std::optional<std::uint64_t>& seed);
+/// error's (seed + 2) and the receiver's (seed + 3): same seed, same bytes; the world's map loaded.
+/// Throws ValidationError naming the mission and every bad field, or the world's map when it is not
+/// valid or lacks a road of `map` (requireSameRoads).
+PlantOptions simulationSettings(const MissionFile& mission, const Map& map, const std::optional<std::uint64_t>& seed);
 
 /// The path the simulator's driver follows: the route with a gentle lateral wander (a sine of
 /// `amplitude` metres and a 25 m wavelength, faded in and out over the first and last 5 m).

@@ -36,9 +36,10 @@ SimulateResult simulate(const MissionFile& mission, const std::filesystem::path&
   options.validate();
   const Map map = loadMap(mission.map);
   const std::shared_ptr<const Camera> camera = loadCamera(mission.camera);
-  const PlantOptions settings = detail::simulationSettings(mission, options.seed);
-  // The world the vehicle drives in: the map, or the map perturbed (world.map_error); the driver
-  // follows the route on the world's roads, and the log's map stays the mission's.
+  const PlantOptions settings = detail::simulationSettings(mission, map, options.seed);
+  // The world the vehicle drives in: the map or the world's own (world.map), perturbed or not
+  // (world.map_error); the driver follows the route on the world's roads, and the log's map stays
+  // the mission's.
   SimulatedPlant plant(map, *camera, settings);
   const Map& world = plant.worldMap();
 

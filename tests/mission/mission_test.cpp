@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 #include <tuple>
+
+#include <nlohmann/json.hpp>
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/io.h"
@@ -175,6 +178,56 @@ TEST(LoadMission, TheLocalizationBlockTurnsTheGnssFixesOn) {
   expectOneIssueEach("localization", {{R"({"use_gnss": 1})", "schema.type", "/localization/use_gnss"},
                                       {R"({"gnss": true})", "schema.unknown_field", "/localization/gnss"},
                                       {R"(true)", "schema.type", "/localization"}});
+}
+
+TEST(LoadMission, TheWorldsMapIsAFileBesideTheMissionAndNotARendererOption) {
+  EXPECT_TRUE(mission("campus_dialogue.json").world_map.empty());  // the default: the mission's map
+  const fs::path dir = testing::freshTempDir();
+  writeFileAtomic(dir / "surveyed.json", std::string_view("{}"));
+  const MissionFile m = missionWith(dir, "world", R"({"map": "surveyed.json", "seed": 3})");
+  EXPECT_EQ(m.world_map, dir / "surveyed.json");
+  EXPECT_EQ(nlohmann::json::parse(m.world_json), nlohmann::json::parse(R"({"seed": 3})"));
+  expectOneIssueEach("world", {{R"({"map": "nowhere.json"})", "mission.missing_file", "/world/map"},
+                               {R"({"map": 3})", "schema.type", "/world/map"}});
+}
+
+// The world's map must have the mission map's roads by id between the same intersections: each
+// difference is an issue, the error names the world's map file, and no log is begun.
+TEST(Simulate, AWorldMapWithoutTheMapsRoadsIsAnErrorNamingItAndEveryDifference) {
+  const fs::path dir = testing::freshTempDir();
+  MissionFile m = mission("campus_dialogue.json");
+  nlohmann::json world = nlohmann::json::parse(readFile(m.map));
+  auto& roads = world["roads"];
+  roads.erase(std::remove_if(roads.begin(), roads.end(), [](const nlohmann::json& r) { return r["id"] == "R25"; }), roads.end());
+  auto& intersections = world["intersections"];
+  intersections.erase(std::remove_if(intersections.begin(), intersections.end(),
+                                     [](const nlohmann::json& i) { return i["id"] == "I17"; }),
+                      intersections.end());
+  world["landmarks"] = nlohmann::json::array();
+  for (auto& r : roads) {
+    if (r["id"] != "R4") continue;
+    std::swap(r["from"], r["to"]);
+    std::reverse(r["centerline"].begin(), r["centerline"].end());
+    std::swap(r["left"], r["right"]);
+  }
+  m.world_map = dir / "world.json";
+  writeFileAtomic(m.world_map, world.dump());
+  try {
+    simulate(m, dir / "log");
+    FAIL() << "simulated in a world without R25";
+  } catch (const ValidationError& e) {
+    EXPECT_EQ(e.file(), m.world_map.string());
+    std::vector<std::string> messages;
+    for (const Issue& issue : e.issues()) {
+      EXPECT_EQ(issue.check, "world.same_roads");
+      messages.push_back(issue.message);
+    }
+    ASSERT_EQ(messages.size(), 3u);
+    EXPECT_NE(messages[0].find("intersection \"I17\""), std::string::npos) << messages[0];
+    EXPECT_NE(messages[1].find("road \"R4\" runs I4 -> I2 in the world's map but I2 -> I4"), std::string::npos) << messages[1];
+    EXPECT_NE(messages[2].find("road \"R25\""), std::string::npos) << messages[2];
+  }
+  EXPECT_FALSE(fs::exists(dir / "log"));
 }
 
 TEST(Simulate, ABadWorldBlockOrAnExistingLogLeavesNothingBehind) {

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -443,6 +444,69 @@ TEST(RunnerIntegrity, ADisplacedEstimateIsFoundDepartedOnTheFrameOfTheJumpAndPut
   EXPECT_NE(summaryText(run).find("the estimate departed from odometry 1 times"), std::string::npos) << summaryText(run);
   const auto json = nlohmann::json::parse(runToJson(run));
   EXPECT_EQ(json["departures"], 1);
+}
+
+// The campus map with R4 drawn wrong: the world's R4 leaves I2 `degrees` right of the map's (turned
+// about I2, its landmarks with it; I4 and the first points of R5 and R6 moved to its new end),
+// written as a map file in `dir`.
+fs::path campusWithR4Turned(const fs::path& map_file, double degrees, const fs::path& dir) {
+  nlohmann::json map = nlohmann::json::parse(readFile(map_file));
+  const Vec2 i2(50, 80);
+  const double a = -degToRad(degrees);
+  const auto turned = [&](nlohmann::json& p) {
+    const Vec2 d = Vec2(p[0].get<double>(), p[1].get<double>()) - i2;
+    p = {i2.x() + std::cos(a) * d.x() - std::sin(a) * d.y(), i2.y() + std::sin(a) * d.x() + std::cos(a) * d.y()};
+  };
+  nlohmann::json end;
+  for (nlohmann::json& road : map["roads"]) {
+    if (road["id"] == "R4") {
+      for (nlohmann::json& p : road["centerline"]) turned(p);
+      end = road["centerline"].back();
+    }
+  }
+  for (nlohmann::json& road : map["roads"])
+    if (road["from"] == "I4") road["centerline"][0] = end;
+  for (nlohmann::json& i : map["intersections"])
+    if (i["id"] == "I4") i["position"] = end;
+  for (nlohmann::json& l : map["landmarks"])
+    if (l.value("road", "") == "R4") turned(l["position"]);
+  const fs::path out = dir / "campus_r4_turned.json";
+  writeFileAtomic(out, map.dump());
+  return out;
+}
+
+bool flagged(const FrameRecord& f) { return f.position_uncertain || f.departed || f.status == PositionStatus::Lost; }
+
+// A wrong map road: the world's R4 runs 8 degrees right of the road the map draws (0.4 m off 3 m
+// past I2, 1.4 m at the goal, 10 m on), and the map claims to be exact. The camera sees R4 from
+// the start, 10 m before I2: the lines of its edges disagree with the map's, and the Map module
+// says the position is uncertain before the vehicle gets there (in the run measured: from 6 m
+// before I2 until the filter has turned its heading onto the world's road) instead of steering on
+// in silence; the vehicle keeps to the world's road. With the world drawn from the map file itself
+// (world.map naming the mission's map) the same run flags nothing.
+TEST(RunnerIntegrity, AWrongMapRoadIsFlaggedBeforeTheVehicleDrivesOntoIt) {
+  registerBuiltinPipelines();
+  MissionFile mission = shortCrossing();
+  mission.world_map = mission.map;
+  const MissionRun exact = runClosedLoop(mission);
+  for (const FrameRecord& f : exact.frames) EXPECT_FALSE(flagged(f)) << "frame " << f.index;
+  EXPECT_TRUE(exact.metrics.reached_goal) << exact.outcome;
+
+  mission.world_map = campusWithR4Turned(mission.map, 8, testing::freshTempDir());
+  const MissionRun run = runClosedLoop(mission);
+  ASSERT_FALSE(run.frames.empty());
+  std::optional<std::size_t> on_r4, first_flag;
+  for (const FrameRecord& f : run.frames) {
+    ASSERT_TRUE(f.truth);
+    if (!on_r4 && f.truth->translation().y() > 80) on_r4 = f.index;
+    if (!first_flag && flagged(f)) first_flag = f.index;
+  }
+  ASSERT_TRUE(on_r4) << "the vehicle never passed I2";
+  ASSERT_TRUE(first_flag) << "no frame flagged on a road 8 degrees off its map";
+  EXPECT_LT(*first_flag, *on_r4) << "on R4 from frame " << *on_r4;
+  EXPECT_GE(run.metrics.uncertain_frames + run.metrics.lost_frames, 4u);
+  EXPECT_EQ(run.metrics.left_path_frames, 0u);
+  EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
 }
 
 // Recovery: mid-mission the estimate jumps 1.5 m ahead and 0.8 m right of the truth

@@ -36,7 +36,11 @@ struct MissionFile {
   double speed_mps = 0.6;        ///< cruise speed (the Terregator ran at 0.3–1 m/s)
   double frame_rate_hz = 2.0;    ///< camera frames per second
   double wander_m = 0.0;         ///< amplitude of a gentle lateral wander around the route, m
-  std::string world_json = "{}";     ///< the `world` block, for the renderer's options
+  std::string world_json = "{}";     ///< the `world` block but its `map`, for the renderer's options
+  /// The world's `map`, resolved against the mission file's folder: the simulator draws the world
+  /// from this map while the vehicle navigates by `map` (a map that is wrong somewhere: its roads
+  /// carry the same ids, sim/plant.h); empty (the default): the world is drawn from `map`.
+  std::filesystem::path world_map;
   /// `vision.pipeline`; "" when the mission has no `vision` (then the route's surfaces choose:
   /// mission/pipeline_choice.h).
   std::string vision_pipeline;

@@ -6,7 +6,9 @@
 #include "mapnav/geometry/camera.h"
 #include "mapnav/geometry/motion.h"
 #include "mapnav/geometry/pose2.h"
+#include <memory>
 #include <optional>
+#include <string>
 
 #include "mapnav/logs/gnss.h"
 #include "mapnav/logs/odometry.h"
@@ -24,17 +26,24 @@ struct PlantOptions {
   MapErrorOptions map_error;
   /// The vehicle's GNSS receiver (the world's `gnss`): a fix with every frame; none: no receiver.
   std::optional<GnssReceiverOptions> gnss;
+  /// The map the world is drawn from instead of the vehicle's (the world's `map`: a map that is
+  /// wrong somewhere); map_error then perturbs it. Null (the default): the vehicle's map.
+  std::shared_ptr<const Map> world_map;
+
+  /// The world is the vehicle's map itself: no other map, no perturbation.
+  bool worldIsTheMap() const { return !world_map && map_error.none(); }
 };
 
 class SimulatedPlant {
  public:
-  /// The world of `map` (copied: the map need not outlive the plant), perturbed by
-  /// options.map_error (map_error.h), seen through `camera` (its ray table built once). Throws
-  /// InvalidInput for invalid options, ValidationError when the perturbed map is invalid.
+  /// The world of `map` (copied: the map need not outlive the plant), or of options.world_map,
+  /// perturbed by options.map_error (map_error.h), seen through `camera` (its ray table built once).
+  /// Throws InvalidInput for invalid options, ValidationError when the perturbed map is invalid. A
+  /// world_map must have `map`'s roads and intersections (requireSameRoads).
   SimulatedPlant(const Map& map, const Camera& camera, const PlantOptions& options);
 
-  /// The map the world is drawn from: the plant's map perturbed (the map itself when
-  /// options.map_error.none()). Truth is judged against it: its roads are where the vehicle can drive.
+  /// The map the world is drawn from: the plant's map (or options.world_map) perturbed (the map
+  /// itself when options.worldIsTheMap()). Truth is judged against it: its roads are where the vehicle can drive.
   const Map& worldMap() const { return world_map_; }
 
   /// The camera frame at `pose` (world frame) at mission time `t` s, with its ground-truth mask.
@@ -53,5 +62,10 @@ class SimulatedPlant {
   OdometrySensor sensor_;
   std::optional<GnssReceiver> receiver_;
 };
+
+/// Throws ValidationError naming `world_source` unless `world` has every intersection and road of
+/// `map` by id, each road between the same intersections (road positions and the truth are read on
+/// the world's roads by their ids); every difference is an issue.
+void requireSameRoads(const Map& map, const Map& world, const std::string& world_source);
 
 }  // namespace mapnav
