@@ -120,6 +120,8 @@ void registerEvalCommands(CLI::App& app, Commands& commands) {
   es->add_option("--resize", text->resize,
                  "Score the photos resized to WxH pixels (e.g. 320x240: a small robot's camera): each photo averaged "
                  "down (or interpolated up), its labels by the nearest pixel; --camera must then be of that size");
+  es->add_flag("--grey", eval->options.grey,
+               "Score the photos as a grey camera gives them: luminance 0.299 R + 0.587 G + 0.114 B in every channel");
   es->add_flag("--json", eval->json, "Print the scores as JSON");
   es->footer("Exit codes: 0 scored, 1 invalid input (an image without its label, a label of another size, a corrupt PNG), "
              "2 usage or I/O error (a missing folder).");

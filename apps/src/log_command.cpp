@@ -263,6 +263,9 @@ void addLogImportKittiRaw(CLI::App& log, Commands& commands) {
   lr->add_option("--seed", raw->options.seed, "Seed of the odometry's degradation (the GNSS errors': seed + 1)")
       ->capture_default_str();
   lr->add_option("--name", raw->options.name, "The log's name (default: KITTI raw and the drive folder's name)");
+  lr->add_flag("--grey", raw->options.grey,
+               "The frames as a grey camera gives them: luminance 0.299 R + 0.587 G + 0.114 B in every channel (to "
+               "measure the pipelines on a grey camera with a colour camera's drive)");
   lr->footer("Exit codes: 0 written, 1 invalid input (a malformed OXTS packet, calibration entry or timestamp: the file "
              "and line are named and nothing is written), 2 usage or I/O error (a missing folder or file).");
   lr->callback(commands.choose([raw](std::ostream& out, std::ostream& err) { return runLogImportKittiRaw(*raw, out, err); }));

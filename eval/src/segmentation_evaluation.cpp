@@ -51,6 +51,7 @@ const OptionTable<SegmentationEvalOptions>& segmentationEvalOptionTable() {
           .field("resize_width", &O::resize_width, inRange(0, 8192),
                  "score the photos resized to this width, px (0: their own size)")
           .field("resize_height", &O::resize_height, inRange(0, 8192), "... and this height, px (0: their own size)")
+          .field("grey", &O::grey, "score the photos as a grey camera gives them (luminance in every channel)")
           .check("resize_height", [](const O& o) { return (o.resize_width > 0) == (o.resize_height > 0); },
                  "0 exactly when resize_width is 0 (a size needs both)")
           .check("bev", [](const O& o) { return !o.bev || !o.camera.empty(); },
@@ -171,6 +172,8 @@ SegmentationEvaluation evaluateSegmentation(VisionPipeline& pipeline, const fs::
       p.label = resized(p.label, size, ResizeKind::Labels);
     }
   }
+  if (options.grey)
+    for (LabelledPhoto& p : set) p.image = greyed(p.image);
   const std::unique_ptr<Camera> camera = photoCamera(options, set.front().image.width, set.front().image.height);
   const std::optional<BevSampling> bev = gridSampling(options, *camera);
   const PixelSamples* samples = bev ? &bev->samples : nullptr;

@@ -1,8 +1,13 @@
-// Image conversions that need no codec: grey to RGB, and the test for a grey frame given as RGB.
+// Image conversions that need no codec: grey to RGB, RGB to a grey camera's, and the test for a grey
+// frame given as RGB.
 #include "mapnav/image/image.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+#include <string>
+
+#include "mapnav/core/error.h"
 
 namespace mapnav {
 
@@ -22,6 +27,16 @@ Image toRgb(Image image) {
     rgb.data[3 * i] = rgb.data[3 * i + 1] = rgb.data[3 * i + 2] = v;
   }
   return rgb;
+}
+
+Image greyed(const Image& image) {
+  if (image.channels != 3) throw InvalidInput("greyed: expected a 3-channel photo, got " + std::to_string(image.channels) + " channels");
+  Image out = image;
+  for (std::size_t i = 0; i < out.data.size(); i += 3) {
+    const double y = 0.299 * image.data[i] + 0.587 * image.data[i + 1] + 0.114 * image.data[i + 2];
+    out.data[i] = out.data[i + 1] = out.data[i + 2] = static_cast<std::uint8_t>(std::lround(y));
+  }
+  return out;
 }
 
 ImageSize mostCommonSize(const std::vector<ImageSize>& sizes) {

@@ -187,6 +187,7 @@ const OptionTable<KittiRawImportOptions>& kittiRawImportOptionTable() {
                  "odometry: constant yaw-rate bias, deg/s")
           .field("seed", &O::seed, "odometry's noise")
           .field("name", &O::name, "the log's name (\"\": \"KITTI raw \" and the drive folder's name)")
+          .field("grey", &O::grey, "the frames as a grey camera gives them (luminance in every channel)")
           .check("camera", [](const O& o) {
             return o.camera.size() == 2 && o.camera[0] == '0' && o.camera[1] >= '0' && o.camera[1] <= '3';
           }, "00, 01, 02 or 03");
@@ -272,7 +273,7 @@ KittiRawImportResult importKittiRaw(const fs::path& drive, const fs::path& out, 
       ++result.gnss_fixes;
     }
     previous = truth;
-    writer.add(f, image);
+    writer.add(f, options.grey ? greyed(image) : image);
   }
   writeFileAtomic(writer.partialDir() / "camera.json", cameraToJson(*header.camera, header.name));
   writer.finish();

@@ -14,6 +14,7 @@
 #include "mapnav/eval/segmentation_evaluation.h"
 #include "mapnav/image/png.h"
 #include "mapnav/testing/support.h"
+#include "mapnav/vision/resize.h"
 
 namespace mapnav {
 namespace {
@@ -41,6 +42,12 @@ class GreyIsRoad : public VisionPipeline {
       if (p[0] == 128 && p[1] == 128 && p[2] == 128) mask.data[i] = 255, ++grey;
     }
     seen.push_back(grey);
+    bool all_grey = true;
+    for (std::size_t i = 0; i < mask.data.size(); ++i) {
+      const std::uint8_t* p = frame.rgb + 3 * i;
+      all_grey = all_grey && p[0] == p[1] && p[1] == p[2];
+    }
+    grey_frames += all_grey ? 1 : 0;
     if (grey == 0) return DetectedObject::failed("no road-coloured pixels");
     DetectedObject d;
     d.road_mask = mask;
@@ -50,6 +57,7 @@ class GreyIsRoad : public VisionPipeline {
   std::vector<int> seen;
   std::vector<std::size_t> regions_seen;
   std::vector<ImageSize> sizes_seen;
+  int grey_frames = 0;  ///< frames whose every pixel has R = G = B
 
  private:
   bool confidence_;
@@ -183,6 +191,26 @@ TEST(SegmentationEvaluation, PhotosAndLabelsAreScoredAtTheAskedSize) {
     EXPECT_STREQ(error.what(),
                  "SegmentationEvalOptions::resize_height = 0: must be 0 exactly when resize_width is 0 (a size needs both)");
   }
+}
+
+// grey: the pipeline sees every photo as a grey camera gives it (the hand-made photos' grass,
+// (40, 140, 40), becomes luminance 99 in every channel; the road's 128 grey stays), so the same
+// road pixels are found; without it, none of the coloured photos is grey.
+TEST(SegmentationEvaluation, GreyPhotosAreWhatAGreyCameraGives) {
+  const fs::path dir = handMadeSet();
+  GreyIsRoad colour(false), grey(false);
+  SegmentationEvalOptions options = rectangleBootstrap();
+  evaluateSegmentation(colour, dir / "images", dir / "labels", kClasses, options);
+  EXPECT_EQ(colour.grey_frames, 1);  // c.png: black
+  options.grey = true;
+  const SegmentationEvaluation e = evaluateSegmentation(grey, dir / "images", dir / "labels", kClasses, options);
+  EXPECT_EQ(grey.grey_frames, 3);
+  EXPECT_EQ(grey.seen, (std::vector<int>{48, 120, 0}));
+  ASSERT_EQ(e.photos.size(), 3u);
+  Image rgb(2, 1, 3);
+  rgb.data = {40, 140, 40, 10, 20, 30};
+  EXPECT_EQ(greyed(rgb).data, (std::vector<std::uint8_t>{99, 99, 99, 18, 18, 18}));  // 98.7, 18.15 rounded
+  EXPECT_THROW(greyed(Image(2, 1, 1)), InvalidInput);
 }
 
 // With the mask as its confidence (255 on its road, a failed photo 0 everywhere), every threshold

@@ -67,6 +67,24 @@ class KittiRawDrive : public ::testing::Test {
 fs::path* KittiRawDrive::dir_ = nullptr;
 KittiRawImportResult* KittiRawDrive::result_ = nullptr;
 
+// --grey: the same drive as a grey camera gives it, frame by frame the colour frames' luminance,
+// everything else as the colour import's.
+TEST_F(KittiRawDrive, AGreyImportIsTheColourFramesLuminance) {
+  KittiRawImportOptions grey;
+  grey.grey = true;
+  const fs::path dir = testing::freshTempDir() / "grey";
+  const KittiRawImportResult r = importKittiRaw(testing::realDataPath(kDrive), dir, grey);
+  EXPECT_EQ(r.frames, result_->frames);
+  const ReplayLog colour_log = ReplayLog::open(*dir_), grey_log = ReplayLog::open(dir);
+  ASSERT_EQ(grey_log.frames().size(), colour_log.frames().size());
+  for (std::size_t i : {std::size_t{0}, std::size_t{77}, std::size_t{143}}) {
+    const Image colour = toRgb(colour_log.image(i)), seen = toRgb(grey_log.image(i));
+    ASSERT_FALSE(isGreyFrame(colour.data.data(), colour.width, colour.height)) << "frame " << i;
+    EXPECT_TRUE(seen == greyed(colour)) << "frame " << i;
+    EXPECT_EQ(grey_log.frames()[i].truth->translation(), colour_log.frames()[i].truth->translation());
+  }
+}
+
 TEST_F(KittiRawDrive, FramesAndTruthAtTheOxtsFixesEastNorthOfTheFirst) {
   const ReplayLog log = ReplayLog::open(*dir_);
   ASSERT_EQ(log.frames().size(), 144u);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "eval_common.h"
 #include "mapnav/core/error.h"
@@ -14,12 +15,12 @@ namespace {
 
 using visiontest::pinhole;
 
-/// P(road) 0.9 on the left half of the frame's ground cells, 0.1 on the right half.
-class LeftHalf : public ScorePipeline {
+/// P(road) 0.9 on the ground cells of the columns [lo, hi) (fractions of the width), 0.1 elsewhere.
+class ColumnBand : public ScorePipeline {
  public:
-  LeftHalf() : ScorePipeline("left-half") {}
+  ColumnBand(double lo, double hi) : ScorePipeline("column-band"), lo_(lo), hi_(hi) {}
   void configure(const std::string& json) override {
-    options_ = scorePipelineOptionTable().parse(json, ScorePipelineOptions{}, "pipeline \"left-half\"");
+    options_ = scorePipelineOptionTable().parse(json, ScorePipelineOptions{}, "pipeline \"column-band\"");
   }
   int calls = 0;
 
@@ -30,13 +31,14 @@ class LeftHalf : public ScorePipeline {
     for (int v = 0; v < height; ++v)
       for (int u = 0; u < width; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * width + u;
-        if (ground[i] != 0) p[i] = u < width / 2 ? 0.9f : 0.1f;
+        if (ground[i] != 0) p[i] = u >= lo_ * width && u < hi_ * width ? 0.9f : 0.1f;
       }
     return p;
   }
   const ScorePipelineOptions& scoreOptions() const override { return options_; }
 
  private:
+  double lo_, hi_;
   ScorePipelineOptions options_;
 };
 
@@ -55,7 +57,7 @@ TEST(ScorePipeline, RegionIsWhereTheProbabilityExceedsTheThresholdAndTheConfiden
   const Camera& cam = pinhole();
   Image rgb(cam.width(), cam.height(), 3);
   std::fill(rgb.data.begin(), rgb.data.end(), 128);  // mid-grey: the frame checks pass
-  LeftHalf p;
+  ColumnBand p(0, 0.5);  // the left half
   p.configure("{}");
   VisionFrame frame{rgb.width, rgb.height, rgb.data.data(), &cam, 0.0};
   frame.want_masks = true;
@@ -88,16 +90,41 @@ TEST(ScorePipeline, NothingAboveTheThresholdFailsAsNoRoadRegion) {
   const Camera& cam = pinhole();
   Image rgb(cam.width(), cam.height(), 3);
   std::fill(rgb.data.begin(), rgb.data.end(), 128);  // mid-grey: the frame checks pass
-  LeftHalf p;
+  ColumnBand p(0, 0.5);  // the left half
   p.configure(R"({"threshold": 0.95})");
   const DetectedObject d = p.detect(VisionFrame{rgb.width, rgb.height, rgb.data.data(), &cam, 0.0}, roadAhead());
   EXPECT_EQ(d.status, DetectedObject::Status::Failed);
   EXPECT_NE(d.reason.find("no road-coloured region"), std::string::npos) << d.reason;
 }
 
+// The centre line of the region (centre_line, on by default): a band of the image's middle columns
+// symmetric about the principal point is, on the ground of a camera with no roll or yaw, a wedge
+// about the x axis: its centre line is the axis. The left half is cut by the image's side in every
+// row and gives none; with centre_line off neither does the band.
+TEST(ScorePipeline, TheRegionsCentreLineIsGivenUnlessTurnedOff) {
+  const Camera& cam = pinhole();
+  Image rgb(cam.width(), cam.height(), 3);
+  std::fill(rgb.data.begin(), rgb.data.end(), 128);
+  const VisionFrame frame{rgb.width, rgb.height, rgb.data.data(), &cam, 0.0};
+  ColumnBand band(0.375, 0.625);
+  band.configure("{}");
+  const DetectedObject d = band.detect(frame, roadAhead());
+  ASSERT_NE(d.status, DetectedObject::Status::Failed) << d.reason;
+  ASSERT_TRUE(d.centerline_vehicle);
+  const Segment2& c = *d.centerline_vehicle;
+  EXPECT_NEAR(std::atan2(c.vector().y(), c.vector().x()), 0.0, degToRad(0.5));
+  EXPECT_NEAR(c.a.y(), 0.0, 0.03);
+  EXPECT_GT(c.length(), 5.0);
+  ColumnBand left(0, 0.5);
+  left.configure("{}");
+  EXPECT_FALSE(left.detect(frame, roadAhead()).centerline_vehicle);
+  band.configure(R"({"centre_line": false})");
+  EXPECT_FALSE(band.detect(frame, roadAhead()).centerline_vehicle);
+}
+
 TEST(ScorePipeline, OptionsValidatedByName) {
   EXPECT_NO_THROW(ScorePipelineOptions{}.validate());
-  LeftHalf p;
+  ColumnBand p(0, 0.5);  // the left half
   try {
     p.configure(R"({"threshold": 1.5})");
     FAIL();

@@ -17,6 +17,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/strprintf.h"
+#include "mapnav/vision/centre_line.h"
 #include "mapnav/vision/cluster_perceptron.h"  // cluster-perceptron
 #include "mapnav/vision/color_classifier.h"
 #include "mapnav/vision/edge_tracker.h"  // edge-tracker
@@ -239,6 +240,7 @@ class BasePipeline : public VisionPipeline {
     cv::bitwise_and(view(region.mask), view(predicted), inter);
     const double i = cv::countNonZero(inter) * scale * scale;
     d.confidence = std::clamp(i / (area_px + predicted_px - i), 0.0, 1.0);
+    if (centreLine()) d.centerline_vehicle = regionCentreLine(region.mask, predicted, cam, scale);
     if (frame.want_masks) d.road_mask = cellsToPixels(region.mask, full_valid, scale);
     if (!cell_confidence_.empty()) d.road_confidence = cellsToPixels(cell_confidence_, full_valid, scale);
     return d;
@@ -283,6 +285,7 @@ class BasePipeline : public VisionPipeline {
 
   /// The options every region pipeline has (the subclass's struct).
   virtual const RegionPipelineOptions& common() const = 0;
+  virtual bool centreLine() const { return false; }  ///< the detection carries its region's centre line (regionCentreLine)
   /// Who configure()'s errors name: `pipeline "sidewalk"`.
   std::string who() const { return "pipeline \"" + name_ + "\""; }
 
@@ -634,6 +637,7 @@ class ScorePipeline::Impl : public BasePipeline {
     return threshold(p, frame.width, frame.height, valid, common().threshold, 0.5, frame.scale);
   }
   const ScorePipelineOptions& common() const override { return owner_.scoreOptions(); }
+  bool centreLine() const override { return owner_.scoreOptions().centre_line; }
 
  private:
   ScorePipeline& owner_;
@@ -660,16 +664,14 @@ void registerBuiltinPipelines() {
                       blueBandOptionTable().list(), [] { return std::make_unique<BlueBandPipeline>(); },
                       blueBandOptionTable().presets()});
     registerPipeline({"color-rgb",
-                      "Gaussian road/non-road classes in log RGB (3.4; a shadow moves a colour along the grey axis), one road class per surface in view, trained from "
-                      "the prediction, adaptive; region "
-                      "reproduction (2.2.1) and line labelling (2.2.2)",
+                      "Gaussian road/non-road classes in log RGB (3.4; a shadow moves a colour along the grey axis), one "
+                      "road class per surface in view, trained from the prediction, adaptive; region reproduction (2.2.1) and line labelling (2.2.2)",
                       colorPipelineOptionTable().list(),
                       [] { return std::make_unique<ClassifierPipeline>("color-rgb", ColorSpace::LogRGB); },
                       colorPipelineOptionTable().presets()});
     registerPipeline({"sidewalk",
-                      "The default: Gaussian classes in normalised colour rg (3.4.3, robust to shadows), one road "
-                      "class per surface in view, trained from the prediction, adaptive with a drift guard; region reproduction (2.2.1) and line "
-                      "labelling (2.2.2)",
+                      "The default: Gaussian classes in normalised colour rg (3.4.3, robust to shadows), one road class per "
+                      "surface in view, trained from the prediction, adaptive with a drift guard; region reproduction (2.2.1) and line labelling (2.2.2)",
                       colorPipelineOptionTable().list(),
                       [] { return std::make_unique<ClassifierPipeline>("sidewalk", ColorSpace::NormalizedRG); },
                       colorPipelineOptionTable().presets()});

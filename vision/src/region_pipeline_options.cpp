@@ -72,6 +72,8 @@ const OptionTable<ScorePipelineOptions>& scorePipelineOptionTable() {
       OptionTable<O>("ScorePipelineOptions")
           .field("threshold", &O::threshold, inRange(1e-6, 1 - 1e-6),
                  "road where the road probability, averaged over the (2 smooth_px + 1)^2 box, exceeds this")
+          .field("centre_line", &O::centre_line,
+                 "give the centre line of the road ahead, from the region's rows that show both its sides")
           .include(regionPipelineOptionTable());
   return table;
 }

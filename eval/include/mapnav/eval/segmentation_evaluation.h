@@ -46,6 +46,9 @@ struct SegmentationEvalOptions {
   /// defaults hold on a smaller or larger camera than the photos'.
   int resize_width = 0;
   int resize_height = 0;
+  /// Score the photos as a grey camera gives them (greyed(): luminance in every channel), after
+  /// any resize. Default false.
+  bool grey = false;
 
   /// segmentationEvalOptionTable()'s rules: throws InvalidInput naming the first bad field.
   void validate() const;

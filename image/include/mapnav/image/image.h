@@ -30,6 +30,10 @@ struct Image {
 /// An RGB copy of a grey image (each level copied to R, G and B); an RGB image as it is. The
 /// vision pipelines take RGB; logs and real sequences may hold grey frames.
 Image toRgb(Image image);
+/// An RGB photo as a grey camera gives it to the pipelines: its luminance 0.299 R + 0.587 G +
+/// 0.114 B, rounded, in every channel (`mapnav eval segmentation --grey`, `mapnav log
+/// import-kitti-raw --grey`). Throws InvalidInput for an image that does not have 3 channels.
+Image greyed(const Image& image);
 /// Whether every pixel of an RGB frame has R = G = B (a grey camera's frame given as RGB, as toRgb
 /// makes it).
 bool isGreyFrame(const std::uint8_t* rgb, int width, int height);

@@ -40,6 +40,9 @@ struct KittiRawImportOptions {
   double gyro_bias_deg_s = 0.0;     ///< odometry: constant yaw-rate bias, degrees per second
   std::uint64_t seed = 1;           ///< odometry's noise (with scale_error / gyro_bias only biases: no noise)
   std::string name;                 ///< the log's name; "" = "KITTI raw " and the drive folder's name
+  /// The frames as a grey camera gives them (greyed(): luminance in every channel), to measure the
+  /// pipelines on a grey camera with the colour camera's drive. Default false.
+  bool grey = false;
 
   /// Throws InvalidInput naming the field and its value.
   void validate() const;

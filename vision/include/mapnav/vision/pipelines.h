@@ -98,6 +98,9 @@ struct BlueBandOptions : RegionPipelineOptions {
 /// probability, smoothed over the (2 smooth_px + 1)² box, exceeds `threshold`.
 struct ScorePipelineOptions : RegionPipelineOptions {
   double threshold = 0.5;  ///< road where the smoothed road probability exceeds this, in (0, 1)
+  /// The centre line of the road ahead from the region (regionCentreLine, vision/centre_line.h), so
+  /// that the Map module can steer by it where no road edge is labelled. Default true.
+  bool centre_line = true;
 
   /// Throws InvalidInput "ScorePipelineOptions::FIELD = VALUE: must be ..." for a field out of its range.
   void validate() const;
