@@ -137,6 +137,16 @@ void registerTrainCommand(CLI::App& app, Commands& commands) {
   ts->add_option("--size", text->size, "The network's input size WxH, pixels (photos are resized to it)")->default_val("240x180");
   ts->add_option("--threads", config->options.threads, "CPU threads (the model is the same for the same count)")
       ->capture_default_str();
+  ts->add_option("--grey-fraction", config->options.grey_fraction,
+                 "Augmentation: the fraction of photos turned grey (0 = none)")->capture_default_str();
+  ts->add_option("--contrast", config->options.contrast, "Augmentation: the contrast scaled by 1 +- up to this (0 = none)")
+      ->capture_default_str();
+  ts->add_option("--blur-fraction", config->options.blur_fraction,
+                 "Augmentation: the fraction of photos blurred, 3 x 3 box (0 = none)")->capture_default_str();
+  ts->add_option("--noise-levels", config->options.noise_levels,
+                 "Augmentation: Gaussian noise of a sigma up to this, grey levels (0 = none)")->capture_default_str();
+  ts->add_option("--zoom", config->options.zoom, "Augmentation: zoomed by up to this half the time (1 = never)")
+      ->capture_default_str();
   ts->add_option("-o,--output", config->output, "Model file to write")->required();
   ts->add_flag("--json", config->json, "Print the result as JSON");
   ts->footer("Exit codes: 0 trained and written, 1 invalid input (an image without its label, a label of another "
@@ -158,7 +168,9 @@ void registerTrainCommand(CLI::App& app, Commands& commands) {
     if (!config->logs.empty()) cmd << " --log-stride " << config->log_stride;
     cmd << " --epochs "
         << config->options.epochs << " --seed " << config->options.seed << " --size " << text->size << " --threads "
-        << config->options.threads << " -o " << config->output;
+        << config->options.threads << " --grey-fraction " << config->options.grey_fraction << " --contrast "
+        << config->options.contrast << " --blur-fraction " << config->options.blur_fraction << " --noise-levels "
+        << config->options.noise_levels << " --zoom " << config->options.zoom << " -o " << config->output;
     config->command = cmd.str();
     return runTrainSegmentation(*config, out, err);
   }));

@@ -83,6 +83,74 @@ std::optional<double> iouOf(SegNet& net, const Tensors& t) {
   return tp / (tp + fp + fn);
 }
 
+// The distributions of the brightness gain and the tint, as every model before the other
+// augmentations was trained with (with those off, the same draws in the same order).
+struct Jitter {
+  std::uniform_real_distribution<double> gain{0.75, 1.25}, tint{0.94, 1.06}, unit{0, 1};
+};
+
+// Photo k of a batch (colours normalised: x = (level - mean) / spread) augmented in place, its label
+// and weight with it (SegmentationTrainOptions): grey, contrast, blur and noise (on the levels; each
+// drawn only when its option is on), the brightness gain and tint, zoom, flip, from `rng` (the noise
+// from `noise`) in that order.
+void augment(torch::Tensor& x, torch::Tensor& y, torch::Tensor& w, std::int64_t k, const std::vector<double>& mean,
+             const std::vector<double>& spread, const SegmentationTrainOptions& o, std::mt19937_64& rng,
+             at::Generator& noise, Jitter& jitter) {
+  const bool grey = o.grey_fraction > 0 && jitter.unit(rng) < o.grey_fraction;
+  const double contrast = o.contrast > 0 ? 1 + o.contrast * (2 * jitter.unit(rng) - 1) : 1;
+  const bool blur = o.blur_fraction > 0 && jitter.unit(rng) < o.blur_fraction;
+  const double sigma = o.noise_levels > 0 ? o.noise_levels * jitter.unit(rng) : 0;
+  if (grey || contrast != 1 || blur || sigma > 0) {
+    torch::Tensor levels = torch::empty({3, x.size(2), x.size(3)});
+    for (int c = 0; c < 3; ++c) {
+      const auto cu = static_cast<std::size_t>(c);
+      levels[c] = x[k][c] * spread[cu] + mean[cu];
+    }
+    if (grey) {
+      const torch::Tensor l = 0.299 * levels[0] + 0.587 * levels[1] + 0.114 * levels[2];
+      for (int c = 0; c < 3; ++c) levels[c] = l;
+    }
+    if (contrast != 1) levels = (levels - levels.mean()) * contrast + levels.mean();
+    if (blur) levels = torch::avg_pool2d(levels.unsqueeze(0), {3, 3}, {1, 1}, {1, 1}, false, false).squeeze(0);
+    if (sigma > 0) levels += sigma * torch::randn(levels.sizes(), noise);
+    for (int c = 0; c < 3; ++c) {
+      const auto cu = static_cast<std::size_t>(c);
+      x[k][c] = (levels[c] - mean[cu]) / spread[cu];
+    }
+  }
+  // A brightness gain and a slight tint per photo (on the levels: x' = x g + mean / spread (g - 1)).
+  const double g = jitter.gain(rng);
+  for (int c = 0; c < 3; ++c) {
+    const double gc = g * jitter.tint(rng);
+    const auto cu = static_cast<std::size_t>(c);
+    x[k][c].mul_(gc).add_(mean[cu] / spread[cu] * (gc - 1));
+  }
+  if (o.zoom > 1 && jitter.unit(rng) < 0.5) {
+    const double z = 1 + (o.zoom - 1) * jitter.unit(rng);
+    const std::int64_t h = x.size(2), wd = x.size(3);
+    const auto ch = static_cast<std::int64_t>(std::lround(static_cast<double>(h) / z));
+    const auto cw = static_cast<std::int64_t>(std::lround(static_cast<double>(wd) / z));
+    const auto y0 = static_cast<std::int64_t>(jitter.unit(rng) * static_cast<double>(h - ch));
+    const auto x0 = static_cast<std::int64_t>(jitter.unit(rng) * static_cast<double>(wd - cw));
+    const auto window = [&](const torch::Tensor& t, bool nearest) {
+      namespace F = torch::nn::functional;
+      const torch::Tensor cut = t.slice(1, y0, y0 + ch).slice(2, x0, x0 + cw).unsqueeze(0);
+      auto opts = F::InterpolateFuncOptions().size(std::vector<std::int64_t>{h, wd});
+      opts = nearest ? opts.mode(torch::kNearest) : opts.mode(torch::kBilinear).align_corners(false);
+      return F::interpolate(cut, opts).squeeze(0);
+    };
+    const torch::Tensor colours = window(x[k].slice(0, 0, 3), false), ground = window(x[k].slice(0, 3, 4), true);
+    x[k] = torch::cat({colours, ground}, 0);
+    y[k] = window(y[k], true);
+    w[k] = window(w[k], true);
+  }
+  if (rng() % 2 == 1) {
+    x[k] = x[k].flip({2});
+    y[k] = y[k].flip({2});
+    w[k] = w[k].flip({2});
+  }
+}
+
 }  // namespace
 
 SegmentationModel trainSegmentation(const std::vector<TrainingPhoto>& photos, const SegmentationTrainOptions& options,
@@ -116,7 +184,8 @@ SegmentationModel trainSegmentation(const std::vector<TrainingPhoto>& photos, co
   net.train();
   torch::optim::Adam adam(net.parameters(), torch::optim::AdamOptions(options.learning_rate));
   std::mt19937_64 rng(options.seed);
-  std::uniform_real_distribution<double> gain(0.75, 1.25), tint(0.94, 1.06);
+  at::Generator noise = at::detail::createCPUGenerator(options.seed + 1);
+  Jitter jitter;
   const auto n = static_cast<std::int64_t>(train.size());
   std::vector<std::int64_t> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
@@ -134,21 +203,7 @@ SegmentationModel trainSegmentation(const std::vector<TrainingPhoto>& photos, co
       const torch::Tensor idx = torch::tensor(std::vector<std::int64_t>(order.begin() + b0, order.begin() + b1));
       torch::Tensor x = tr.x.index_select(0, idx).clone(), y = tr.label.index_select(0, idx),
                     w = tr.weight.index_select(0, idx);
-      // Augmentation: a brightness gain and a slight tint per photo (on the levels: x' = x g + mean / spread (g - 1)),
-      // and a horizontal flip half the time.
-      for (std::int64_t k = 0; k < b1 - b0; ++k) {
-        const double g = gain(rng);
-        for (int c = 0; c < 3; ++c) {
-          const double gc = g * tint(rng);
-          const auto cu = static_cast<std::size_t>(c);
-          x[k][c].mul_(gc).add_(mean[cu] / spread[cu] * (gc - 1));
-        }
-        if (rng() % 2 == 1) {
-          x[k] = x[k].flip({2});
-          y[k] = y[k].flip({2});
-          w[k] = w[k].flip({2});
-        }
-      }
+      for (std::int64_t k = 0; k < b1 - b0; ++k) augment(x, y, w, k, mean, spread, options, rng, noise, jitter);
       const torch::Tensor logits = net.forward(x);
       const torch::Tensor loss =
           torch::binary_cross_entropy_with_logits(logits, y, w, {}, at::Reduction::Sum) / w.sum().clamp_min(1);

@@ -74,6 +74,18 @@ TEST(SegmentationTraining, DefaultsAreValidAndBadOptionsNamed) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("SegmentationTrainOptions::learning_rate"), std::string::npos) << e.what();
   }
+  for (const auto& [field, bad] : std::vector<std::pair<std::string, SegmentationTrainOptions>>{
+           {"grey_fraction", [] { SegmentationTrainOptions b; b.grey_fraction = 1.5; return b; }()},
+           {"contrast", [] { SegmentationTrainOptions b; b.contrast = 1; return b; }()},
+           {"noise_levels", [] { SegmentationTrainOptions b; b.noise_levels = -1; return b; }()},
+           {"zoom", [] { SegmentationTrainOptions b; b.zoom = 0.5; return b; }()}}) {
+    try {
+      bad.validate();
+      ADD_FAILURE() << field;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("SegmentationTrainOptions::" + field), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(SegmentationTraining, LossFallsAndValidationIouRisesOnEightPhotos) {
@@ -81,7 +93,10 @@ TEST(SegmentationTraining, LossFallsAndValidationIouRisesOnEightPhotos) {
   const std::vector<TrainingPhoto> photos = camvid("camvid_train", 0, 8);
   ASSERT_EQ(photos.size(), 8u);
   const std::vector<TrainingPhoto> held = {photos[3], photos[7]};  // every 4th: what the trainer holds apart
-  const SegmentationTrainOptions o = quick();
+  SegmentationTrainOptions o = quick();
+  // The optimiser alone: six epochs of six augmented photos teach next to nothing yet.
+  o.grey_fraction = o.contrast = o.blur_fraction = o.noise_levels = 0;
+  o.zoom = 1;
   const std::optional<double> before = segmentationIou(SegmentationModel(o.width, o.height, o.seed), held);
   std::vector<EpochReport> reports;
   const SegmentationModel model = trainSegmentation(photos, o, [&](const EpochReport& r) { reports.push_back(r); });
@@ -96,6 +111,7 @@ TEST(SegmentationTraining, LossFallsAndValidationIouRisesOnEightPhotos) {
   EXPECT_EQ(model.training().validation_images, 2);
 }
 
+// With the augmentation's defaults (grey, contrast, blur, noise, zoom drawn from the seed) too.
 TEST(SegmentationTraining, SameSeedSameBytesOtherSeedOtherBytes) {
   ASSERT_TRUE(realDataPresent("camvid_train"));
   const std::vector<TrainingPhoto> photos = camvid("camvid_train", 0, 4);
@@ -160,7 +176,7 @@ TEST(SegmentationModelFile, BadFilesNamedWithWhatIsWrong) {
 }
 
 /// The committed model's road IoU on camvid's first five photos, measured when it was trained.
-constexpr double kCamvidFirstFiveIou = 0.9594;
+constexpr double kCamvidFirstFiveIou = 0.9553;
 
 TEST(LearnedPipeline, CommittedModelKeepsItsFigureOnFiveCamvidPhotos) {
   ASSERT_TRUE(realDataPresent("camvid"));

@@ -32,6 +32,22 @@ struct SegmentationTrainOptions {
   /// photos); 0 = none.
   double validation_fraction = 0.1;
   int threads = 2;                 ///< Torch's CPU threads (the answer is deterministic for a given count)
+  /// Augmentation, per photo and epoch, seeded, on top of a flip half the time and a brightness
+  /// gain of 0.75-1.25 with a ±6 % tint per channel, so that the network learns the road from
+  /// what holds beyond its training photos: another camera's colours and contrast, a grey camera,
+  /// a blurred or noisy one, another focal length. Each in its order:
+  /// the fraction of photos turned grey (luminance 0.299 R + 0.587 G + 0.114 B in every channel).
+  /// 0.3: a grey camera's frames are common on small robots; the rest stay colour. In [0, 1].
+  double grey_fraction = 0.3;
+  /// The contrast about the photo's mean is scaled by 1 ± up to this. 0.3. In [0, 0.9].
+  double contrast = 0.3;
+  /// The fraction of photos blurred (3 × 3 box, an out-of-focus or smaller camera's). 0.3. In [0, 1].
+  double blur_fraction = 0.3;
+  /// Gaussian noise of a sigma drawn from [0, this] levels per photo. 6: a small sensor's. In [0, 64].
+  double noise_levels = 6;
+  /// The photo zoomed by up to this (a random window of 1 / zoom of its sides, resized back, labels
+  /// and ground with it: a longer lens) half the time; 1 = never. 1.25. In [1, 2].
+  double zoom = 1.25;
 
   /// Throws InvalidInput "SegmentationTrainOptions::FIELD = VALUE: must be ..." for a field out of range.
   /// (In mapnav_learned_options, without Torch, so that a program that opens learned/ only when it
