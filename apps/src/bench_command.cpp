@@ -132,7 +132,8 @@ struct BenchResults {
   SidewalkTimes sidewalk;
   RenderTimes render;
   std::vector<PipelineTime> pipelines;
-  std::vector<RouteTimes> routes;  // one per --route-sizes
+  std::vector<RouteTimes> routes;  // one per --route-sizes, then one per --irregular-route-sizes
+  std::optional<LoopTimes> loop;
 };
 
 void printHeader(const BenchConfig& config, int cores, std::ostream& out) {
@@ -291,12 +292,24 @@ Json benchJson(const BenchConfig& config, const BenchResults& r) {
   Json routes = Json::array();
   for (const RouteTimes& t : r.routes) {
     routes.push_back({{"intersections", t.intersections},
+                      {"roads", t.roads},
+                      {"map", t.bent ? "irregular" : "grid"},
                       {"prep_s", number(t.prep_s)},
                       {"astar_ms", number(1e3 * t.astar.s_per_frame)},
                       {"dijkstra_ms", number(1e3 * t.dijkstra.s_per_frame)},
-                      {"dijkstra_ratio", number(t.dijkstraRatio())}});
+                      {"dijkstra_ratio", number(t.dijkstraRatio())},
+                      {"query_mean_ms", number(t.meanMs())},
+                      {"query_median_ms", number(t.medianMs())},
+                      {"query_max_ms", number(t.maxMs())}});
   }
   doc["route"] = routes;
+  if (r.loop) {
+    doc["loop"] = {{"mission", r.loop->mission},
+                   {"frames", r.loop->frames},
+                   {"latency_median_ms", number(r.loop->median_ms)},
+                   {"latency_p99_ms", number(r.loop->p99_ms)},
+                   {"vision_median_ms", number(r.loop->vision_median_ms)}};
+  }
   doc["cores"] = r.cores;
   doc["min_time_s"] = config.min_time_s;
   return doc;
@@ -337,13 +350,22 @@ void printSummary(const BenchResults& r, std::ostream& out) {
       << " (a copy of the frame's colour and mask planes: " << sig(1e3 * r.render.copy.s_per_frame)
       << " ms); per pixel (the default) " << sig(1e3 * r.render.per_pixel.s_per_frame) << " ms/frame, per_pixel_ratio "
       << sig(r.render.perPixelRatio()) << "\n";
+  std::vector<const RouteTimes*> grid;
   for (const RouteTimes& t : r.routes) {
-    out << "route query on a grid campus of " << t.intersections << " intersections: A* " << sig(1e3 * t.astar.s_per_frame)
+    out << "route query on " << (t.bent ? "an irregular" : "a grid") << " campus of " << t.intersections
+        << " intersections (" << t.roads << " roads): A* " << sig(1e3 * t.astar.s_per_frame)
         << " ms, Dijkstra (the reference) " << sig(1e3 * t.dijkstra.s_per_frame) << " ms, ratio "
-        << sig(t.dijkstraRatio()) << "; preprocessing " << sig(t.prep_s) << " s\n";
+        << sig(t.dijkstraRatio()) << "; per query mean " << sig(t.meanMs()) << ", median " << sig(t.medianMs())
+        << ", max " << sig(t.maxMs()) << " ms; preprocessing " << sig(t.prep_s) << " s\n";
+    if (!t.bent) grid.push_back(&t);
   }
-  if (r.routes.size() >= 2) {
-    const RouteTimes &a = r.routes.front(), &b = r.routes.back();
+  if (r.loop) {
+    out << "mission loop (" << r.loop->mission << ", closed loop, " << r.loop->frames << " frames): latency median "
+        << sig(r.loop->median_ms) << " ms, p99 " << sig(r.loop->p99_ms) << " ms (Vision alone: median "
+        << sig(r.loop->vision_median_ms) << " ms)\n";
+  }
+  if (grid.size() >= 2) {
+    const RouteTimes &a = *grid.front(), &b = *grid.back();
     out << "route query growth from " << a.intersections << " to " << b.intersections
         << " intersections: A* " << strprintf("%.2f", b.astar.s_per_frame / a.astar.s_per_frame) << "x, Dijkstra "
         << strprintf("%.2f", b.dijkstra.s_per_frame / a.dijkstra.s_per_frame) << "x for "
@@ -381,9 +403,9 @@ std::vector<int> parseBenchSizes(const std::string& text) {
   return parseWholeNumbers("--sizes", text, 64, 16, 4096, "sizes in pixels a side (e.g. 64,128,256,512,1024)");
 }
 
-std::vector<int> parseRouteSizes(const std::string& text) {
+std::vector<int> parseRouteSizes(const std::string& text, const std::string& flag) {
   if (text.empty()) return {};
-  return parseWholeNumbers("--route-sizes", text, 16, 4, 4000000, "intersections (e.g. 10000,100000)");
+  return parseWholeNumbers(flag, text, 16, 4, 4000000, "intersections (e.g. 10000,100000)");
 }
 
 double parseBenchMinTime(const std::string& text) {
@@ -419,6 +441,8 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
     r.render = timeRender(scene, config.min_time_s);
     r.pipelines = timePipelines(scene, resolveThreads(config.threads), config.min_time_s, config.pipelines);
     r.routes = timeRoutes(config.route_sizes, config.min_time_s);
+    for (RouteTimes& t : timeRoutes(config.irregular_route_sizes, config.min_time_s, true)) r.routes.push_back(std::move(t));
+    if (config.loop_frames > 0) r.loop = timeLoop(dataPath("maps/missions/campus_dialogue.json"), config.loop_frames);
     if (config.json) {
       out << benchJson(config, r).dump() << "\n";
     } else {
@@ -433,7 +457,8 @@ int runBench(const BenchConfig& config, std::ostream& out, std::ostream& err) {
 void registerBenchCommand(CLI::App& app, Commands& commands) {
   auto* bench = commands.hold<BenchConfig>();
   struct Texts {
-    std::string sizes = "64,128,256,512,1024", min_time = "0.2", road_model = "line", route_sizes = "10000,100000";
+    std::string sizes = "64,128,256,512,1024", min_time = "0.2", road_model = "line", route_sizes = "10000,100000",
+                irregular_route_sizes = "50000";
     std::optional<std::string> pipelines;
   };
   auto* text = commands.hold<Texts>();
@@ -450,6 +475,14 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
                  "Grid campuses of the route queries, intersections each, comma-separated, each in [4, 4000000]; "
                  "\"\" = none")
       ->default_str("10000,100000");
+  bn->add_option("--irregular-route-sizes", text->irregular_route_sizes,
+                 "The same on irregular, OpenStreetMap-like campuses (every road bent at its middle up to 3 m "
+                 "sideways: 50000 intersections are 99 904 ways); \"\" = none")
+      ->default_str("50000");
+  bn->add_option("--loop-frames", bench->loop_frames,
+                 "Frames of the campus_dialogue closed loop whose module latency is measured; 0 = none")
+      ->default_val(80)
+      ->check(commands.numberCheck(CLI::Range(0, 100000)));
   bn->add_option("--threads", bench->threads, "Threads of the multi-threaded rows; 0 = every core")
       ->default_val(0)
       ->check(commands.numberCheck(CLI::Range(0, 256)));
@@ -480,15 +513,22 @@ void registerBenchCommand(CLI::App& app, Commands& commands) {
       "is that much faster); and route queries on grid campuses of --route-sizes intersections (32 seeded\n"
       "queries, default turn penalties): A* and the Dijkstra reference per query, their ratio, the growth\n"
       "from the smallest to the largest (beside the ratio of their intersections: linear growth) and the\n"
-      "preprocessing (graph and landmarks, once per map, seconds).\n"
+      "preprocessing (graph and landmarks, once per map, seconds); each query's A* time (the best of three) gives\n"
+      "its mean, median and max. The same on irregular campuses of --irregular-route-sizes intersections (every\n"
+      "road bent at its middle up to 3 m sideways, as OpenStreetMap's ways are: 50000 intersections, 99 904 ways).\n"
+      "Last, the mission loop's latency (the modules per frame, not the renderer): campus_dialogue in closed loop\n"
+      "for --loop-frames frames, its median, p99 and Vision's median.\n"
       "--json prints {\"runtime\":[{\"size\",\"threads\",\"fps\",\"ms\",\"px_per_s\",\"memcpy_ratio\",\n"
       "\"reference_ratio\",...},...],\"train_ms\",...,\"sidewalk\":{...},\"render\":{\"ms\",\"fps\",\"memcpy_ratio\",\"per_pixel_ratio\",...},\n"
-      "\"route\":[{\"intersections\",\"prep_s\",\"astar_ms\",\"dijkstra_ms\",\"dijkstra_ratio\"},...]}.\n"
+      "\"route\":[{\"intersections\",\"roads\",\"map\":\"grid\"|\"irregular\",\"prep_s\",\"astar_ms\",\"dijkstra_ms\",\n"
+      "\"dijkstra_ratio\",\"query_mean_ms\",\"query_median_ms\",\"query_max_ms\"},...],\"loop\":{\"mission\",\"frames\",\n"
+      "\"latency_median_ms\",\"latency_p99_ms\",\"vision_median_ms\"}}.\n"
       "Exit codes: 0 measured, 1 an invalid --map, 2 usage or I/O error.");
   bn->callback(commands.choose([bench, text](std::ostream& out, std::ostream& err) {
     bench->sizes = parseBenchSizes(text->sizes);
     bench->min_time_s = parseBenchMinTime(text->min_time);
     bench->route_sizes = parseRouteSizes(text->route_sizes);
+    bench->irregular_route_sizes = parseRouteSizes(text->irregular_route_sizes, "--irregular-route-sizes");
     if (text->pipelines) {
       bench->pipelines.emplace();
       for (const std::string& name : splitNames(*text->pipelines))

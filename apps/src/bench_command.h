@@ -24,6 +24,12 @@ struct BenchConfig {
   /// The grid campuses of the route queries, intersections each (rounded up to a square grid),
   /// 4..4 000 000; empty = no route queries.
   std::vector<int> route_sizes{10000, 100000};
+  /// The same on the irregular, OpenStreetMap-like maps (every road bent at its middle:
+  /// makeRouteScene's `bent`); 50 176 intersections are 99 904 ways. Empty = none.
+  std::vector<int> irregular_route_sizes{50000};
+  /// The mission loop's latency: a closed loop of maps/missions/campus_dialogue.json for this many
+  /// frames (0 = not measured).
+  std::size_t loop_frames = 80;
   /// The vision pipelines timed per frame (--pipelines): every registered one by default, none when
   /// empty.
   std::optional<std::vector<std::string>> pipelines;
@@ -37,8 +43,8 @@ std::string defaultParkMapPath();
 /// InvalidInput naming --sizes.
 std::vector<int> parseBenchSizes(const std::string& text);
 /// "10000,100000": intersections, whole numbers in [4, 4000000], sorted, without repeats; "" = none.
-/// Throws InvalidInput naming --route-sizes.
-std::vector<int> parseRouteSizes(const std::string& text);
+/// Throws InvalidInput naming `flag`.
+std::vector<int> parseRouteSizes(const std::string& text, const std::string& flag = "--route-sizes");
 /// "0.2": seconds, a number in (0, 60]. Throws InvalidInput naming --min-time.
 double parseBenchMinTime(const std::string& text);
 

@@ -416,7 +416,7 @@ TEST(Cli, CalibrateTiltFromTwoGroundParallelLinesAndSegmentFromAGivenRegion) {
 // other. No timing asserts: the machine decides how fast.
 TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
   const auto r = runCli({"bench", "--json", "--sizes", "64,128", "--min-time", "0.01", "--route-sizes", "400,100",
-                         "--pipelines", "sidewalk,color-rgb"});
+                         "--irregular-route-sizes", "100", "--loop-frames", "6", "--pipelines", "sidewalk,color-rgb"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.contains("runtime")) << r.out;
@@ -495,30 +495,48 @@ TEST(Cli, BenchJsonHasTwoRowsPerSizeWithConsistentRatios) {
   EXPECT_NEAR(render["memcpy_ratio"].get<double>(), render_ms / render["memcpy_ms"].get<double>(),
               1e-9 * render["memcpy_ratio"].get<double>());
   EXPECT_TRUE(j["park"].is_object() && j["park"].empty()) << j["park"].dump();  // neither 512 nor 1024 measured
-  ASSERT_EQ(j["route"].size(), 2u) << r.out;
+  // The grids, then the irregular map of 10 x 10 intersections: 2 x 10 x 9 roads, each bent.
+  ASSERT_EQ(j["route"].size(), 3u) << r.out;
   EXPECT_EQ(j["route"][0]["intersections"], 100);
   EXPECT_EQ(j["route"][1]["intersections"], 400);
+  EXPECT_EQ(j["route"][2]["intersections"], 100);
+  EXPECT_EQ(j["route"][0]["map"], "grid");
+  EXPECT_EQ(j["route"][2]["map"], "irregular");
+  EXPECT_EQ(j["route"][2]["roads"], 180);
   for (const auto& q : j["route"]) {
     EXPECT_GT(q["prep_s"].get<double>(), 0.0) << q.dump();
     EXPECT_NEAR(q["dijkstra_ratio"].get<double>(), q["dijkstra_ms"].get<double>() / q["astar_ms"].get<double>(),
                 1e-9 * q["dijkstra_ratio"].get<double>())
         << q.dump();
+    const double mean = q["query_mean_ms"].get<double>(), median = q["query_median_ms"].get<double>(),
+                 max = q["query_max_ms"].get<double>();
+    EXPECT_GT(median, 0.0) << q.dump();
+    EXPECT_LE(median, max) << q.dump();
+    EXPECT_LE(mean, max) << q.dump();
   }
+  // The mission loop's latency over the frames asked for.
+  const auto& loop = j["loop"];
+  EXPECT_EQ(loop["mission"], "campus dialogue");
+  EXPECT_EQ(loop["frames"], 6);
+  EXPECT_GT(loop["latency_median_ms"].get<double>(), 0.0);
+  EXPECT_GE(loop["latency_p99_ms"].get<double>(), loop["latency_median_ms"].get<double>());
+  EXPECT_LE(loop["vision_median_ms"].get<double>(), loop["latency_median_ms"].get<double>());
 }
 
 TEST(Cli, BenchPrintsATableWithTheRatios) {
   const auto r = runCli({"bench", "--sizes", "32,64", "--min-time", "0.01", "--threads", "2", "--route-sizes", "100,400",
-                         "--pipelines", "none"});
+                         "--irregular-route-sizes", "100", "--loop-frames", "4", "--pipelines", "none"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* text : {"cores", "memcpy_ratio", "reference_ratio", "frames/s", "cost per pixel growth", "training at 64x64",
                            "sidewalk pipeline", "at 512x480", "renderer", "grid campus of 100 intersections",
-                           "grid campus of 400 intersections", "route query growth from 100 to 400 intersections"}) {
+                           "grid campus of 400 intersections", "route query growth from 100 to 400 intersections",
+                           "irregular campus of 100 intersections (180 roads)", "mission loop (campus dialogue, closed loop, 4 frames)"}) {
     EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
   }
   EXPECT_NE(r.out.find("line road model"), std::string::npos) << r.out;  // the default, the paper's
   // The arc model (§9) is timed when asked for, and says so.
   const auto arc = runCli({"bench", "--sizes", "32", "--min-time", "0.01", "--threads", "1", "--road-model", "arc",
-                           "--pipelines", "none", "--route-sizes", ""});
+                           "--pipelines", "none", "--route-sizes", "", "--irregular-route-sizes", "", "--loop-frames", "0"});
   ASSERT_EQ(arc.exit_code, 0) << arc.err;
   EXPECT_NE(arc.out.find("arc road model"), std::string::npos) << arc.out;
   const auto help = runCli({"bench", "--help"});

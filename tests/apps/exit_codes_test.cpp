@@ -95,7 +95,9 @@ TEST(Cli, BenchRefusesBadOptionsNamingTheOption) {
                                          {{"--road-model", "curve"}, "--road-model", 1},
                                          {{"--route-sizes", "2"}, "--route-sizes", 1},
                                          {{"--route-sizes", "100,5e6"}, "--route-sizes", 1},
-                                         {{"--route-sizes", "100.5"}, "--route-sizes", 1}}) {
+                                         {{"--route-sizes", "100.5"}, "--route-sizes", 1},
+                                         {{"--irregular-route-sizes", "2"}, "--irregular-route-sizes", 1},
+                                         {{"--loop-frames", "-1"}, "--loop-frames", 1}}) {
     std::vector<std::string> args{"bench"};
     args.insert(args.end(), c.args.begin(), c.args.end());
     const auto r = runCli(args);

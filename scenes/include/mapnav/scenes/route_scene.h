@@ -16,7 +16,10 @@ struct RouteScene {
   std::vector<std::pair<RoadPosition, RoadPosition>> queries;
 };
 
-/// A square grid of at least `intersections` (≥ 4; rounded up to n × n) and its 32 queries.
-RouteScene makeRouteScene(int intersections);
+/// A square grid of at least `intersections` (≥ 4; rounded up to n × n) and its 32 queries. `bent`:
+/// every road bent at its middle, the middle point moved up to 3 m sideways (seeded) — an irregular,
+/// OpenStreetMap-like map of the same topology, as bench/osm_bench.cpp imports (224 × 224
+/// intersections: 99 904 ways), on which the straight-line bound of A* is no longer the road's length.
+RouteScene makeRouteScene(int intersections, bool bent = false);
 
 }  // namespace mapnav
