@@ -5,7 +5,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
+#include <vector>
 
 #include "mapnav/core/error.h"
 #include "subpixel.h"
@@ -45,22 +47,14 @@ namespace {
 
 // Prefix sums along each row of the three channels and of their squares' sum: the mean colour and
 // spread of a run of pixels in O(1), of a sheared strip (a vertical in the world seen leaning) in
-// O(rows).
+// O(rows). Each row is summed when a strip first asks for it (a frame's landmarks look at a few
+// hundred rows of narrow columns; summing the whole frame up front, in a zeroed buffer of 8 MB at
+// 512 x 480, was the landmark finder's largest cost).
 class RowSums {
  public:
-  explicit RowSums(const VisionFrame& f) : w_(f.width), h_(f.height), s_(static_cast<std::size_t>(w_ + 1) * h_ * 4, 0.0) {
-    for (int v = 0; v < h_; ++v) {
-      const std::uint8_t* px = f.rgb + static_cast<std::size_t>(v) * w_ * 3;
-      double* row = &s_[static_cast<std::size_t>(v) * (w_ + 1) * 4];
-      for (int u = 0; u < w_; ++u) {
-        const double r = px[3 * u], g = px[3 * u + 1], b = px[3 * u + 2];
-        row[4 * (u + 1)] = row[4 * u] + r;
-        row[4 * (u + 1) + 1] = row[4 * u + 1] + g;
-        row[4 * (u + 1) + 2] = row[4 * u + 2] + b;
-        row[4 * (u + 1) + 3] = row[4 * u + 3] + r * r + g * g + b * b;
-      }
-    }
-  }
+  explicit RowSums(const VisionFrame& f)
+      : f_(f), w_(f.width), h_(f.height), s_(new double[static_cast<std::size_t>(w_ + 1) * h_ * 4]),
+        done_(static_cast<std::size_t>(h_), 0) {}
 
   /// The mean colour and the colour's standard deviation (root of the channels' summed variances)
   /// over the rows [v0, v1), row v taking the columns [u0 + shift(v), u1 + shift(v)) with
@@ -77,7 +71,7 @@ class RowSums {
       const int a = std::clamp(static_cast<int>(std::lround(u0 + shift)), 0, w_);
       const int b = std::clamp(static_cast<int>(std::lround(u1 + shift)), 0, w_);
       if (b <= a) continue;
-      const double* row = &s_[static_cast<std::size_t>(v) * (w_ + 1) * 4];
+      const double* row = sums(v);
       for (int c = 0; c < 4; ++c) sum[c] += row[4 * b + c] - row[4 * a + c];
       n += b - a;
     }
@@ -90,8 +84,27 @@ class RowSums {
   int height() const { return h_; }
 
  private:
+  // Row v's prefix sums, summed on first use.
+  const double* sums(int v) const {
+    double* row = &s_[static_cast<std::size_t>(v) * (w_ + 1) * 4];
+    if (done_[static_cast<std::size_t>(v)]) return row;
+    const std::uint8_t* px = f_.rgb + static_cast<std::size_t>(v) * w_ * 3;
+    row[0] = row[1] = row[2] = row[3] = 0;
+    for (int u = 0; u < w_; ++u) {
+      const double r = px[3 * u], g = px[3 * u + 1], b = px[3 * u + 2];
+      row[4 * (u + 1)] = row[4 * u] + r;
+      row[4 * (u + 1) + 1] = row[4 * u + 1] + g;
+      row[4 * (u + 1) + 2] = row[4 * u + 2] + b;
+      row[4 * (u + 1) + 3] = row[4 * u + 3] + r * r + g * g + b * b;
+    }
+    done_[static_cast<std::size_t>(v)] = 1;
+    return row;
+  }
+
+  const VisionFrame& f_;
   int w_, h_;
-  std::vector<double> s_;
+  std::unique_ptr<double[]> s_;       // uninitialised: a row is written before it is read
+  mutable std::vector<char> done_;    // the rows summed
 };
 
 // The pixel standard deviations of the predicted base that the pose's covariance implies: a pose
