@@ -1,7 +1,11 @@
 // Vision: the pipeline registry, Pipeline.detect / .segment on numpy frames, the Detection token,
 // images, and the benchmark's sidewalk scene.
 
+#include <dlfcn.h>
+
 #include <cmath>
+#include <filesystem>
+#include <mutex>
 
 #include "convert.h"
 #include "mapnav/core/error.h"
@@ -80,6 +84,22 @@ Segmentation segment(VisionPipeline& pipeline, const py::array& image, const PyP
   return s;
 }
 
+// The "learned" pipeline is libmapnav_learned.so's (Torch's libraries load with it, so only when it
+// is asked for, as the CLI does: docs/learned.md), opened once from beside the library that holds
+// the pipeline registry.
+void loadLearnedModule() {
+#ifdef MAPNAV_LEARNED_MODULE
+  static std::once_flag once;
+  std::call_once(once, [] {
+    Dl_info info{};
+    if (::dladdr(reinterpret_cast<void*>(&listPipelines), &info) == 0 || info.dli_fname == nullptr) return;
+    const std::filesystem::path module = std::filesystem::path(info.dli_fname).parent_path() / MAPNAV_LEARNED_MODULE;
+    std::error_code ec;
+    if (std::filesystem::exists(module, ec)) loadPlugin(module.string());
+  });
+#endif
+}
+
 void bindPipeline(py::module_& m) {
   py::class_<Segmentation>(m, "Segmentation", "A road mask, the confidence where the pipeline gives one, the detection.")
       .def_readonly("mask", &Segmentation::mask, "H x W uint8, 255 = road (all 0 when the pipeline failed)")
@@ -113,7 +133,10 @@ void bindPipeline(py::module_& m) {
       "The vision pipelines available, with their options and defaults, as `mapnav pipelines`.");
   m.def(
       "create_pipeline",
-      [](const std::string& name, const py::object& options) { return createPipeline(name, optionsText(options)); },
+      [](const std::string& name, const py::object& options) {
+        if (name == "learned") loadLearnedModule();
+        return createPipeline(name, optionsText(options));
+      },
       py::arg("name"), py::arg("options") = py::none(),
       "A pipeline by name, configured with `options` (a dict or JSON text). NotFound lists the names; "
       "InvalidInput names a bad option.");

@@ -108,3 +108,15 @@ def test_pipeline_errors_are_the_clis(frame_file):
     with pytest.raises(mapnav.InvalidInput) as raised:
         mapnav.create_pipeline("sidewalk", {"blend": 2})
     assert str(raised.value) == cli_error(*vision_args("detect", frame_file, "--options", '{"blend": 2}'))
+
+
+def test_the_learned_pipeline_is_created_from_python_as_the_cli_runs_it(frame, frame_file, view, tmp_path):
+    """create_pipeline("learned") opens the learned module (Torch) itself; its mask is the CLI's."""
+    options = {"model": "sim"}
+    mask_file = tmp_path / "learned.png"
+    cli(*vision_args("segment", frame_file, "-o", mask_file, "--pipeline", "learned", "--options", json.dumps(options)))
+    learned = mapnav.create_pipeline("learned", options)
+    assert learned.name == "learned"
+    segmentation = learned.segment(frame, view)
+    assert np.array_equal(segmentation.mask, mapnav.read_image(str(mask_file)))
+    assert segmentation.mask[-1, 256] == 255  # the path ahead
