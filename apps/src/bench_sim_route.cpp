@@ -6,6 +6,7 @@
 #include <cstring>
 #include <numeric>
 
+#include "mapnav/mission/metrics.h"
 #include "mapnav/mission/mission_file.h"
 #include "mapnav/mission_sim/closed_loop.h"
 #include "mapnav/navigator/route.h"
@@ -54,13 +55,8 @@ RenderTimes timeRender(const SidewalkScene& scene, double min_time_s) {
 double RouteTimes::meanMs() const {
   return query_ms.empty() ? 0 : std::accumulate(query_ms.begin(), query_ms.end(), 0.0) / static_cast<double>(query_ms.size());
 }
-double RouteTimes::medianMs() const {
-  if (query_ms.empty()) return 0;
-  std::vector<double> v = query_ms;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-double RouteTimes::maxMs() const { return query_ms.empty() ? 0 : *std::max_element(query_ms.begin(), query_ms.end()); }
+double RouteTimes::medianMs() const { return percentile(query_ms, 50); }  // as the loop's latency median
+double RouteTimes::maxMs() const { return percentile(query_ms, 100); }
 
 std::vector<RouteTimes> timeRoutes(const std::vector<int>& intersections, double min_time_s, bool bent) {
   std::vector<RouteTimes> out;

@@ -4,6 +4,7 @@
 #include <random>
 #include <utility>
 
+#include "mapnav/geometry/types.h"
 #include "mapnav/map/generate.h"
 
 namespace mapnav {
@@ -20,7 +21,7 @@ RouteScene makeRouteScene(int intersections, bool bent) {
     for (Road& road : data.roads) {
       const Vec2 a = road.centerline.points().front(), b = road.centerline.points().back();
       const Vec2 d = (b - a).normalized();
-      road.centerline = Polyline2({a, 0.5 * (a + b) + jitter(jitter_rng) * Vec2(-d.y(), d.x()), b});
+      road.centerline = Polyline2({a, 0.5 * (a + b) + jitter(jitter_rng) * leftNormal(d), b});
     }
   }
   RouteScene s;
