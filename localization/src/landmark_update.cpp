@@ -70,6 +70,7 @@ LandmarkUpdateResult PoseFilter::updateLandmarks(const std::vector<LandmarkObser
     applyUpdate(change);
     result.information += predicted.jacobian.transpose() * o.covariance.inverse() * predicted.jacobian;
     result.used.push_back(o.id);
+    along_since_fix_m_ = 0;
   }
   return result;
 }

@@ -147,6 +147,14 @@ void PoseFilter::predict(const MotionIncrement& motion, double dt_s) {
       m.base_heading_sigma_rad * m.base_heading_sigma_rad;
   base(5, 5) = base(6, 6) = std::pow(options_.gnss_bias_sigma_m, 2) * (1 - phi * phi);
   full_ = f * full_ * f.transpose() + g * q * g.transpose() + base;
+  if (map_sigma_m_ > 0) {
+    const double l2 = 2 * options_.map_correlation_m * options_.map_correlation_m;
+    const double d0 = along_since_fix_m_, d1 = d0 + std::abs(d);
+    const double grow = 2 * map_sigma_m_ * map_sigma_m_ * (std::exp(-d0 * d0 / l2) - std::exp(-d1 * d1 / l2));
+    const Vec3 a(c, s, 0);
+    full_.topLeftCorner<3, 3>() += grow * a * a.transpose();
+    along_since_fix_m_ = d1;
+  }
   full_ = 0.5 * (full_ + full_.transpose());
   covariance_ = full_.topLeftCorner<3, 3>();
   pose_ = Pose2(pose_.x() + d * c, pose_.y() + d * s, pose_.heading() + dh);
@@ -469,6 +477,7 @@ CurrentPosition PoseFilter::update(const std::vector<LineCorrespondence>& lines,
   const Observability seen = observability(information, pose_.heading(), mo.min_information);
   out.observed_lateral = seen.lateral;
   out.observed_along = seen.along;
+  if (seen.along) along_since_fix_m_ = 0;
   out.observed_heading = seen.heading;
   out.lines_used = static_cast<int>(inliers.size());
   out.outliers = fit->outliers;

@@ -183,6 +183,7 @@ bool ModuleLoop::frame(const SourceFrame& frame) {
     f.image = frame.image;
     f.odometry = frame.odometry;
     f.truth = frame.truth;
+    f.truth_on_map = frame.truth_on_map;
     f.odometry_only = odometry_only_.pose();
     trace_.frame(f);
   }

@@ -121,6 +121,7 @@ void MapModule::predict(Blackboard& board, double t, const MotionIncrement& odom
   prediction_.view.motion = filter_.corrected(pending_, pending_dt_s_);
   // In the vehicle's frame (forward, left).
   prediction_.view.pose_covariance = rotatePoseCovariance(predicted.covariance(), predicted.pose().rotation().transpose());
+  prediction_.view.map_sigma_m = filter_.mapSigma();
   board.post(Module::Map, PredictionToken{prediction_.view, predicted.pose()});
 }
 

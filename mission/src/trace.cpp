@@ -107,6 +107,7 @@ void TraceWriter::frame(const TraceFrame& f) {
                 {{"distance_m", significant(f.odometry.distance_m)}, {"dheading_deg", significant(radToDeg(f.odometry.dheading_rad))}}},
                {"truth", f.truth ? pose(*f.truth) : Json(nullptr)},
                {"odometry_only", pose(f.odometry_only)}};
+  if (f.truth_on_map) payload["truth_on_map"] = pose(*f.truth_on_map);
   line(f.t, "Sensors", "Frame", payload.dump());
 }
 

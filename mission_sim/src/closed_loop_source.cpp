@@ -20,6 +20,7 @@ bool ClosedLoopSource::next(Driver& driver, SourceFrame& frame) {
   frame.index = drive_.frames() - 1;
   frame.t = drive_.t();
   frame.truth = vehicle_.pose();
+  frame.truth_on_map = plant_.truthOnMap(vehicle_.pose());
   frame.rgb = plant_.render(vehicle_.pose(), frame.t).rgb;  // not in the latency
   frame.odometry = plant_.odometry(step.motion, step.dt_s);
   if (const std::optional<GnssFix> fix = plant_.gnss(vehicle_.pose().translation(), frame.t)) {

@@ -66,6 +66,26 @@ Vec2 MapErrorField::offset(const Vec2& p) const {
   return scale_ * d;
 }
 
+Pose2 MapErrorField::pullBack(const Pose2& pose) const {
+  if (features_.empty()) return pose;
+  const Vec2 q = pose.translation();
+  Vec2 p = q;
+  for (int i = 0; i < 50; ++i) {
+    const Vec2 next = q - offset(p);
+    const bool converged = (next - p).norm() < 1e-9;
+    p = next;
+    if (converged) break;
+  }
+  // The world's direction of the heading, mapped back through (I + J)^-1, J = ∂D/∂p by central differences.
+  const double h = 1e-3;
+  Mat2 jacobian;
+  jacobian.col(0) = (offset(p + Vec2(h, 0)) - offset(p - Vec2(h, 0))) / (2 * h);
+  jacobian.col(1) = (offset(p + Vec2(0, h)) - offset(p - Vec2(0, h))) / (2 * h);
+  const Vec2 world_dir(std::cos(pose.heading()), std::sin(pose.heading()));
+  const Vec2 map_dir = (Mat2::Identity() + jacobian).inverse() * world_dir;
+  return Pose2(p, std::atan2(map_dir.y(), map_dir.x()));
+}
+
 Map perturbedMap(const Map& map, const MapErrorOptions& options, const std::string& source) {
   const MapErrorField field(options);
   MapData data = map.data();

@@ -11,6 +11,12 @@ SimulatedPlant::SimulatedPlant(const Map& map, const Camera& camera, const Plant
                               "the world of map \"" + map.name() + "\"")),
       world_(world_map_, options.world), rays_(camera), sensor_(options.odometry) {
   if (options.gnss) receiver_.emplace(*options.gnss);
+  if (!options.world_map && !options.map_error.none()) field_.emplace(options.map_error);
+}
+
+std::optional<Pose2> SimulatedPlant::truthOnMap(const Pose2& pose) const {
+  if (!field_) return std::nullopt;
+  return field_->pullBack(pose);
 }
 
 std::optional<GnssFix> SimulatedPlant::gnss(const Vec2& truth, double t) {

@@ -91,6 +91,56 @@ TEST(MatchingFilter, DrivingGrowsTheAlongVarianceWithTheScaleUncertainty) {
   EXPECT_NEAR(std::sqrt(unscaled.covariance()(0, 0)), 0.13446, 1e-4);
 }
 
+// On a map that states its error sigma (setMapSigma), the map's stretch: two points of its roads d
+// apart are off by a difference of variance 2 sigma^2 (1 - exp(-d^2 / (2 L^2))) along the way (the
+// squared-exponential field's, sim/map_error.h), so driving d metres from the last fix of the
+// along-road position adds that to the along variance (across the road the map's direction error
+// adds its own, as before); a fix restarts it.
+TEST(MatchingFilter, OnAMapThatStatesItsErrorTheAlongVarianceGrowsWithItsStretch) {
+  FilterOptions o;
+  o.motion.scale_sigma = 0;
+  const double sigma = 0.5, l = o.map_correlation_m;
+  auto drive = [&](PoseFilter& f, int steps) {
+    for (int i = 0; i < steps; ++i) f.predict({0.5, 0.0});
+  };
+  PoseFilter exact(Pose2(0, 0, 0), diagonalCovariance(0.1, 1.0), o), mapped = exact;
+  mapped.setMapSigma(sigma);
+  drive(exact, 60);
+  drive(mapped, 60);  // 30 m = L: 2 sigma^2 (1 - e^-1/2) = 0.1967 m^2
+  const double stretch = 2 * sigma * sigma * (1 - std::exp(-30.0 * 30.0 / (2 * l * l)));
+  EXPECT_NEAR(stretch, 0.19673, 1e-5);
+  EXPECT_NEAR(mapped.covariance()(0, 0) - exact.covariance()(0, 0), stretch, 1e-12);
+  EXPECT_NEAR(mapped.fullCovariance()(0, 3), exact.fullCovariance()(0, 3), 1e-15);  // not the scale's
+  // Far beyond L it is bounded by 2 sigma^2: 600 m more add 2 sigma^2 e^-1/2 = 0.3033 m^2.
+  drive(exact, 1200);
+  drive(mapped, 1200);
+  EXPECT_NEAR(mapped.covariance()(0, 0) - exact.covariance()(0, 0), 2 * sigma * sigma, 1e-9);
+  // A crossing line and the road's edges fix the along-road position: the stretch restarts from 0,
+  // so 5 m later it has added 2 sigma^2 (1 - exp(-25 / 1800)) = 0.0069 m^2 (not the 0.5 of the way).
+  const Pose2 truth = mapped.pose();
+  std::vector<LineCorrespondence> lines;
+  auto add = [&](Vec2 a, Vec2 b) {
+    LineCorrespondence c;
+    c.id = std::to_string(lines.size());
+    c.map_world = {truth.transform(a), truth.transform(b)};
+    c.detected_vehicle = {a, b};
+    c.sigma_m = 0.02;
+    lines.push_back(c);
+  };
+  add({5, -2}, {5, 2});
+  add({1, 1.5}, {10, 1.5});
+  add({1, -1.5}, {10, -1.5});
+  ASSERT_TRUE(mapped.update(lines).observed_along);
+  const double after_fix = mapped.covariance()(0, 0);
+  PoseFilter copy = mapped;
+  copy.setMapSigma(0);
+  drive(mapped, 10);
+  drive(copy, 10);
+  EXPECT_NEAR(mapped.covariance()(0, 0) - copy.covariance()(0, 0), 2 * sigma * sigma * (1 - std::exp(-25.0 / (2 * l * l))),
+              1e-12);
+  EXPECT_LT(after_fix, 0.01);
+}
+
 // The scale and the bias are learnt from the lines: after 20 m read as 20.4 m (2 % long) and a fix
 // that puts the vehicle at the true 20 m, the along correction goes mostly into e (its share of the
 // along variance: 0.166 of about 0.18), and its variance falls to a fraction of the prior's.

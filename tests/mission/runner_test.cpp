@@ -351,7 +351,8 @@ TEST(RunnerClosedLoop, TheStartsLateralOffsetIsWhereTheEstimateAndTheVehicleStar
 // across the road).
 // The vehicle starts at the start's place in the world and steers by the map; it drives on the
 // world's roads (judged against them, it never leaves the path, while the map's centre lines lie
-// the shift away from its track) and stops at the goal's place in the world.
+// the shift away from its track) and stops at the goal's place in the world. The trace gives each
+// frame's truth on the map too: the true pose less the shift.
 TEST(RunnerClosedLoop, AWorldThatDiffersFromItsMapIsDrivenOnItsOwnRoadsAndJudgedAgainstThem) {
   registerBuiltinPipelines();
   MissionFile mission = shortCrossing();
@@ -367,10 +368,25 @@ TEST(RunnerClosedLoop, AWorldThatDiffersFromItsMapIsDrivenOnItsOwnRoadsAndJudged
   mission.world_json = strprintf(R"({"seed": 1985, "shadow_density": 0.05, "map_error": {"offset_sigma_m": 0.6, )"
                                  R"("offset_length_m": 1e5, "seed": %llu}})",
                                  static_cast<unsigned long long>(error.seed));
-  const MissionRun run = runClosedLoop(mission);
+  RunOptions options;
+  options.trace = testing::freshTempDir() / "run.jsonl";
+  const MissionRun run = runClosedLoop(mission, options);
   ASSERT_FALSE(run.frames.empty());
   ASSERT_TRUE(run.frames.front().truth);
   EXPECT_LT((run.frames.front().truth->translation() - (start + shift)).norm(), 0.05);
+  std::size_t frames = 0;
+  std::istringstream text(readFile(options.trace));
+  for (std::string row; std::getline(text, row);) {
+    const nlohmann::json line = nlohmann::json::parse(row);
+    if (line["type"] != "Frame") continue;
+    const nlohmann::json& p = line["payload"];
+    const Vec2 truth(p["truth"]["x"].get<double>(), p["truth"]["y"].get<double>());
+    const Vec2 on_map(p["truth_on_map"]["x"].get<double>(), p["truth_on_map"]["y"].get<double>());
+    EXPECT_LT((on_map - (truth - shift)).norm(), 2e-3) << "frame " << frames;  // the field varies by ~1e-5 m/m
+    EXPECT_NEAR(p["truth_on_map"]["heading_deg"].get<double>(), p["truth"]["heading_deg"].get<double>(), 0.01);
+    ++frames;
+  }
+  EXPECT_EQ(frames, run.frames.size());
   EXPECT_TRUE(run.metrics.reached_goal) << run.outcome;
   const Vec2 world_goal = toPose(map, mission.goal).translation() + MapErrorField(error).offset(start);
   EXPECT_LT((run.frames.back().truth->translation() - world_goal).norm(), 0.5);

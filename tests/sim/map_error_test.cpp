@@ -117,6 +117,31 @@ TEST(MapError, RoadsStayJoinedAtTheirIntersectionsAndTheSameSeedGivesTheSameWorl
   EXPECT_NE(perturbedMap(campus, o).data(), world.data());
 }
 
+// The pull-back inverts the displacement: a map pose moved by the field (its position by D, its
+// direction by I + dD/dp, differentiated here by a wider central difference than pullBack's) comes
+// back to itself; the field of none() options is the identity.
+TEST(MapError, ThePullBackOfAMovedPoseIsThePoseOnTheMap) {
+  MapErrorOptions o;
+  o.offset_sigma_m = 1.0;
+  o.offset_length_m = 10;  // slopes up to ~0.2: a hard case for the iteration
+  o.seed = 9;
+  const MapErrorField field(o);
+  for (const Pose2& on_map : {Pose2(0, 0, 0), Pose2(13.5, -7.25, 2.0), Pose2(-40, 22, -1.2)}) {
+    const Vec2 p = on_map.translation(), d(std::cos(on_map.heading()), std::sin(on_map.heading()));
+    const double h = 0.01;
+    const Vec2 moved_dir = d + (field.offset(p + h * d) - field.offset(p - h * d)) / (2 * h);
+    const Pose2 world(p + field.offset(p), std::atan2(moved_dir.y(), moved_dir.x()));
+    EXPECT_GT((world.translation() - p).norm(), 0.05);  // the field moved it
+    const Pose2 back = field.pullBack(world);
+    EXPECT_NEAR((back.translation() - p).norm(), 0.0, 1e-7);
+    EXPECT_NEAR(normalizeAngle(back.heading() - on_map.heading()), 0.0, 1e-4);
+  }
+  const MapErrorField none{MapErrorOptions{}};
+  const Pose2 q(3, 4, 0.5);
+  EXPECT_EQ(none.pullBack(q).translation(), q.translation());
+  EXPECT_EQ(none.pullBack(q).heading(), q.heading());
+}
+
 TEST(MapError, EachRoadsWidthIsScaledByOnePlusSigmaTimesAClampedNormal) {
   MapData d;
   d.surfaces = testing::concreteAndGrass();

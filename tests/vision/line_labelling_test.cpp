@@ -71,6 +71,24 @@ TEST(LineLabelling, AlongRoadUncertaintyWidensTheGateOfCrossingLinesOnly) {
   EXPECT_FALSE(labels(along, fixedGate())[0].has_value());
 }
 
+// Where the map states an error (the prediction's map_sigma_m > 0), gate_sigma_uncertain_map (3 by
+// default) takes gate_sigma's place: the default options widen the gate there and only there.
+TEST(LineLabelling, OnAMapThatStatesItsErrorTheDefaultGateWidensWithTheCovariance) {
+  const Mat3 along = Vec3(0.09, 1e-4, 0).asDiagonal();  // gate 0.9 m across the crossing line
+  std::vector<DetectedLine> lines = detected();
+  PredictedObject p = prediction(along);
+  labelLines(lines, p, fixedGate());
+  EXPECT_FALSE(lines[0].label.has_value());  // an exact map: the fixed 0.4 m
+  p.map_sigma_m = 0.5;
+  labelLines(lines, p, fixedGate());
+  EXPECT_EQ(lines[0].label, "I1.corner.0");
+  EXPECT_FALSE(lines[1].label.has_value());  // the road edge's gate stays 0.4 m < 0.6 m
+  LineOptions off;
+  off.gate_sigma_uncertain_map = 0;
+  labelLines(lines, p, off);
+  EXPECT_FALSE(lines[0].label.has_value());
+}
+
 TEST(LineLabelling, HeadingUncertaintyWidensTheGateWithRange) {
   // sigma heading 0.06 rad: the road edge's sigma at (4, 1.6) is 0.06 x 4 = 0.24 m, gate 0.72 m,
   // and at (9, 1.6) 0.54 m, gate 1.62 m: both ends within. The crossing line's ends at y = +-1.5 m:

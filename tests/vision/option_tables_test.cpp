@@ -70,7 +70,7 @@ TEST(VisionOptionTables, EveryDefaultValidates) {
 TEST(VisionOptionTables, TheFieldsAreTheMembersNames) {
   EXPECT_EQ(fieldNames(lineOptionTable()),
             (std::vector<std::string>{"simplify_tolerance_px", "min_length_px", "frame_edge_px", "max_angle_deg",
-                                      "max_distance_m", "gate_sigma", "min_overlap", "relation_tolerance_m",
+                                      "max_distance_m", "gate_sigma", "gate_sigma_uncertain_map", "min_overlap", "relation_tolerance_m",
                                       "reference"}));
   EXPECT_EQ(fieldNames(regionOptionTable()),
             (std::vector<std::string>{"block_size", "block_fraction", "morph_iterations", "refine_margin_blocks",

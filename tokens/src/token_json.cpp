@@ -90,12 +90,14 @@ Json toJson(const PredictedObject& view) {
                          {"image_base", point(l.image_base, pixels)},
                          {"width_px", pixels(l.width_px)}});
   }
-  return Json{{"pose_covariance", upperTriangle(view.pose_covariance)},
-              {"footprint", points(view.footprint, metres)},
-              {"regions", regionsJson(view.regions)},
-              {"segments", segmentsJson(view.segments)},
-              {"relations", relationsJson(view.relations)},
-              {"landmarks", std::move(landmarks)}};
+  Json out{{"pose_covariance", upperTriangle(view.pose_covariance)}};
+  if (view.map_sigma_m > 0) out["map_sigma_m"] = significant(view.map_sigma_m);
+  out["footprint"] = points(view.footprint, metres);
+  out["regions"] = regionsJson(view.regions);
+  out["segments"] = segmentsJson(view.segments);
+  out["relations"] = relationsJson(view.relations);
+  out["landmarks"] = std::move(landmarks);
+  return out;
 }
 
 Json toJson(const DetectedObject& d) {

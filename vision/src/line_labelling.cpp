@@ -27,7 +27,10 @@ const OptionTable<LineOptions>& lineOptionTable() {
           .field("gate_sigma", &O::gate_sigma, inRange(0, 100),
                  "label match: ... or within this many sigma of it, the predicted line's sigma across itself from the "
                  "prediction's pose covariance (the Map's estimate), where that is wider, but no "
-                 "further than halfway to the neighbouring predicted segment; 0 = max_distance_m alone")
+                 "further than halfway to the neighbouring predicted segment, on a map that states no error (the "
+                 "prediction's map_sigma_m 0); 0 = max_distance_m alone")
+          .field("gate_sigma_uncertain_map", &O::gate_sigma_uncertain_map, inRange(0, 100),
+                 "gate_sigma where the prediction's map states an error (map_sigma_m > 0)")
           .field("min_overlap", &O::min_overlap, inRange(0, 1),
                  "label match: this fraction of the line overlaps the predicted segment")
           .field("relation_tolerance_m", &O::relation_tolerance_m, aboveUpTo(0, 100),
@@ -149,6 +152,7 @@ double halfwayToNeighbour(const InterestSegment& s, const Vec2& q, const std::ve
 void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& prediction, const LineOptions& options) {
   options.validate();
   const double max_angle = options.max_angle_deg * std::numbers::pi / 180.0;
+  const double gate_sigma = prediction.map_sigma_m > 0 ? options.gate_sigma_uncertain_map : options.gate_sigma;
   for (DetectedLine& line : lines) {
     line.label.reset();
     line.score = 0;
@@ -165,8 +169,8 @@ void labelLines(std::vector<DetectedLine>& lines, const PredictedObject& predict
       // gate, times the floor (exactly the distance where the gate is the floor).
       const Vec2 normal(-s.vehicle.direction().y(), s.vehicle.direction().x());
       auto gate = [&](const Vec2& p) {
-        if (options.gate_sigma <= 0) return options.max_distance_m;
-        const double wide = options.gate_sigma * acrossSigma(prediction.pose_covariance, p, normal);
+        if (gate_sigma <= 0) return options.max_distance_m;
+        const double wide = gate_sigma * acrossSigma(prediction.pose_covariance, p, normal);
         if (wide <= options.max_distance_m) return options.max_distance_m;
         const Vec2 q = s.vehicle.closestPoint(p);
         return std::max(options.max_distance_m, std::min(wide, halfwayToNeighbour(s, q, prediction.segments, max_angle)));

@@ -197,7 +197,13 @@ class PoseFilter {
   /// FilterOptions::map_correlation_m, L): driving d metres, the map-relative heading takes a random
   /// change of variance 2 (sigma / L)^2 (1 - exp(-d / L)) (a first-order Gauss-Markov direction error
   /// of sigma / L rad, the slope of a smooth offset of sigma over L) that odometry does not see, so
-  /// that the estimate follows the map's bends. Throws InvalidInput for a negative or non-finite sigma.
+  /// that the estimate follows the map's bends. And the map's stretch: two points of its roads d
+  /// apart are off by a difference of variance 2 sigma^2 (1 - exp(-d^2 / (2 L^2))) along the way
+  /// (the squared-exponential field of sim/map_error.h), which odometry, measuring the ground, does
+  /// not see either: driving from d0 to d1 metres past the last fix of the along-road position (lines
+  /// that observe it, a landmark) adds the difference of that at d1 and d0 to the along-road
+  /// variance of the pose, and nothing to the scale's (a stretched map is not a wrong odometer).
+  /// Throws InvalidInput for a negative or non-finite sigma.
   void setMapSigma(double sigma_m);
   double mapSigma() const { return map_sigma_m_; }
   /// The map's own error over (x, y, heading) where the vehicle is: diag(sigma^2, sigma^2,
@@ -219,6 +225,7 @@ class PoseFilter {
   double gyro_bias_ = 0;
   Vec2 gnss_bias_ = Vec2::Zero();
   double map_sigma_m_ = 0;
+  double along_since_fix_m_ = 0;  // driven since the along-road position was last observed (the map's stretch)
   FilterOptions options_;
   // The last predict()'s distance reading, its random error's variance and that error's effect on
   // the state (updateStep); cleared by every update.

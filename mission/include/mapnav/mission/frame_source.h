@@ -33,6 +33,7 @@ struct SourceFrame {
   Image rgb;                     ///< 3 channels, the camera's size
   MotionIncrement odometry;      ///< measured since the previous frame delivered (the first: since the start)
   std::optional<Pose2> truth;    ///< the vehicle's true pose (world frame), when the source knows it
+  std::optional<Pose2> truth_on_map;  ///< where that pose is on the vehicle's map, when the world differs from it (SimulatedPlant::truthOnMap)
   std::optional<Vec2> gnss;      ///< the log's (closed loop: the plant's) GNSS fix with this frame (world frame, m) ...
   double gnss_sigma_m = 0;       ///< ... and its 1-sigma error
   std::string image;             ///< replay: the PNG, relative to the log folder ("" in closed loop)

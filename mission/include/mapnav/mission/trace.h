@@ -51,6 +51,7 @@ struct TraceFrame {
   std::string image;            ///< replay: the PNG, relative to the log folder ("" in closed loop)
   MotionIncrement odometry;     ///< since the previous frame
   std::optional<Pose2> truth;
+  std::optional<Pose2> truth_on_map;  ///< the truth on the vehicle's map when the world differs from it (SourceFrame)
   Pose2 odometry_only;          ///< dead reckoning alone from the start
 };
 

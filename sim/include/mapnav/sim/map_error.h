@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "mapnav/core/option_table.h"
+#include "mapnav/geometry/pose2.h"
 #include "mapnav/geometry/types.h"
 #include "mapnav/map/map.h"
 
@@ -52,6 +53,11 @@ class MapErrorField {
   explicit MapErrorField(const MapErrorOptions& options);
   /// D(p), m (world frame).
   Vec2 offset(const Vec2& p) const;
+  /// The map's pose whose image is the world's `pose`: the point p with p + D(p) = pose's position
+  /// (fixed-point iteration; D's slope is about offset_sigma_m / offset_length_m, far below 1) and the
+  /// heading turned back by the field's rotation there (the direction d in the map is (I + ∂D/∂p) d
+  /// in the world). Where a perfectly map-relative estimate would be.
+  Pose2 pullBack(const Pose2& pose) const;
 
  private:
   struct Feature {

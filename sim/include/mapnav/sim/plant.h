@@ -46,6 +46,12 @@ class SimulatedPlant {
   /// itself when options.worldIsTheMap()). Truth is judged against it: its roads are where the vehicle can drive.
   const Map& worldMap() const { return world_map_; }
 
+  /// Where the true pose `pose` (world frame) is on the vehicle's map: the pose a perfectly
+  /// map-relative estimate would have (MapErrorField::pullBack) — with options.map_error over the
+  /// vehicle's own map; none when the world is the map (the truth is that pose) or is drawn from
+  /// another map file (no field relates the two).
+  std::optional<Pose2> truthOnMap(const Pose2& pose) const;
+
   /// The camera frame at `pose` (world frame) at mission time `t` s, with its ground-truth mask.
   Frame render(const Pose2& pose, double t) const;
   /// What the odometry sensor reports for the true motion `truth` over `dt_s` s (the noise's random
@@ -57,6 +63,7 @@ class SimulatedPlant {
 
  private:
   Map world_map_;
+  std::optional<MapErrorField> field_;  // options.map_error over the vehicle's map (truthOnMap)
   World world_;
   RayTable rays_;
   OdometrySensor sensor_;

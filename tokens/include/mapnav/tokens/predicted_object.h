@@ -73,6 +73,11 @@ struct PredictedObject {
   /// (x forward m, y left m, heading rad). Zero when unknown (a bootstrap, an eval). Line labelling
   /// widens its gate with it: a predicted line's place in the vehicle frame is that uncertain.
   Mat3 pose_covariance = Mat3::Zero();
+  /// How well the map places the roads this view was predicted from: their position's 1-sigma, m
+  /// (the map's or the road's `position_sigma_m`); 0 for an exact map (or unknown). Where it is > 0
+  /// the map's shape error is in pose_covariance too (PoseFilter::setMapSigma) and line labelling
+  /// widens its gate by it (LineOptions::gate_sigma_uncertain_map).
+  double map_sigma_m = 0;
 
   bool empty() const { return regions.empty() && segments.empty(); }
 };
