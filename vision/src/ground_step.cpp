@@ -87,14 +87,42 @@ bool patchMaps(const Camera& camera, const GroundStepOptions& o, double start, c
   return true;
 }
 
-// The patch as the frame sees it: the sum of the three channels, bilinear.
+// patchMaps of `camera` with no motion (the current frame's), kept per thread for the last camera
+// and options asked: they depend on nothing else, and the Vision module asks for the same every frame.
+bool currentPatchMaps(const Camera& camera, const GroundStepOptions& o, double start, cv::Mat& map_u, cv::Mat& map_v) {
+  struct Kept {
+    bool valid = false, ok = false;
+    LensModel model{};
+    CameraIntrinsics intrinsics;
+    CameraMount mount;
+    double near_m = 0, far_m = 0, half_width_m = 0, cell_m = 0, start = 0;
+    cv::Mat u, v;
+  };
+  thread_local Kept kept;
+  const bool same = kept.valid && kept.model == camera.model() && kept.intrinsics == camera.intrinsics() &&
+                    kept.mount == camera.mount() && kept.near_m == o.near_m && kept.far_m == o.far_m &&
+                    kept.half_width_m == o.half_width_m && kept.cell_m == o.cell_m && kept.start == start;
+  if (!same) {
+    kept = Kept{true, false, camera.model(), camera.intrinsics(), camera.mount(), o.near_m, o.far_m, o.half_width_m, o.cell_m, start, {}, {}};
+    kept.ok = patchMaps(camera, o, start, Pose2(), kept.u, kept.v);
+  }
+  map_u = kept.u;  // shared, read only
+  map_v = kept.v;
+  return kept.ok;
+}
+
+// The patch as the frame sees it: the sum of the three channels, bilinear (each channel
+// interpolated and rounded to its 8 bits, then summed).
 cv::Mat patch(const VisionFrame& f, const cv::Mat& map_u, const cv::Mat& map_v) {
   const cv::Mat rgb(f.height, f.width, CV_8UC3, const_cast<std::uint8_t*>(f.rgb));
-  cv::Mat sampled, grey;
+  cv::Mat sampled;
   cv::remap(rgb, sampled, map_u, map_v, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-  sampled.convertTo(sampled, CV_32FC3);
-  cv::transform(sampled, grey, cv::Matx13f(1, 1, 1));
-  grey.convertTo(grey, CV_64F);
+  cv::Mat grey(sampled.rows, sampled.cols, CV_64F);
+  for (int i = 0; i < sampled.rows; ++i) {
+    const std::uint8_t* in = sampled.ptr<std::uint8_t>(i);
+    double* out = grey.ptr<double>(i);
+    for (int j = 0; j < sampled.cols; ++j) out[j] = static_cast<double>(in[3 * j] + in[3 * j + 1] + in[3 * j + 2]);
+  }
   return grey;
 }
 
@@ -108,8 +136,9 @@ struct Registration {
 };
 
 Registration phaseCorrelation(const cv::Mat& a, const cv::Mat& b, int clear) {
-  cv::Mat window, fa, fb, cross, surface;
-  cv::createHanningWindow(window, a.size(), CV_64F);
+  thread_local cv::Mat window;  // the same size every frame
+  if (window.size() != a.size()) cv::createHanningWindow(window, a.size(), CV_64F);
+  cv::Mat fa, fb, cross, surface;
   const int rows = cv::getOptimalDFTSize(a.rows), cols = cv::getOptimalDFTSize(a.cols);
   auto spectrum = [&](const cv::Mat& m, cv::Mat& out) {
     cv::Mat padded;
@@ -119,14 +148,16 @@ Registration phaseCorrelation(const cv::Mat& a, const cv::Mat& b, int clear) {
   spectrum(a, fa);
   spectrum(b, fb);
   cv::mulSpectrums(fb, fa, cross, 0, true);
-  std::vector<cv::Mat> parts;
-  cv::split(cross, parts);
-  cv::Mat magnitude;
-  cv::magnitude(parts[0], parts[1], magnitude);
-  magnitude += 1e-12;
-  parts[0] /= magnitude;
-  parts[1] /= magnitude;
-  cv::merge(parts, cross);
+  // The cross power spectrum normalised to unit magnitude, in place (the magnitude as cv::magnitude
+  // computes it where it vectorises: one fused multiply-add).
+  for (int y = 0; y < cross.rows; ++y) {
+    double* c = cross.ptr<double>(y);
+    for (int x = 0; x < 2 * cross.cols; x += 2) {
+      const double magnitude = std::sqrt(std::fma(c[x], c[x], c[x + 1] * c[x + 1])) + 1e-12;
+      c[x] /= magnitude;
+      c[x + 1] /= magnitude;
+    }
+  }
   cv::idft(cross, surface, cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
   cv::Point at;
   Registration r;
@@ -135,11 +166,14 @@ Registration phaseCorrelation(const cv::Mat& a, const cv::Mat& b, int clear) {
   const double sx = at.x + parabolaPeak(value(at.y, at.x - 1), r.peak, value(at.y, at.x + 1));
   const double sy = at.y + parabolaPeak(value(at.y - 1, at.x), r.peak, value(at.y + 1, at.x));
   r.shift = cv::Point2d(sx > cols / 2 ? sx - cols : sx, sy > rows / 2 ? sy - rows : sy);
+  // The cyclic distance of each column from the peak's; a row that far from the peak's counts whole.
+  std::vector<char> far_column(static_cast<std::size_t>(cols));
+  for (int x = 0; x < cols; ++x) far_column[x] = std::min((x - at.x + cols) % cols, (at.x - x + cols) % cols) > clear;
   for (int y = 0; y < rows; ++y) {
+    const bool far_row = std::min((y - at.y + rows) % rows, (at.y - y + rows) % rows) > clear;
+    const double* row = surface.ptr<double>(y);
     for (int x = 0; x < cols; ++x) {
-      const int dy = std::min((y - at.y + rows) % rows, (at.y - y + rows) % rows);
-      const int dx = std::min((x - at.x + cols) % cols, (at.x - x + cols) % cols);
-      if (dx > clear || dy > clear) r.runner_up = std::max(r.runner_up, surface.at<double>(y, x));
+      if (far_row || far_column[x]) r.runner_up = std::max(r.runner_up, row[x]);
     }
   }
   return r;
@@ -174,7 +208,7 @@ MeasuredStep measureGroundStep(const VisionFrame& previous, const VisionFrame& c
                            per_px, end, o.max_ground_per_px_m);
     return out;
   }
-  if (!patchMaps(*current.camera, o, start, Pose2(), cu, cv_) || !patchMaps(*previous.camera, o, start, motion, pu, pv)) {
+  if (!currentPatchMaps(*current.camera, o, start, cu, cv_) || !patchMaps(*previous.camera, o, start, motion, pu, pv)) {
     out.reason = "the ground patch is not in view of both frames";
     return out;
   }
