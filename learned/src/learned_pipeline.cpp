@@ -51,9 +51,45 @@ class LearnedPipeline : public ScorePipeline {
   }
   const ScorePipelineOptions& scoreOptions() const override { return options_; }
 
+  // Online adaptation (LearnedPipelineOptions::adapt): the predicted road is road, the rest as
+  // adapt_outside says; one gradient step on those labels. A region that no longer holds the
+  // predicted road puts the loaded weights back.
+  void learnFrom(const std::uint8_t* rgb, int width, int height, const std::uint8_t* ground,
+                 const std::vector<float>& probability, const std::uint8_t* predicted) override {
+    if (!options_.adapt || !model_) return;
+    const std::size_t n = static_cast<std::size_t>(width) * height;
+    std::vector<std::uint8_t> labels(n, 2);  // 2: left out
+    double held = 0, mapped_cells = 0;
+    const double c = options_.adapt_confidence;
+    const bool confident_outside = options_.adapt_outside == AdaptOutside::Confident;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ground[i] == 0) continue;
+      const bool road = probability[i] > 0.5, mapped = predicted[i] != 0;
+      held += road && mapped;
+      mapped_cells += mapped;
+      if (mapped) labels[i] = 1;
+      else if (probability[i] >= c) labels[i] = confident_outside ? 1 : 2;
+      else if (probability[i] <= 1 - c || !confident_outside) labels[i] = 0;
+    }
+    if (mapped_cells > 0 && held / mapped_cells < options_.adapt_reset_cover) {
+      model_->resetAdaptation();
+      frames_ = 0;
+      return;
+    }
+    if (frames_++ % options_.adapt_every != 0) return;
+    model_->adapt(rgb, width, height, ground, labels.data(), options_.adapt_rate, options_.adapt_layers);
+  }
+
+ public:
+  void reset() override {
+    if (model_) model_->resetAdaptation();
+    frames_ = 0;
+  }
+
  private:
   LearnedPipelineOptions options_;
   std::unique_ptr<SegmentationModel> model_;
+  std::size_t frames_ = 0;  // frames adapted from since the loaded weights
 };
 
 }  // namespace

@@ -33,6 +33,7 @@ struct SegmentationModel::Impl {
   std::vector<double> mean, spread;  ///< per colour channel, levels
   SegmentationTraining training;
   std::shared_ptr<SegNet> net;
+  std::vector<torch::Tensor> adapted_from;  ///< the weights before the first adapt(), for resetAdaptation()
 
   /// The batch's input tensor (1 x 4 x height x width) for one frame, resized and normalised.
   torch::Tensor input(const std::uint8_t* rgb, int w, int h, const std::uint8_t* ground) const;

@@ -233,4 +233,59 @@ std::vector<float> SegmentationModel::roadProbability(const std::uint8_t* rgb, i
   return out;
 }
 
+double SegmentationModel::adapt(const std::uint8_t* rgb, int width, int height, const std::uint8_t* ground,
+                                const std::uint8_t* labels, double learning_rate, int layers) {
+  if (rgb == nullptr || labels == nullptr || width <= 0 || height <= 0) throw InvalidInput("SegmentationModel::adapt: empty frame");
+  std::vector<torch::nn::Conv2d>& convs = impl_->net->convs;
+  if (layers < 1 || layers > static_cast<int>(convs.size()))
+    throw InvalidInput("SegmentationModel::adapt: layers " + std::to_string(layers) + ": must be 1.." + std::to_string(convs.size()));
+  if (!(std::isfinite(learning_rate) && learning_rate > 0))
+    throw InvalidInput("SegmentationModel::adapt: learning rate " + std::to_string(learning_rate) + ": must be > 0");
+  // The labels at the network's input size (nearest, as the ground is).
+  const cv::Mat full(height, width, CV_8UC1, const_cast<std::uint8_t*>(labels));
+  cv::Mat small;
+  cv::resize(full, small, cv::Size(impl_->width, impl_->height), 0, 0, cv::INTER_NEAREST);
+  torch::Tensor target = torch::empty({1, 1, impl_->height, impl_->width});
+  torch::Tensor weight = torch::empty({1, 1, impl_->height, impl_->width});
+  float *t = target.data_ptr<float>(), *w = weight.data_ptr<float>();
+  double labelled = 0;
+  for (int i = 0; i < small.rows * small.cols; ++i) {
+    const std::uint8_t l = small.data[i];
+    t[i] = l == 1 ? 1.0f : 0.0f;
+    w[i] = l <= 1 ? 1.0f : 0.0f;
+    labelled += w[i];
+  }
+  if (labelled == 0) return -1;
+  if (impl_->adapted_from.empty()) {
+    for (const torch::Tensor& p : impl_->net->parameters()) impl_->adapted_from.push_back(p.detach().clone());
+  }
+  const std::size_t first = convs.size() - static_cast<std::size_t>(layers);
+  std::vector<torch::Tensor> trained;
+  for (std::size_t i = 0; i < convs.size(); ++i) {
+    for (torch::Tensor& p : convs[i]->parameters()) {
+      p.set_requires_grad(i >= first);
+      if (i >= first) trained.push_back(p);
+    }
+  }
+  const torch::Tensor logits = impl_->net->forward(impl_->input(rgb, width, height, ground));
+  const torch::Tensor loss =
+      F::binary_cross_entropy_with_logits(logits, target, F::BinaryCrossEntropyWithLogitsFuncOptions().weight(weight).reduction(torch::kSum)) /
+      labelled;
+  for (torch::Tensor& p : trained) p.mutable_grad() = torch::Tensor();
+  loss.backward();
+  {
+    torch::NoGradGuard no_grad;
+    for (torch::Tensor& p : trained) p.sub_(p.grad() * learning_rate);
+  }
+  for (torch::Tensor& p : impl_->net->parameters()) p.set_requires_grad(true);
+  return loss.item<double>();
+}
+
+void SegmentationModel::resetAdaptation() {
+  if (impl_->adapted_from.empty()) return;
+  torch::NoGradGuard no_grad;
+  std::vector<torch::Tensor> params = impl_->net->parameters();
+  for (std::size_t i = 0; i < params.size(); ++i) params[i].copy_(impl_->adapted_from[i]);
+}
+
 }  // namespace mapnav

@@ -2,6 +2,8 @@
 // model's figure on shared photos and the "learned" pipeline (docs/learned.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -219,6 +221,96 @@ TEST(LearnedPipeline, RegisteredWithOptionsAndFindsTheRoadOfAPhoto) {
   const double iou = countPixels(d.road_mask, label, classes).iou().value_or(0);
   EXPECT_GT(alone, 0.9);
   EXPECT_GT(iou, alone - 0.03);
+}
+
+
+/// A photo's labels as SegmentationModel::adapt takes them: 1 road, 0 not, 2 left out (unlabelled
+/// or above the ground).
+std::vector<std::uint8_t> adaptLabels(const TrainingPhoto& photo) {
+  std::vector<std::uint8_t> labels(photo.road.data.size());
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    labels[i] = photo.ground.data[i] == 0 || photo.road.data[i] == 255 ? 2 : photo.road.data[i];
+  return labels;
+}
+
+/// The committed camvid model and camvid's first photo, the model's file bytes as loaded.
+class SegmentationModelAdapt : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(realDataPresent("camvid")); }
+  SegmentationModel model = SegmentationModel::load(resolveSegmentationModel("camvid"));
+  const std::string loaded = model.bytes();
+  const TrainingPhoto photo = camvid("camvid", 0, 1).front();
+  const int w = photo.rgb.width, h = photo.rgb.height;
+  const std::uint8_t *rgb = photo.rgb.data.data(), *ground = photo.ground.data.data();
+};
+
+TEST_F(SegmentationModelAdapt, StepsLowerTheLossAndResetGivesTheLoadedModelBack) {
+  const std::vector<std::uint8_t> labels = adaptLabels(photo);
+  const std::vector<float> before = model.roadProbability(rgb, w, h, ground);
+  // Gradient descent on one frame's loss: each step's loss (measured before it) below the last.
+  std::vector<double> losses;
+  for (int k = 0; k < 4; ++k) losses.push_back(model.adapt(rgb, w, h, ground, labels.data(), 0.05, 2));
+  EXPECT_GT(losses.front(), 0);
+  for (std::size_t k = 1; k < losses.size(); ++k) EXPECT_LT(losses[k], losses[k - 1]) << "step " << k;
+  EXPECT_NE(model.roadProbability(rgb, w, h, ground), before);
+  EXPECT_NE(model.bytes(), loaded);
+  model.resetAdaptation();
+  EXPECT_EQ(model.roadProbability(rgb, w, h, ground), before);
+  EXPECT_EQ(model.bytes(), loaded);
+  // Adapting again starts from the loaded weights: the first step's loss is the first loss again.
+  EXPECT_DOUBLE_EQ(model.adapt(rgb, w, h, ground, labels.data(), 0.05, 2), losses.front());
+}
+
+TEST_F(SegmentationModelAdapt, NothingLabelledIsNoStepAndBadArgumentsAreNamed) {
+  const std::vector<std::uint8_t> none(photo.road.data.size(), 2);
+  EXPECT_EQ(model.adapt(rgb, w, h, ground, none.data(), 0.05, 2), -1);
+  EXPECT_EQ(model.bytes(), loaded);
+  const std::vector<std::uint8_t> labels = adaptLabels(photo);
+  for (int layers : {0, 12}) {
+    try {
+      model.adapt(rgb, w, h, ground, labels.data(), 0.05, layers);
+      FAIL() << layers;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("layers " + std::to_string(layers) + ": must be 1..11"), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_THROW(model.adapt(rgb, w, h, ground, labels.data(), std::nan(""), 2), InvalidInput);
+  EXPECT_THROW(model.adapt(rgb, 0, h, ground, labels.data(), 0.05, 2), InvalidInput);
+  EXPECT_EQ(model.bytes(), loaded);
+}
+
+TEST(LearnedPipeline, AdaptsFromThePredictionAndGoesBackToTheLoadedModelOnResetOrARunaway) {
+  ASSERT_TRUE(realDataPresent("camvid"));
+  registerLearnedPipeline();
+  const TrainingPhoto photo = camvid("camvid", 0, 1).front();
+  const int w = photo.rgb.width, h = photo.rgb.height;
+  const std::unique_ptr<Camera> camera = assumedPhotoCamera(w, h);
+  const Prediction trapezoid = predictionFromImageRegion(bottomTrapezoid(w, h), *camera);
+  auto confidence = [&](VisionPipeline& p, const Image& rgb, const Prediction& prediction) {
+    VisionFrame frame{w, h, rgb.data.data(), camera.get(), 0.0};
+    frame.want_masks = true;
+    const DetectedObject d = p.detect(frame, prediction.view);
+    return d.road_confidence.data;
+  };
+  auto frozen = createPipeline("learned", "{}");
+  const std::vector<std::uint8_t> first = confidence(*frozen, photo.rgb, trapezoid);
+  ASSERT_FALSE(first.empty());
+  EXPECT_EQ(confidence(*frozen, photo.rgb, trapezoid), first);  // frozen: the same answer every time
+
+  auto adaptive = createPipeline("learned", R"({"adapt": true, "adapt_rate": 0.05})");
+  EXPECT_EQ(confidence(*adaptive, photo.rgb, trapezoid), first);  // it learns after answering
+  const std::vector<std::uint8_t> second = confidence(*adaptive, photo.rgb, trapezoid);
+  EXPECT_NE(second, first);
+  adaptive->reset();
+  EXPECT_EQ(confidence(*adaptive, photo.rgb, trapezoid), first);
+
+  // A runaway: a predicted road the region does not hold (the grass verge on the left of this
+  // photo) puts the loaded weights back, and no step is taken from it.
+  confidence(*adaptive, photo.rgb, trapezoid);
+  const Prediction verge = predictionFromImageRegion({{0, 215}, {45, 205}, {25, 275}, {0, 282}}, *camera);
+  confidence(*adaptive, photo.rgb, verge);
+  EXPECT_EQ(confidence(*adaptive, photo.rgb, trapezoid), first);
 }
 
 }  // namespace

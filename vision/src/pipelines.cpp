@@ -626,13 +626,14 @@ class ScorePipeline::Impl : public BasePipeline {
   void reset() override {}
 
  protected:
-  std::optional<Image> classify(const GridFrame& frame, const PredictedObject&, const Image& valid, const Image&,
+  std::optional<Image> classify(const GridFrame& frame, const PredictedObject&, const Image& valid, const Image& predicted,
                                 std::string& why) override {
     std::vector<float> p = owner_.roadProbability(frame.rgb, frame.width, frame.height, valid.data.data());
     if (p.size() != static_cast<std::size_t>(frame.width) * frame.height) {
       why = strprintf("the road probability has %zu values for %dx%d cells", p.size(), frame.width, frame.height);
       return std::nullopt;
     }
+    if (!predicted.data.empty()) owner_.learnFrom(frame.rgb, frame.width, frame.height, valid.data.data(), p, predicted.data.data());
     // The confidence maps threshold +- 0.5 onto 0..255: the probability itself where the threshold is 0.5.
     return threshold(p, frame.width, frame.height, valid, common().threshold, 0.5, frame.scale);
   }

@@ -57,6 +57,17 @@ class SegmentationModel {
   /// intra-op threads as set (setThreads).
   std::vector<float> roadProbability(const std::uint8_t* rgb, int width, int height, const std::uint8_t* ground) const;
 
+  /// One step of online fine-tuning (the learned pipeline's `adapt`): plain gradient descent at
+  /// `learning_rate` on the binary cross-entropy of the last `layers` convolutions' weights (1..11;
+  /// the others as they are), against `labels` (width × height as roadProbability's frame: 0 not
+  /// road, 1 road, any other value left out). The first call keeps the weights it starts from for
+  /// resetAdaptation(). Returns the step's loss before it, or -1 when no pixel is labelled (no step).
+  /// Throws InvalidInput for an empty frame or `layers` out of range.
+  double adapt(const std::uint8_t* rgb, int width, int height, const std::uint8_t* ground, const std::uint8_t* labels,
+               double learning_rate, int layers);
+  /// Back to the weights before the first adapt() (nothing when it was never called).
+  void resetAdaptation();
+
   /// Torch's CPU threads for this process (inference and training): 0 = leave Torch's default.
   static void setThreads(int threads);
 

@@ -108,8 +108,8 @@ struct ScorePipelineOptions : RegionPipelineOptions {
 
 /// A region pipeline whose per-pixel road probability comes from a subclass (e.g. a network): the
 /// frame checks, region reproduction, polygon, lines and their labels, the mask and the confidence
-/// (the probability on 0..255) are every region pipeline's. The prediction only picks which road
-/// region is the road and labels the lines: nothing is trained on it.
+/// (the probability on 0..255) are every region pipeline's. The prediction picks which road
+/// region is the road and labels the lines; a subclass may learn from it (learnFrom).
 class ScorePipeline : public VisionPipeline {
  public:
   explicit ScorePipeline(std::string name);
@@ -124,6 +124,13 @@ class ScorePipeline : public VisionPipeline {
   /// the cell sees the ground, else 0 (width × height).
   virtual std::vector<float> roadProbability(const std::uint8_t* rgb, int width, int height,
                                              const std::uint8_t* ground) = 0;
+  /// Called after roadProbability() on every frame with a prediction, with what it answered and the
+  /// predicted road on the same grid (1 channel, non-zero = road): a subclass that learns online
+  /// (the learned pipeline's `adapt`) learns from them for the next frames. Default: nothing.
+  virtual void learnFrom(const std::uint8_t* rgb, int width, int height, const std::uint8_t* ground,
+                         const std::vector<float>& probability, const std::uint8_t* predicted) {
+    (void)rgb, (void)width, (void)height, (void)ground, (void)probability, (void)predicted;
+  }
   /// The options of the region steps and the threshold (the subclass's struct).
   virtual const ScorePipelineOptions& scoreOptions() const = 0;
 
