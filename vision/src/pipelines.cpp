@@ -17,6 +17,7 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/strprintf.h"
+#include "mapnav/geometry/simplify.h"
 #include "mapnav/vision/centre_line.h"
 #include "mapnav/vision/cluster_perceptron.h"  // cluster-perceptron
 #include "mapnav/vision/color_classifier.h"
@@ -367,14 +368,6 @@ class BasePipeline : public VisionPipeline {
   GroundCache cache_;
   std::vector<std::uint8_t> grid_rgb_;  ///< the last frame on the grid (reused)
 };
-
-}  // namespace
-}  // namespace mapnav
-
-#include "mapnav/geometry/simplify.h"
-
-namespace mapnav {
-namespace {
 
 std::vector<Vec2> BasePipeline::simplifyRing(const std::vector<Vec2>& ring, double tol, bool reference) {
   std::vector<Vec2> poly = reference ? simplifyPolyline(ring, tol) : simplifyPixelChain(ring, tol);
