@@ -25,6 +25,11 @@ struct SegNet : torch::nn::Module {
   std::vector<torch::nn::Conv2d> convs;  ///< in registration order (their names: c0, c1, ...)
 };
 
+/// The binary cross-entropy of `logits` against `label` (1 road, 0 not) summed over the cells
+/// `weight` counts (1 counted, 0 left out) and divided by their count (at least 1): the loss that
+/// training and SegmentationModel::adapt() descend.
+torch::Tensor maskedLoss(const torch::Tensor& logits, const torch::Tensor& label, const torch::Tensor& weight);
+
 /// The name of the architecture the file records.
 inline constexpr const char* kSegNetArchitecture = "encoder-decoder 16-32-48, dilations 2-4-8";
 

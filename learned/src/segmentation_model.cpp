@@ -29,6 +29,10 @@ torch::Tensor upTo(const torch::Tensor& t, std::int64_t h, std::int64_t w) {
 
 }  // namespace
 
+torch::Tensor maskedLoss(const torch::Tensor& logits, const torch::Tensor& label, const torch::Tensor& weight) {
+  return torch::binary_cross_entropy_with_logits(logits, label, weight, {}, at::Reduction::Sum) / weight.sum().clamp_min(1);
+}
+
 SegNet::SegNet() {
   using O = torch::nn::Conv2dOptions;
   const std::vector<O> specs = {
@@ -268,9 +272,7 @@ double SegmentationModel::adapt(const std::uint8_t* rgb, int width, int height, 
     }
   }
   const torch::Tensor logits = impl_->net->forward(impl_->input(rgb, width, height, ground));
-  const torch::Tensor loss =
-      F::binary_cross_entropy_with_logits(logits, target, F::BinaryCrossEntropyWithLogitsFuncOptions().weight(weight).reduction(torch::kSum)) /
-      labelled;
+  const torch::Tensor loss = maskedLoss(logits, target, weight);
   for (torch::Tensor& p : trained) p.mutable_grad() = torch::Tensor();
   loss.backward();
   {

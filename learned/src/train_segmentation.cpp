@@ -205,8 +205,7 @@ SegmentationModel trainSegmentation(const std::vector<TrainingPhoto>& photos, co
                     w = tr.weight.index_select(0, idx);
       for (std::int64_t k = 0; k < b1 - b0; ++k) augment(x, y, w, k, mean, spread, options, rng, noise, jitter);
       const torch::Tensor logits = net.forward(x);
-      const torch::Tensor loss =
-          torch::binary_cross_entropy_with_logits(logits, y, w, {}, at::Reduction::Sum) / w.sum().clamp_min(1);
+      const torch::Tensor loss = maskedLoss(logits, y, w);
       adam.zero_grad();
       loss.backward();
       adam.step();

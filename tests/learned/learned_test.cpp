@@ -223,7 +223,6 @@ TEST(LearnedPipeline, RegisteredWithOptionsAndFindsTheRoadOfAPhoto) {
   EXPECT_GT(iou, alone - 0.03);
 }
 
-
 /// A photo's labels as SegmentationModel::adapt takes them: 1 road, 0 not, 2 left out (unlabelled
 /// or above the ground).
 std::vector<std::uint8_t> adaptLabels(const TrainingPhoto& photo) {
