@@ -5,9 +5,9 @@
 #include "cli.h"
 #include "command_line.h"
 #include "command_support.h"
+#include "mapnav/learned/learned_module.h"
 #include "mapnav/vision/pipelines.h"
 #include "mapnav/vision_iface/pipeline.h"
-#include "learned_module.h"
 
 namespace mapnav::cli {
 

@@ -1,20 +1,14 @@
 // evaluationJson(): the one writer of an evaluation's JSON (`mapnav eval segmentation --json`,
 // Python's evaluate_segmentation).
-#include <cmath>
 #include <optional>
 
+#include "json_figure.h"
 #include "mapnav/core/json.h"
 #include "mapnav/eval/segmentation_evaluation.h"
 
 namespace mapnav {
 
 namespace {
-
-// A figure: 4 decimals, null when undefined.
-Json figure(const std::optional<double>& v) {
-  if (!v) return nullptr;
-  return std::round(*v * 1e4) / 1e4;
-}
 
 // Which space was scored, so that image and bird's-eye figures are never mistaken for each other.
 Json gridJson(const std::optional<ScoredBevGrid>& bev) {

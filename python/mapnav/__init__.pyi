@@ -1,7 +1,7 @@
 """Type stubs of the mapnav module (docs/python.md). Arrays are numpy arrays: images uint8
 H x W x 3 (RGB) or H x W (masks: 255 = road), points float64 N x 2. Poses are a road position
 "R1@I1+3" or (x, y, heading_rad) in the map's frame."""
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -207,3 +207,7 @@ def evaluate_segmentation(pipeline: Union[Pipeline, str], images: str, labels: s
                           bev_range: Optional[Sequence[float]] = None, bev_cell: Optional[float] = None,
                           overlays: Optional[str] = None, options: Options = None,
                           resize: Optional[tuple[int, int]] = None) -> dict[str, Any]: ...
+def train_segmentation(output: str, images: Optional[str] = None, labels: Optional[str] = None,
+                       logs: Sequence[str] = ..., log_stride: int = 5, road_values: Sequence[int] = ...,
+                       ignore_values: Sequence[int] = ..., camera: Optional[str] = None, options: Options = None,
+                       progress: Optional[Callable[[dict[str, Any]], None]] = None) -> dict[str, Any]: ...

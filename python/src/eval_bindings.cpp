@@ -1,5 +1,6 @@
 // A vision pipeline evaluated on labelled photos: `mapnav eval segmentation` from Python, its
-// figures as the dict of `--json`.
+// figures as the dict of `--json`; and the learned network trained on them (`mapnav train
+// segmentation`).
 
 #include <memory>
 #include <optional>
@@ -8,12 +9,16 @@
 
 #include "convert.h"
 #include "mapnav/core/error.h"
+#include "mapnav/core/json.h"
 #include "mapnav/eval/segmentation_evaluation.h"
+#include "mapnav/eval/training_set.h"
 #include "mapnav/vision_iface/pipeline.h"
 
 namespace mapnav::python {
 
 namespace {
+
+using namespace pybind11::literals;
 
 SegmentationEvalOptions evalOptions(const std::string& bootstrap, const std::optional<std::string>& camera, bool bev,
                                     const std::optional<std::vector<double>>& bev_range,
@@ -71,6 +76,48 @@ py::object evaluate(const py::object& pipeline, const std::string& images, const
                                bev_cell, overlays, options, resize));
 }
 
+// The call as the model records it (`mapnav models` shows it).
+std::string trainingCall(const TrainingSet& set, const SegmentationTrainOptions& options, const std::string& output) {
+  Json args = Json::object();
+  if (!set.images.empty()) args["images"] = set.images, args["labels"] = set.labels;
+  if (!set.logs.empty()) args["logs"] = set.logs, args["log_stride"] = set.log_stride;
+  args["road_values"] = set.classes.road;
+  args["ignore_values"] = set.classes.ignore;
+  if (!set.camera.empty()) args["camera"] = set.camera;
+  args["options"] = Json::parse(segmentationTrainOptionTable().json(options));
+  args["output"] = output;
+  return "mapnav.train_segmentation(**" + args.dump() + ")";
+}
+
+py::object train(const std::string& output, const std::optional<std::string>& images,
+                 const std::optional<std::string>& labels, const std::vector<std::string>& logs, int log_stride,
+                 const std::vector<int>& road_values, const std::vector<int>& ignore_values,
+                 const std::optional<std::string>& camera, const py::object& options, const py::object& progress) {
+  TrainingSet set;
+  set.images = images.value_or("");
+  set.labels = labels.value_or("");
+  set.logs = logs;
+  set.log_stride = log_stride;
+  set.classes = LabelClasses{road_values, ignore_values};
+  set.camera = camera.value_or("");
+  const SegmentationTrainOptions o = segmentationTrainOptionTable().parse(optionsText(options), {}, "options");
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw InvalidInput("progress: must be callable or None");
+  std::function<void(const EpochReport&)> report;
+  if (!progress.is_none())
+    report = [&progress](const EpochReport& r) {
+      const py::gil_scoped_acquire gil;
+      progress(py::dict("epoch"_a = r.epoch, "epochs"_a = r.epochs, "loss"_a = r.loss,
+                        "validation_iou"_a = r.validation_iou ? py::object(py::float_(*r.validation_iou)) : py::none()));
+    };
+  const std::string command = trainingCall(set, o, output);
+  TrainedModelSummary model;
+  {
+    const py::gil_scoped_release released;  // the training runs for minutes; other Python threads go on
+    model = trainSegmentationModel(set, o, report, command, output);
+  }
+  return fromJson(trainedModelJson(output, model));
+}
+
 }  // namespace
 
 void bindEval(py::module_& m) {
@@ -92,6 +139,16 @@ void bindEval(py::module_& m) {
         py::arg("options") = py::none(), py::arg("resize") = py::none(),
         "For mapnav.distributed: evaluate_segmentation's scores as the JSON text `mapnav eval segmentation "
         "--json` prints.");
+  m.def("train_segmentation", &train, py::arg("output"), py::arg("images") = py::none(), py::arg("labels") = py::none(),
+        py::arg("logs") = std::vector<std::string>{}, py::arg("log_stride") = TrainingSet{}.log_stride,
+        py::arg("road_values") = std::vector<int>{3}, py::arg("ignore_values") = std::vector<int>{},
+        py::arg("camera") = py::none(), py::arg("options") = py::none(), py::arg("progress") = py::none(),
+        "`mapnav train segmentation` (docs/learned.md): the learned pipeline's network trained on the labelled "
+        "photos of the folders `images` and `labels` and/or the frames of simulator logs (every log_stride-th), "
+        "written atomically to `output`; the dict its --json prints. options: a dict or JSON text of "
+        "SegmentationTrainOptions (docs/options.md: epochs, seed, width, height, threads, augmentation); "
+        "progress(dict) is called after every epoch with epoch, epochs, loss and validation_iou. Same inputs, "
+        "options and seed, same model bytes. NotFound when this build has no learned module.");
 }
 
 }  // namespace mapnav::python

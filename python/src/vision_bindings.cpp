@@ -1,17 +1,14 @@
 // Vision: the pipeline registry, Pipeline.detect / .segment on numpy frames, the Detection token,
 // images, and the benchmark's sidewalk scene.
 
-#include <dlfcn.h>
-
 #include <cmath>
-#include <filesystem>
-#include <mutex>
 
 #include "convert.h"
 #include "mapnav/core/error.h"
 #include "mapnav/core/json.h"
 #include "mapnav/image/png.h"
 #include "mapnav/image/read_image.h"
+#include "mapnav/learned/learned_module.h"
 #include "mapnav/mission/image_region.h"
 #include "mapnav/tokens/token_json.h"
 #include "mapnav/scenes/sidewalk_scene.h"
@@ -84,22 +81,6 @@ Segmentation segment(VisionPipeline& pipeline, const py::array& image, const PyP
   return s;
 }
 
-// The "learned" pipeline is libmapnav_learned.so's (Torch's libraries load with it, so only when it
-// is asked for, as the CLI does: docs/learned.md), opened once from beside the library that holds
-// the pipeline registry.
-void loadLearnedModule() {
-#ifdef MAPNAV_LEARNED_MODULE
-  static std::once_flag once;
-  std::call_once(once, [] {
-    Dl_info info{};
-    if (::dladdr(reinterpret_cast<void*>(&listPipelines), &info) == 0 || info.dli_fname == nullptr) return;
-    const std::filesystem::path module = std::filesystem::path(info.dli_fname).parent_path() / MAPNAV_LEARNED_MODULE;
-    std::error_code ec;
-    if (std::filesystem::exists(module, ec)) loadPlugin(module.string());
-  });
-#endif
-}
-
 void bindPipeline(py::module_& m) {
   py::class_<Segmentation>(m, "Segmentation", "A road mask, the confidence where the pipeline gives one, the detection.")
       .def_readonly("mask", &Segmentation::mask, "H x W uint8, 255 = road (all 0 when the pipeline failed)")
@@ -134,7 +115,7 @@ void bindPipeline(py::module_& m) {
   m.def(
       "create_pipeline",
       [](const std::string& name, const py::object& options) {
-        if (name == "learned") loadLearnedModule();
+        loadPipelineModule(name);  // "learned" opens the learned module (Torch), as the CLI does
         return createPipeline(name, optionsText(options));
       },
       py::arg("name"), py::arg("options") = py::none(),

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import mapnav
-from conftest import CAMPUS, PINHOLE, cli, cli_error
+from conftest import CAMPUS, DIALOGUE, PINHOLE, cli, cli_error, cli_json
 
 
 @pytest.fixture(scope="module")
@@ -120,3 +120,38 @@ def test_the_learned_pipeline_is_created_from_python_as_the_cli_runs_it(frame, f
     segmentation = learned.segment(frame, view)
     assert np.array_equal(segmentation.mask, mapnav.read_image(str(mask_file)))
     assert segmentation.mask[-1, 256] == 255  # the path ahead
+
+
+def test_train_segmentation_makes_the_clis_model(frame, view, tmp_path):
+    """train_segmentation on a simulated log's truth masks: the summary --json prints, a progress call per
+    epoch, and the same weights as `mapnav train segmentation` (the same probabilities on a frame)."""
+    log = tmp_path / "log"
+    cli("simulate", "--mission", DIALOGUE, "--seed", "5", "--max-frames", "6", "-o", log)
+    printed = cli_json("train", "segmentation", "--log", log, "--log-stride", "2", "--epochs", "2", "--size", "64x60",
+                       "--threads", "1", "-o", tmp_path / "cli.mnseg", "--json")
+    epochs = []
+    model = str(tmp_path / "python.mnseg")
+    summary = mapnav.train_segmentation(model, logs=[str(log)], log_stride=2,
+                                        options={"epochs": 2, "width": 64, "height": 60, "threads": 1},
+                                        progress=epochs.append)
+    assert summary == {**printed, "model": model}
+    assert summary["training_images"] + summary["validation_images"] == 3  # frames 0, 2, 4
+    assert [e["epoch"] for e in epochs] == [1, 2] and epochs[-1]["loss"] == pytest.approx(summary["final_loss"], abs=1e-4)
+    ours = mapnav.create_pipeline("learned", {"model": model}).segment(frame, view, masks=True)
+    theirs = mapnav.create_pipeline("learned", {"model": str(tmp_path / "cli.mnseg")}).segment(frame, view, masks=True)
+    assert ours.confidence is not None and np.array_equal(ours.confidence, theirs.confidence)
+
+
+def test_train_segmentation_names_bad_input_and_writes_nothing(tmp_path):
+    model = tmp_path / "m.mnseg"
+    with pytest.raises(mapnav.InvalidInput, match="nothing to train on"):
+        mapnav.train_segmentation(str(model))
+    with pytest.raises(mapnav.InvalidInput, match="images and labels go together"):
+        mapnav.train_segmentation(str(model), images=str(tmp_path))
+    with pytest.raises(mapnav.InvalidInput, match="options: option epochs = 0: must be in"):
+        mapnav.train_segmentation(str(model), logs=[str(tmp_path)], options={"epochs": 0})
+    with pytest.raises(mapnav.InvalidInput, match="progress: must be callable"):
+        mapnav.train_segmentation(str(model), logs=[str(tmp_path)], progress=3)
+    with pytest.raises(mapnav.IoError):
+        mapnav.train_segmentation(str(model), logs=[str(tmp_path / "no-such-log")])
+    assert list(tmp_path.iterdir()) == []

@@ -1,4 +1,4 @@
-#include "learned_module.h"
+#include "mapnav/learned/learned_module.h"
 
 #include <dlfcn.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include "mapnav/learned/learned_api.h"
 #endif
 
-namespace mapnav::cli {
+namespace mapnav {
 
 namespace fs = std::filesystem;
 
@@ -25,6 +25,29 @@ bool learnedModuleBuilt() {
 #endif
 }
 
+#ifdef MAPNAV_LEARNED_MODULE
+namespace {
+
+// Beside this library (a shared build: the build tree's lib/, an installed tree's libdir), then
+// beside the program (a static build, whose program holds this code).
+std::vector<fs::path> placesToLook() {
+  std::vector<fs::path> places;
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<void*>(&learnedModuleBuilt), &info) != 0 && info.dli_fname != nullptr)
+    places.push_back(fs::path(info.dli_fname).parent_path() / MAPNAV_LEARNED_MODULE);
+  char exe[4096];
+  const ssize_t len = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (len > 0) {
+    const fs::path bin = fs::path(std::string(exe, static_cast<std::size_t>(len))).parent_path();
+    places.push_back(bin / ".." / "lib" / MAPNAV_LEARNED_MODULE);
+    places.push_back(bin / ".." / MAPNAV_INSTALL_LIBDIR / MAPNAV_LEARNED_MODULE);
+  }
+  return places;
+}
+
+}  // namespace
+#endif
+
 const LearnedApi& learnedModule() {
 #ifndef MAPNAV_LEARNED_MODULE
   throw NotFound("this mapnav was built without the learned segmentation (libtorch-dev missing or MAPNAV_LEARNED=OFF)");
@@ -33,14 +56,8 @@ const LearnedApi& learnedModule() {
   static const LearnedApi* api = nullptr;
   const std::lock_guard lock(mutex);
   if (api != nullptr) return *api;
-  // Beside the program's libraries: the build tree's lib/, an installed tree's libdir.
-  char exe[4096];
-  const ssize_t len = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
-  const fs::path bin = len > 0 ? fs::path(std::string(exe, static_cast<std::size_t>(len))).parent_path() : fs::path(".");
-  std::vector<fs::path> candidates = {bin / ".." / "lib" / MAPNAV_LEARNED_MODULE,
-                                      bin / ".." / MAPNAV_INSTALL_LIBDIR / MAPNAV_LEARNED_MODULE};
   std::string tried;
-  for (const fs::path& p : candidates) {
+  for (const fs::path& p : placesToLook()) {
     std::error_code ec;
     tried += (tried.empty() ? "" : ", ") + p.lexically_normal().string();
     if (!fs::exists(p, ec)) continue;
@@ -60,4 +77,4 @@ void loadPipelineModule(const std::string& pipeline) {
   if (pipeline == "learned" && learnedModuleBuilt()) learnedModule();
 }
 
-}  // namespace mapnav::cli
+}  // namespace mapnav
