@@ -206,7 +206,7 @@ def evaluate_segmentation(pipeline: Union[Pipeline, str], images: str, labels: s
                           camera: Optional[str] = None, bev: bool = False,
                           bev_range: Optional[Sequence[float]] = None, bev_cell: Optional[float] = None,
                           overlays: Optional[str] = None, options: Options = None,
-                          resize: Optional[tuple[int, int]] = None) -> dict[str, Any]: ...
+                          resize: Optional[tuple[int, int]] = None, grey: bool = False) -> dict[str, Any]: ...
 def train_segmentation(output: str, images: Optional[str] = None, labels: Optional[str] = None,
                        logs: Sequence[str] = ..., log_stride: int = 5, road_values: Sequence[int] = ...,
                        ignore_values: Sequence[int] = ..., camera: Optional[str] = None, options: Options = None,

@@ -23,7 +23,7 @@ using namespace pybind11::literals;
 SegmentationEvalOptions evalOptions(const std::string& bootstrap, const std::optional<std::string>& camera, bool bev,
                                     const std::optional<std::vector<double>>& bev_range,
                                     const std::optional<double>& bev_cell, const std::optional<std::string>& overlays,
-                                    const std::optional<std::pair<int, int>>& resize) {
+                                    const std::optional<std::pair<int, int>>& resize, bool grey) {
   SegmentationEvalOptions o;
   if (resize) {  // the evaluation's option table checks them
     o.resize_width = resize->first;
@@ -42,17 +42,19 @@ SegmentationEvalOptions evalOptions(const std::string& bootstrap, const std::opt
   }
   if (bev_cell) o.bev_grid.cell_m = *bev_cell;
   o.overlays = overlays.value_or("");
+  o.grey = grey;
   return o;
 }
 
-// The scores as the JSON text `mapnav eval segmentation --json` prints.
+// The scores as the JSON text `mapnav eval segmentation --json` prints; python/mapnav/__init__.py's
+// evaluate_segmentation gives them as a dict.
 std::string evaluateText(const py::object& pipeline, const std::string& images, const std::string& labels,
                          const std::vector<int>& road_values, const std::vector<int>& ignore_values,
                          const std::string& bootstrap, const std::optional<std::string>& camera, bool bev,
                          const std::optional<std::vector<double>>& bev_range, const std::optional<double>& bev_cell,
                          const std::optional<std::string>& overlays, const py::object& options,
-                         const std::optional<std::pair<int, int>>& resize) {
-  const SegmentationEvalOptions o = evalOptions(bootstrap, camera, bev, bev_range, bev_cell, overlays, resize);
+                         const std::optional<std::pair<int, int>>& resize, bool grey) {
+  const SegmentationEvalOptions o = evalOptions(bootstrap, camera, bev, bev_range, bev_cell, overlays, resize, grey);
   std::unique_ptr<VisionPipeline> made;
   VisionPipeline* run = nullptr;
   if (py::isinstance<py::str>(pipeline)) {
@@ -64,16 +66,6 @@ std::string evaluateText(const py::object& pipeline, const std::string& images, 
   }
   // The GIL stays held: the pipeline may be one Python holds, and is not safe to share between threads.
   return evaluationJson(evaluateSegmentation(*run, images, labels, LabelClasses{road_values, ignore_values}, o));
-}
-
-py::object evaluate(const py::object& pipeline, const std::string& images, const std::string& labels,
-                    const std::vector<int>& road_values, const std::vector<int>& ignore_values,
-                    const std::string& bootstrap, const std::optional<std::string>& camera, bool bev,
-                    const std::optional<std::vector<double>>& bev_range, const std::optional<double>& bev_cell,
-                    const std::optional<std::string>& overlays, const py::object& options,
-                    const std::optional<std::pair<int, int>>& resize) {
-  return fromJson(evaluateText(pipeline, images, labels, road_values, ignore_values, bootstrap, camera, bev, bev_range,
-                               bev_cell, overlays, options, resize));
 }
 
 // The call as the model records it (`mapnav models` shows it).
@@ -121,24 +113,13 @@ py::object train(const std::string& output, const std::optional<std::string>& im
 }  // namespace
 
 void bindEval(py::module_& m) {
-  m.def("evaluate_segmentation", &evaluate, py::arg("pipeline"), py::arg("images"), py::arg("labels"),
-        py::arg("road_values") = std::vector<int>{3}, py::arg("ignore_values") = std::vector<int>{},
-        py::arg("bootstrap") = "trapezoid", py::arg("camera") = py::none(), py::arg("bev") = false,
-        py::arg("bev_range") = py::none(), py::arg("bev_cell") = py::none(), py::arg("overlays") = py::none(),
-        py::arg("options") = py::none(), py::arg("resize") = py::none(),
-        "A pipeline (a Pipeline, run as it is: reset() it for a fresh start; or a name, made with `options`) over "
-        "the labelled photos of the folders `images` and `labels`, scored as `mapnav eval segmentation` does "
-        "(docs/eval.md): the dict its --json prints. bootstrap 'trapezoid' or 'labels-first-frame'; camera a "
-        "camera file (default: the assumed level pin-hole); bev=True scores in a bird's-eye grid (needs camera; "
-        "bev_range (x0, x1, z0, z1) and bev_cell in metres, KITTI's by default); overlays a folder; resize "
-        "(width, height) scores the photos resized to that size (as --resize).");
   m.def("_evaluate_task", &evaluateText, py::arg("pipeline"), py::arg("images"), py::arg("labels"),
         py::arg("road_values") = std::vector<int>{3}, py::arg("ignore_values") = std::vector<int>{},
         py::arg("bootstrap") = "trapezoid", py::arg("camera") = py::none(), py::arg("bev") = false,
         py::arg("bev_range") = py::none(), py::arg("bev_cell") = py::none(), py::arg("overlays") = py::none(),
-        py::arg("options") = py::none(), py::arg("resize") = py::none(),
-        "For mapnav.distributed: evaluate_segmentation's scores as the JSON text `mapnav eval segmentation "
-        "--json` prints.");
+        py::arg("options") = py::none(), py::arg("resize") = py::none(), py::arg("grey") = false,
+        "evaluate_segmentation's scores as the JSON text `mapnav eval segmentation --json` prints "
+        "(mapnav.evaluate_segmentation, mapnav.distributed).");
   m.def("train_segmentation", &train, py::arg("output"), py::arg("images") = py::none(), py::arg("labels") = py::none(),
         py::arg("logs") = std::vector<std::string>{}, py::arg("log_stride") = TrainingSet{}.log_stride,
         py::arg("road_values") = std::vector<int>{3}, py::arg("ignore_values") = std::vector<int>{},

@@ -63,6 +63,12 @@ def test_photos_resized_are_scored_as_the_clis_resize(photos):
         evaluate(photos, "color-rgb", resize=(240, 0))
 
 
+def test_photos_greyed_are_scored_as_the_clis_grey(photos):
+    grey = evaluate(photos, "cluster-perceptron", grey=True)
+    assert grey == cli_json(*eval_args(photos, "--pipeline", "cluster-perceptron", "--grey", "--json"))
+    assert grey != evaluate(photos, "cluster-perceptron")  # the colours were there to lose
+
+
 def test_a_birds_eye_grid_and_its_overlays_are_the_clis(photos, tmp_path):
     camera = tmp_path / "camera.json"
     camera.write_text(json.dumps(CAMERA))
