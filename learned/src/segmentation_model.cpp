@@ -66,18 +66,21 @@ torch::Tensor SegmentationModel::Impl::input(const std::uint8_t* rgb, int w, int
     const cv::Mat g(h, w, CV_8UC1, const_cast<std::uint8_t*>(ground));
     cv::resize(g, g_small, cv::Size(width, height), 0, 0, cv::INTER_NEAREST);
   }
-  torch::Tensor t = torch::empty({1, 4, height, width});
+  // Channels last (N x H x W x C in memory): oneDNN's own layout, so that no convolution reorders
+  // its input and output (about 2x faster on one thread than the planar layout, the same sums).
+  torch::Tensor t = torch::empty({1, 4, height, width}, torch::TensorOptions().memory_format(torch::MemoryFormat::ChannelsLast));
   float* out = t.data_ptr<float>();
-  const std::size_t plane = static_cast<std::size_t>(width) * height;
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
   float scale[3], offset[3];
   for (int k = 0; k < 3; ++k) {
     scale[k] = static_cast<float>(1.0 / spread[static_cast<std::size_t>(k)]);
     offset[k] = static_cast<float>(mean[static_cast<std::size_t>(k)]);
   }
-  for (std::size_t i = 0; i < plane; ++i) {
+  for (std::size_t i = 0; i < pixels; ++i) {
     const std::uint8_t* p = small.data + 3 * i;
-    for (int k = 0; k < 3; ++k) out[k * plane + i] = (static_cast<float>(p[k]) - offset[k]) * scale[k];
-    out[3 * plane + i] = ground == nullptr || g_small.data[i] != 0 ? 1.0f : 0.0f;
+    float* o = out + 4 * i;
+    for (int k = 0; k < 3; ++k) o[k] = (static_cast<float>(p[k]) - offset[k]) * scale[k];
+    o[3] = ground == nullptr || g_small.data[i] != 0 ? 1.0f : 0.0f;
   }
   return t;
 }
@@ -217,8 +220,11 @@ SegmentationModel SegmentationModel::load(const std::filesystem::path& path) {
     ++i;
   }
   if (at != text.size()) throw bad(std::to_string(text.size() - at) + " bytes after the last weight");
-  for (const auto& p : impl->net->parameters())
+  for (auto& p : impl->net->parameters()) {
     if (!torch::isfinite(p).all().item<bool>()) throw bad("a weight is not finite");
+    // The kernels in the layout of the frames' activations (input()): no reorder per call.
+    if (p.dim() == 4) p.set_data(p.contiguous(torch::MemoryFormat::ChannelsLast));
+  }
   return SegmentationModel(std::move(impl));
 }
 
