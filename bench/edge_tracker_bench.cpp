@@ -58,9 +58,13 @@ void runPipelineFrames(benchmark::State& state, const std::string& name) {
 namespace {
 
 void BM_EdgeTrackerFrame(benchmark::State& state) { runPipelineFrames(state, "edge-tracker"); }
+// The cluster-perceptron road finder the same way: each detect() trains on its frame (clustering,
+// perceptron, lookup table) and classifies it.
+void BM_ClusterPerceptronFrame(benchmark::State& state) { runPipelineFrames(state, "cluster-perceptron"); }
 
 }  // namespace
 
 BENCHMARK(BM_OrientedEdge)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OrientedEdgeReference)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EdgeTrackerFrame)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ClusterPerceptronFrame)->Unit(benchmark::kMillisecond);

@@ -73,8 +73,9 @@ void BM_ParkRoadFinderReference(benchmark::State& state) { runFinder(state, fals
 // The runtime in normalised colour (8 clusters): the lookup table absorbs the normalisation.
 void BM_ParkRoadFinderFastNormalised(benchmark::State& state) { runFinder(state, true, true); }
 
-// Training on the first frame (clustering, perceptron, lookup table); range(1) = normalised colour
-// with 8 clusters.
+// Training on the first frame (clustering, perceptron; the lookup table's cells are computed by the
+// first two find() calls after it, the first frame's cells and then the rest); range(1) = normalised
+// colour with 8 clusters.
 void BM_ParkTraining(benchmark::State& state) {
   const int size = static_cast<int>(state.range(0));
   const bool normalised = state.range(1) != 0;

@@ -5,9 +5,12 @@
 // pipeline), the Hough that finds the first centre model (runtime), the row's edge candidates (image
 // and ground refinement), and the arc model's ground road and its refinement (runtime).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -28,6 +31,21 @@ inline std::uint8_t certaintyOf(double y) {
 }
 constexpr std::uint8_t kAmbiguous = 255;  // LUT cell spanning a cluster boundary: classify exactly
 
+// --- The perceptron's net input (training, lookup table) ------------------------------------------------
+
+/// Net input for a pixel won by cluster k: +w_k, -w_j for every other j, + bias.
+inline double netFor(const std::vector<double>& w, int k) {
+  const int n = static_cast<int>(w.size()) - 1;
+  double net = w[static_cast<std::size_t>(n)];
+  for (int j = 0; j < n; ++j) net += (j == k ? 1.0 : -1.0) * w[static_cast<std::size_t>(j)];
+  return net;
+}
+/// The raw-RGB perceptron's input for one band of a feature: the level scaled to [-1, 1].
+inline double rgbInput(double x) { return x / 127.5 - 1.0; }
+inline double netRgb(const std::vector<double>& w, const Vec3& f) {
+  return w[0] * rgbInput(f.x()) + w[1] * rgbInput(f.y()) + w[2] * rgbInput(f.z()) + w[3];
+}
+
 /// The widest vector code the fast path's classification may use, in order; the processor's best is
 /// used, at most the cap (setParkSimdCap()), so that tests can compare every path with the reference.
 enum class ParkSimd { Portable, Avx2, Avx512 };
@@ -37,12 +55,82 @@ void setParkSimdCap(ParkSimd cap);
 
 // --- The classification (cluster_perceptron_classify.cpp) ----------------------------------------------
 
-/// The fast path's tables (ClusterPerceptron::buildLut()): the 32³ cells' certainties, and the
+/// The fast path's tables (LutTables, read by classifyFrame()): the 32³ cells' certainties, and the
 /// ambiguous cells' offsets into their exact 8³ tables.
 struct LutView {
   const std::uint8_t* lut;
   const std::uint32_t* sub_offset;
   const std::uint8_t* sub;
+};
+
+// --- The colour lookup table (cluster_perceptron_lut.cpp) ----------------------------------------------
+
+// For features that are channel by channel (RGB and log colour, not normalised colour): each 8-bit
+// value's feature per channel, and its squared float difference to each mean, so that a colour's
+// feature and nearest cluster are table lookups that give what ClusterPerceptron::feature() and
+// nearest() compute (the same float operations in the same order: the same cluster, ties the first).
+class ChannelTables {
+ public:
+  template <class Feature>
+  ChannelTables(const Feature& feature, const std::vector<Vec3>& means) : n_(static_cast<int>(means.size())) {
+    squares_.resize(3 * 256 * means.size());
+    for (int x = 0; x < 256; ++x) {
+      const Vec3 f = feature(x, x, x);
+      for (int c = 0; c < 3; ++c) {
+        value_[c][x] = f[c];
+        for (int k = 0; k < n_; ++k) {
+          const float d = static_cast<float>(f[c]) - static_cast<float>(means[k][c]);
+          squares_[(static_cast<std::size_t>(c) * 256 + x) * n_ + k] = d * d;
+        }
+      }
+    }
+  }
+  Vec3 feature(int r, int g, int b) const { return Vec3(value_[0][r], value_[1][g], value_[2][b]); }
+  int nearest(int r, int g, int b) const {
+    const std::size_t n = static_cast<std::size_t>(n_);
+    const float *sr = &squares_[static_cast<std::size_t>(r) * n], *sg = &squares_[(256 + static_cast<std::size_t>(g)) * n],
+                *sb = &squares_[(512 + static_cast<std::size_t>(b)) * n];
+    int best = 0;
+    float bd = std::numeric_limits<float>::max();
+    for (int k = 0; k < n_; ++k) {
+      const float d = sr[k] + sg[k] + sb[k];
+      if (d < bd) {
+        bd = d;
+        best = k;
+      }
+    }
+    return best;
+  }
+
+ private:
+  int n_;
+  std::array<std::array<double, 256>, 3> value_{};
+  std::vector<float> squares_;  // [channel][value][cluster]
+};
+
+
+constexpr std::uint8_t kUnknownCell = 254;  // LUT cell not computed yet (no certainty level is 254)
+
+/// One trained model's colour lookup table, computed cell by cell as frames need them: a cell of 8³
+/// colours gets its certainty when its 8 corners prove it uniform, else its own table of the 512
+/// colours' exact certainties (ClusterPerceptron::lutFor()). Copies of a ClusterPerceptron share it
+/// (the same model); retraining makes a new one. `mutex` guards the filling.
+struct LutTables {
+  std::mutex mutex;
+  std::vector<std::uint8_t> lut;          ///< 32³ cells + 3 bytes (the runtime reads 4 from a cell)
+  std::vector<std::uint32_t> sub_offset;  ///< an ambiguous cell's first colour in `sub`
+  std::vector<std::uint8_t> sub;          ///< the ambiguous cells' exact certainties, + 3 bytes (read 4 at a time)
+  std::vector<std::uint8_t> cert;         ///< each cluster's certainty (the clusters' code)
+  std::vector<std::uint8_t> near;         ///< the 64³ lattice corners' nearest cluster, kUnknownCell until asked
+  std::optional<ChannelTables> tables;    ///< where the feature is channel by channel
+  int frames = 0;                         ///< frames classified with it
+  bool complete = false;                  ///< every cell computed
+};
+
+/// ClusterPerceptron::lutFor()'s answer: the tables, and their lock while they are not whole.
+struct ClusterPerceptron::LutAccess {
+  LutView view;
+  std::unique_lock<std::mutex> lock;
 };
 
 /// A frame's per-pixel certainty (row by row, `width` a row) and its block sums (block row by block

@@ -82,8 +82,8 @@ RoadFinding ClusterPerceptron::find(const std::uint8_t* rgb, int width, int heig
     return failed(std::move(res), "frame height differs from the bootstrap frame's");
   // §6: every pixel's road certainty, summed per block.
   FrameScratch& scr = scratch();
-  const long long road_px =
-      classifyFrame(*this, LutView{lut_.data(), sub_offset_.data(), sub_.data()}, rgb, width, height, scr);
+  const long long road_px = opt_.fast ? classifyFrame(*this, lutFor(rgb, width, height).view, rgb, width, height, scr)
+                                      : classifyFrame(*this, LutView{}, rgb, width, height, scr);
   if (want_mask) {
     res.mask = roadMask(scr.cert, width, height);
     res.certainty = Image(width, height, 1);

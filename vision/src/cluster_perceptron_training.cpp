@@ -1,7 +1,8 @@
 // The cluster-perceptron's training (Jochem & Baluja 1993 §3-4): colour clustering by competitive
 // learning (isodata) and its adaptation to a changed scene (§9, beyond the paper: track()'s new
-// clusters), the perceptron over the clusters' code (or raw RGB) by LMS, and the colour lookup table
-// that collapses both for the fast runtime path. See cluster_perceptron.h.
+// clusters) and the perceptron over the clusters' code (or raw RGB) by LMS; the colour lookup table
+// that collapses both for the fast runtime path is cluster_perceptron_lut.cpp's. See
+// cluster_perceptron.h.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -21,53 +22,6 @@
 #include "mapnav/vision/cluster_perceptron.h"
 
 namespace mapnav {
-
-namespace {
-
-// For features that are channel by channel (RGB and log colour, not normalised colour): each 8-bit
-// value's feature per channel, and its squared float difference to each mean, so that a colour's
-// feature and nearest cluster are table lookups that give what ClusterPerceptron::feature() and
-// nearest() compute (the same float operations in the same order: the same cluster, ties the first).
-class ChannelTables {
- public:
-  template <class Feature>
-  ChannelTables(const Feature& feature, const std::vector<Vec3>& means) : n_(static_cast<int>(means.size())) {
-    squares_.resize(3 * 256 * means.size());
-    for (int x = 0; x < 256; ++x) {
-      const Vec3 f = feature(x, x, x);
-      for (int c = 0; c < 3; ++c) {
-        value_[c][x] = f[c];
-        for (int k = 0; k < n_; ++k) {
-          const float d = static_cast<float>(f[c]) - static_cast<float>(means[k][c]);
-          squares_[(static_cast<std::size_t>(c) * 256 + x) * n_ + k] = d * d;
-        }
-      }
-    }
-  }
-  Vec3 feature(int r, int g, int b) const { return Vec3(value_[0][r], value_[1][g], value_[2][b]); }
-  int nearest(int r, int g, int b) const {
-    const std::size_t n = static_cast<std::size_t>(n_);
-    const float *sr = &squares_[static_cast<std::size_t>(r) * n], *sg = &squares_[(256 + static_cast<std::size_t>(g)) * n],
-                *sb = &squares_[(512 + static_cast<std::size_t>(b)) * n];
-    int best = 0;
-    float bd = std::numeric_limits<float>::max();
-    for (int k = 0; k < n_; ++k) {
-      const float d = sr[k] + sg[k] + sb[k];
-      if (d < bd) {
-        bd = d;
-        best = k;
-      }
-    }
-    return best;
-  }
-
- private:
-  int n_;
-  std::array<std::array<double, 256>, 3> value_{};
-  std::vector<float> squares_;  // [channel][value][cluster]
-};
-
-}  // namespace
 
 Vec3 ClusterPerceptron::feature(double r, double g, double b) const {
   if (opt_.normalized_color) {
@@ -237,20 +191,6 @@ int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int hei
 
 // --- §4 perceptron ---------------------------------------------------------------------------------
 
-namespace {
-/// Net input for a pixel won by cluster k: +w_k, -w_j for every other j, + bias.
-double netFor(const std::vector<double>& w, int k) {
-  const int n = static_cast<int>(w.size()) - 1;
-  double net = w[static_cast<std::size_t>(n)];
-  for (int j = 0; j < n; ++j) net += (j == k ? 1.0 : -1.0) * w[static_cast<std::size_t>(j)];
-  return net;
-}
-/// The raw-RGB perceptron's input for one band of a feature: the level scaled to [-1, 1].
-double rgbInput(double x) { return x / 127.5 - 1.0; }
-double netRgb(const std::vector<double>& w, const Vec3& f) {
-  return w[0] * rgbInput(f.x()) + w[1] * rgbInput(f.y()) + w[2] * rgbInput(f.z()) + w[3];
-}
-}  // namespace
 
 std::vector<std::int8_t> ClusterPerceptron::trainingClasses(const std::uint8_t* rgb, int width, int height,
                                                             const std::uint8_t* road, bool gated) const {
@@ -380,7 +320,7 @@ std::vector<double> ClusterPerceptron::runLms(std::size_t inputs, double total,
     if (calm >= 3) break;
     prev = err;
   }
-  buildLut();
+  resetLut();
   trained_ = !row_widths_.empty();
   return history;
 }
@@ -432,111 +372,6 @@ ClusterPerceptron::Trained ClusterPerceptron::trainRgbPerceptron(const std::uint
 double ClusterPerceptron::outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const {
   if (opt_.raw_rgb) return std::tanh(netRgb(weights_, feature(r, g, b)));
   return std::tanh(netFor(weights_, nearest(r, g, b)));
-}
-
-void ClusterPerceptron::buildLut() {
-  // Cell q covers the colours [8q, 8q + 7] per band. A cell whose certainty its 8 corners prove to be
-  // the same everywhere in it gets that certainty; every other cell is marked ambiguous and gets its
-  // own 8×8×8 table of each colour's certainty (`exact`: the reference path's, certaintyOf(
-  // outputReference()), computed the cheaper way), so the fast path needs no distance computation at
-  // all and still equals the reference path colour by colour. `uniform` is the proof for one
-  // perceptron: the certainty, or nothing.
-  std::function<std::optional<std::uint8_t>(int, int, int)> uniform;
-  // `exact` appends the certainties of cell (r, g, b)'s 512 colours to `out`, blue fastest.
-  std::function<void(int, int, int, std::vector<std::uint8_t>&)> exact;
-  std::vector<std::uint8_t> cert, near;
-  std::optional<ChannelTables> tables;  // nearestColour's, below: `exact` uses it after that block
-  auto corner = [](int i) { return i % 2 == 0 ? (i / 2) * 8 : (i / 2) * 8 + 7; };  // 8q and 8q + 7
-  if (opt_.raw_rgb) {
-    // The net input is linear in the colour: over a cell it lies between its values at the corners,
-    // and the certainty, monotonic in it, is uniform when it is the same at both ends (a hair wider,
-    // against rounding). In normalised colour the net input is a ratio of two linear functions of
-    // the colour, which also takes its extremes over a box at the corners where the denominator
-    // R + G + B stays positive.
-    uniform = [&](int r, int g, int b) -> std::optional<std::uint8_t> {
-      double lo = std::numeric_limits<double>::max(), hi = -lo;
-      for (int m = 0; m < 8; ++m) {
-        const Vec3 f = feature(corner(2 * r + (m & 1)), corner(2 * g + ((m >> 1) & 1)), corner(2 * b + ((m >> 2) & 1)));
-        const double net = netRgb(weights_, f);
-        lo = std::min(lo, net);
-        hi = std::max(hi, net);
-      }
-      const std::uint8_t c = certaintyOf(std::tanh(lo - 1e-9));
-      if (c == certaintyOf(std::tanh(hi + 1e-9))) return c;
-      return std::nullopt;
-    };
-    exact = [&](int r, int g, int b, std::vector<std::uint8_t>& out) {
-      for (int i = 0; i < 512; ++i)
-        out.push_back(certaintyOf(std::tanh(netRgb(weights_, feature(8 * r + (i >> 6), 8 * g + ((i >> 3) & 7), 8 * b + (i & 7))))));
-    };
-  } else {
-    // A cell whose 8 corners share their nearest cluster lies wholly in that cluster's (convex)
-    // Voronoi cell. In normalised colour f = 255 C / (R + G + B), "nearer mean k than mean j" is
-    // linear in f and so, times R + G + B, a half-space through black in RGB: the same holds. Log
-    // colour maps each channel by one increasing function, so a cell is a box there too whose corners
-    // are the corners' images: the same holds.
-    const int n = static_cast<int>(means_.size());
-    cert.resize(n);
-    for (int k = 0; k < n; ++k) cert[k] = certaintyOf(std::tanh(netFor(weights_, k)));
-    // The nearest cluster of a colour, as nearest() finds it: by ChannelTables where the feature is
-    // channel by channel.
-    if (!opt_.normalized_color) tables.emplace([this](double r, double g, double b) { return feature(r, g, b); }, means_);
-    const auto nearestColour = [&](int r, int g, int b) { return tables ? tables->nearest(r, g, b) : nearest(r, g, b); };
-    // Nearest cluster of every lattice corner (33 values per band: 8q and 8q + 7 for q < 32).
-    near.resize(64 * 64 * 64);
-    for (int a = 0; a < 64; ++a)
-      for (int b = 0; b < 64; ++b)
-        for (int c = 0; c < 64; ++c)
-          near[(a * 64 + b) * 64 + c] = static_cast<std::uint8_t>(nearestColour(corner(a), corner(b), corner(c)));
-    // (`uniform` and `exact` outlive this block: they use only what the function's scope holds.)
-    uniform = [&, n](int r, int g, int b) -> std::optional<std::uint8_t> {
-      const int k0 = near[((2 * r) * 64 + 2 * g) * 64 + 2 * b];
-      const std::uint8_t c = cert[k0];
-      bool same = true;
-      for (int m = 1; m < 8 && same; ++m)
-        same = near[((2 * r + (m & 1)) * 64 + 2 * g + ((m >> 1) & 1)) * 64 + 2 * b + ((m >> 2) & 1)] == k0;
-      if (same) return c;
-      // Exact test for a cell spanning clusters of equal certainty c: no point of the cube has a
-      // cluster j of another certainty as its nearest if, for every such j, some cluster k of
-      // certainty c is nearer than j at all 8 corners (the region nearer k than j is a half-space, so
-      // the whole cube is).
-      const auto d2 = [&](int k, double x, double y, double z) { return (means_[k] - feature(x, y, z)).squaredNorm(); };
-      for (int j = 0; j < n; ++j) {
-        if (cert[j] == c) continue;
-        bool out = false;
-        for (int k = 0; k < n && !out; ++k) {
-          if (cert[k] != c) continue;
-          out = true;
-          for (int m = 0; m < 8 && out; ++m) {
-            const double x = corner(2 * r + (m & 1)), y = corner(2 * g + ((m >> 1) & 1)),
-                         z = corner(2 * b + ((m >> 2) & 1));
-            out = d2(k, x, y, z) < d2(j, x, y, z);
-          }
-        }
-        if (!out) return std::nullopt;
-      }
-      return c;
-    };
-    exact = [&, nearestColour](int r, int g, int b, std::vector<std::uint8_t>& out) {
-      for (int i = 0; i < 512; ++i) out.push_back(cert[nearestColour(8 * r + (i >> 6), 8 * g + ((i >> 3) & 7), 8 * b + (i & 7))]);
-    };
-  }
-  lut_.assign(32 * 32 * 32 + 3, 0);  // 3 bytes beyond the last cell: the runtime reads 4 from a cell
-  sub_offset_.assign(32 * 32 * 32, 0);
-  sub_.clear();
-  for (int cell = 0; cell < 32 * 32 * 32; ++cell) {
-    const int r = cell >> 10, g = (cell >> 5) & 31, b = cell & 31;
-    // Black's cell proves nothing from its corners in normalised colour: black counts as grey there.
-    const auto c = opt_.normalized_color && cell == 0 ? std::nullopt : uniform(r, g, b);
-    if (c) {
-      lut_[cell] = *c;
-      continue;
-    }
-    lut_[cell] = kAmbiguous;
-    sub_offset_[cell] = static_cast<std::uint32_t>(sub_.size());
-    exact(r, g, b, sub_);
-  }
-  sub_.resize(sub_.size() + 3, 0);  // 3 bytes beyond the last colour: the AVX-512 runtime reads 4 from one
 }
 
 void ClusterPerceptron::setRowWidths(std::vector<double> widths) {

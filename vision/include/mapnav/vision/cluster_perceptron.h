@@ -210,6 +210,9 @@ struct RoadFinding {
   Image certainty;
 };
 
+struct LutTables;  // cluster_perceptron_internal.h
+struct LutView;
+
 class ClusterPerceptron {
  public:
   explicit ClusterPerceptron(ClusterPerceptronOptions options = {});
@@ -297,7 +300,17 @@ class ClusterPerceptron {
   /// (`inputs` of them, from 0) move by rate · gradient / total until the mean error has been calm for
   /// 3 iterations. Builds the lookup table. Returns the mean error per iteration.
   std::vector<double> runLms(std::size_t inputs, double total, const std::function<double(std::vector<double>&)>& pass);
-  void buildLut();
+  /// The lookup table of the model just trained, every cell still to be computed (cluster_perceptron_lut.cpp).
+  void resetLut();
+  /// The table for a frame's classification: the first frame after training computes only the
+  /// cells its pixels fall in (a photo's colours fill about 6 % of them), the next one every cell
+  /// left, so that a sequence's frames find the table whole; `lock` holds its mutex while cells are
+  /// being filled by this call's frame (released once the table is whole).
+  struct LutAccess;
+  LutAccess lutFor(const std::uint8_t* rgb, int width, int height) const;
+  std::optional<std::uint8_t> uniformCell(LutTables& t, int r, int g, int b) const;
+  void exactCell(LutTables& t, int r, int g, int b) const;
+  void fillCell(LutTables& t, int cell) const;
   ClusterPerceptronOptions opt_;
   std::vector<Vec3> clusterFrom(const std::uint8_t* rgb, int width, int height);
   std::vector<Vec3> means_;
@@ -312,9 +325,7 @@ class ClusterPerceptron {
   int adaptClusters(const std::uint8_t* rgb, int width, int height, double threshold);
   std::vector<double> weights_;
   std::vector<double> row_widths_;
-  std::vector<std::uint8_t> lut_;  // 32³ cells of 8³ colours: road certainty 0..240, 255 = ambiguous
-  std::vector<std::uint32_t> sub_offset_;  // ambiguous cell → its 8³ table in sub_
-  std::vector<std::uint8_t> sub_;          // exact certainties of the ambiguous cells' colours
+  std::shared_ptr<LutTables> lut_;  // 32³ cells of 8³ colours, filled as frames need them
   bool trained_ = false;
   bool gated_ = false;
 };
