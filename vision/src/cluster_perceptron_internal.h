@@ -86,6 +86,8 @@ class ChannelTables {
     }
   }
   Vec3 feature(int r, int g, int b) const { return Vec3(value_[0][r], value_[1][g], value_[2][b]); }
+  /// Channel c's feature of the 8-bit value x (feature()'s c-th coordinate).
+  double value(int c, int x) const { return value_[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)]; }
   int nearest(int r, int g, int b) const {
     const std::size_t n = static_cast<std::size_t>(n_);
     const float *sr = &squares_[static_cast<std::size_t>(r) * n], *sg = &squares_[(256 + static_cast<std::size_t>(g)) * n],
