@@ -68,7 +68,7 @@ std::string evaluateText(const py::object& pipeline, const std::string& images, 
   return evaluationJson(evaluateSegmentation(*run, images, labels, LabelClasses{road_values, ignore_values}, o));
 }
 
-// The call as the model records it (`mapnav models` shows it).
+// The call as the model file records it (its training.command, docs/learned.md "The model file").
 std::string trainingCall(const TrainingSet& set, const SegmentationTrainOptions& options, const std::string& output) {
   Json args = Json::object();
   if (!set.images.empty()) args["images"] = set.images, args["labels"] = set.labels;
