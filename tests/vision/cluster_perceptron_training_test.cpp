@@ -6,9 +6,12 @@
 // says otherwise.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
+#include <thread>
+#include <vector>
 
 #include "cluster_perceptron_test_util.h"
 #include "mapnav/map/predict.h"
@@ -278,6 +281,44 @@ TEST(ClusterPerceptron, FastPathEqualsReferenceOn100Frames) {
     EXPECT_EQ(a.intercept_col, b.intercept_col);
   }
   std::printf("fast vs reference: %zu of %zu mask pixels differ\n", differing, total);
+}
+
+// The lookup table is computed as frames need it (the first frame after training its cells, the
+// second the rest), under a lock: four threads finding on one freshly trained finder at once — a
+// park frame and three frames of other colours (slices of the colour cube), started in reverse —
+// give the answers a second finder, trained the same way, gives them one after the other, and every
+// certainty is one of the 16 levels (a cell read before it was computed would not be).
+TEST(ClusterPerceptron, ThreadsFillingOneLookupTableGetTheSequentialAnswers) {
+  const World world(parkScenery(), parkWorld());
+  const Pose2 at = straightPoses(10.0).front().pose;
+  const ClusterPerceptron shared = trainedOn(world, at, 0.0), alone = trainedOn(world, at, 0.0);
+  std::vector<Image> frames = {world.render(cam(), at, 1.0).rgb};
+  const int w = frames[0].width, h = frames[0].height;
+  for (const int blue : {40, 140, 240}) {
+    Image cube(w, h, 3);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        std::uint8_t* p = cube.pixel(u, v);
+        p[0] = static_cast<std::uint8_t>(u * 255 / (w - 1)), p[1] = static_cast<std::uint8_t>(v * 255 / (h - 1));
+        p[2] = static_cast<std::uint8_t>(blue);
+      }
+    frames.push_back(std::move(cube));
+  }
+  std::vector<RoadFinding> sequential, concurrent(frames.size());
+  for (const Image& f : frames) sequential.push_back(alone.find(f.data.data(), w, h, true));
+  std::vector<std::thread> threads;
+  for (std::size_t i = frames.size(); i-- > 0;)
+    threads.emplace_back([&, i] { concurrent[i] = shared.find(frames[i].data.data(), w, h, true); });
+  for (std::thread& t : threads) t.join();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(concurrent[i].certainty, sequential[i].certainty) << "frame " << i;
+    EXPECT_EQ(concurrent[i].ok, sequential[i].ok) << "frame " << i;
+    EXPECT_EQ(concurrent[i].centerline_image.a, sequential[i].centerline_image.a) << "frame " << i;
+    for (const RoadFinding* r : {&sequential[i], &concurrent[i]})
+      EXPECT_TRUE(std::all_of(r->certainty.data.begin(), r->certainty.data.end(), [](std::uint8_t c) { return c % 16 == 0; }))
+          << "frame " << i;
+  }
+  EXPECT_GT(std::count(sequential[0].mask.data.begin(), sequential[0].mask.data.end(), 255), 1000);  // road seen
 }
 
 // The bootstrap on a road that is a small part of the frame: a 100 x 100 frame of grey 200 with 1000

@@ -253,7 +253,10 @@ class ClusterPerceptron {
   /// Perceptron output in [-1, 1] of one colour, reference arithmetic.
   double outputReference(std::uint8_t r, std::uint8_t g, std::uint8_t b) const;
   /// §6: classifies a frame and finds the centre line (fast or reference path per options). With
-  /// options().prior_px > 0 and a `prior` (an image line, any two distinct rows), only near it.
+  /// options().prior_px > 0 and a `prior` (an image line, any two distinct rows), only near it. The
+  /// fast path computes the lookup table's cells as frames first need them (the first frame after
+  /// training its own, the second the rest), under a lock: calls from several threads are safe
+  /// and give the same answer.
   RoadFinding find(const std::uint8_t* rgb, int width, int height, bool want_mask = true,
                    const std::optional<Segment2>& prior = std::nullopt) const;
   /// find(), and with the adaptive option the §9 cluster management: when the frame's reconstruction
@@ -298,7 +301,7 @@ class ClusterPerceptron {
   /// The LMS loop both perceptrons share: `pass` adds one iteration's gradient (Σ (target − output)
   /// · input, over the pixels) into its argument and returns the summed absolute error; the weights
   /// (`inputs` of them, from 0) move by rate · gradient / total until the mean error has been calm for
-  /// 3 iterations. Builds the lookup table. Returns the mean error per iteration.
+  /// 3 iterations. Starts a new lookup table (resetLut()). Returns the mean error per iteration.
   std::vector<double> runLms(std::size_t inputs, double total, const std::function<double(std::vector<double>&)>& pass);
   /// The lookup table of the model just trained, every cell still to be computed (cluster_perceptron_lut.cpp).
   void resetLut();
