@@ -81,7 +81,7 @@ std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int wi
     if (!opt_.normalized_color) {
       // The feature is channel by channel: this pass's tables give each pixel's feature and nearest
       // cluster. The same operations in the same order as below, with the means in locals the
-      // sums' stores cannot alias (about 2x faster).
+      // sums' stores cannot alias (docs/measurements.md: a fifth off a photo's detect()).
       const ChannelTables tables([this](double r, double g, double b) { return feature(r, g, b); }, means_);
       std::vector<double> mr(n), mg(n), mb(n);
       for (int k = 0; k < n; ++k) mr[k] = means_[k].x(), mg[k] = means_[k].y(), mb[k] = means_[k].z();
@@ -214,7 +214,6 @@ int ClusterPerceptron::adaptClusters(const std::uint8_t* rgb, int width, int hei
 }
 
 // --- §4 perceptron ---------------------------------------------------------------------------------
-
 
 std::vector<std::int8_t> ClusterPerceptron::trainingClasses(const std::uint8_t* rgb, int width, int height,
                                                             const std::uint8_t* road, bool gated) const {
