@@ -1,6 +1,7 @@
 #include "bench_pipelines.h"
 
 #include <algorithm>
+#include <optional>
 #include <ostream>
 
 #include "bench_measure.h"
@@ -30,10 +31,11 @@ bool hasThreadsOption(const PipelineInfo& info) {
   return std::any_of(info.options.begin(), info.options.end(), [](const OptionInfo& o) { return o.name == "threads"; });
 }
 
-double ratioToSidewalk(const std::vector<PipelineTime>& times, const PipelineTime& t) {
+/// The time over sidewalk's at the same size on one thread; none when sidewalk was not timed there.
+std::optional<double> ratioToSidewalk(const std::vector<PipelineTime>& times, const PipelineTime& t) {
   for (const PipelineTime& s : times)
     if (s.pipeline == "sidewalk" && s.width == t.width && s.height == t.height && s.threads == 1) return t.ms / s.ms;
-  return 0;
+  return std::nullopt;
 }
 
 }  // namespace
@@ -83,7 +85,7 @@ void printPipelineTimes(const std::vector<PipelineTime>& times, std::ostream& ou
   out << pad("size", 10) << pad("pipeline", 22) << pad("threads", 9) << pad("ms/frame", 12) << pad("x sidewalk", 12) << "\n";
   for (const PipelineTime& t : times)
     out << pad(strprintf("%dx%d", t.width, t.height), 10) << pad(t.pipeline, 22) << pad(std::to_string(t.threads), 9)
-        << pad(sig(t.ms), 12) << pad(strprintf("%.2f", ratioToSidewalk(times, t)), 12) << "\n";
+        << pad(sig(t.ms), 12) << pad(fixedOr(ratioToSidewalk(times, t), 2, "-"), 12) << "\n";
 }
 
 Json pipelineTimesJson(const std::vector<PipelineTime>& times) {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -146,6 +148,27 @@ TEST(Cli, BenchPrintsATableWithTheRatios) {
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.out.find("memcpy_ratio"), std::string::npos) << help.out;
   EXPECT_NE(help.out.find("reference_ratio"), std::string::npos) << help.out;
+}
+
+// A pipeline's ratio to sidewalk's time needs sidewalk timed at its size: without it the JSON says
+// null and the table "-", not 0.
+TEST(Cli, BenchGivesNoSidewalkRatioWithoutSidewalk) {
+  const std::vector<std::string> args = {"bench", "--sizes", "32", "--min-time", "0.01", "--route-sizes", "",
+                                         "--irregular-route-sizes", "", "--loop-frames", "0", "--pipelines", "color-rgb"};
+  std::vector<std::string> json_args = args;
+  json_args.push_back("--json");
+  const auto r = runCli(json_args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["pipelines"].size(), 2u) << r.out;
+  for (const auto& row : j["pipelines"]) EXPECT_TRUE(row["sidewalk_ratio"].is_null()) << row.dump();
+  const auto text = runCli(args);
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  const auto row = text.out.find("color-rgb        1");
+  ASSERT_NE(row, std::string::npos) << text.out;
+  const std::string line = text.out.substr(row, text.out.find('\n', row) - row);
+  EXPECT_EQ(line.back(), '-') << line;
+  EXPECT_EQ(line.find("0.00"), std::string::npos) << line;
 }
 
 // The park finder figures: at 512 the line with frames/s (one thread) and its target, the JSON's
