@@ -95,11 +95,12 @@ class ChannelTables {
     int best = 0;
     float bd = std::numeric_limits<float>::max();
     for (int k = 0; k < n_; ++k) {
+      // Without a branch (a colour's nearest cluster changes from pixel to pixel unpredictably): the
+      // same comparisons, the first of equal distances kept.
       const float d = sr[k] + sg[k] + sb[k];
-      if (d < bd) {
-        bd = d;
-        best = k;
-      }
+      const bool nearer = d < bd;
+      bd = nearer ? d : bd;
+      best = nearer ? k : best;
     }
     return best;
   }

@@ -227,7 +227,11 @@ std::vector<std::int8_t> ClusterPerceptron::trainingClasses(const std::uint8_t* 
       }
   };
   gated = gated && opt_.nonroad_gate_sigma > 0;
-  each([&](std::size_t i, const Vec3&) { cls[i] = road[i] != 0 ? 1 : gated ? 0 : -1; });
+  for (int v = 0; v < height; v += st)  // the outline's classes need no feature
+    for (int u = 0; u < width; u += st) {
+      const std::size_t i = static_cast<std::size_t>(v) * width + u;
+      cls[i] = road[i] != 0 ? 1 : gated ? 0 : -1;
+    }
   if (!gated) return cls;
   // The road's colour estimate: mean and covariance of the outline's features (a level of noise
   // added to the diagonal, so that a flat road does not make the gate a point).
@@ -291,9 +295,14 @@ ClusterPerceptron::Trained ClusterPerceptron::trainClusterPerceptron(const std::
   // to per-cluster counts of road and non-road pixels.
   std::vector<std::pair<double, double>> counts(static_cast<std::size_t>(n), {0.0, 0.0});  // (road, not road)
   double total = 0;
+  // Each pixel's nearest cluster by the channel tables where the feature is channel by channel (the
+  // same cluster as nearest() gives).
+  std::optional<ChannelTables> tables;
+  if (!opt_.normalized_color) tables.emplace([this](double r, double g, double b) { return feature(r, g, b); }, means_);
   for (std::size_t i = 0; i < cls.size(); ++i) {
     if (cls[i] == 0) continue;
-    auto& c = counts[static_cast<std::size_t>(nearest(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]))];
+    const std::uint8_t* p = rgb + 3 * i;
+    auto& c = counts[static_cast<std::size_t>(tables ? tables->nearest(p[0], p[1], p[2]) : nearest(p[0], p[1], p[2]))];
     (cls[i] > 0 ? c.first : c.second) += 1;
     total += 1;
   }
