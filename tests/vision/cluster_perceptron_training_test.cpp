@@ -9,10 +9,13 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <optional>
+#include <random>
 #include <thread>
 #include <vector>
 
+#include "../../vision/src/cluster_perceptron_internal.h"
 #include "cluster_perceptron_test_util.h"
 #include "mapnav/map/predict.h"
 #include "mapnav/sim/world.h"
@@ -319,6 +322,41 @@ TEST(ClusterPerceptron, ThreadsFillingOneLookupTableGetTheSequentialAnswers) {
           << "frame " << i;
   }
   EXPECT_GT(std::count(sequential[0].mask.data.begin(), sequential[0].mask.data.end(), 255), 1000);  // road seen
+}
+
+// The channel tables' nearest cluster (the clustering's and the lookup table's; a vector path up to 8
+// clusters) is the first cluster of least float sum, as a plain loop over the clusters finds it: for
+// 1 to 10 clusters with means on a coarse lattice (many colours equally far from two of them), every
+// colour of a 5-level lattice of the cube.
+TEST(ChannelTables, NearestIsTheFirstClusterOfLeastSum) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> level(0, 8);
+  for (int n = 1; n <= 10; ++n) {
+    std::vector<Vec3> means;
+    for (int k = 0; k < n; ++k) means.emplace_back(32.0 * level(rng), 32.0 * level(rng), 32.0 * level(rng));
+    const ChannelTables tables([](double r, double g, double b) { return Vec3(r, g, b); }, means);
+    int ties = 0;
+    for (int r = 0; r < 256; r += 5)
+      for (int g = 0; g < 256; g += 5)
+        for (int b = 0; b < 256; b += 5) {
+          int best = 0, equal = 0;
+          float bd = std::numeric_limits<float>::infinity();
+          for (int k = 0; k < n; ++k) {
+            const auto sq = [&](int x, int c) {
+              const float d = static_cast<float>(x) - static_cast<float>(means[k][c]);
+              return d * d;
+            };
+            const float d = sq(r, 0) + sq(g, 1) + sq(b, 2);
+            if (d == bd) ++equal;
+            if (d < bd) bd = d, best = k, equal = 0;
+          }
+          ties += equal > 0;
+          ASSERT_EQ(tables.nearest(r, g, b), best) << n << " clusters, colour " << r << " " << g << " " << b;
+        }
+    if (n >= 4) {
+      EXPECT_GT(ties, 0) << n << " clusters: the lattice gave no tie to check";
+    }
+  }
 }
 
 // The bootstrap on a road that is a small part of the frame: a 100 x 100 frame of grey 200 with 1000

@@ -6,6 +6,7 @@
 // and ground refinement), and the arc model's ground road and its refinement (runtime).
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -13,6 +14,9 @@
 #include <mutex>
 #include <optional>
 #include <vector>
+#ifdef __SSE2__
+#include <immintrin.h>
+#endif
 
 #include "mapnav/geometry/types.h"
 #include "mapnav/vision/cluster_perceptron.h"
@@ -72,15 +76,17 @@ struct LutView {
 class ChannelTables {
  public:
   template <class Feature>
-  ChannelTables(const Feature& feature, const std::vector<Vec3>& means) : n_(static_cast<int>(means.size())) {
-    squares_.resize(3 * 256 * means.size());
+  ChannelTables(const Feature& feature, const std::vector<Vec3>& means)
+      : n_(static_cast<int>(means.size())), stride_(n_ <= kLanes ? kLanes : n_) {
+    // Up to 8 clusters a row holds 8 floats, the missing clusters infinitely far (nearest()'s vector path).
+    squares_.assign(3 * 256 * static_cast<std::size_t>(stride_), std::numeric_limits<float>::infinity());
     for (int x = 0; x < 256; ++x) {
       const Vec3 f = feature(x, x, x);
       for (int c = 0; c < 3; ++c) {
         value_[c][x] = f[c];
         for (int k = 0; k < n_; ++k) {
           const float d = static_cast<float>(f[c]) - static_cast<float>(means[k][c]);
-          squares_[(static_cast<std::size_t>(c) * 256 + x) * n_ + k] = d * d;
+          squares_[(static_cast<std::size_t>(c) * 256 + x) * stride_ + k] = d * d;
         }
       }
     }
@@ -88,10 +94,25 @@ class ChannelTables {
   Vec3 feature(int r, int g, int b) const { return Vec3(value_[0][r], value_[1][g], value_[2][b]); }
   /// Channel c's feature of the 8-bit value x (feature()'s c-th coordinate).
   double value(int c, int x) const { return value_[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)]; }
+  /// The nearest cluster: the least of the float sums sr + sg + sb, the first of equal ones.
   int nearest(int r, int g, int b) const {
-    const std::size_t n = static_cast<std::size_t>(n_);
+    const std::size_t n = static_cast<std::size_t>(stride_);
     const float *sr = &squares_[static_cast<std::size_t>(r) * n], *sg = &squares_[(256 + static_cast<std::size_t>(g)) * n],
                 *sb = &squares_[(512 + static_cast<std::size_t>(b)) * n];
+#ifdef __SSE2__
+    if (stride_ == kLanes) {
+      // The 8 sums at once, the least by a min tree, its first lane by a mask: the same sums and the
+      // same answer as the loop below, with no chain of comparisons from cluster to cluster.
+      const __m128 d0 = _mm_add_ps(_mm_add_ps(_mm_loadu_ps(sr), _mm_loadu_ps(sg)), _mm_loadu_ps(sb));
+      const __m128 d1 = _mm_add_ps(_mm_add_ps(_mm_loadu_ps(sr + 4), _mm_loadu_ps(sg + 4)), _mm_loadu_ps(sb + 4));
+      __m128 m = _mm_min_ps(d0, d1);
+      m = _mm_min_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+      m = _mm_min_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+      const unsigned mask = static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(d0, m))) |
+                            (static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(d1, m))) << 4);
+      return std::countr_zero(mask);
+    }
+#endif
     int best = 0;
     float bd = std::numeric_limits<float>::max();
     for (int k = 0; k < n_; ++k) {
@@ -106,11 +127,12 @@ class ChannelTables {
   }
 
  private:
+  static constexpr int kLanes = 8;
   int n_;
+  int stride_;  ///< floats per (channel, value) row: 8 up to 8 clusters, else the clusters
   std::array<std::array<double, 256>, 3> value_{};
   std::vector<float> squares_;  // [channel][value][cluster]
 };
-
 
 constexpr std::uint8_t kUnknownCell = 254;  // LUT cell not computed yet (no certainty level is 254)
 
