@@ -92,8 +92,6 @@ class ChannelTables {
     }
   }
   Vec3 feature(int r, int g, int b) const { return Vec3(value_[0][r], value_[1][g], value_[2][b]); }
-  /// Channel c's feature of the 8-bit value x (feature()'s c-th coordinate).
-  double value(int c, int x) const { return value_[static_cast<std::size_t>(c)][static_cast<std::size_t>(x)]; }
   /// The nearest cluster: the least of the float sums sr + sg + sb, the first of equal ones.
   int nearest(int r, int g, int b) const {
     const std::size_t n = static_cast<std::size_t>(stride_);

@@ -70,54 +70,44 @@ std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int wi
   const int st = opt_.train_stride;
 
   // One pass: each pixel's winner; counts, difference sums and the reconstruction error per band.
-  std::vector<double> cnt(n), dr(n), dg(n), db(n);
-  auto pass = [&]() {
+  // `at(p)` gives a pixel's feature and nearest cluster. The means are read from locals that the
+  // sums' stores cannot alias (docs/measurements.md: a fifth off a photo's detect()).
+  std::vector<double> cnt(n), dr(n), dg(n), db(n), mr(n), mg(n), mb(n);
+  const auto sweep = [&](const auto& at) {
+    for (int k = 0; k < n; ++k) mr[k] = means_[k].x(), mg[k] = means_[k].y(), mb[k] = means_[k].z();
     std::fill(cnt.begin(), cnt.end(), 0.0);
     std::fill(dr.begin(), dr.end(), 0.0);
     std::fill(dg.begin(), dg.end(), 0.0);
     std::fill(db.begin(), db.end(), 0.0);
-    Vec3 err = Vec3::Zero();
-    double total = 0;
-    if (!opt_.normalized_color) {
-      // The feature is channel by channel: this pass's tables give each pixel's feature and nearest
-      // cluster. The same operations in the same order as below, with the means in locals the
-      // sums' stores cannot alias (docs/measurements.md: a fifth off a photo's detect()).
-      const ChannelTables tables([this](double r, double g, double b) { return feature(r, g, b); }, means_);
-      std::vector<double> mr(n), mg(n), mb(n);
-      for (int k = 0; k < n; ++k) mr[k] = means_[k].x(), mg[k] = means_[k].y(), mb[k] = means_[k].z();
-      double e0 = 0, e1 = 0, e2 = 0;
-      double *c = cnt.data(), *sr = dr.data(), *sg = dg.data(), *sb = db.data();
-      for (int v = 0; v < height; v += st)
-        for (int u = 0; u < width; u += st) {
-          const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
-          const int k = tables.nearest(p[0], p[1], p[2]);
-          const double er = tables.value(0, p[0]) - mr[k], eg = tables.value(1, p[1]) - mg[k],
-                       eb = tables.value(2, p[2]) - mb[k];
-          c[k] += 1;
-          sr[k] += er;
-          sg[k] += eg;
-          sb[k] += eb;
-          e0 += er * er;
-          e1 += eg * eg;
-          e2 += eb * eb;
-          total += 1;
-        }
-      return Vec3(Vec3(e0, e1, e2) / total);
-    }
+    double e0 = 0, e1 = 0, e2 = 0, total = 0;
+    double *c = cnt.data(), *sr = dr.data(), *sg = dg.data(), *sb = db.data();
     for (int v = 0; v < height; v += st)
       for (int u = 0; u < width; u += st) {
-        const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
-        const Vec3 f = feature(p[0], p[1], p[2]);
-        const int k = nearest(f);
-        const double er = f.x() - means_[k].x(), eg = f.y() - means_[k].y(), eb = f.z() - means_[k].z();
-        cnt[k] += 1;
-        dr[k] += er;
-        dg[k] += eg;
-        db[k] += eb;
-        err += Vec3(er * er, eg * eg, eb * eb);
+        const auto [f, k] = at(rgb + 3 * (static_cast<std::size_t>(v) * width + u));
+        const double er = f.x() - mr[k], eg = f.y() - mg[k], eb = f.z() - mb[k];
+        c[k] += 1;
+        sr[k] += er;
+        sg[k] += eg;
+        sb[k] += eb;
+        e0 += er * er;
+        e1 += eg * eg;
+        e2 += eb * eb;
         total += 1;
       }
-    return Vec3(err / total);
+    return Vec3(Vec3(e0, e1, e2) / total);
+  };
+  auto pass = [&]() {
+    if (opt_.normalized_color)
+      return sweep([this](const std::uint8_t* p) {
+        const Vec3 f = feature(p[0], p[1], p[2]);
+        return std::pair<Vec3, int>(f, nearest(f));
+      });
+    // The feature is channel by channel: this pass's tables give each pixel's feature and nearest
+    // cluster (the same as feature() and nearest()).
+    const ChannelTables tables([this](double r, double g, double b) { return feature(r, g, b); }, means_);
+    return sweep([&tables](const std::uint8_t* p) {
+      return std::pair<Vec3, int>(tables.feature(p[0], p[1], p[2]), tables.nearest(p[0], p[1], p[2]));
+    });
   };
 
   std::vector<Vec3> history;
