@@ -1,14 +1,22 @@
 #pragma once
 // What several benchmarks measure beside time: the process's resident memory (Linux
-// /proc/self/status) and wall-clock seconds; and the photo-sized frames the vision benchmarks share.
+// /proc/self/status) and wall-clock seconds; and the photo-sized frames and the per-frame pipeline
+// loop the vision benchmarks share.
+#include <benchmark/benchmark.h>
+
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "mapnav/image/image.h"
+#include "mapnav/mission/image_region.h"
 #include "mapnav/scenes/sidewalk_scene.h"
+#include "mapnav/vision/pipelines.h"
+#include "mapnav/vision/segmentation_eval.h"
+#include "mapnav/vision_iface/pipeline.h"
 
 namespace mapnav::bench {
 
@@ -56,12 +64,21 @@ inline const std::vector<Image>& photoSizedFrames() {
   return out;
 }
 
+/// A pipeline's detect() per frame as `mapnav bench` times it: photoSizedFrames() in turn, the
+/// pipeline's defaults, a bottom trapezoid as the prediction. The built-in pipelines are registered
+/// here; another (learned) must be registered first.
+inline void runPipelineFrames(benchmark::State& state, const std::string& name) {
+  registerBuiltinPipelines();
+  auto pipeline = createPipeline(name, "{}");
+  const std::unique_ptr<Camera> camera = assumedPhotoCamera(kPhotoWidth, kPhotoHeight);
+  const PredictedObject prediction =
+      predictionFromImageRegion(bottomTrapezoid(kPhotoWidth, kPhotoHeight), *camera).view;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const Image& rgb = photoSizedFrames()[k++ % photoSizedFrames().size()];
+    const VisionFrame frame{kPhotoWidth, kPhotoHeight, rgb.data.data(), camera.get(), static_cast<double>(k), false};
+    benchmark::DoNotOptimize(pipeline->detect(frame, prediction).confidence);
+  }
+}
+
 }  // namespace mapnav::bench
-
-namespace benchmark {
-class State;
-}  // namespace benchmark
-
-/// A pipeline's detect() per frame at kPhotoWidth x kPhotoHeight, its defaults, a bottom trapezoid as
-/// the prediction (edge_tracker_bench.cpp); the pipeline must be registered.
-void runPipelineFrames(benchmark::State& state, const std::string& name);

@@ -5,22 +5,14 @@
 // `mapnav bench` times it (the scene's frames at 480 x 360, a bottom trapezoid as the prediction).
 #include <benchmark/benchmark.h>
 
-#include <string>
-#include <vector>
-
 #include "../vision/src/edge_tracker_internal.h"
 #include "bench_util.h"
-#include "mapnav/mission/image_region.h"
-#include "mapnav/scenes/sidewalk_scene.h"
-#include "mapnav/vision/pipelines.h"
-#include "mapnav/vision/segmentation_eval.h"
-#include "mapnav/vision_iface/pipeline.h"
 
 namespace {
 
 using mapnav::bench::kPhotoHeight, mapnav::bench::kPhotoWidth;
 constexpr int kWidth = kPhotoWidth, kHeight = kPhotoHeight;
-using mapnav::bench::photoSizedFrames;
+using mapnav::bench::photoSizedFrames, mapnav::bench::runPipelineFrames;
 
 void runOperator(benchmark::State& state, bool reference) {
   const mapnav::Image& rgb = photoSizedFrames().front();
@@ -37,29 +29,9 @@ void runOperator(benchmark::State& state, bool reference) {
 void BM_OrientedEdge(benchmark::State& state) { runOperator(state, false); }
 void BM_OrientedEdgeReference(benchmark::State& state) { runOperator(state, true); }
 
-}  // namespace
-
-/// A pipeline's detect() per frame as `mapnav bench` times it (the scene's frames at 480 x 360, a
-/// bottom trapezoid as the prediction, the pipeline's defaults); other benchmark files use it too.
-void runPipelineFrames(benchmark::State& state, const std::string& name) {
-  mapnav::registerBuiltinPipelines();
-  auto pipeline = mapnav::createPipeline(name, "{}");
-  const std::unique_ptr<mapnav::Camera> camera = mapnav::assumedPhotoCamera(kWidth, kHeight);
-  const mapnav::PredictedObject prediction =
-      mapnav::predictionFromImageRegion(mapnav::bottomTrapezoid(kWidth, kHeight), *camera).view;
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const mapnav::Image& rgb = photoSizedFrames()[k++ % photoSizedFrames().size()];
-    const mapnav::VisionFrame frame{kWidth, kHeight, rgb.data.data(), camera.get(), static_cast<double>(k), false};
-    benchmark::DoNotOptimize(pipeline->detect(frame, prediction).confidence);
-  }
-}
-
-namespace {
-
 void BM_EdgeTrackerFrame(benchmark::State& state) { runPipelineFrames(state, "edge-tracker"); }
 // The cluster-perceptron road finder the same way: each detect() trains on its frame (clustering,
-// perceptron, lookup table) and classifies it.
+// perceptron, the lookup table's cells of its colours) and classifies it.
 void BM_ClusterPerceptronFrame(benchmark::State& state) { runPipelineFrames(state, "cluster-perceptron"); }
 
 }  // namespace

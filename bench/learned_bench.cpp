@@ -32,7 +32,7 @@ void BM_LearnedRoadProbability(benchmark::State& state) {
 
 void BM_LearnedFrame(benchmark::State& state) {
   mapnav::registerLearnedPipeline();
-  runPipelineFrames(state, "learned");
+  mapnav::bench::runPipelineFrames(state, "learned");
 }
 
 }  // namespace
