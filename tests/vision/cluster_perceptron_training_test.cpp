@@ -55,6 +55,45 @@ TEST(ClusterPerceptron, ReconstructionErrorFallsAndConverges) {
   }
 }
 
+// The clustering passes see each colour once, weighted by its pixels: what they find cannot depend
+// on where the pixels are, and a frame of every pixel twice is the same frame to them (weights of 2
+// scale every sum exactly). Their last reconstruction error is the per-pixel one of the means found.
+TEST(ClusterPerceptron, ClusteringWeighsEachColourByItsPixelsWhereverTheyAre) {
+  const World world(parkScenery(), parkWorld());
+  const Frame f = world.render(cam(), straightPoses(10.0).front().pose, 0.0);
+  const int w = f.rgb.width, h = f.rgb.height;
+  const std::vector<std::uint8_t>& rgb = f.rgb.data;
+  std::vector<std::uint8_t> shuffled(rgb.size()), twice(2 * rgb.size());
+  std::vector<std::size_t> order(static_cast<std::size_t>(w) * h);
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(7));
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      shuffled[3 * i + c] = rgb[3 * order[i] + c];
+      twice[3 * i + c] = twice[3 * (i + order.size()) + c] = rgb[3 * i + c];
+    }
+  }
+  for (const char* space : {"rgb", "log", "normalised"}) {
+    for (int stride : {1, 3}) {
+      ClusterPerceptronOptions o;
+      o.clusters = 8;
+      o.train_stride = stride;
+      o.log_color = std::string(space) == "log";
+      o.normalized_color = std::string(space) == "normalised";
+      ClusterPerceptron a(o), b(o), c(o);
+      const std::vector<Vec3> history = a.trainClusters(rgb.data(), w, h);
+      const double per_pixel = a.reconstructionError(rgb.data(), w, h, stride);
+      EXPECT_NEAR(history.back().mean(), per_pixel, 1e-9 * per_pixel) << space << ", stride " << stride;
+      EXPECT_GT(history.size(), 2u);
+      if (stride != 1) continue;  // a stride samples other pixels of a shuffled frame
+      EXPECT_EQ(b.trainClusters(shuffled.data(), w, h), history) << space;
+      EXPECT_EQ(b.means(), a.means()) << space;
+      EXPECT_EQ(c.trainClusters(twice.data(), w, 2 * h), history) << space;
+      EXPECT_EQ(c.means(), a.means()) << space;
+    }
+  }
+}
+
 TEST(ClusterPerceptron, PerceptronLearnsTheBootstrapOutline) {
   const World world(parkScenery(), parkWorld());
   const auto poses = straightPoses(10.0);

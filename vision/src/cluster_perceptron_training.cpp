@@ -64,16 +64,60 @@ std::vector<Vec3> ClusterPerceptron::trainClusters(const std::uint8_t* rgb, int 
   return clusterFrom(rgb, width, height);
 }
 
+namespace {
+
+/// A colour of the frame and how many of the pixels clustered have it.
+struct ColourCount {
+  std::uint8_t r, g, b;
+  double count;
+  Vec3 feature;
+};
+
+/// The distinct colours of every `stride`-th pixel in each direction, ordered by (r, g, b), with
+/// their counts: a clustering pass needs each colour once (a 480 x 360 photo has a few times fewer
+/// colours than pixels). Sorted by a radix sort of the packed colours, two 12-bit digits.
+template <class Feature>
+std::vector<ColourCount> distinctColours(const std::uint8_t* rgb, int width, int height, int stride, const Feature& feature) {
+  std::vector<std::uint32_t> keys, sorted;
+  keys.reserve(static_cast<std::size_t>((height + stride - 1) / stride) * static_cast<std::size_t>((width + stride - 1) / stride));
+  for (int v = 0; v < height; v += stride)
+    for (int u = 0; u < width; u += stride) {
+      const std::uint8_t* p = rgb + 3 * (static_cast<std::size_t>(v) * width + u);
+      keys.push_back(static_cast<std::uint32_t>(p[0]) << 16 | static_cast<std::uint32_t>(p[1]) << 8 | p[2]);
+    }
+  sorted.resize(keys.size());
+  for (const int shift : {0, 12}) {
+    std::vector<std::uint32_t> start(4097, 0);
+    for (const std::uint32_t k : keys) ++start[((k >> shift) & 0xFFF) + 1];
+    for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    for (const std::uint32_t k : keys) sorted[start[(k >> shift) & 0xFFF]++] = k;
+    keys.swap(sorted);
+  }
+  std::vector<ColourCount> out;
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i + 1;
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    const auto r = static_cast<std::uint8_t>(keys[i] >> 16), g = static_cast<std::uint8_t>(keys[i] >> 8),
+               b = static_cast<std::uint8_t>(keys[i]);
+    out.push_back(ColourCount{r, g, b, static_cast<double>(j - i), feature(r, g, b)});
+    i = j;
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int width, int height) {
   const int n = static_cast<int>(means_.size());
   trained_ = false;
-  const int st = opt_.train_stride;
+  const std::vector<ColourCount> colours =
+      distinctColours(rgb, width, height, opt_.train_stride, [this](double r, double g, double b) { return feature(r, g, b); });
 
-  // One pass: each pixel's winner; counts, difference sums and the reconstruction error per band.
-  // `at(p)` gives a pixel's feature and nearest cluster. The means are read from locals that the
-  // sums' stores cannot alias (docs/measurements.md: a fifth off a photo's detect()).
+  // One pass: each colour's winner; counts, difference sums and the reconstruction error per band,
+  // each colour weighted by its pixels. `nearestOf(c)` gives a colour's nearest cluster. The means
+  // are read from locals that the sums' stores cannot alias.
   std::vector<double> cnt(n), dr(n), dg(n), db(n), mr(n), mg(n), mb(n);
-  const auto sweep = [&](const auto& at) {
+  const auto sweep = [&](const auto& nearestOf) {
     for (int k = 0; k < n; ++k) mr[k] = means_[k].x(), mg[k] = means_[k].y(), mb[k] = means_[k].z();
     std::fill(cnt.begin(), cnt.end(), 0.0);
     std::fill(dr.begin(), dr.end(), 0.0);
@@ -81,33 +125,27 @@ std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int wi
     std::fill(db.begin(), db.end(), 0.0);
     double e0 = 0, e1 = 0, e2 = 0, total = 0;
     double *c = cnt.data(), *sr = dr.data(), *sg = dg.data(), *sb = db.data();
-    for (int v = 0; v < height; v += st)
-      for (int u = 0; u < width; u += st) {
-        const auto [f, k] = at(rgb + 3 * (static_cast<std::size_t>(v) * width + u));
-        const double er = f.x() - mr[k], eg = f.y() - mg[k], eb = f.z() - mb[k];
-        c[k] += 1;
-        sr[k] += er;
-        sg[k] += eg;
-        sb[k] += eb;
-        e0 += er * er;
-        e1 += eg * eg;
-        e2 += eb * eb;
-        total += 1;
-      }
+    for (const ColourCount& colour : colours) {
+      const int k = nearestOf(colour);
+      const Vec3& f = colour.feature;
+      const double w = colour.count, er = f.x() - mr[k], eg = f.y() - mg[k], eb = f.z() - mb[k];
+      c[k] += w;
+      sr[k] += w * er;
+      sg[k] += w * eg;
+      sb[k] += w * eb;
+      e0 += w * er * er;
+      e1 += w * eg * eg;
+      e2 += w * eb * eb;
+      total += w;
+    }
     return Vec3(Vec3(e0, e1, e2) / total);
   };
   auto pass = [&]() {
-    if (opt_.normalized_color)
-      return sweep([this](const std::uint8_t* p) {
-        const Vec3 f = feature(p[0], p[1], p[2]);
-        return std::pair<Vec3, int>(f, nearest(f));
-      });
-    // The feature is channel by channel: this pass's tables give each pixel's feature and nearest
-    // cluster (the same as feature() and nearest()).
+    if (opt_.normalized_color) return sweep([this](const ColourCount& c) { return nearest(c.feature); });
+    // The feature is channel by channel: this pass's tables give each colour's nearest cluster (the
+    // same as nearest(feature())).
     const ChannelTables tables([this](double r, double g, double b) { return feature(r, g, b); }, means_);
-    return sweep([&tables](const std::uint8_t* p) {
-      return std::pair<Vec3, int>(tables.feature(p[0], p[1], p[2]), tables.nearest(p[0], p[1], p[2]));
-    });
+    return sweep([&tables](const ColourCount& c) { return tables.nearest(c.r, c.g, c.b); });
   };
 
   std::vector<Vec3> history;
