@@ -60,7 +60,8 @@ struct RoadGraph::Impl {
   const Map& map;
   route_detail::Network network;
   route_detail::BlockMarks blocks;
-  std::optional<route_detail::Landmarks> landmarks;  // computed by the first A* query
+  // Computed by the first A* query, again by one whose turn costs are lower than theirs.
+  std::optional<route_detail::Landmarks> landmarks;
   route_detail::BidirectionalSearch search;
 
   explicit Impl(const Map& m) : map(m) {
@@ -252,7 +253,8 @@ RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, c
   const route_detail::QueryEnds q = g.queryEnds(ends, turns);
   route_detail::Path path;
   if (options.use_astar) {
-    if (!g.landmarks) g.landmarks = route_detail::chooseLandmarks(g.network, kLandmarks);
+    if (!g.landmarks || !route_detail::boundsHold(g.landmarks->turns, turns))
+      g.landmarks = route_detail::chooseLandmarks(g.network, kLandmarks, turns);
     path = g.search.run(g.network, *g.landmarks, q, g.blocks, turns);
   } else {
     path = route_detail::dijkstraPath(g.network, q, g.blocks, turns);
