@@ -5,7 +5,6 @@
 // pipeline), the Hough that finds the first centre model (runtime), the row's edge candidates (image
 // and ground refinement), and the arc model's ground road and its refinement (runtime).
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -70,9 +69,9 @@ struct LutView {
 // --- The colour lookup table (cluster_perceptron_lut.cpp) ----------------------------------------------
 
 // For features that are channel by channel (RGB and log colour, not normalised colour): each 8-bit
-// value's feature per channel, and its squared float difference to each mean, so that a colour's
-// feature and nearest cluster are table lookups that give what ClusterPerceptron::feature() and
-// nearest() compute (the same float operations in the same order: the same cluster, ties the first).
+// value's squared float difference per channel to each mean, so that a colour's nearest cluster is
+// table lookups that give what ClusterPerceptron::nearest() computes (the same float operations in
+// the same order: the same cluster, ties the first).
 class ChannelTables {
  public:
   template <class Feature>
@@ -83,7 +82,6 @@ class ChannelTables {
     for (int x = 0; x < 256; ++x) {
       const Vec3 f = feature(x, x, x);
       for (int c = 0; c < 3; ++c) {
-        value_[c][x] = f[c];
         for (int k = 0; k < n_; ++k) {
           const float d = static_cast<float>(f[c]) - static_cast<float>(means[k][c]);
           squares_[(static_cast<std::size_t>(c) * 256 + x) * stride_ + k] = d * d;
@@ -91,7 +89,6 @@ class ChannelTables {
       }
     }
   }
-  Vec3 feature(int r, int g, int b) const { return Vec3(value_[0][r], value_[1][g], value_[2][b]); }
   /// The nearest cluster: the least of the float sums sr + sg + sb, the first of equal ones.
   int nearest(int r, int g, int b) const {
     const std::size_t n = static_cast<std::size_t>(stride_);
@@ -128,7 +125,6 @@ class ChannelTables {
   static constexpr int kLanes = 8;
   int n_;
   int stride_;  ///< floats per (channel, value) row: 8 up to 8 clusters, else the clusters
-  std::array<std::array<double, 256>, 3> value_{};
   std::vector<float> squares_;  // [channel][value][cluster]
 };
 
