@@ -155,14 +155,20 @@ std::size_t mainPart(const std::vector<std::vector<cv::Point>>& contours, const 
 // Fills the holes of `out` (the filled outline: its pixels not in `px`, 4-connected) except those
 // larger than `max_hole_fraction` of its area, which stay holes.
 void keepLargeHoles(const cv::Mat& px, double max_hole_fraction, cv::Mat& out) {
-  cv::Mat holes, hole_labels, stats, centroids;
+  cv::Mat holes;
   cv::bitwise_and(out, ~px, holes);
-  const int n = cv::connectedComponentsWithStats(holes, hole_labels, stats, centroids, 4, CV_32S);
   const double largest = max_hole_fraction * cv::countNonZero(out);
-  for (int v = 0; n > 1 && v < out.rows; ++v) {
+  // No hole is larger than all of them together: where they add up to no more (leaves, cracks,
+  // slab gaps: most frames), every hole is filled and there are no components to label.
+  if (!(cv::countNonZero(holes) > largest)) return;
+  // Labelled within the holes' bounding box (the components are the same as over the frame).
+  const cv::Rect box = cv::boundingRect(holes);
+  cv::Mat hole_labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(holes(box), hole_labels, stats, centroids, 4, CV_32S);
+  for (int v = 0; n > 1 && v < box.height; ++v) {
     const int* lab = hole_labels.ptr<int>(v);
-    std::uint8_t* o = out.ptr<std::uint8_t>(v);
-    for (int u = 0; u < out.cols; ++u)
+    std::uint8_t* o = out.ptr<std::uint8_t>(box.y + v) + box.x;
+    for (int u = 0; u < box.width; ++u)
       if (lab[u] > 0 && stats.at<int>(lab[u], cv::CC_STAT_AREA) > largest) o[u] = 0;
   }
 }
