@@ -60,8 +60,7 @@ struct RoadGraph::Impl {
   const Map& map;
   route_detail::Network network;
   route_detail::BlockMarks blocks;
-  // Computed by the first A* query, again by one whose turn costs are lower than theirs.
-  std::optional<route_detail::Landmarks> landmarks;
+  std::optional<route_detail::Landmarks> landmarks;  // computed by the first A* query
   route_detail::BidirectionalSearch search;
 
   explicit Impl(const Map& m) : map(m) {
@@ -253,8 +252,7 @@ RouteResult RoadGraph::route(const RoadPosition& from, const RoadPosition& to, c
   const route_detail::QueryEnds q = g.queryEnds(ends, turns);
   route_detail::Path path;
   if (options.use_astar) {
-    if (!g.landmarks || !route_detail::boundsHold(g.landmarks->turns, turns))
-      g.landmarks = route_detail::chooseLandmarks(g.network, kLandmarks, turns);
+    if (!g.landmarks) g.landmarks = route_detail::chooseLandmarks(g.network, kLandmarks);
     path = g.search.run(g.network, *g.landmarks, q, g.blocks, turns);
   } else {
     path = route_detail::dijkstraPath(g.network, q, g.blocks, turns);

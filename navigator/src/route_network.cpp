@@ -114,25 +114,18 @@ double Landmarks::bound(Index a, Index b) const {
 
 namespace {
 
-// The graph of intersections: an edge per drivable traversal, start node → end node, costing its
-// drive and the cheapest turn onto it from any traversal (0 onto one no turn reaches: a route
-// drives it only as its start road, whose turn-in no bound counts).
+// The graph of intersections: an edge per drivable traversal, start node → end node, costing its drive.
 using NodeGraph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, double,
                                                      boost::no_property, Index, Index>;
 
-NodeGraph nodeGraph(const Network& n, bool reversed, const TurnCosts& turns) {
+NodeGraph nodeGraph(const Network& n, bool reversed) {
   std::vector<std::pair<Index, Index>> edges;
   std::vector<double> costs;
   for (Index v = 0; v < n.traversals(); ++v) {
     if (!n.drivable[v]) continue;
     const Index start = n.end_node[v ^ 1U];  // the other traversal of the road ends where v starts
     edges.emplace_back(reversed ? n.end_node[v] : start, reversed ? start : n.end_node[v]);
-    double turn_in = kInfinity;
-    for (const auto& e : boost::make_iterator_range(boost::in_edges(v, n.graph))) {
-      const Index u = boost::source(e, n.graph);
-      turn_in = std::min(turn_in, turnCost(n.graph[e].abs_angle, v == (u ^ 1U), turns));
-    }
-    costs.push_back(n.drive_cost[v] + (std::isfinite(turn_in) ? turn_in : 0.0));
+    costs.push_back(n.drive_cost[v]);
   }
   return NodeGraph(boost::edges_are_unsorted_multi_pass, edges.begin(), edges.end(), costs.begin(),
                    static_cast<Index>(n.intersections));
@@ -161,16 +154,11 @@ Index farthest(const std::vector<double>& score) {
 
 }  // namespace
 
-bool boundsHold(const TurnCosts& made, const TurnCosts& query) {
-  return query.per_90deg >= made.per_90deg && query.u_turn >= made.u_turn;
-}
-
-Landmarks chooseLandmarks(const Network& network, int count, const TurnCosts& turns) {
+Landmarks chooseLandmarks(const Network& network, int count) {
   Landmarks l;
-  l.turns = turns;
   const std::size_t n = network.intersections;
   if (n == 0 || count <= 0) return l;
-  const NodeGraph forward = nodeGraph(network, false, turns), backward = nodeGraph(network, true, turns);
+  const NodeGraph forward = nodeGraph(network, false), backward = nodeGraph(network, true);
   // The first landmark: the intersection farthest from intersection 0; each next one the
   // intersection whose round trip to the nearest landmark chosen so far is longest.
   std::vector<double> nearest = distancesFrom(forward, 0);

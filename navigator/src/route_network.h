@@ -73,13 +73,9 @@ struct BlockMarks {
 };
 
 /// Landmark distances for the A* lower bounds (ALT: Goldberg & Harrelson 2005), on the graph of
-/// intersections with one edge per drivable traversal costing its drive (length × cost factor)
-/// plus the cheapest turn onto it under `turns` (every route turns onto each traversal it drives
-/// after the start road once, so no route costs less; on a map whose roads bend at every
-/// intersection the turns are most of what a turn-free bound misses). Nothing is blocked, so every
-/// bound stays below the cost of any query whose turn costs are at least `turns`.
+/// intersections with one edge per drivable traversal costing length × cost factor: no turn
+/// penalties and nothing blocked, so every bound stays below the cost of any query.
 struct Landmarks {
-  TurnCosts turns;  ///< the turn costs the distances include
   int count = 0;
   std::vector<Index> nodes;       ///< the landmark intersections, in the order chosen
   std::vector<double> from, to;   ///< [node · count + i]: d(landmark i, node), d(node, landmark i)
@@ -110,11 +106,8 @@ struct Network {
 };
 
 /// Landmarks chosen by farthest-point selection (each next one the intersection farthest, there and
-/// back, from those chosen), at most `count`, their distances including the cheapest turns under `turns`.
-Landmarks chooseLandmarks(const Network& network, int count, const TurnCosts& turns);
-
-/// Whether bounds made with turn costs `made` hold for a query with turn costs `query` (each cost at least as high).
-bool boundsHold(const TurnCosts& made, const TurnCosts& query);
+/// back, from those chosen), at most `count`.
+Landmarks chooseLandmarks(const Network& network, int count);
 
 /// The reference: Boost's Dijkstra over the whole graph.
 Path dijkstraPath(const Network& network, const QueryEnds& ends, const BlockMarks& blocks, const TurnCosts& turns);

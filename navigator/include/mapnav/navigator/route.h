@@ -78,9 +78,8 @@ class RoadGraph {
   /// The cheapest route. Throws NotFound for unknown ids (in the positions or `blocked`) and
   /// InvalidInput for a position off its road. Not thread-safe: a query reuses the graph's search
   /// buffers and marks its blocked roads in the graph until it returns; the first A* query also
-  /// computes the landmark distances, with its turn penalties' cheapest turn onto each road, and a
-  /// later query computes them again only if its turn penalties are lower (blocked roads and higher
-  /// penalties only make routes dearer, so the landmark bounds stay below those queries' costs).
+  /// computes the landmark distances, once (blocked roads do not change them: blocking only makes
+  /// routes dearer, so the landmark bounds stay below every blocked query's costs).
   RouteResult route(const RoadPosition& from, const RoadPosition& to, const RouteOptions& options = {});
 
   const Map& map() const;
