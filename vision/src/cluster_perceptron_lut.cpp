@@ -32,9 +32,7 @@ void ClusterPerceptron::resetLut() {
     const int n = static_cast<int>(means_.size());
     t->cert.resize(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) t->cert[static_cast<std::size_t>(k)] = certaintyOf(std::tanh(netFor(weights_, k)));
-    // The nearest cluster of a colour, as nearest() finds it: by ChannelTables where the feature is
-    // channel by channel.
-    if (!opt_.normalized_color) t->tables.emplace([this](double r, double g, double b) { return feature(r, g, b); }, means_);
+    t->tables = channelTables();  // a colour's nearest cluster, as nearest() finds it
     t->near.assign(64 * 64 * 64, kUnknownCell);
   }
   t->lut.assign(kCells, kUnknownCell);

@@ -32,6 +32,11 @@ Vec3 ClusterPerceptron::feature(double r, double g, double b) const {
   return Vec3(r, g, b);
 }
 
+std::optional<ChannelTables> ClusterPerceptron::channelTables() const {
+  if (opt_.normalized_color) return std::nullopt;
+  return ChannelTables([this](double r, double g, double b) { return feature(r, g, b); }, means_);
+}
+
 int ClusterPerceptron::nearest(const Vec3& f) const {
   const auto r = static_cast<float>(f.x()), g = static_cast<float>(f.y()), b = static_cast<float>(f.z());
   int best = 0;
@@ -141,11 +146,9 @@ std::vector<Vec3> ClusterPerceptron::clusterFrom(const std::uint8_t* rgb, int wi
     return Vec3(Vec3(e0, e1, e2) / total);
   };
   auto pass = [&]() {
-    if (opt_.normalized_color) return sweep([this](const ColourCount& c) { return nearest(c.feature); });
-    // The feature is channel by channel: this pass's tables give each colour's nearest cluster (the
-    // same as nearest(feature())).
-    const ChannelTables tables([this](double r, double g, double b) { return feature(r, g, b); }, means_);
-    return sweep([&tables](const ColourCount& c) { return tables.nearest(c.r, c.g, c.b); });
+    const std::optional<ChannelTables> tables = channelTables();  // this pass's means
+    if (!tables) return sweep([this](const ColourCount& c) { return nearest(c.feature); });
+    return sweep([&tables](const ColourCount& c) { return tables->nearest(c.r, c.g, c.b); });
   };
 
   std::vector<Vec3> history;
@@ -323,10 +326,7 @@ ClusterPerceptron::Trained ClusterPerceptron::trainClusterPerceptron(const std::
   // to per-cluster counts of road and non-road pixels.
   std::vector<std::pair<double, double>> counts(static_cast<std::size_t>(n), {0.0, 0.0});  // (road, not road)
   double total = 0;
-  // Each pixel's nearest cluster by the channel tables where the feature is channel by channel (the
-  // same cluster as nearest() gives).
-  std::optional<ChannelTables> tables;
-  if (!opt_.normalized_color) tables.emplace([this](double r, double g, double b) { return feature(r, g, b); }, means_);
+  const std::optional<ChannelTables> tables = channelTables();
   for (std::size_t i = 0; i < cls.size(); ++i) {
     if (cls[i] == 0) continue;
     const std::uint8_t* p = rgb + 3 * i;

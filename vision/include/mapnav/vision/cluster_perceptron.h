@@ -212,6 +212,7 @@ struct RoadFinding {
 
 struct LutTables;  // cluster_perceptron_internal.h
 struct LutView;
+class ChannelTables;
 
 class ClusterPerceptron {
  public:
@@ -286,6 +287,9 @@ class ClusterPerceptron {
   /// The cluster whose mean is nearest a feature(), by float distance (ties: the first).
   int nearest(const Vec3& f) const;
   int nearest(double r, double g, double b) const { return nearest(feature(r, g, b)); }
+  /// The current means' channel tables, where the feature is channel by channel (RGB and log
+  /// colour): a colour's nearest cluster by table lookups, the same as nearest(). None in normalised colour.
+  std::optional<ChannelTables> channelTables() const;
   /// The perceptron's training class of each pixel the stride samples: +1 road (inside `road`), −1 not
   /// road (outside; `gated`: and beyond options().nonroad_gate_sigma of the road's colour), 0 unused.
   std::vector<std::int8_t> trainingClasses(const std::uint8_t* rgb, int width, int height, const std::uint8_t* road,
