@@ -175,13 +175,31 @@ struct SegmentDistance {
 }  // namespace
 
 std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tolerance) {
-  if (points.size() < 3 || !(tolerance >= 0) || !std::isfinite(tolerance)) return points;
-  if (!isIntegerChain(points)) return simplifyPolyline(points, tolerance);
+  return std::move(simplifyPixelChainAt(points, {tolerance}).front());
+}
+
+std::vector<std::vector<Vec2>> simplifyPixelChainAt(const std::vector<Vec2>& points,
+                                                    const std::vector<double>& tolerances) {
+  // The tolerances in ascending order (`order`), those simplifyPolyline would not simplify at
+  // (negative, NaN, infinite; a chain of fewer than 3 points) answered at once.
+  std::vector<std::vector<Vec2>> out(tolerances.size());
+  std::vector<std::size_t> order;
+  for (std::size_t k = 0; k < tolerances.size(); ++k) {
+    if (points.size() < 3 || !(tolerances[k] >= 0) || !std::isfinite(tolerances[k])) out[k] = points;
+    else order.push_back(k);
+  }
+  if (order.empty()) return out;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tolerances[a] < tolerances[b]; });
+  const auto byCgal = [&] {
+    for (const std::size_t k : order) out[k] = simplifyPolyline(points, tolerances[k]);
+    return out;
+  };
+  if (!isIntegerChain(points)) return byCgal();
   const std::size_t n = points.size();
   const bool closed = points.front() == points.back();
   // The remaining vertices in a grid of 8-pixel cells (removed ones are skipped, not erased).
   const CellGrid grid(points, closed ? n - 1 : n);
-  if (!isPixelChain(points, grid)) return simplifyPolyline(points, tolerance);
+  if (!isPixelChain(points, grid)) return byCgal();
 
   std::vector<Point> pt;
   pt.reserve(n);
@@ -240,17 +258,29 @@ std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tol
     cost[i] = costOf(i);
     if (!queue.contains(i)) queue.push(i);
   }
-  const double stop = tolerance * tolerance;  // Stop_above_cost_threshold
   const auto refresh = [&](std::size_t i) {
     if (!removable(i)) return;
     cost[i] = costOf(i);
     if (queue.contains(i)) queue.update(i);
     else queue.push(i);
   };
-  while (!queue.empty()) {
+  // The vertices left, written out as the answer at order[next_answer]'s tolerance.
+  std::size_t next_answer = 0;
+  const auto answer = [&] {
+    std::vector<Vec2>& chain = out[order[next_answer++]];
+    for (std::size_t i = 0;; i = next[i]) {
+      chain.push_back(points[i]);
+      if (i == n - 1) break;
+    }
+  };
+  // CGAL's loop with Stop_above_cost_threshold(tolerance²) stops at the first vertex popped whose
+  // cost reaches it; up to there every larger tolerance's loop is the same, so it goes on from there.
+  while (!queue.empty() && next_answer < order.size()) {
     const std::size_t q = queue.top();
     queue.pop();
-    if (cost[q] >= stop) break;
+    while (next_answer < order.size() && cost[q] >= tolerances[order[next_answer]] * tolerances[order[next_answer]])
+      answer();
+    if (next_answer == order.size()) break;
     if (!canRemove(q)) continue;
     const std::size_t u = prev[q], w = next[q];
     alive[q] = 0;
@@ -259,11 +289,7 @@ std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tol
     refresh(u);
     refresh(w);
   }
-  std::vector<Vec2> out;
-  for (std::size_t i = 0;; i = next[i]) {
-    out.push_back(points[i]);
-    if (i == n - 1) break;
-  }
+  while (next_answer < order.size()) answer();  // the queue ran out first: what is left
   return out;
 }
 

@@ -183,6 +183,14 @@ TEST(SimplifyPixelChain, SameVerticesAsCgalOnTracedContours) {
         EXPECT_EQ(simplifyPixelChain(ring, tol), simplifyPolyline(ring, tol)) << "seed " << seed << " tol " << tol;
         EXPECT_EQ(simplifyPixelChain(open, tol), simplifyPolyline(open, tol)) << "seed " << seed << " tol " << tol;
       }
+      // Several tolerances in one pass, in any order, each CGAL's answer at it (an invalid one: the input).
+      for (const std::vector<Vec2>* chain : std::initializer_list<const std::vector<Vec2>*>{&ring, &open}) {
+        const std::vector<double> tols = {3.0, 0.75, -1.0, 1.5, 0.75, 12.0};
+        const std::vector<std::vector<Vec2>> at = simplifyPixelChainAt(*chain, tols);
+        ASSERT_EQ(at.size(), tols.size());
+        for (std::size_t k = 0; k < tols.size(); ++k)
+          EXPECT_EQ(at[k], tols[k] < 0 ? *chain : simplifyPolyline(*chain, tols[k])) << "seed " << seed << " tol " << tols[k];
+      }
       ++rings;
     }
   }
@@ -192,7 +200,11 @@ TEST(SimplifyPixelChain, SameVerticesAsCgalOnTracedContours) {
   const std::vector<Vec2> spike = {Vec2(0, 0), Vec2(1, 0), Vec2(2, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 0)};
   const std::vector<Vec2> halves = {Vec2(0, 0), Vec2(1, 0.5), Vec2(2, 0), Vec2(3, 0.5)};
   const std::vector<Vec2> jump = {Vec2(0, 0), Vec2(5, 1), Vec2(10, 0)};
-  for (const auto* p : {&spike, &halves, &jump}) EXPECT_EQ(simplifyPixelChain(*p, 0.8), simplifyPolyline(*p, 0.8));
+  for (const auto* p : {&spike, &halves, &jump}) {
+    EXPECT_EQ(simplifyPixelChain(*p, 0.8), simplifyPolyline(*p, 0.8));
+    EXPECT_EQ(simplifyPixelChainAt(*p, {0.8, 0.3}),
+              (std::vector<std::vector<Vec2>>{simplifyPolyline(*p, 0.8), simplifyPolyline(*p, 0.3)}));
+  }
   // A square ring of side 4: the corners stay.
   std::vector<Vec2> square;
   for (int i = 0; i < 4; ++i) square.emplace_back(i, 0);

@@ -47,7 +47,10 @@ std::vector<Vec2> contourPolygon(const std::vector<Vec2>& contour, double tolera
   if (contour.size() < 3) return {};
   std::vector<Vec2> ring = contour;
   ring.push_back(contour.front());
-  std::vector<Vec2> poly = reference ? simplifyPolyline(ring, tolerance_px) : simplifyPixelChain(ring, tolerance_px);
+  return ringPolygon(reference ? simplifyPolyline(ring, tolerance_px) : simplifyPixelChain(ring, tolerance_px), tolerance_px);
+}
+
+std::vector<Vec2> ringPolygon(std::vector<Vec2> poly, double tolerance_px) {
   // The ring's start is an arbitrary contour point: drop it when it lies on a straight edge.
   if (poly.size() >= 4 && (poly.front() - poly.back()).norm() < 1e-9) {
     poly.pop_back();

@@ -219,22 +219,22 @@ class BasePipeline : public VisionPipeline {
     const auto toPixels = [scale](const std::vector<Vec2>& poly) { return outlineToPixels(poly, scale); };
     DetectedObject d;
     d.timestamp = frame.timestamp;
-    if (frame.want_region) {  // only the trace and the report read the outline
-      std::vector<Vec2> ring = region.contour;
-      ring.push_back(ring.front());
-      std::vector<Vec2> poly = toPixels(simplifyRing(ring, px(common().region_tolerance_px) / scale, common().reference));
-      d.region_image = poly;
-      for (const Vec2& p : poly)
-        if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
-    }
     LineOptions lo = common().lines;
     lo.reference = common().reference;
     lo.simplify_tolerance_px = px(lo.simplify_tolerance_px);
     lo.min_length_px = px(lo.min_length_px);
     lo.frame_edge_px = px(lo.frame_edge_px);
-    const std::vector<Vec2> polygon =
-        toPixels(contourPolygon(region.contour, lo.simplify_tolerance_px / scale, lo.reference));
-    d.lines = polygonLines(polygon, cam, full_valid, lo);
+    // Only the trace and the report read the outline (want_region).
+    const ContourPolygons polys =
+        simplifyContour(region.contour, lo.simplify_tolerance_px / scale,
+                        frame.want_region ? std::optional(px(common().region_tolerance_px) / scale) : std::nullopt,
+                        common().reference);
+    if (frame.want_region) {
+      d.region_image = toPixels(polys.outline);
+      for (const Vec2& p : d.region_image)
+        if (const auto g = cam.backproject(p)) d.region_vehicle.push_back(*g);
+    }
+    d.lines = polygonLines(toPixels(polys.lines), cam, full_valid, lo);
     labelLines(d.lines, prediction, lo);
 
     cv::Mat inter;
@@ -282,7 +282,14 @@ class BasePipeline : public VisionPipeline {
     return out;
   }
 
-  static std::vector<Vec2> simplifyRing(const std::vector<Vec2>& ring, double tol, bool reference);
+  /// The region's contour simplified for its lines and for its outline.
+  struct ContourPolygons {
+    std::vector<Vec2> lines;    ///< contourPolygon(contour, lines_tol, reference)
+    std::vector<Vec2> outline;  ///< the closed contour within outline_tol, without its closing point
+  };
+  /// Both in one pass of simplifyPixelChainAt (the outline only when outline_tol is given).
+  static ContourPolygons simplifyContour(const std::vector<Vec2>& contour, double lines_tol,
+                                         std::optional<double> outline_tol, bool reference);
 
   /// The options every region pipeline has (the subclass's struct).
   virtual const RegionPipelineOptions& common() const = 0;
@@ -369,10 +376,26 @@ class BasePipeline : public VisionPipeline {
   std::vector<std::uint8_t> grid_rgb_;  ///< the last frame on the grid (reused)
 };
 
-std::vector<Vec2> BasePipeline::simplifyRing(const std::vector<Vec2>& ring, double tol, bool reference) {
-  std::vector<Vec2> poly = reference ? simplifyPolyline(ring, tol) : simplifyPixelChain(ring, tol);
-  if (poly.size() >= 2 && (poly.front() - poly.back()).norm() < 1e-9) poly.pop_back();
-  return poly;
+BasePipeline::ContourPolygons BasePipeline::simplifyContour(const std::vector<Vec2>& contour, double lines_tol,
+                                                            std::optional<double> outline_tol, bool reference) {
+  if (contour.empty()) return {};
+  std::vector<Vec2> ring = contour;
+  ring.push_back(contour.front());
+  std::vector<double> tols{lines_tol};
+  if (outline_tol) tols.push_back(*outline_tol);
+  std::vector<std::vector<Vec2>> simplified;
+  if (reference) {
+    for (const double tol : tols) simplified.push_back(simplifyPolyline(ring, tol));
+  } else {
+    simplified = simplifyPixelChainAt(ring, tols);
+  }
+  ContourPolygons out;
+  if (contour.size() >= 3) out.lines = ringPolygon(std::move(simplified[0]), lines_tol);
+  if (outline_tol) {
+    out.outline = std::move(simplified[1]);
+    if (out.outline.size() >= 2 && (out.outline.front() - out.outline.back()).norm() < 1e-9) out.outline.pop_back();
+  }
+  return out;
 }
 
 class ClassifierPipeline : public BasePipeline {

@@ -19,4 +19,11 @@ std::vector<Vec2> simplifyPolyline(const std::vector<Vec2>& points, double toler
 /// against the remaining vertices in a grid instead. Any other input goes to simplifyPolyline.
 std::vector<Vec2> simplifyPixelChain(const std::vector<Vec2>& points, double tolerance);
 
+/// simplifyPixelChain at several tolerances at once, answer k at tolerances[k] (in any order). The
+/// greedy loop removes the same vertices in the same order at every tolerance until the smallest
+/// one's stop, so each larger tolerance goes on from where the smaller stopped: the cost of the
+/// largest alone.
+std::vector<std::vector<Vec2>> simplifyPixelChainAt(const std::vector<Vec2>& points,
+                                                    const std::vector<double>& tolerances);
+
 }  // namespace mapnav

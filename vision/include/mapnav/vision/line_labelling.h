@@ -59,6 +59,10 @@ std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camer
 /// pixel-chain one (the same answer). Fewer than 3 contour points: empty.
 std::vector<Vec2> contourPolygon(const std::vector<Vec2>& contour, double tolerance_px, bool reference);
 
+/// contourPolygon's last step: `ring`, the closed contour (its first point repeated last) already
+/// simplified within `tolerance_px`, as the polygon contourPolygon gives.
+std::vector<Vec2> ringPolygon(std::vector<Vec2> ring, double tolerance_px);
+
 /// The edges of `polygon` (closed, image pixels) as lines, the second half of fitLines: edges shorter
 /// than options.min_length_px dropped, frame edges marked, ground coordinates from `camera`.
 std::vector<DetectedLine> polygonLines(const std::vector<Vec2>& polygon, const Camera& camera, const Image& valid,
