@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -261,6 +263,24 @@ TEST(ColorClassifier, BrightnessTellsADarkGreyCarFromAGreyRoad) {
 
 // Nothing confidently off the road: every non-road label is road-coloured. With the gate, non-road
 // is then flat (every colour about equally likely): the grey is road, a colour far from it is not.
+// The feature of every brightness: rg and ln((R + G + B + 3) / 3) as written (the per-pixel loops
+// read the logarithm from a table).
+TEST(ColorClassifier, FeatureIsRgAndTheLogBrightnessAtEveryLevel) {
+  ColorClassifierOptions o;
+  o.brightness_sigma = 0.1;
+  for (int sum = 0; sum <= 765; ++sum) {
+    const std::uint8_t r = static_cast<std::uint8_t>(std::min(sum, 255));
+    const std::uint8_t g = static_cast<std::uint8_t>(std::min(sum - r, 255));
+    const std::uint8_t px[3] = {r, g, static_cast<std::uint8_t>(sum - r - g)};
+    const double s = sum + 3.0;
+    const Vec3 f = colorFeature(o, px);
+    EXPECT_EQ(f.x(), (r + 1.0) / s) << sum;
+    EXPECT_EQ(f.y(), (g + 1.0) / s) << sum;
+    EXPECT_EQ(f.z(), std::log(s / 3.0)) << sum;
+  }
+  EXPECT_EQ(colorFeature(o, std::array<std::uint8_t, 3>{0, 0, 0}.data()).z(), 0.0);  // black: ln 1
+}
+
 TEST(ColorClassifier, NonRoadIsFlatUntilAFrameShowsSomethingOffTheRoad) {
   const int w = 64, h = 64;
   const auto rgb = twoTone(w, h, false);

@@ -48,10 +48,19 @@ Mat3 minCovariance(const ColorClassifierOptions& o) {
 }
 
 // ln((s + 3) / 3) for s = R + G + B: the log brightness, 0 for black (+1 per channel, as rg's).
+// In double: feature()'s, the same bits as std::log(s / 3.0) there; in float: the fast path's.
+const std::array<double, 766>& logBrightnessTableD() {
+  static const std::array<double, 766> table = [] {
+    std::array<double, 766> t{};
+    for (std::size_t s = 0; s < t.size(); ++s) t[s] = std::log((static_cast<double>(s) + 3.0) / 3.0);
+    return t;
+  }();
+  return table;
+}
 const std::array<float, 766>& logBrightnessTable() {
   static const std::array<float, 766> table = [] {
     std::array<float, 766> t{};
-    for (std::size_t s = 0; s < t.size(); ++s) t[s] = static_cast<float>(std::log((static_cast<double>(s) + 3.0) / 3.0));
+    for (std::size_t s = 0; s < t.size(); ++s) t[s] = static_cast<float>(logBrightnessTableD()[s]);
     return t;
   }();
   return table;
@@ -143,7 +152,8 @@ inline Vec3 feature(Features f, const std::uint8_t* p) {
   }
   // +1 per channel: black stays neutral (1/3, 1/3) instead of dividing by zero.
   const double s = r + g + b + 3.0;
-  return Vec3((r + 1.0) / s, (g + 1.0) / s, f == Features::RGBrightness ? std::log(s / 3.0) : 0.0);
+  return Vec3((r + 1.0) / s, (g + 1.0) / s,
+              f == Features::RGBrightness ? logBrightnessTableD()[p[0] + p[1] + p[2]] : 0.0);  // ln(s / 3)
 }
 
 // The log-odds of one pixel on the fast path (the same arithmetic, lane by lane, as quadraticRow).
