@@ -43,13 +43,10 @@ const OptionTable<LineOptions>& lineOptionTable() {
 
 void LineOptions::validate() const { lineOptionTable().validate(*this); }
 
-std::vector<Vec2> contourPolygon(const std::vector<Vec2>& contour, double tolerance_px, bool reference) {
-  if (contour.size() < 3) return {};
-  std::vector<Vec2> ring = contour;
-  ring.push_back(contour.front());
-  return ringPolygon(reference ? simplifyPolyline(ring, tolerance_px) : simplifyPixelChain(ring, tolerance_px), tolerance_px);
-}
+namespace {
 
+// contourPolygon's last step: `poly`, the closed contour simplified within `tolerance_px` (its
+// first point repeated last), as the polygon contourPolygon gives.
 std::vector<Vec2> ringPolygon(std::vector<Vec2> poly, double tolerance_px) {
   // The ring's start is an arbitrary contour point: drop it when it lies on a straight edge.
   if (poly.size() >= 4 && (poly.front() - poly.back()).norm() < 1e-9) {
@@ -61,6 +58,34 @@ std::vector<Vec2> ringPolygon(std::vector<Vec2> poly, double tolerance_px) {
     poly.pop_back();
   }
   return poly;
+}
+
+}  // namespace
+
+std::vector<Vec2> contourPolygon(const std::vector<Vec2>& contour, double tolerance_px, bool reference) {
+  return contourPolygons(contour, tolerance_px, std::nullopt, reference).lines;
+}
+
+ContourPolygons contourPolygons(const std::vector<Vec2>& contour, double lines_tolerance_px,
+                                std::optional<double> outline_tolerance_px, bool reference) {
+  if (contour.empty()) return {};
+  std::vector<Vec2> ring = contour;
+  ring.push_back(contour.front());
+  std::vector<double> tolerances{lines_tolerance_px};
+  if (outline_tolerance_px) tolerances.push_back(*outline_tolerance_px);
+  std::vector<std::vector<Vec2>> simplified;
+  if (reference) {
+    for (const double tolerance : tolerances) simplified.push_back(simplifyPolyline(ring, tolerance));
+  } else {
+    simplified = simplifyPixelChainAt(ring, tolerances);
+  }
+  ContourPolygons out;
+  if (contour.size() >= 3) out.lines = ringPolygon(std::move(simplified[0]), lines_tolerance_px);
+  if (outline_tolerance_px) {
+    out.outline = std::move(simplified[1]);
+    if (out.outline.size() >= 2 && (out.outline.front() - out.outline.back()).norm() < 1e-9) out.outline.pop_back();
+  }
+  return out;
 }
 
 std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camera& camera, const Image& valid,

@@ -226,7 +226,7 @@ class BasePipeline : public VisionPipeline {
     lo.frame_edge_px = px(lo.frame_edge_px);
     // Only the trace and the report read the outline (want_region).
     const ContourPolygons polys =
-        simplifyContour(region.contour, lo.simplify_tolerance_px / scale,
+        contourPolygons(region.contour, lo.simplify_tolerance_px / scale,
                         frame.want_region ? std::optional(px(common().region_tolerance_px) / scale) : std::nullopt,
                         common().reference);
     if (frame.want_region) {
@@ -282,14 +282,6 @@ class BasePipeline : public VisionPipeline {
     return out;
   }
 
-  /// The region's contour simplified for its lines and for its outline.
-  struct ContourPolygons {
-    std::vector<Vec2> lines;    ///< contourPolygon(contour, lines_tol, reference)
-    std::vector<Vec2> outline;  ///< the closed contour within outline_tol, without its closing point
-  };
-  /// Both in one pass of simplifyPixelChainAt (the outline only when outline_tol is given).
-  static ContourPolygons simplifyContour(const std::vector<Vec2>& contour, double lines_tol,
-                                         std::optional<double> outline_tol, bool reference);
 
   /// The options every region pipeline has (the subclass's struct).
   virtual const RegionPipelineOptions& common() const = 0;
@@ -375,28 +367,6 @@ class BasePipeline : public VisionPipeline {
   GroundCache cache_;
   std::vector<std::uint8_t> grid_rgb_;  ///< the last frame on the grid (reused)
 };
-
-BasePipeline::ContourPolygons BasePipeline::simplifyContour(const std::vector<Vec2>& contour, double lines_tol,
-                                                            std::optional<double> outline_tol, bool reference) {
-  if (contour.empty()) return {};
-  std::vector<Vec2> ring = contour;
-  ring.push_back(contour.front());
-  std::vector<double> tols{lines_tol};
-  if (outline_tol) tols.push_back(*outline_tol);
-  std::vector<std::vector<Vec2>> simplified;
-  if (reference) {
-    for (const double tol : tols) simplified.push_back(simplifyPolyline(ring, tol));
-  } else {
-    simplified = simplifyPixelChainAt(ring, tols);
-  }
-  ContourPolygons out;
-  if (contour.size() >= 3) out.lines = ringPolygon(std::move(simplified[0]), lines_tol);
-  if (outline_tol) {
-    out.outline = std::move(simplified[1]);
-    if (out.outline.size() >= 2 && (out.outline.front() - out.outline.back()).norm() < 1e-9) out.outline.pop_back();
-  }
-  return out;
-}
 
 class ClassifierPipeline : public BasePipeline {
  public:

@@ -4,6 +4,7 @@
 // lines; those along the image border (or the edge of the ground in the image) are frame edges and
 // are never labelled; the others are matched to the predicted interest segments by angle and
 // position on the ground, then checked against the predicted relations (parallel separations).
+#include <optional>
 #include <vector>
 
 #include "mapnav/core/option_table.h"
@@ -59,9 +60,15 @@ std::vector<DetectedLine> fitLines(const std::vector<Vec2>& contour, const Camer
 /// pixel-chain one (the same answer). Fewer than 3 contour points: empty.
 std::vector<Vec2> contourPolygon(const std::vector<Vec2>& contour, double tolerance_px, bool reference);
 
-/// contourPolygon's last step: `ring`, the closed contour (its first point repeated last) already
-/// simplified within `tolerance_px`, as the polygon contourPolygon gives.
-std::vector<Vec2> ringPolygon(std::vector<Vec2> ring, double tolerance_px);
+/// A region's contour simplified for its lines and for its outline.
+struct ContourPolygons {
+  std::vector<Vec2> lines;    ///< contourPolygon(contour, lines_tolerance_px, reference)
+  std::vector<Vec2> outline;  ///< the closed contour within outline_tolerance_px, without its closing point
+};
+/// Both in one simplification pass (simplifyPixelChainAt: the larger tolerance goes on from where
+/// the smaller stopped); the outline only when outline_tolerance_px is given. An empty contour: both empty.
+ContourPolygons contourPolygons(const std::vector<Vec2>& contour, double lines_tolerance_px,
+                                std::optional<double> outline_tolerance_px, bool reference);
 
 /// The edges of `polygon` (closed, image pixels) as lines, the second half of fitLines: edges shorter
 /// than options.min_length_px dropped, frame edges marked, ground coordinates from `camera`.
