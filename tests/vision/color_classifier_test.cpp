@@ -116,6 +116,61 @@ TEST(ColorClassifier, DriftGuardRefusesAJumpAndTooFewPixels) {
   EXPECT_THROW(ColorClassifier(ColorClassifierOptions{.space = ColorSpace::LogRGB, .blend = 0}), InvalidInput);
 }
 
+// The surroundings change: a concrete path between lawns, then between brown dirt shoulders
+// (150, 120, 90: r = 151 / 363 = 0.416, g = 0.333 against the concrete's 0.339, 0.337 and the
+// grass's 0.292, 0.498). The dirt's non-road estimate lies many sigma from the lawn's model. Gated
+// (no road colour in it), it is blended in (mean halfway, blend 0.5) and after a few frames the dirt
+// is not road; refused by the drift guard, as it was, the model stayed the lawn's, and much of the
+// dirt, nearer the concrete in r and g than the lawn, was road (a third of it in this draw).
+// Ungated, the guard still refuses it, and the road's own jump is refused either way.
+TEST(ColorClassifier, AGatedNonRoadModelFollowsTheSurroundingsAsTheyChange) {
+  const int w = 64, h = 64;
+  const auto lawn = twoTone(w, h, false);
+  auto dirt = twoTone(w, h, false, 7);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0, 5);
+  for (int v = 0; v < h; ++v)
+    for (int u = w / 2; u < w; ++u)
+      for (int k = 0; k < 3; ++k)
+        dirt[(v * w + u) * 3 + k] = static_cast<std::uint8_t>(std::clamp((k == 0 ? 150 : k == 1 ? 120 : 90) + noise(rng), 0.0, 255.0));
+  const auto [road, non] = concreteAndGrassLabels(w, h);
+  ColorClassifierOptions o;
+  o.min_pixels = 50;
+  o.stride = 1;
+  o.nonroad_gate_sigma = 3;
+  const auto dirtIsRoad = [&](const ColorClassifier& c) {
+    const auto llr = c.logOdds(dirt.data(), w, h);
+    int n = 0;
+    for (int v = 0; v < h; ++v)
+      for (int u = w / 2 + 5; u < w; ++u) n += llr[v * w + u] > 0;
+    return n;
+  };
+  ColorClassifier gated(o), fresh(o);
+  ASSERT_TRUE(gated.update(lawn.data(), w, h, road.data(), non.data()).nonroad_accepted);
+  const Vec3 lawn_mean = gated.nonroad().mean;
+  ASSERT_TRUE(fresh.update(dirt.data(), w, h, road.data(), non.data()).nonroad_accepted);
+  EXPECT_GT(std::sqrt((fresh.nonroad().mean - lawn_mean).squaredNorm()), 0.1);  // far from the lawn's
+  const auto r = gated.update(dirt.data(), w, h, road.data(), non.data());
+  EXPECT_TRUE(r.nonroad_accepted) << r.note;
+  EXPECT_NEAR((gated.nonroad().mean - (0.5 * lawn_mean + 0.5 * fresh.nonroad().mean)).norm(), 0, 1e-12);
+  for (int k = 0; k < 3; ++k) gated.update(dirt.data(), w, h, road.data(), non.data());
+  EXPECT_EQ(dirtIsRoad(gated), 0);
+  // Ungated: the guard refuses the jump; the lawn's model stays, and the dirt is road to it.
+  o.nonroad_gate_sigma = 0;
+  ColorClassifier guarded(o);
+  guarded.update(lawn.data(), w, h, road.data(), non.data());
+  const auto g = guarded.update(dirt.data(), w, h, road.data(), non.data());
+  EXPECT_FALSE(g.nonroad_accepted);
+  EXPECT_NE(g.note.find("non-road: mean moved"), std::string::npos) << g.note;
+  EXPECT_GT(dirtIsRoad(guarded), (w / 2 - 5) * h / 10);
+  // The road's jump is refused with the gate as well: road labels on the dirt.
+  std::vector<std::uint8_t> on_dirt(w * h, 0);
+  for (int v = 0; v < h; ++v)
+    for (int u = w / 2 + 5; u < w; ++u) on_dirt[v * w + u] = 1;
+  std::vector<std::uint8_t> none(w * h, 0);
+  EXPECT_FALSE(gated.update(dirt.data(), w, h, on_dirt.data(), none.data()).road_accepted);
+}
+
 // The non-road gate: a real road's surroundings are mostly more road. Road labels on the left
 // grey half; non-road labels on the right half, where a band of columns 32-47 is the same grey and
 // columns 48-63 grass. Without the gate the non-road mean is the mixture's (half grey, half grass);

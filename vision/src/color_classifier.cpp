@@ -211,7 +211,8 @@ const OptionTable<ColorClassifierOptions>& colorClassifierOptionTable() {
                   "(r = R / (R + G + B), g = G / (R + G + B))")
           .field("blend", &O::blend, aboveUpTo(0, 1), "weight of a frame's estimate in the blended model (1 = replace)")
           .field("max_mean_shift_sigma", &O::max_mean_shift_sigma, aboveUpTo(0, 1e6),
-                 "refuse a class estimate whose mean moved more than this many sigma (drift guard)")
+                 "refuse a road estimate (and an ungated non-road one) whose mean moved more than this many sigma "
+                 "(drift guard); a gated non-road estimate, which holds no road colour, follows the surroundings")
           .field("min_pixels", &O::min_pixels, inRange(1, 1e9),
                  "refuse a class estimate from fewer labelled training pixels (a region pipeline: cells, of which "
                  "training reads every 2nd of every 2nd row)")
@@ -280,7 +281,11 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
     if (!gated || d.dot(gate_inv * d) > gate2) an.add(x);
   });
   UpdateResult result;
-  const auto take = [&](GaussianClass& model, const Accum& acc, const char* what) {
+  // The drift guard keeps the road model from jumping onto another surface (a prediction that is
+  // off). A gated non-road estimate has no road colour in it, and the surroundings do change
+  // colour (a lawn gives way to a dirt shoulder, to a shadow): guarded, the non-road model stayed
+  // the lawn's and the dirt was closer to the road's, road (random-campus --junctions 6, seed 9).
+  const auto take = [&](GaussianClass& model, const Accum& acc, const char* what, bool guarded) {
     if (acc.n < options_.min_pixels) {
       result.note += std::string(result.note.empty() ? "" : "; ") + what + ": too few pixels (" +
                      std::to_string(static_cast<long>(acc.n)) + ")";
@@ -292,7 +297,7 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
       return true;
     }
     const double shift = std::sqrt(mahalanobis2(model, fresh.mean));
-    if (shift > options_.max_mean_shift_sigma) {
+    if (guarded && shift > options_.max_mean_shift_sigma) {
       result.note += std::string(result.note.empty() ? "" : "; ") + what + ": mean moved " +
                      std::to_string(shift) + " sigma";
       return false;
@@ -300,8 +305,8 @@ ColorClassifier::UpdateResult ColorClassifier::update(const std::uint8_t* rgb, i
     model = blendClass(model, fresh, options_.blend);
     return true;
   };
-  result.road_accepted = take(road_, ar, "road");
-  result.nonroad_accepted = take(nonroad_, an, "non-road");
+  result.road_accepted = take(road_, ar, "road", true);
+  result.nonroad_accepted = take(nonroad_, an, "non-road", !gated);
   if (!nonroad_.valid && gated && an.n < options_.min_pixels) {
     // Too few pixels are confidently not road-coloured: the view is nearly all road. Until a frame
     // shows non-road, it is a flat density over the colour space (every colour about equally likely):

@@ -38,8 +38,10 @@ struct ColorClassifierOptions {
   ColorSpace space = ColorSpace::NormalizedRG;
   /// Weight of a frame's estimate when blended into a trained model (1 = replace). In (0, 1].
   double blend = 0.5;
-  /// Refuse a class estimate whose mean is more than this many sigma (Mahalanobis, under the old
-  /// model) from the old mean. > 0.
+  /// Refuse a road estimate whose mean is more than this many sigma (Mahalanobis, under the old
+  /// model) from the old mean; a non-road one too unless it was gated (nonroad_gate_sigma > 0 with a
+  /// road model to gate by): that one holds no road colour and follows the surroundings as they
+  /// change (lawn, dirt, shadow). > 0.
   double max_mean_shift_sigma = 4.0;
   /// Refuse a class estimate from fewer labelled pixels than this. ≥ 1.
   int min_pixels = 400;
