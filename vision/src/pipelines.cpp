@@ -17,7 +17,6 @@
 
 #include "mapnav/core/error.h"
 #include "mapnav/core/strprintf.h"
-#include "mapnav/geometry/simplify.h"
 #include "mapnav/vision/centre_line.h"
 #include "mapnav/vision/cluster_perceptron.h"  // cluster-perceptron
 #include "mapnav/vision/color_classifier.h"
@@ -281,7 +280,6 @@ class BasePipeline : public VisionPipeline {
     if (want_masks_) cell_confidence_ = cellConfidence(score, valid, t, reach);
     return out;
   }
-
 
   /// The options every region pipeline has (the subclass's struct).
   virtual const RegionPipelineOptions& common() const = 0;
