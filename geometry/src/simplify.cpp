@@ -275,7 +275,7 @@ std::vector<std::vector<Vec2>> simplifyPixelChainAt(const std::vector<Vec2>& poi
   };
   // CGAL's loop with Stop_above_cost_threshold(tolerance²) stops at the first vertex popped whose
   // cost reaches it; up to there every larger tolerance's loop is the same, so it goes on from there.
-  while (!queue.empty() && next_answer < order.size()) {
+  while (!queue.empty()) {
     const std::size_t q = queue.top();
     queue.pop();
     while (next_answer < order.size() && cost[q] >= tolerances[order[next_answer]] * tolerances[order[next_answer]])
