@@ -45,18 +45,19 @@ void LineOptions::validate() const { lineOptionTable().validate(*this); }
 
 namespace {
 
+// Drops a ring's repeated closing point; whether it had one.
+bool dropClosingPoint(std::vector<Vec2>& ring) {
+  if (!(ring.size() >= 2 && (ring.front() - ring.back()).norm() < 1e-9)) return false;
+  ring.pop_back();
+  return true;
+}
+
 // contourPolygon's last step: `poly`, the closed contour simplified within `tolerance_px` (its
 // first point repeated last), as the polygon contourPolygon gives.
 std::vector<Vec2> ringPolygon(std::vector<Vec2> poly, double tolerance_px) {
   // The ring's start is an arbitrary contour point: drop it when it lies on a straight edge.
-  if (poly.size() >= 4 && (poly.front() - poly.back()).norm() < 1e-9) {
-    poly.pop_back();
-    const std::size_t n = poly.size();
-    const Segment2 across{poly[n - 1], poly[1]};
-    if (n >= 4 && across.distanceTo(poly[0]) <= tolerance_px) poly.erase(poly.begin());
-  } else if (poly.size() >= 2 && (poly.front() - poly.back()).norm() < 1e-9) {
-    poly.pop_back();
-  }
+  if (dropClosingPoint(poly) && poly.size() >= 4 && Segment2{poly.back(), poly[1]}.distanceTo(poly[0]) <= tolerance_px)
+    poly.erase(poly.begin());
   return poly;
 }
 
@@ -83,7 +84,7 @@ ContourPolygons contourPolygons(const std::vector<Vec2>& contour, double lines_t
   if (contour.size() >= 3) out.lines = ringPolygon(std::move(simplified[0]), lines_tolerance_px);
   if (outline_tolerance_px) {
     out.outline = std::move(simplified[1]);
-    if (out.outline.size() >= 2 && (out.outline.front() - out.outline.back()).norm() < 1e-9) out.outline.pop_back();
+    dropClosingPoint(out.outline);
   }
   return out;
 }
